@@ -1,0 +1,44 @@
+// Packing of normals and pixel coordinates.
+#ifndef BOUNCE_SHARED_PACKING_GLSL
+#define BOUNCE_SHARED_PACKING_GLSL
+#include "shared/lang.glsl"
+
+BOUNCE_SHARED_BEGIN
+
+float signNotZero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
+
+// Octahedral mapping of a unit vector to [-1,1]^2 (Cigolle et al. 2014,
+// "A Survey of Efficient Representations for Independent Unit Vectors").
+vec2 encodeOctahedral(vec3 n) {
+  float l1 = abs(n.x) + abs(n.y) + abs(n.z);
+  vec2 p = vec2(n.x, n.y) * (1.0f / max(l1, 1e-20f));
+  if (n.z < 0.0f) {
+    p = vec2((1.0f - abs(p.y)) * signNotZero(p.x), (1.0f - abs(p.x)) * signNotZero(p.y));
+  }
+  return p;
+}
+
+vec3 decodeOctahedral(vec2 e) {
+  vec3 n = vec3(e.x, e.y, 1.0f - abs(e.x) - abs(e.y));
+  if (n.z < 0.0f) {
+    n = vec3((1.0f - abs(e.y)) * signNotZero(e.x), (1.0f - abs(e.x)) * signNotZero(e.y), n.z);
+  }
+  return normalize(n);
+}
+
+// A unit normal in 32 bits (16-bit snorm per axis): worst-case angular error
+// about 0.005 degrees, far below what shading can show.
+uint packNormalOct32(vec3 n) { return packSnorm2x16(encodeOctahedral(n)); }
+vec3 unpackNormalOct32(uint packed) { return decodeOctahedral(unpackSnorm2x16(packed)); }
+
+// Row-major linear index of a pixel, and back.
+uint pixelToIndex(uvec2 pixel, uint width) { return pixel.y * width + pixel.x; }
+uvec2 indexToPixel(uint index, uint width) { return uvec2(index % width, index / width); }
+
+// Pixel centre to [0,1]^2 uv and back (uv (0,0) is the top-left corner of the
+// top-left pixel).
+vec2 pixelToUv(uvec2 pixel, vec2 size) { return (vec2(pixel) + vec2(0.5f)) / size; }
+uvec2 uvToPixel(vec2 uv, vec2 size) { return uvec2(clamp(floor(uv * size), vec2(0.0f), size - vec2(1.0f))); }
+
+BOUNCE_SHARED_END
+#endif

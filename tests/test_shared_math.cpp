@@ -1,0 +1,164 @@
+// CPU tests of shaders/shared/: the same source the GPU runs, compiled as C++.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include "shared/color.glsl"
+#include "shared/intersect.glsl"
+#include "shared/packing.glsl"
+#include "shared/rng.glsl"
+
+namespace {
+
+using namespace bounce::shared;
+
+std::vector<glm::vec3> randomUnitVectors(int count, uint seed) {
+  std::vector<glm::vec3> out;
+  uint state = seed;
+  while (int(out.size()) < count) {
+    glm::vec3 v(rngUniform(state) * 2 - 1, rngUniform(state) * 2 - 1, rngUniform(state) * 2 - 1);
+    float len2 = glm::dot(v, v);
+    if (len2 > 1e-4f && len2 <= 1.0f) out.push_back(v / std::sqrt(len2));
+  }
+  // The hard cases: axes (where signs of zero matter) and the octahedron's seams.
+  for (glm::vec3 axis : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, -1, 0),
+                         glm::vec3(0, 0, 1), glm::vec3(0, 0, -1), glm::normalize(glm::vec3(1, 1, 0)),
+                         glm::normalize(glm::vec3(-1, 0, -1)), glm::normalize(glm::vec3(0, -1, -1))})
+    out.push_back(axis);
+  return out;
+}
+
+TEST(Rng, UniformIsInUnitIntervalAndPassesChiSquare) {
+  constexpr int kBins = 64, kSamples = 640000;
+  std::vector<int> histogram(kBins, 0);
+  uint state = rngSeed(uvec2(3, 7), 11u, 1u);
+  for (int i = 0; i < kSamples; ++i) {
+    float u = rngUniform(state);
+    ASSERT_GE(u, 0.0f);
+    ASSERT_LT(u, 1.0f);
+    histogram[int(u * kBins)]++;
+  }
+  double chi2 = 0, expected = double(kSamples) / kBins;
+  for (int count : histogram) chi2 += (count - expected) * (count - expected) / expected;
+  // 63 degrees of freedom: the 99.9th percentile is about 103.4.
+  EXPECT_LT(chi2, 103.4);
+}
+
+TEST(Rng, SeedsDecorrelatePixelsFramesAndPasses) {
+  std::set<uint> seeds;
+  for (uint y = 0; y < 64; ++y)
+    for (uint x = 0; x < 64; ++x) seeds.insert(rngSeed(uvec2(x, y), 0u, 0u));
+  EXPECT_EQ(seeds.size(), 64u * 64u) << "distinct pixels must get distinct seeds";
+  EXPECT_NE(rngSeed(uvec2(1, 0), 0u, 0u), rngSeed(uvec2(0, 1), 0u, 0u));
+  EXPECT_NE(rngSeed(uvec2(5, 5), 1u, 0u), rngSeed(uvec2(5, 5), 0u, 1u));
+  EXPECT_EQ(rngSeed(uvec2(5, 5), 9u, 2u), rngSeed(uvec2(5, 5), 9u, 2u));
+}
+
+TEST(Rng, SuccessiveValuesAreUncorrelated) {
+  uint state = rngSeed(uvec2(0, 0), 0u, 0u);
+  double sumXY = 0, sumX = 0, sumY = 0, sumX2 = 0, sumY2 = 0;
+  constexpr int n = 100000;
+  float previous = rngUniform(state);
+  for (int i = 0; i < n; ++i) {
+    float next = rngUniform(state);
+    sumXY += previous * next;
+    sumX += previous;
+    sumY += next;
+    sumX2 += previous * previous;
+    sumY2 += next * next;
+    previous = next;
+  }
+  double cov = sumXY / n - (sumX / n) * (sumY / n);
+  double corr = cov / std::sqrt((sumX2 / n - sumX * sumX / n / n) * (sumY2 / n - sumY * sumY / n / n));
+  EXPECT_LT(std::abs(corr), 0.02);
+}
+
+TEST(Packing, OctahedralRoundTripIsWithinHundredthOfADegree) {
+  for (glm::vec3 n : randomUnitVectors(20000, 1234u)) {
+    glm::vec2 e = encodeOctahedral(n);
+    ASSERT_LE(std::abs(e.x), 1.0f);
+    ASSERT_LE(std::abs(e.y), 1.0f);
+    glm::vec3 exact = decodeOctahedral(e);
+    ASSERT_NEAR(glm::dot(exact, n), 1.0f, 1e-6f) << n.x << " " << n.y << " " << n.z;
+    glm::vec3 packed = unpackNormalOct32(packNormalOct32(n));
+    // The angle from the cross product's length: acos of a float dot product
+    // near 1 is itself only good to about 0.02 degrees.
+    glm::dvec3 a(packed), b(n);
+    double degrees = glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
+    ASSERT_LT(degrees, 0.01) << n.x << " " << n.y << " " << n.z;
+  }
+}
+
+TEST(Packing, PixelIndexAndUvRoundTrip) {
+  const uint width = 37;
+  for (uint i = 0; i < 37u * 23u; ++i) EXPECT_EQ(pixelToIndex(indexToPixel(i, width), width), i);
+  const glm::vec2 size(37, 23);
+  for (uint y = 0; y < 23; ++y)
+    for (uint x = 0; x < 37; ++x) {
+      glm::uvec2 back = uvToPixel(pixelToUv(uvec2(x, y), size), size);
+      ASSERT_EQ(back.x, x);
+      ASSERT_EQ(back.y, y);
+    }
+  EXPECT_EQ(uvToPixel(glm::vec2(1.0f, 1.0f), size).x, 36u) << "uv 1.0 must clamp to the last pixel";
+}
+
+TEST(Color, LuminanceOfWhiteIsOneAndWeightsAreRec709) {
+  EXPECT_NEAR(luminance(vec3(1.0f)), 1.0f, 1e-6f);
+  EXPECT_NEAR(luminance(vec3(0, 1, 0)), 0.7152f, 1e-6f);
+}
+
+TEST(Color, SrgbMatchesTheStandardAndRoundTrips) {
+  EXPECT_NEAR(srgbEncode(0.5f), 0.735357f, 1e-5f);
+  EXPECT_NEAR(srgbEncode(0.0031308f), 0.04045f, 1e-5f) << "the two pieces must meet";
+  EXPECT_NEAR(srgbDecode(0.5f), 0.214041f, 1e-5f);
+  EXPECT_EQ(srgbEncode(-1.0f), 0.0f);
+  EXPECT_NEAR(srgbEncode(2.0f), 1.0f, 1e-6f);
+  float previous = -1;
+  for (int i = 0; i <= 1000; ++i) {
+    float x = float(i) / 1000.0f;
+    EXPECT_NEAR(srgbDecode(srgbEncode(x)), x, 2e-6f);
+    EXPECT_GT(srgbEncode(x), previous);
+    previous = srgbEncode(x);
+  }
+}
+
+TEST(Color, AcesIsMonotonicBoundedAndBlackAtZero) {
+  EXPECT_NEAR(tonemapAcesFitted(vec3(0.0f)).x, 0.0f, 1e-3f);
+  float previous = -1;
+  for (float x = 0.0f; x < 100.0f; x = x * 1.1f + 0.001f) {
+    float y = tonemapAcesFitted(vec3(x)).y;
+    EXPECT_GE(y, previous);
+    EXPECT_LE(y, 1.0f);
+    previous = y;
+  }
+  EXPECT_GT(tonemapAcesFitted(vec3(1e6f)).x, 0.99f) << "very bright must saturate to white";
+  // Reference values of Hill's fit, computed independently in double
+  // precision from his published matrices; a transposed matrix or a wrong
+  // coefficient moves them far beyond the tolerance.
+  vec3 grey = tonemapAcesFitted(vec3(0.18f));
+  EXPECT_NEAR(grey.x, 0.105591f, 2e-4f);
+  vec3 warm = tonemapAcesFitted(vec3(1.0f, 0.5f, 0.1f));
+  EXPECT_NEAR(warm.x, 0.638871f, 2e-4f);
+  EXPECT_NEAR(warm.y, 0.383867f, 2e-4f);
+  EXPECT_NEAR(warm.z, 0.082200f, 2e-4f);
+  vec3 negative = tonemapAcesFitted(vec3(-5.0f, 1.0f, 0.5f));
+  EXPECT_GE(negative.x, 0.0f) << "negative input must not produce negative output";
+}
+
+TEST(Intersect, SphereAndPlaneHitsMatchClosedForm) {
+  // Unit sphere at z = -5 seen along -z: near hit at 4, far hit at 6.
+  EXPECT_NEAR(intersectSphere(vec3(0.0f), vec3(0, 0, -1), vec3(0, 0, -5), 1.0f, 0.0f), 4.0f, 1e-5f);
+  EXPECT_NEAR(intersectSphere(vec3(0, 0, -5), vec3(0, 0, -1), vec3(0, 0, -5), 1.0f, 0.0f), 1.0f, 1e-5f)
+      << "from inside, the exit point";
+  EXPECT_EQ(intersectSphere(vec3(0.0f), vec3(0, 1, 0), vec3(0, 0, -5), 1.0f, 0.0f), kNoHit);
+  EXPECT_EQ(intersectSphere(vec3(0.0f), vec3(0, 0, 1), vec3(0, 0, -5), 1.0f, 0.0f), kNoHit) << "behind the ray";
+  // Far small sphere: the geometric form keeps the hit accurate.
+  EXPECT_NEAR(intersectSphere(vec3(0.0f), vec3(0, 0, -1), vec3(0, 0, -10000), 0.01f, 0.0f), 9999.99f, 2e-3f);
+  EXPECT_NEAR(intersectPlane(vec3(0, 2, 0), glm::normalize(vec3(1, -1, 0)), vec3(0, 1, 0), 0.0f, 0.0f),
+              2.0f * std::sqrt(2.0f), 1e-5f);
+  EXPECT_EQ(intersectPlane(vec3(0, 2, 0), vec3(1, 0, 0), vec3(0, 1, 0), 0.0f, 0.0f), kNoHit) << "parallel";
+}
+
+}  // namespace
