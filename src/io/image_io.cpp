@@ -1,0 +1,600 @@
+// Image file I/O: OpenEXR for .exr, stb for PNG/JPEG, our own decoder for
+// Radiance .hdr (radiance_hdr.cpp).
+//
+// Two rules shape everything here:
+// - A damaged file must fail loudly. Decoders (stb especially) like to return a
+//   partial image for a truncated file, so every read goes through code that
+//   notices when the decoder wants bytes the file does not have.
+// - A failed write must never leave a half file where a good one is expected,
+//   so files are encoded in memory, written beside the target and renamed.
+#include "io/image_io.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfRgbaFile.h>
+#include <OpenEXR/ImfStdIO.h>
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <new>
+#include <set>
+#include <string_view>
+#include <system_error>
+
+#include "io/radiance_hdr.h"
+#include "shared/color.glsl"
+
+namespace bounce::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Larger than any texture or frame we have a use for, small enough that width *
+// height * channels * sizeof(float) cannot overflow size_t; anything beyond it is
+// a corrupt header, not an image.
+constexpr std::int64_t kMaxSide = 65536;
+
+// The longest channel name OpenEXR stores (Imf::Name silently truncates longer ones).
+constexpr std::size_t kMaxExrChannelNameLength = 255;
+
+// ACES' rational fit squares its input, so radiance * exposure beyond about 1e19
+// overflows float and the tonemap returns NaN. The fit is saturated (pure white)
+// long before this value, so clamping here changes no output byte.
+constexpr float kTonemapInputLimit = 1.0e6f;
+
+[[noreturn]] void fail(const fs::path& path, const std::string& reason) {
+  throw ImageIoError(path.string() + ": " + reason);
+}
+
+std::string sizeText(std::int64_t width, std::int64_t height) {
+  return std::to_string(width) + "x" + std::to_string(height);
+}
+
+void checkReadSize(const fs::path& path, std::int64_t width, std::int64_t height) {
+  if (width <= 0 || height <= 0) fail(path, "image has zero size (" + sizeText(width, height) + ")");
+  if (width > kMaxSide || height > kMaxSide) {
+    fail(path, "image size " + sizeText(width, height) + " is larger than " + std::to_string(kMaxSide) +
+                   " pixels a side (corrupt header?)");
+  }
+}
+
+// --- reading: file access and format detection
+
+enum class FileFormat { Exr, Hdr, Png, Jpeg, Unknown };
+
+bool startsWith(const std::vector<unsigned char>& bytes, std::string_view prefix) {
+  return bytes.size() >= prefix.size() &&
+         std::equal(prefix.begin(), prefix.end(), bytes.begin(),
+                    [](char a, unsigned char b) { return static_cast<unsigned char>(a) == b; });
+}
+
+FileFormat detectFormat(const std::vector<unsigned char>& head) {
+  using namespace std::string_view_literals;
+  if (startsWith(head, "\x76\x2f\x31\x01"sv)) return FileFormat::Exr;
+  if (startsWith(head, "\x89PNG"sv)) return FileFormat::Png;
+  if (startsWith(head, "\xff\xd8\xff"sv)) return FileFormat::Jpeg;
+  if (startsWith(head, "#?RADIANCE"sv) || startsWith(head, "#?RGBE"sv)) return FileFormat::Hdr;
+  return FileFormat::Unknown;
+}
+
+// Checks that the path names a readable regular file, so the common mistakes get
+// a plain message rather than a decoder's.
+void checkReadableFile(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) fail(path, "no such file");
+  if (ec) fail(path, "cannot access (" + ec.message() + ")");
+  if (status.type() == fs::file_type::directory) fail(path, "is a directory, not an image file");
+  if (status.type() != fs::file_type::regular) fail(path, "is not a regular file");
+}
+
+// Reads at most maxBytes from the start of the file (everything when maxBytes is 0).
+std::vector<unsigned char> readFileBytes(const fs::path& path, std::size_t maxBytes = 0) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
+  std::vector<unsigned char> bytes;
+  if (maxBytes == 0) {
+    bytes.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  } else {
+    bytes.resize(maxBytes);
+    file.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(maxBytes));
+    bytes.resize(std::size_t(file.gcount()));
+  }
+  if (file.bad()) fail(path, "read error");
+  return bytes;
+}
+
+// --- reading: OpenEXR
+
+// Which file channel lands in which output channel.
+struct ExrChannelPlan {
+  std::vector<std::string> outputNames;
+  std::vector<std::string> sourceNames;  // file channel for each output channel
+  bool greyFromY = false;                // output channels 1 and 2 are copies of 0 (Y)
+};
+
+ExrChannelPlan planExrChannels(const std::vector<std::string>& fileNames) {
+  const std::set<std::string> names(fileNames.begin(), fileNames.end());
+  const auto has = [&](const char* name) { return names.count(name) != 0; };
+  ExrChannelPlan plan;
+  if (has("R") && has("G") && has("B")) {
+    // OpenEXR lists channels alphabetically (A, B, G, R); colour comes back in
+    // the order everyone expects, and any other channels follow so none is lost.
+    plan.sourceNames = {"R", "G", "B"};
+    if (has("A")) plan.sourceNames.push_back("A");
+    for (const std::string& name : fileNames) {
+      if (std::find(plan.sourceNames.begin(), plan.sourceNames.end(), name) == plan.sourceNames.end()) {
+        plan.sourceNames.push_back(name);
+      }
+    }
+    plan.outputNames = plan.sourceNames;
+  } else if (has("Y") && names.size() == (has("A") ? 2u : 1u)) {
+    plan.greyFromY = true;
+    plan.sourceNames = {"Y", "", ""};
+    plan.outputNames = {"R", "G", "B"};
+    if (has("A")) {
+      plan.sourceNames.push_back("A");
+      plan.outputNames.push_back("A");
+    }
+  } else {
+    plan.sourceNames = fileNames;
+    plan.outputNames = fileNames;
+  }
+  return plan;
+}
+
+// Luminance/chroma files (RY, BY channels, usually subsampled) need OpenEXR's
+// RGBA interface, which reconstructs RGB from them.
+ImageF readExrLuminanceChroma(const fs::path& path) {
+  Imf::RgbaInputFile file(path.c_str());
+  const Imath::Box2i dataWindow = file.dataWindow();
+  const std::int64_t width = std::int64_t(dataWindow.max.x) - dataWindow.min.x + 1;
+  const std::int64_t height = std::int64_t(dataWindow.max.y) - dataWindow.min.y + 1;
+  checkReadSize(path, width, height);
+  if (!file.isComplete()) fail(path, "truncated EXR file (some pixel data is missing)");
+
+  const bool hasAlpha = (file.channels() & Imf::WRITE_A) != 0;
+  std::vector<Imf::Rgba> rgba(std::size_t(width * height));
+  // RgbaInputFile wants the address pixel (0, 0) would have; Slice::Make computes
+  // it without overflowing when the data window lies far from the origin.
+  const Imf::Slice origin =
+      Imf::Slice::Make(Imf::HALF, rgba.data(), dataWindow, sizeof(Imf::Rgba), sizeof(Imf::Rgba) * std::size_t(width));
+  file.setFrameBuffer(reinterpret_cast<Imf::Rgba*>(origin.base), 1, std::size_t(width));
+  file.readPixels(dataWindow.min.y, dataWindow.max.y);
+
+  ImageF image(int(width), int(height),
+               hasAlpha ? std::vector<std::string>{"R", "G", "B", "A"} : std::vector<std::string>{"R", "G", "B"});
+  std::size_t out = 0;
+  for (const Imf::Rgba& pixel : rgba) {
+    image.pixels[out++] = pixel.r;
+    image.pixels[out++] = pixel.g;
+    image.pixels[out++] = pixel.b;
+    if (hasAlpha) image.pixels[out++] = pixel.a;
+  }
+  return image;
+}
+
+ImageF readExr(const fs::path& path) {
+  Imf::InputFile file(path.c_str());
+  const Imf::Header& header = file.header();
+  const Imath::Box2i dataWindow = header.dataWindow();
+  const std::int64_t width = std::int64_t(dataWindow.max.x) - dataWindow.min.x + 1;
+  const std::int64_t height = std::int64_t(dataWindow.max.y) - dataWindow.min.y + 1;
+  checkReadSize(path, width, height);
+
+  std::vector<std::string> fileNames;
+  bool subsampled = false;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+    fileNames.emplace_back(it.name());
+    subsampled = subsampled || it.channel().xSampling != 1 || it.channel().ySampling != 1;
+  }
+  if (fileNames.empty()) fail(path, "EXR file has no channels");
+  const bool luminanceChroma =
+      std::any_of(fileNames.begin(), fileNames.end(), [](const std::string& n) { return n == "RY" || n == "BY"; });
+  if (luminanceChroma) return readExrLuminanceChroma(path);
+  if (subsampled) fail(path, "EXR channels with x/y subsampling are not supported");
+
+  // Checked before reading: OpenEXR would fill missing chunks with zeros or
+  // throw a message about scan line numbers, neither of which says "truncated".
+  if (!file.isComplete()) fail(path, "truncated EXR file (some pixel data is missing)");
+
+  const ExrChannelPlan plan = planExrChannels(fileNames);
+  ImageF image(int(width), int(height), plan.outputNames);
+  const std::size_t channelCount = plan.outputNames.size();
+  const std::size_t xStride = sizeof(float) * channelCount;
+  const std::size_t yStride = xStride * std::size_t(width);
+  Imf::FrameBuffer frameBuffer;
+  for (std::size_t c = 0; c < channelCount; ++c) {
+    if (plan.sourceNames[c].empty()) continue;
+    // Slice::Make offsets the base pointer by the data window origin (which need
+    // not be 0,0) without overflowing; OpenEXR converts half/uint to float.
+    frameBuffer.insert(plan.sourceNames[c],
+                       Imf::Slice::Make(Imf::FLOAT, image.pixels.data() + c, dataWindow, xStride, yStride));
+  }
+  file.setFrameBuffer(frameBuffer);
+  file.readPixels(dataWindow.min.y, dataWindow.max.y);
+
+  if (plan.greyFromY) {
+    for (std::size_t i = 0; i < image.pixels.size(); i += channelCount) {
+      image.pixels[i + 1] = image.pixels[i];
+      image.pixels[i + 2] = image.pixels[i];
+    }
+  }
+  return image;
+}
+
+// --- reading: stb (PNG, JPEG)
+
+// An stb read callback over an in-memory file that records whether the decoder
+// ever wanted bytes beyond its end. stb fills such reads with zeros and often
+// returns a "successful" partial image, so this is how truncation is caught.
+//
+// stb asks for bytes in two ways: refills of its internal buffer, always of the
+// same size (the very first read is one), which legitimately come up short at the
+// end of the data; and exact reads (stbi__getn) for a known number of bytes,
+// which must never come up short. A short read of a different size than the
+// first is therefore an exact read that ran off the end.
+class StbMemoryReader {
+ public:
+  explicit StbMemoryReader(const std::vector<unsigned char>& bytes) : bytes_(bytes) {}
+
+  static const stbi_io_callbacks& callbacks() {
+    static const stbi_io_callbacks kCallbacks = {&StbMemoryReader::read, &StbMemoryReader::skip, &StbMemoryReader::eof};
+    return kCallbacks;
+  }
+
+  bool readPastEnd() const { return readPastEnd_; }
+
+ private:
+  static int read(void* user, char* data, int size) {
+    auto& self = *static_cast<StbMemoryReader*>(user);
+    if (size <= 0) return 0;
+    const std::size_t remaining = self.bytes_.size() - self.position_;
+    const std::size_t count = std::min(remaining, std::size_t(size));
+    if (self.refillSize_ == 0) self.refillSize_ = size;
+    if (remaining == 0 || (count < std::size_t(size) && size != self.refillSize_)) self.readPastEnd_ = true;
+    std::memcpy(data, self.bytes_.data() + self.position_, count);
+    self.position_ += count;
+    return int(count);
+  }
+
+  static void skip(void* user, int n) {
+    auto& self = *static_cast<StbMemoryReader*>(user);
+    if (n < 0) {
+      self.position_ -= std::min(self.position_, std::size_t(-std::int64_t(n)));
+      return;
+    }
+    if (std::size_t(n) > self.bytes_.size() - self.position_) self.readPastEnd_ = true;
+    self.position_ = std::min(self.bytes_.size(), self.position_ + std::size_t(n));
+  }
+
+  static int eof(void* user) {
+    const auto& self = *static_cast<StbMemoryReader*>(user);
+    return self.position_ >= self.bytes_.size() ? 1 : 0;
+  }
+
+  const std::vector<unsigned char>& bytes_;
+  std::size_t position_ = 0;
+  int refillSize_ = 0;
+  bool readPastEnd_ = false;
+};
+
+struct StbFree {
+  void operator()(void* pixels) const { stbi_image_free(pixels); }
+};
+
+// Runs one stb call over a fresh reader and turns every kind of failure into an
+// ImageIoError. stbCall(callbacks, user) returns the decoded pixels (or nullptr).
+template <typename T, typename Call>
+std::unique_ptr<T, StbFree> callStb(const fs::path& path, const std::vector<unsigned char>& bytes, Call&& stbCall) {
+  StbMemoryReader reader(bytes);
+  std::unique_ptr<T, StbFree> pixels(stbCall(&StbMemoryReader::callbacks(), &reader));
+  if (reader.readPastEnd()) fail(path, "truncated or corrupt (decoder read past end of file)");
+  if (!pixels) {
+    const char* reason = stbi_failure_reason();
+    fail(path, std::string("cannot decode (") + (reason ? reason : "unknown reason") + ")");
+  }
+  return pixels;
+}
+
+std::vector<std::string> stbChannelNames(int components) {
+  // Grey becomes RGB and grey+alpha RGBA, so callers only ever see colour.
+  if (components == 2 || components == 4) return {"R", "G", "B", "A"};
+  return {"R", "G", "B"};
+}
+
+// Copies an stb pixel array into an RGB(A) image, expanding grey and decoding
+// colour (not alpha) with the given per-value functions.
+template <typename T, typename ColourFn, typename AlphaFn>
+ImageF convertStbPixels(const T* pixels, int width, int height, int components, ColourFn&& colour, AlphaFn&& alpha) {
+  ImageF image(width, height, stbChannelNames(components));
+  const std::size_t pixelCount = std::size_t(width) * std::size_t(height);
+  const bool grey = components <= 2;
+  const bool hasAlpha = components == 2 || components == 4;
+  float* out = image.pixels.data();
+  for (std::size_t i = 0; i < pixelCount; ++i) {
+    const T* in = pixels + i * std::size_t(components);
+    for (int c = 0; c < 3; ++c) *out++ = colour(in[grey ? 0 : c]);
+    if (hasAlpha) *out++ = alpha(in[components - 1]);
+  }
+  return image;
+}
+
+ImageF readWithStb(const fs::path& path, FileFormat format) {
+  const std::vector<unsigned char> bytes = readFileBytes(path);
+  if (bytes.size() > std::size_t(INT32_MAX)) fail(path, "file too large for the PNG/JPEG decoder");
+
+  // The size comes from the header first, so a corrupt one cannot make the
+  // decoder allocate gigabytes.
+  int width = 0;
+  int height = 0;
+  int components = 0;
+  {
+    StbMemoryReader reader(bytes);
+    const int ok = stbi_info_from_callbacks(&StbMemoryReader::callbacks(), &reader, &width, &height, &components);
+    if (reader.readPastEnd()) fail(path, "truncated or corrupt (decoder read past end of file)");
+    if (!ok) {
+      const char* reason = stbi_failure_reason();
+      fail(path, std::string("cannot decode header (") + (reason ? reason : "unknown reason") + ")");
+    }
+  }
+  checkReadSize(path, width, height);
+
+  StbMemoryReader probe(bytes);
+  if (format == FileFormat::Png && stbi_is_16_bit_from_callbacks(&StbMemoryReader::callbacks(), &probe)) {
+    auto pixels = callStb<stbi_us>(path, bytes, [&](const stbi_io_callbacks* io, void* user) {
+      return stbi_load_16_from_callbacks(io, user, &width, &height, &components, 0);
+    });
+    // A table keeps the per-pixel pow() out of large images; it is still the
+    // shared srgbDecode that fills it.
+    std::vector<float> decode(65536);
+    for (std::size_t v = 0; v < decode.size(); ++v) decode[v] = shared::srgbDecode(float(v) / 65535.0f);
+    return convertStbPixels(
+        pixels.get(), width, height, components, [&](stbi_us v) { return decode[v]; },
+        [](stbi_us v) { return float(v) / 65535.0f; });
+  }
+
+  auto pixels = callStb<stbi_uc>(path, bytes, [&](const stbi_io_callbacks* io, void* user) {
+    return stbi_load_from_callbacks(io, user, &width, &height, &components, 0);
+  });
+  std::array<float, 256> decode{};
+  for (std::size_t v = 0; v < decode.size(); ++v) decode[v] = shared::srgbDecode(float(v) / 255.0f);
+  return convertStbPixels(
+      pixels.get(), width, height, components, [&](stbi_uc v) { return decode[v]; },
+      [](stbi_uc v) { return float(v) / 255.0f; });
+}
+
+void checkFinite(const fs::path& path, const ImageF& image) {
+  std::size_t badCount = 0;
+  std::size_t firstBad = 0;
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    if (!std::isfinite(image.pixels[i])) {
+      if (badCount == 0) firstBad = i;
+      ++badCount;
+    }
+  }
+  if (badCount == 0) return;
+  const std::size_t channelCount = image.channelCount();
+  const std::size_t pixel = firstBad / channelCount;
+  fail(path, std::to_string(badCount) + " non-finite values (NaN or Inf), first at pixel (" +
+                 std::to_string(pixel % std::size_t(image.width)) + ", " +
+                 std::to_string(pixel / std::size_t(image.width)) + ") channel " +
+                 image.channels[firstBad % channelCount]);
+}
+
+// --- writing
+
+// Rejects images that are inconsistent or that readImage would refuse, so a
+// bad ImageF is reported at the write that produced it rather than later.
+void validateForWrite(const fs::path& path, const ImageF& image) {
+  if (image.width <= 0 || image.height <= 0) {
+    fail(path, "cannot write an image of size " + sizeText(image.width, image.height));
+  }
+  if (image.width > kMaxSide || image.height > kMaxSide) {
+    fail(path, "cannot write an image of size " + sizeText(image.width, image.height) + " (more than " +
+                   std::to_string(kMaxSide) + " pixels a side)");
+  }
+  if (image.channels.empty()) fail(path, "cannot write an image with no channels");
+  std::set<std::string> seen;
+  for (const std::string& name : image.channels) {
+    if (name.empty()) fail(path, "cannot write an image with an empty channel name");
+    if (!seen.insert(name).second) fail(path, "cannot write an image with channel \"" + name + "\" twice");
+  }
+  const std::size_t expected = std::size_t(image.width) * std::size_t(image.height) * image.channels.size();
+  if (image.pixels.size() != expected) {
+    fail(path, "image " + sizeText(image.width, image.height) + " with " + std::to_string(image.channels.size()) +
+                   " channels needs " + std::to_string(expected) + " values but has " +
+                   std::to_string(image.pixels.size()));
+  }
+}
+
+// Writes the bytes to "<path>.tmp-<pid>" beside the target and renames it into
+// place: a reader sees the old file or the complete new one, never a half file,
+// and a failed write removes its temporary.
+void writeFileAtomically(const fs::path& path, const void* data, std::size_t size) {
+  if (path.empty() || !path.has_filename()) fail(path, "not a file path");
+  const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code ec;
+  const fs::file_status parentStatus = fs::status(parent, ec);
+  if (parentStatus.type() == fs::file_type::not_found) {
+    fail(path, "directory " + parent.string() + " does not exist");
+  }
+  if (parentStatus.type() != fs::file_type::directory) fail(path, parent.string() + " is not a directory");
+
+  fs::path temp = path;
+  temp += ".tmp-" + std::to_string(::getpid());
+  std::FILE* file = std::fopen(temp.c_str(), "wb");
+  if (!file) fail(path, std::string("cannot create ") + temp.string() + " (" + std::strerror(errno) + ")");
+  bool ok = std::fwrite(data, 1, size, file) == size;
+  int error = errno;
+  // fclose flushes, so a full disk often shows up only here.
+  if (std::fclose(file) != 0 && ok) {
+    ok = false;
+    error = errno;
+  }
+  if (!ok) {
+    fs::remove(temp, ec);
+    fail(path, std::string("cannot write (") + std::strerror(error) + ")");
+  }
+  fs::rename(temp, path, ec);
+  if (ec) {
+    const std::string reason = ec.message();
+    fs::remove(temp, ec);
+    fail(path, "cannot move the written file into place (" + reason + ")");
+  }
+}
+
+std::uint8_t toByte(float v) { return std::uint8_t(std::floor(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f)); }
+
+}  // namespace
+
+ImageF::ImageF(int w, int h, std::vector<std::string> channelNames)
+    : width(w), height(h), channels(std::move(channelNames)) {
+  if (w < 0 || h < 0) throw std::invalid_argument("ImageF: negative size " + sizeText(w, h));
+  pixels.assign(std::size_t(w) * std::size_t(h) * channels.size(), 0.0f);
+}
+
+ImageF readImage(const fs::path& path, bool allowNonFinite) {
+  checkReadableFile(path);
+  ImageF image;
+  try {
+    const std::vector<unsigned char> head = readFileBytes(path, 16);
+    if (head.empty()) fail(path, "empty file");
+    const FileFormat format = detectFormat(head);
+    if (format == FileFormat::Unknown) {
+      fail(path, "unsupported image format (expected EXR, HDR, PNG or JPEG)");
+    }
+    if (format == FileFormat::Exr) {
+      image = readExr(path);
+    } else if (format == FileFormat::Hdr) {
+      image = decodeRadianceHdr(path, readFileBytes(path), int(kMaxSide));
+    } else {
+      image = readWithStb(path, format);
+    }
+  } catch (const ImageIoError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail(path, "out of memory while reading");
+  } catch (const std::exception& e) {
+    // OpenEXR reports through Iex exceptions, which derive from std::exception.
+    fail(path, std::string("cannot read EXR (") + e.what() + ")");
+  }
+  if (!allowNonFinite) checkFinite(path, image);
+  return image;
+}
+
+void writeExr(const fs::path& path, const ImageF& image) {
+  validateForWrite(path, image);
+  for (const std::string& name : image.channels) {
+    if (name.size() > kMaxExrChannelNameLength) fail(path, "EXR channel name too long: \"" + name + "\"");
+  }
+  std::string encoded;
+  try {
+    Imf::Header header(image.width, image.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const std::string& name : image.channels) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+
+    const std::size_t channelCount = image.channels.size();
+    const std::size_t xStride = sizeof(float) * channelCount;
+    const std::size_t yStride = xStride * std::size_t(image.width);
+    Imf::FrameBuffer frameBuffer;
+    for (std::size_t c = 0; c < channelCount; ++c) {
+      frameBuffer.insert(image.channels[c],
+                         Imf::Slice::Make(Imf::FLOAT, image.pixels.data() + c, header.dataWindow(), xStride, yStride));
+    }
+    // Encoded in memory: OutputFile's destructor writes the offset table and
+    // swallows any error doing so, which on a real file could leave a corrupt
+    // file that looks written.
+    Imf::StdOSStream stream;
+    {
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(frameBuffer);
+      file.writePixels(image.height);
+    }
+    encoded = stream.str();
+  } catch (const std::exception& e) {
+    fail(path, std::string("cannot encode EXR (") + e.what() + ")");
+  }
+  writeFileAtomically(path, encoded.data(), encoded.size());
+}
+
+void writePng(const fs::path& path, const ImageF& image, PngEncoding encoding, float exposure) {
+  validateForWrite(path, image);
+  if (encoding == PngEncoding::Tonemapped && !(std::isfinite(exposure) && exposure >= 0.0f)) {
+    fail(path, "exposure must be finite and non-negative (got " + std::to_string(exposure) + ")");
+  }
+  const std::size_t channelCount = image.channelCount();
+  const std::size_t pixelCount = std::size_t(image.width) * std::size_t(image.height);
+  const bool hasAlpha = channelCount == 4;
+  bool anyNonFinite = false;
+  for (float v : image.pixels) anyNonFinite = anyNonFinite || !std::isfinite(v);
+  // A grey image with bad values is written as RGB so the magenta shows.
+  const int outComponents = hasAlpha ? 4 : (channelCount == 1 && !anyNonFinite ? 1 : 3);
+
+  const auto encode = [&](glm::vec3 rgb) -> glm::vec3 {
+    switch (encoding) {
+      case PngEncoding::Tonemapped:
+        return shared::displayEncode(glm::min(rgb, glm::vec3(kTonemapInputLimit / exposure)), exposure);
+      case PngEncoding::Srgb:
+        return shared::srgbEncode(glm::clamp(rgb, 0.0f, 1.0f));
+      case PngEncoding::Linear:
+        break;
+    }
+    return glm::clamp(rgb, 0.0f, 1.0f);
+  };
+
+  std::vector<std::uint8_t> bytes(pixelCount * std::size_t(outComponents));
+  std::uint8_t* out = bytes.data();
+  for (std::size_t i = 0; i < pixelCount; ++i) {
+    const float* in = image.pixels.data() + i * channelCount;
+    glm::vec3 rgb;
+    if (channelCount == 1) {
+      rgb = glm::vec3(in[0]);
+    } else if (channelCount == 2) {
+      rgb = glm::vec3(in[0], in[1], 0.0f);  // e.g. motion vectors: x in red, y in green
+    } else {
+      rgb = glm::vec3(in[0], in[1], in[2]);
+    }
+    const float alpha = hasAlpha ? in[3] : 1.0f;
+    const bool bad = !std::isfinite(rgb.x) || !std::isfinite(rgb.y) || !std::isfinite(rgb.z) || !std::isfinite(alpha);
+    if (bad) {
+      const std::uint8_t magenta[4] = {255, 0, 255, 255};
+      out = std::copy_n(magenta, outComponents, out);
+      continue;
+    }
+    const glm::vec3 encoded = encode(rgb);
+    *out++ = toByte(encoded.x);
+    if (outComponents >= 3) {
+      *out++ = toByte(encoded.y);
+      *out++ = toByte(encoded.z);
+    }
+    if (hasAlpha) *out++ = toByte(alpha);
+  }
+
+  std::vector<std::uint8_t> encodedPng;
+  const auto append = [](void* context, void* data, int size) {
+    auto& buffer = *static_cast<std::vector<std::uint8_t>*>(context);
+    const auto* begin = static_cast<const std::uint8_t*>(data);
+    buffer.insert(buffer.end(), begin, begin + size);
+  };
+  const int ok = stbi_write_png_to_func(append, &encodedPng, image.width, image.height, outComponents, bytes.data(),
+                                        image.width * outComponents);
+  if (!ok || encodedPng.empty()) fail(path, "cannot encode PNG");
+  writeFileAtomically(path, encodedPng.data(), encodedPng.size());
+}
+
+}  // namespace bounce::io

@@ -1,0 +1,63 @@
+// Image files: read EXR (every compression OpenEXR supports), Radiance .hdr,
+// PNG and JPEG into linear float; write PNG (8-bit sRGB, tonemapped or not)
+// and multi-channel float EXR. No Vulkan here: this layer sits beside gpu/.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace bounce::io {
+
+// Any problem with an image file. what() always names the file and the reason.
+class ImageIoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A linear float image with interleaved, named channels
+// (pixel (x, y) channel c is pixels[(y * width + x) * channels.size() + c];
+// row 0 is the top row).
+struct ImageF {
+  int width = 0;
+  int height = 0;
+  std::vector<std::string> channels;  // e.g. {"R", "G", "B", "A"} or {"viewZ"}
+  std::vector<float> pixels;
+
+  ImageF() = default;
+  ImageF(int w, int h, std::vector<std::string> channelNames);
+
+  std::size_t channelCount() const { return channels.size(); }
+  float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels.size() + c]; }
+  float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels.size() + c]; }
+};
+
+// How a float image becomes 8-bit PNG values.
+enum class PngEncoding {
+  Tonemapped,  // exposure, ACES fitted tonemap, sRGB encode (for radiance)
+  Srgb,        // sRGB encode of values clamped to [0,1] (for albedo-like data)
+  Linear,      // values clamped to [0,1] and stored as they are (for masks, plots)
+};
+
+// Reads an image; the format is chosen by the file's signature (not its
+// extension). PNG/JPEG are decoded from sRGB to linear; EXR/HDR are linear.
+// Channels come back as {"R","G","B"} or {"R","G","B","A"} (a single-channel
+// EXR keeps its own channel name). Throws ImageIoError for missing, unreadable,
+// truncated or unsupported files, zero or absurd sizes (more than 65536 pixels
+// a side), and, unless allowNonFinite, any NaN or Inf value (naming the first
+// bad pixel and the count).
+ImageF readImage(const std::filesystem::path& path, bool allowNonFinite = false);
+
+// Writes float32 channels with their names (ZIP compression). The file is
+// written beside the target and renamed into place, so a failed write never
+// leaves a half file. Throws ImageIoError.
+void writeExr(const std::filesystem::path& path, const ImageF& image);
+
+// Writes an 8-bit PNG (RGB, or RGBA when the image has 4 channels; one channel
+// becomes grey). Same atomic write and errors as writeExr.
+void writePng(const std::filesystem::path& path, const ImageF& image, PngEncoding encoding = PngEncoding::Tonemapped,
+              float exposure = 1.0f);
+
+}  // namespace bounce::io

@@ -1,0 +1,163 @@
+// Radiance RGBE decoder; see radiance_hdr.h for why it is ours.
+//
+// File layout: text header lines ("#?RADIANCE", "FORMAT=...", ...) ending in an
+// empty line, a resolution line ("-Y 512 +X 1024"), then one scanline per row.
+// A scanline is either flat (4 bytes R,G,B,E per pixel) or, for widths 8..32767,
+// run-length encoded per component after a 4-byte marker (2, 2, width hi, lo).
+#include "io/radiance_hdr.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+namespace bounce::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void fail(const fs::path& path, const std::string& reason) {
+  throw ImageIoError(path.string() + ": " + reason);
+}
+
+// A cursor over the file bytes that fails with the file name instead of ever
+// reading past the end.
+class ByteCursor {
+ public:
+  ByteCursor(const fs::path& path, const std::vector<unsigned char>& bytes) : path_(path), bytes_(bytes) {}
+
+  bool atEnd() const { return position_ >= bytes_.size(); }
+  std::size_t remaining() const { return bytes_.size() - position_; }
+  const unsigned char* here() const { return bytes_.data() + position_; }
+
+  unsigned char next() {
+    if (atEnd()) truncated();
+    return bytes_[position_++];
+  }
+
+  void advance(std::size_t count) {
+    if (count > remaining()) truncated();
+    position_ += count;
+  }
+
+  // One header line without its '\n'. Header lines are short; a long one means
+  // this is not a Radiance file (or the header never ends).
+  std::string_view line() {
+    constexpr std::size_t kMaxHeaderLine = 4096;
+    const std::size_t start = position_;
+    while (true) {
+      if (atEnd()) fail(path_, "truncated or corrupt (header does not end)");
+      if (bytes_[position_] == '\n') break;
+      if (position_ - start > kMaxHeaderLine) fail(path_, "corrupt header (line longer than 4096 bytes)");
+      ++position_;
+    }
+    const std::string_view text(reinterpret_cast<const char*>(bytes_.data() + start), position_ - start);
+    ++position_;
+    return text;
+  }
+
+  [[noreturn]] void truncated() const { fail(path_, "truncated or corrupt (pixel data ends early)"); }
+
+ private:
+  const fs::path& path_;
+  const std::vector<unsigned char>& bytes_;
+  std::size_t position_ = 0;
+};
+
+// Radiance's own conversion: the mantissa names the centre of its bucket.
+void rgbeToFloat(const unsigned char rgbe[4], float* rgb) {
+  if (rgbe[3] == 0) {
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    return;
+  }
+  const float scale = std::ldexp(1.0f, int(rgbe[3]) - (128 + 8));
+  for (int c = 0; c < 3; ++c) rgb[c] = (float(rgbe[c]) + 0.5f) * scale;
+}
+
+void readHeader(const fs::path& path, ByteCursor& cursor) {
+  const std::string_view magic = cursor.line();
+  if (magic != "#?RADIANCE" && magic != "#?RGBE") fail(path, "not a Radiance HDR file (bad signature)");
+  while (true) {
+    const std::string_view line = cursor.line();
+    if (line.empty()) return;
+    if (line.starts_with("FORMAT=") && line != "FORMAT=32-bit_rle_rgbe") {
+      fail(path, "unsupported Radiance pixel format '" + std::string(line.substr(7)) + "' (only 32-bit_rle_rgbe)");
+    }
+  }
+}
+
+// Reads the scanline into rgbe (width * 4 bytes, pixel-interleaved).
+void readScanline(ByteCursor& cursor, int width, std::vector<unsigned char>& rgbe, const fs::path& path) {
+  const bool runLengthEncoded = width >= 8 && width <= 32767 && cursor.remaining() >= 4 && cursor.here()[0] == 2 &&
+                                cursor.here()[1] == 2 && (cursor.here()[2] & 0x80) == 0;
+  if (!runLengthEncoded) {
+    if (std::size_t(width) * 4 > cursor.remaining()) cursor.truncated();
+    std::copy_n(cursor.here(), std::size_t(width) * 4, rgbe.begin());
+    cursor.advance(std::size_t(width) * 4);
+    return;
+  }
+  const int encodedWidth = (int(cursor.here()[2]) << 8) | int(cursor.here()[3]);
+  if (encodedWidth != width) {
+    fail(path, "corrupt scanline (encoded width " + std::to_string(encodedWidth) + ", image width " +
+                   std::to_string(width) + ")");
+  }
+  cursor.advance(4);
+  for (int component = 0; component < 4; ++component) {
+    int x = 0;
+    while (x < width) {
+      int count = cursor.next();
+      const bool run = count > 128;
+      if (run) count -= 128;
+      if (count == 0 || x + count > width) fail(path, "corrupt run-length scanline");
+      if (run) {
+        const unsigned char value = cursor.next();
+        for (int i = 0; i < count; ++i) rgbe[std::size_t(x++) * 4 + component] = value;
+      } else {
+        for (int i = 0; i < count; ++i) rgbe[std::size_t(x++) * 4 + component] = cursor.next();
+      }
+    }
+  }
+}
+
+}  // namespace
+
+ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>& bytes, int maxSide) {
+  ByteCursor cursor(path, bytes);
+  readHeader(path, cursor);
+
+  const std::string resolution(cursor.line());
+  char yAxis[3] = {};
+  char xAxis[3] = {};
+  long height = 0;
+  long width = 0;
+  int consumed = 0;
+  if (std::sscanf(resolution.c_str(), "%2s %ld %2s %ld%n", yAxis, &height, xAxis, &width, &consumed) != 4 ||
+      std::size_t(consumed) != resolution.size()) {
+    fail(path, "corrupt resolution line '" + resolution + "'");
+  }
+  const std::string_view y(yAxis);
+  if ((y != "-Y" && y != "+Y") || std::string_view(xAxis) != "+X") {
+    fail(path, "unsupported Radiance orientation '" + resolution + "' (only -Y H +X W and +Y H +X W)");
+  }
+  if (width <= 0 || height <= 0) {
+    fail(path, "image has zero size (" + std::to_string(width) + "x" + std::to_string(height) + ")");
+  }
+  if (width > maxSide || height > maxSide) {
+    fail(path, "image size " + std::to_string(width) + "x" + std::to_string(height) + " is larger than " +
+                   std::to_string(maxSide) + " pixels a side (corrupt header?)");
+  }
+
+  ImageF image(int(width), int(height), {"R", "G", "B"});
+  std::vector<unsigned char> rgbe(std::size_t(width) * 4);
+  const bool bottomUp = y == "+Y";
+  for (int row = 0; row < height; ++row) {
+    readScanline(cursor, int(width), rgbe, path);
+    const int imageRow = bottomUp ? int(height) - 1 - row : row;
+    for (int x = 0; x < width; ++x) rgbeToFloat(&rgbe[std::size_t(x) * 4], &image.at(x, imageRow, 0));
+  }
+  return image;
+}
+
+}  // namespace bounce::io

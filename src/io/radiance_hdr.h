@@ -1,0 +1,20 @@
+// Radiance RGBE (.hdr) decoding. Our own decoder rather than stb's: the stb
+// in Debian 12 loops forever on a run-length scanline whose count byte is zero,
+// which is exactly what a truncated file looks like, and it fills missing bytes
+// with zeros instead of failing. Internal to bounce_io.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "io/image_io.h"
+
+namespace bounce::io {
+
+// Decodes a whole Radiance file (32-bit_rle_rgbe, flat or new-style run-length
+// scanlines, "-Y H +X W" or "+Y H +X W" orientation) into an RGB float image.
+// Every inconsistency (truncation, run past the scanline, zero count, size over
+// maxSide) throws ImageIoError naming the file.
+ImageF decodeRadianceHdr(const std::filesystem::path& path, const std::vector<unsigned char>& bytes, int maxSide);
+
+}  // namespace bounce::io
