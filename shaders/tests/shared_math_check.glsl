@@ -1,0 +1,46 @@
+// One function that exercises every shared-math function on one input. The
+// GPU test runs it in tests/shared_math_check.comp, the CPU runs the same
+// source through the C++ shim, and the test compares the two.
+#ifndef BOUNCE_TESTS_SHARED_MATH_CHECK_GLSL
+#define BOUNCE_TESTS_SHARED_MATH_CHECK_GLSL
+#include "shared/color.glsl"
+#include "shared/intersect.glsl"
+#include "shared/packing.glsl"
+#include "shared/rng.glsl"
+
+BOUNCE_SHARED_BEGIN
+
+struct SharedMathCheckInput {
+  vec4 values;  // each in [0,1)
+  uvec4 bits;   // random 32-bit words
+};
+
+struct SharedMathCheckOutput {
+  uvec4 integers;  // pcgHash, rngSeed, rngNext, packNormalOct32
+  vec4 scalars;    // rngUniform, luminance, srgbEncode, srgbDecode
+  vec4 normalHit;  // unpackNormalOct32 (xyz), intersectSphere (w)
+  vec4 display;    // tonemapAcesFitted (xyz), displayEncode (w, red channel)
+};
+
+SharedMathCheckOutput runSharedMathCheck(SharedMathCheckInput args) {
+  SharedMathCheckOutput result;
+  uint state = args.bits.w;
+  uint next = rngNext(state);
+  float uniformValue = rngUniform(state);
+  vec3 direction = vec3(args.values.x, args.values.y, args.values.z) * 2.0f - vec3(1.0f);
+  vec3 normal = dot(direction, direction) > 1e-6f ? normalize(direction) : vec3(0.0f, 0.0f, 1.0f);
+  uint packedNormal = packNormalOct32(normal);
+  result.integers = uvec4(pcgHash(args.bits.x), rngSeed(uvec2(args.bits.y & 0xffffu, args.bits.y >> 16u),
+                                                        args.bits.z, args.bits.w & 7u), next, packedNormal);
+  vec3 radiance = vec3(args.values.x, args.values.y, args.values.z) * 8.0f;
+  result.scalars = vec4(uniformValue, luminance(radiance), srgbEncode(args.values.w),
+                        srgbDecode(args.values.x));
+  float t = intersectSphere(vec3(0.0f), normal, vec3(0.5f, 0.25f, 2.0f) * (args.values.w * 2.0f),
+                            0.2f + args.values.w, 1e-4f);
+  result.normalHit = vec4(unpackNormalOct32(packedNormal), t);
+  result.display = vec4(tonemapAcesFitted(radiance), displayEncode(radiance, 1.0f).x);
+  return result;
+}
+
+BOUNCE_SHARED_END
+#endif

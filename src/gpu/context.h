@@ -1,0 +1,113 @@
+// The Vulkan instance, the chosen device and its compute queue, and the
+// validation layer's message log. One Context per process is the normal case.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace bounce::gpu {
+
+class Recorder;
+
+struct ContextOptions {
+  // Enable the Khronos validation layer with synchronization validation.
+  // Every message is recorded (validationMessages()) and printed to stderr.
+  bool validation = false;
+  // Index into enumerateDevices(); empty = the environment variable
+  // BOUNCE_DEVICE if set, else the best device (discrete GPU first, lavapipe last).
+  std::optional<int> deviceIndex;
+  // Print validation messages to stderr as they arrive (tests turn this off
+  // and assert on the log instead).
+  bool printValidationMessages = true;
+};
+
+struct DeviceInfo {
+  int index = 0;
+  std::string name;
+  std::string type;    // "discrete GPU", "integrated GPU", "virtual GPU", "CPU", "other"
+  std::string driver;  // driver name and version
+  std::uint32_t apiVersion = 0;
+  bool suitable = false;
+  std::string unsuitableReason;  // why it cannot run Bounce, when !suitable
+};
+
+std::string versionString(std::uint32_t apiVersion);
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Every Vulkan device on this machine, suitable or not (creates a
+  // throw-away instance; throws GpuError when Vulkan itself is missing).
+  static std::vector<DeviceInfo> enumerateDevices();
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physicalDevice() const { return physicalDevice_; }
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  std::uint32_t queueFamily() const { return queueFamily_; }
+  const VkPhysicalDeviceProperties& properties() const { return properties_; }
+  const DeviceInfo& deviceInfo() const { return deviceInfo_; }
+  double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
+  bool validationEnabled() const { return validation_; }
+  bool debugLabelsAvailable() const { return debugUtils_; }
+
+  // Validation messages (warnings and errors) received so far.
+  std::vector<std::string> validationMessages() const;
+  void clearValidationMessages();
+
+  // Memory type index for the requirements; throws GpuError if none fits.
+  std::uint32_t findMemoryType(std::uint32_t typeBits, VkMemoryPropertyFlags required,
+                               VkMemoryPropertyFlags preferred = 0) const;
+
+  // Records work with `record` into a fresh command buffer, submits it and
+  // waits. For uploads, readbacks and set-up; never for per-frame work.
+  void submitAndWait(const std::function<void(Recorder&)>& record);
+
+  VkSampler linearSampler() const { return linearSampler_; }
+  VkSampler nearestSampler() const { return nearestSampler_; }
+
+  // Extension entry points the layer needs.
+  PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
+  PFN_vkCmdBeginDebugUtilsLabelEXT cmdBeginDebugLabel = nullptr;
+  PFN_vkCmdEndDebugUtilsLabelEXT cmdEndDebugLabel = nullptr;
+  PFN_vkSetDebugUtilsObjectNameEXT setObjectName = nullptr;
+
+  // Gives a Vulkan object a debug name (shows in validation messages).
+  void nameObject(VkObjectType type, std::uint64_t handle, const std::string& name) const;
+
+ private:
+  void release();
+  static VkBool32 VKAPI_PTR onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                           VkDebugUtilsMessageTypeFlagsEXT types,
+                                           const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+
+  bool validation_ = false;
+  bool printMessages_ = true;
+  bool debugUtils_ = false;
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties_{};
+  VkPhysicalDeviceMemoryProperties memoryProperties_{};
+  DeviceInfo deviceInfo_;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  std::uint32_t queueFamily_ = 0;
+  VkCommandPool setupPool_ = VK_NULL_HANDLE;
+  VkSampler linearSampler_ = VK_NULL_HANDLE;
+  VkSampler nearestSampler_ = VK_NULL_HANDLE;
+  mutable std::mutex messagesMutex_;
+  std::vector<std::string> messages_;
+};
+
+}  // namespace bounce::gpu

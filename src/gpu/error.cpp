@@ -1,0 +1,40 @@
+#include "gpu/error.h"
+
+#include <string>
+
+namespace bounce::gpu {
+
+const char* resultName(VkResult result) {
+  switch (result) {
+#define BOUNCE_RESULT(r) \
+  case r:                \
+    return #r;
+    BOUNCE_RESULT(VK_SUCCESS)
+    BOUNCE_RESULT(VK_NOT_READY)
+    BOUNCE_RESULT(VK_TIMEOUT)
+    BOUNCE_RESULT(VK_INCOMPLETE)
+    BOUNCE_RESULT(VK_ERROR_OUT_OF_HOST_MEMORY)
+    BOUNCE_RESULT(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    BOUNCE_RESULT(VK_ERROR_INITIALIZATION_FAILED)
+    BOUNCE_RESULT(VK_ERROR_DEVICE_LOST)
+    BOUNCE_RESULT(VK_ERROR_MEMORY_MAP_FAILED)
+    BOUNCE_RESULT(VK_ERROR_LAYER_NOT_PRESENT)
+    BOUNCE_RESULT(VK_ERROR_EXTENSION_NOT_PRESENT)
+    BOUNCE_RESULT(VK_ERROR_FEATURE_NOT_PRESENT)
+    BOUNCE_RESULT(VK_ERROR_INCOMPATIBLE_DRIVER)
+    BOUNCE_RESULT(VK_ERROR_TOO_MANY_OBJECTS)
+    BOUNCE_RESULT(VK_ERROR_FORMAT_NOT_SUPPORTED)
+    BOUNCE_RESULT(VK_ERROR_FRAGMENTED_POOL)
+    BOUNCE_RESULT(VK_ERROR_OUT_OF_POOL_MEMORY)
+    BOUNCE_RESULT(VK_ERROR_UNKNOWN)
+#undef BOUNCE_RESULT
+    default:
+      return "VkResult(unknown)";
+  }
+}
+
+void check(VkResult result, const char* what) {
+  if (result != VK_SUCCESS) throw GpuError(std::string(what) + ": " + resultName(result));
+}
+
+}  // namespace bounce::gpu

@@ -1,0 +1,281 @@
+#include "gpu/recorder.h"
+
+#include <algorithm>
+#include <string>
+
+#include "gpu/context.h"
+#include "gpu/error.h"
+#include "gpu/format.h"
+
+namespace bounce::gpu {
+namespace {
+
+constexpr VkPipelineStageFlags2 kCompute = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkPipelineStageFlags2 kTransfer = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
+
+std::string declaredNames(const PassDesc& desc) {
+  std::string list;
+  for (const ResourceDecl& r : desc.resources) list += (list.empty() ? "" : ", ") + r.name;
+  return list;
+}
+
+}  // namespace
+
+Recorder::Recorder(Context& context, VkCommandBuffer commandBuffer, TimestampSink* timestamps)
+    : context_(context), cmd_(commandBuffer), timestamps_(timestamps) {}
+
+void Recorder::require(SyncState& state, VkImage image, std::uint32_t mipLevels, VkImageLayout layout,
+                       VkPipelineStageFlags2 stage, VkAccessFlags2 access, bool writes) {
+  // A layout transition reads and writes the whole image, so it orders
+  // against every earlier access, like a write.
+  const bool transition = image != VK_NULL_HANDLE && state.layout != layout;
+  VkPipelineStageFlags2 srcStage = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 srcAccess = VK_ACCESS_2_NONE;
+  bool hazard = false;
+  if (writes || transition) {
+    // Write after read: wait for the reads. Write after write: wait for the
+    // write and make it available, so the two do not race.
+    srcStage = state.readStages | state.writeStage;
+    srcAccess = state.writeAccess;
+    hazard = srcStage != VK_PIPELINE_STAGE_2_NONE;
+  } else if (state.writeStage != VK_PIPELINE_STAGE_2_NONE && (state.visibleTo & access) != access) {
+    // Read after write, not yet made visible to this kind of read.
+    srcStage = state.writeStage;
+    srcAccess = state.writeAccess;
+    hazard = true;
+  }
+  if (!autoBarriers_) {
+    srcStage = VK_PIPELINE_STAGE_2_NONE;
+    srcAccess = VK_ACCESS_2_NONE;
+    hazard = false;
+  }
+
+  if (image != VK_NULL_HANDLE && (hazard || transition)) {
+    VkImageMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    barrier.srcStageMask = srcStage;
+    barrier.srcAccessMask = srcAccess;
+    barrier.dstStageMask = stage;
+    barrier.dstAccessMask = access;
+    barrier.oldLayout = state.layout;
+    barrier.newLayout = layout;
+    barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image;
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mipLevels, 0, 1};
+    imageBarriers_.push_back(barrier);
+  } else if (hazard) {
+    memoryBarrier_.srcStageMask |= srcStage;
+    memoryBarrier_.srcAccessMask |= srcAccess;
+    memoryBarrier_.dstStageMask |= stage;
+    memoryBarrier_.dstAccessMask |= access;
+    memoryBarrierPending_ = true;
+  }
+
+  if (image != VK_NULL_HANDLE) state.layout = layout;
+  if (writes || transition) {
+    // After a transition the image is as if just written at `stage`: later
+    // accesses order against it, and it is visible to this access.
+    state.writeStage = stage;
+    state.writeAccess = access & (VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    state.readStages = writes ? VK_PIPELINE_STAGE_2_NONE : stage;
+    state.visibleTo = access;
+  } else {
+    state.readStages |= stage;
+    if (hazard || state.writeStage == VK_PIPELINE_STAGE_2_NONE) state.visibleTo |= access;
+  }
+}
+
+void Recorder::flushBarriers() {
+  if (imageBarriers_.empty() && !memoryBarrierPending_) return;
+  VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dependency.memoryBarrierCount = memoryBarrierPending_ ? 1 : 0;
+  dependency.pMemoryBarriers = &memoryBarrier_;
+  dependency.imageMemoryBarrierCount = std::uint32_t(imageBarriers_.size());
+  dependency.pImageMemoryBarriers = imageBarriers_.data();
+  vkCmdPipelineBarrier2(cmd_, &dependency);
+  imageBarriers_.clear();
+  memoryBarrier_ = {VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  memoryBarrierPending_ = false;
+}
+
+void Recorder::writeTimestamp(bool begin, const std::string& passName) {
+  if (!timestamps_) return;
+  auto index = std::uint32_t(timestamps_->passes.size() * 2 + (begin ? 0 : 1));
+  if (index >= timestamps_->capacity)
+    throw GpuError("more passes in one frame than the timestamp pool holds (" +
+                   std::to_string(timestamps_->capacity / 2) + ")");
+  // ALL_COMMANDS on both ends: each pass is timed from the moment all earlier
+  // work finished to its own end, so waiting on earlier passes is not
+  // charged to it.
+  vkCmdWriteTimestamp2(cmd_, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_->pool, index);
+  if (!begin) timestamps_->passes.push_back(passName);
+}
+
+void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height,
+                        std::initializer_list<Bind> binds, const void* pushConstants, std::size_t pushConstantBytes) {
+  const PassDesc& desc = pass.desc();
+  auto fail = [&](const std::string& why) { return GpuError("pass '" + desc.name + "': " + why); };
+  if (width == 0 || height == 0) throw fail("dispatch over an empty grid");
+  if (pushConstantBytes != desc.pushConstantSize)
+    throw fail("push constants of " + std::to_string(pushConstantBytes) + " bytes given, " +
+               std::to_string(desc.pushConstantSize) + " declared");
+
+  // Put the binds into declaration order, checking names as we go.
+  ordered_.assign(desc.resources.size(), nullptr);
+  for (const Bind& bind : binds) {
+    auto it = std::find_if(desc.resources.begin(), desc.resources.end(),
+                           [&](const ResourceDecl& r) { return r.name == bind.name; });
+    if (it == desc.resources.end())
+      throw fail("no resource named '" + std::string(bind.name) + "' is declared (declared: " + declaredNames(desc) +
+                 ")");
+    std::size_t index = std::size_t(it - desc.resources.begin());
+    if (ordered_[index]) throw fail("'" + it->name + "' is bound twice");
+    ordered_[index] = &bind;
+  }
+
+  writes_.clear();
+  imageInfos_.clear();
+  bufferInfos_.clear();
+  imageInfos_.reserve(desc.resources.size());
+  bufferInfos_.reserve(desc.resources.size());
+  for (std::size_t i = 0; i < desc.resources.size(); ++i) {
+    const ResourceDecl& decl = desc.resources[i];
+    const Bind* bind = ordered_[i];
+    if (!bind) throw fail("resource '" + decl.name + "' is not bound");
+    const bool isImage = decl.kind == ResourceKind::StorageImage || decl.kind == ResourceKind::SampledImage;
+    if (isImage != (bind->image != nullptr))
+      throw fail("'" + decl.name + "' needs " + (isImage ? "an image" : "a buffer"));
+    const bool writes = decl.access != Access::Read;
+    VkAccessFlags2 access = VK_ACCESS_2_NONE;
+    switch (decl.kind) {
+      case ResourceKind::StorageImage:
+      case ResourceKind::StorageBuffer:
+        if (decl.access != Access::Write) access |= VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+        if (writes) access |= VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+        break;
+      case ResourceKind::SampledImage:
+        access = VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
+        break;
+      case ResourceKind::UniformBuffer:
+        access = VK_ACCESS_2_UNIFORM_READ_BIT;
+        break;
+    }
+
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstBinding = pass.binding(i).binding;
+    write.descriptorCount = 1;
+    if (isImage) {
+      Image& image = *bind->image;
+      if (decl.kind == ResourceKind::StorageImage && image.format() != decl.format)
+        throw fail("'" + decl.name + "' is declared " + formatInfo(decl.format).name + " but image '" + image.name() +
+                   "' is " + formatInfo(image.format()).name);
+      require(image.sync(), image.handle(), image.desc().mipLevels, VK_IMAGE_LAYOUT_GENERAL, kCompute, access, writes);
+      VkDescriptorImageInfo info{};
+      info.imageView = image.view();
+      info.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+      if (decl.kind == ResourceKind::SampledImage)
+        info.sampler = bind->sampler ? bind->sampler : context_.linearSampler();
+      imageInfos_.push_back(info);
+      write.descriptorType = decl.kind == ResourceKind::SampledImage ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+                                                                     : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+      write.pImageInfo = &imageInfos_.back();
+    } else {
+      Buffer& buffer = *bind->buffer;
+      require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kCompute, access, writes);
+      bufferInfos_.push_back({buffer.handle(), 0, VK_WHOLE_SIZE});
+      write.descriptorType = decl.kind == ResourceKind::UniformBuffer ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                                                      : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      write.pBufferInfo = &bufferInfos_.back();
+    }
+    writes_.push_back(write);
+  }
+  flushBarriers();
+
+  VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+  label.pLabelName = desc.name.c_str();
+  if (context_.cmdBeginDebugLabel) context_.cmdBeginDebugLabel(cmd_, &label);
+  writeTimestamp(true, desc.name);
+  vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pass.pipeline());
+  context_.cmdPushDescriptorSet(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pass.layout(), 0, std::uint32_t(writes_.size()),
+                                writes_.data());
+  if (pushConstantBytes)
+    vkCmdPushConstants(cmd_, pass.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, std::uint32_t(pushConstantBytes),
+                       pushConstants);
+  const std::uint32_t* local = pass.localSize();
+  vkCmdDispatch(cmd_, (width + local[0] - 1) / local[0], (height + local[1] - 1) / local[1], 1);
+  writeTimestamp(false, desc.name);
+  if (context_.cmdEndDebugLabel) context_.cmdEndDebugLabel(cmd_);
+
+  if (captures_) {
+    for (std::size_t i = 0; i < desc.resources.size(); ++i) {
+      const ResourceDecl& decl = desc.resources[i];
+      if (decl.access == Access::Read || !ordered_[i]->image) continue;
+      Image& image = *ordered_[i]->image;
+      auto texels = std::make_shared<Buffer>(context_, "capture." + desc.name + "." + decl.name, image.byteSize(),
+                                             BufferUsage::Readback);
+      copyImageToBuffer(image, *texels);
+      makeHostReadable(*texels);
+      captures_->push_back({captureFrame_, desc.name, decl.name, image.desc(), texels});
+    }
+  }
+}
+
+void Recorder::copyBufferToImage(Buffer& source, Image& destination) {
+  if (source.size() < destination.byteSize())
+    throw GpuError("upload to '" + destination.name() + "': buffer '" + source.name() + "' is too small");
+  require(source.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_READ_BIT, false);
+  require(destination.sync(), destination.handle(), destination.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+          kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, true);
+  flushBarriers();
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {destination.width(), destination.height(), 1};
+  vkCmdCopyBufferToImage(cmd_, source.handle(), destination.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+}
+
+void Recorder::copyImageToBuffer(Image& source, Buffer& destination) {
+  if (destination.size() < source.byteSize())
+    throw GpuError("readback of '" + source.name() + "': buffer '" + destination.name() + "' is too small");
+  require(source.sync(), source.handle(), source.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kTransfer,
+          VK_ACCESS_2_TRANSFER_READ_BIT, false);
+  require(destination.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+          true);
+  flushBarriers();
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {source.width(), source.height(), 1};
+  vkCmdCopyImageToBuffer(cmd_, source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination.handle(), 1, &region);
+}
+
+void Recorder::copyBuffer(Buffer& source, Buffer& destination, VkDeviceSize bytes) {
+  if (bytes > source.size() || bytes > destination.size())
+    throw GpuError("copy of " + std::to_string(bytes) + " bytes from '" + source.name() + "' to '" +
+                   destination.name() + "' overruns a buffer");
+  require(source.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_READ_BIT, false);
+  require(destination.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+          true);
+  flushBarriers();
+  VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(cmd_, source.handle(), destination.handle(), 1, &region);
+}
+
+void Recorder::clearImage(Image& image, const VkClearColorValue& value) {
+  require(image.sync(), image.handle(), image.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, kTransfer,
+          VK_ACCESS_2_TRANSFER_WRITE_BIT, true);
+  flushBarriers();
+  VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, image.desc().mipLevels, 0, 1};
+  vkCmdClearColorImage(cmd_, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+}
+
+void Recorder::fillBuffer(Buffer& buffer, std::uint32_t word) {
+  require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, true);
+  flushBarriers();
+  vkCmdFillBuffer(cmd_, buffer.handle(), 0, VK_WHOLE_SIZE, word);
+}
+
+void Recorder::makeHostReadable(Buffer& buffer) {
+  require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_HOST_BIT,
+          VK_ACCESS_2_HOST_READ_BIT, false);
+  flushBarriers();
+}
+
+}  // namespace bounce::gpu

@@ -1,0 +1,123 @@
+// Records GPU work into a command buffer and places every barrier itself.
+//
+// Each Image and Buffer remembers what the GPU last did to it (SyncState).
+// When a pass is dispatched, the Recorder compares each bound resource's
+// declared access (from the pass declaration) with that state and inserts the
+// pipeline barrier the hazard needs: read-after-write, write-after-read,
+// write-after-write, and layout transitions (GENERAL for compute,
+// TRANSFER_SRC/DST_OPTIMAL for copies). Passes never write a
+// barrier by hand, so none can be forgotten. Because resources carry their
+// state across command buffers, this stays right across frames as long as
+// command buffers are submitted in the order they were recorded (which the
+// FrameLoop guarantees).
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/pass.h"
+#include "gpu/resources.h"
+
+namespace bounce::gpu {
+
+class Context;
+
+// One resource bound to a pass, by the name the pass declares.
+struct Bind {
+  Bind(std::string_view name, Image& image, VkSampler sampler = VK_NULL_HANDLE)
+      : name(name), image(&image), sampler(sampler) {}
+  Bind(std::string_view name, Buffer& buffer) : name(name), buffer(&buffer) {}
+  std::string_view name;
+  Image* image = nullptr;
+  Buffer* buffer = nullptr;
+  VkSampler sampler = VK_NULL_HANDLE;  // sampled images: VK_NULL_HANDLE = the context's linear sampler
+};
+
+// A copy of one image a pass wrote, taken right after that pass ran
+// (so later passes that reuse the image do not hide it).
+struct CapturedStage {
+  std::uint64_t frame = 0;
+  std::string pass;
+  std::string binding;
+  ImageDesc image;
+  std::shared_ptr<Buffer> texels;  // mip 0, tightly packed, host-visible once the frame completed
+};
+
+// Where a Recorder writes its GPU timestamps (owned by the FrameLoop).
+struct TimestampSink {
+  VkQueryPool pool = VK_NULL_HANDLE;
+  std::uint32_t capacity = 0;       // queries in the pool (two per pass)
+  std::vector<std::string> passes;  // pass names in recorded order
+};
+
+class Recorder {
+ public:
+  Recorder(Context& context, VkCommandBuffer commandBuffer, TimestampSink* timestamps = nullptr);
+
+  VkCommandBuffer commandBuffer() const { return cmd_; }
+  Context& context() const { return context_; }
+
+  // Runs `pass` over a width x height grid of threads (one per pixel): the
+  // workgroup count comes from the shader's local size. Every declared
+  // resource must be bound exactly once; push constants must be exactly the
+  // declared size.
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::initializer_list<Bind> binds,
+                const void* pushConstants = nullptr, std::size_t pushConstantBytes = 0);
+  template <class Params>
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::initializer_list<Bind> binds,
+                const Params& params) {
+    dispatch(pass, width, height, binds, &params, sizeof(Params));
+  }
+
+  // Transfers, with the same automatic barriers.
+  void copyBufferToImage(Buffer& source, Image& destination);  // tightly packed mip 0
+  void copyImageToBuffer(Image& source, Buffer& destination);
+  void copyBuffer(Buffer& source, Buffer& destination, VkDeviceSize bytes);
+  void clearImage(Image& image, const VkClearColorValue& value);
+  void fillBuffer(Buffer& buffer, std::uint32_t word);
+  // Makes GPU writes to a host-visible buffer visible to the CPU after the
+  // submission's fence is waited on.
+  void makeHostReadable(Buffer& buffer);
+
+  // Copies every image each later pass writes into `sink` (see CapturedStage).
+  void captureStages(std::vector<CapturedStage>* sink, std::uint64_t frame) {
+    captures_ = sink;
+    captureFrame_ = frame;
+  }
+
+  // For tests that prove synchronization validation works: with false, only
+  // layout transitions are recorded, no hazard barriers.
+  void setAutoBarriers(bool enabled) { autoBarriers_ = enabled; }
+
+ private:
+  // Records the barrier (and layout transition) that an access to a resource
+  // needs after what its SyncState says happened before, and updates the state.
+  void require(SyncState& state, VkImage image, std::uint32_t mipLevels, VkImageLayout layout,
+               VkPipelineStageFlags2 stage, VkAccessFlags2 access, bool writes);
+  void flushBarriers();
+  void writeTimestamp(bool begin, const std::string& passName);
+
+  Context& context_;
+  VkCommandBuffer cmd_;
+  TimestampSink* timestamps_;
+  bool autoBarriers_ = true;
+  std::vector<CapturedStage>* captures_ = nullptr;
+  std::uint64_t captureFrame_ = 0;
+  // Scratch storage reused by every dispatch, so recording a frame does not
+  // allocate once their capacity has grown.
+  std::vector<VkImageMemoryBarrier2> imageBarriers_;
+  VkMemoryBarrier2 memoryBarrier_{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  bool memoryBarrierPending_ = false;
+  std::vector<VkWriteDescriptorSet> writes_;
+  std::vector<VkDescriptorImageInfo> imageInfos_;
+  std::vector<VkDescriptorBufferInfo> bufferInfos_;
+  std::vector<const Bind*> ordered_;
+};
+
+}  // namespace bounce::gpu

@@ -1,0 +1,124 @@
+#include "gpu/resources.h"
+
+#include <string>
+
+#include "gpu/context.h"
+#include "gpu/error.h"
+#include "gpu/format.h"
+
+namespace bounce::gpu {
+
+Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsage usage)
+    : context_(context), name_(std::move(name)), size_(size) {
+  if (size == 0) throw GpuError("buffer '" + name_ + "': size is zero");
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size;
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VkDevice device = context.device();
+  check(vkCreateBuffer(device, &info, nullptr, &buffer_), ("vkCreateBuffer '" + name_ + "'").c_str());
+
+  VkMemoryRequirements requirements;
+  vkGetBufferMemoryRequirements(device, buffer_, &requirements);
+  VkMemoryPropertyFlags required = 0;
+  VkMemoryPropertyFlags preferred = 0;
+  switch (usage) {
+    case BufferUsage::DeviceLocal:
+      required = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+      break;
+    case BufferUsage::Upload:
+      required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+      break;
+    case BufferUsage::Readback:
+      required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+      preferred = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+      break;
+  }
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = requirements.size;
+  alloc.memoryTypeIndex = context.findMemoryType(requirements.memoryTypeBits, required, preferred);
+  VkResult result = vkAllocateMemory(device, &alloc, nullptr, &memory_);
+  if (result != VK_SUCCESS) {
+    vkDestroyBuffer(device, buffer_, nullptr);
+    check(result, ("allocating " + std::to_string(size) + " bytes for buffer '" + name_ + "'").c_str());
+  }
+  check(vkBindBufferMemory(device, buffer_, memory_, 0), "vkBindBufferMemory");
+  if (usage != BufferUsage::DeviceLocal)
+    check(vkMapMemory(device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  context.nameObject(VK_OBJECT_TYPE_BUFFER, std::uint64_t(buffer_), name_);
+}
+
+Buffer::~Buffer() {
+  VkDevice device = context_.device();
+  vkDestroyBuffer(device, buffer_, nullptr);
+  vkFreeMemory(device, memory_, nullptr);
+}
+
+Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_(desc) {
+  const std::uint32_t maxSide = context.properties().limits.maxImageDimension2D;
+  if (desc.width == 0 || desc.height == 0 || desc.width > maxSide || desc.height > maxSide)
+    throw GpuError("image '" + desc.name + "': size " + std::to_string(desc.width) + "x" + std::to_string(desc.height) +
+                   " is outside 1.." + std::to_string(maxSide));
+  const FormatInfo& format = formatInfo(desc.format);
+  VkFormatProperties props;
+  vkGetPhysicalDeviceFormatProperties(context.physicalDevice(), desc.format, &props);
+  if (!(props.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
+    throw GpuError("image '" + desc.name + "': this device cannot use " + format.name + " as a storage image");
+
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = desc.format;
+  info.extent = {desc.width, desc.height, 1};
+  info.mipLevels = desc.mipLevels;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+               VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkDevice device = context.device();
+  check(vkCreateImage(device, &info, nullptr, &image_), ("vkCreateImage '" + desc.name + "'").c_str());
+
+  VkMemoryRequirements requirements;
+  vkGetImageMemoryRequirements(device, image_, &requirements);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = requirements.size;
+  alloc.memoryTypeIndex = context.findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VkResult result = vkAllocateMemory(device, &alloc, nullptr, &memory_);
+  if (result != VK_SUCCESS) {
+    vkDestroyImage(device, image_, nullptr);
+    check(result, ("allocating memory for image '" + desc.name + "'").c_str());
+  }
+  check(vkBindImageMemory(device, image_, memory_, 0), "vkBindImageMemory");
+
+  VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  viewInfo.image = image_;
+  viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  viewInfo.format = desc.format;
+  viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, desc.mipLevels, 0, 1};
+  check(vkCreateImageView(device, &viewInfo, nullptr, &view_), "vkCreateImageView");
+  context.nameObject(VK_OBJECT_TYPE_IMAGE, std::uint64_t(image_), desc.name);
+}
+
+Image::~Image() {
+  VkDevice device = context_.device();
+  vkDestroyImageView(device, view_, nullptr);
+  vkDestroyImage(device, image_, nullptr);
+  vkFreeMemory(device, memory_, nullptr);
+}
+
+VkDeviceSize Image::byteSize() const {
+  return VkDeviceSize(desc_.width) * desc_.height * formatInfo(desc_.format).bytesPerPixel;
+}
+
+HistoryImage::HistoryImage(Context& context, const ImageDesc& desc) {
+  for (std::size_t i = 0; i < images_.size(); ++i) {
+    ImageDesc half = desc;
+    half.name = desc.name + (i == 0 ? ".ping" : ".pong");
+    images_[i] = std::make_unique<Image>(context, half);
+  }
+}
+
+}  // namespace bounce::gpu

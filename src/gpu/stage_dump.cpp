@@ -1,0 +1,73 @@
+#include "gpu/stage_dump.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "gpu/transfer.h"
+
+namespace bounce::gpu {
+namespace {
+
+// The first `count` channels (dumps drop alpha: radiance images carry none).
+io::ImageF firstChannels(const io::ImageF& image, std::size_t count) {
+  count = std::min(count, image.channelCount());
+  std::vector<std::string> names(image.channels.begin(), image.channels.begin() + long(count));
+  io::ImageF out(image.width, image.height, names);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (std::size_t c = 0; c < count; ++c) out.at(x, y, int(c)) = image.at(x, y, int(c));
+  return out;
+}
+
+}  // namespace
+
+VisualizedImage visualize(const io::ImageF& image, Visualize how) {
+  switch (how) {
+    case Visualize::Radiance:
+      return {firstChannels(image, 3), io::PngEncoding::Tonemapped};
+    case Visualize::Color:
+      return {firstChannels(image, 3), io::PngEncoding::Srgb};
+    case Visualize::Signed: {
+      io::ImageF out = firstChannels(image, 3);
+      for (float& v : out.pixels) v = v * 0.5f + 0.5f;
+      return {out, io::PngEncoding::Linear};
+    }
+    case Visualize::Range: {
+      io::ImageF out = firstChannels(image, 1);
+      float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+      for (float v : out.pixels)
+        if (std::isfinite(v) && std::abs(v) < 1e30f) {
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
+        }
+      const float scale = hi > lo ? 1.0f / (hi - lo) : 0.0f;
+      for (float& v : out.pixels) v = std::isfinite(v) ? (std::abs(v) < 1e30f ? (v - lo) * scale : 1.0f) : v;
+      return {out, io::PngEncoding::Linear};
+    }
+    case Visualize::Raw:
+      return {firstChannels(image, 3), io::PngEncoding::Linear};
+  }
+  return {image, io::PngEncoding::Linear};
+}
+
+std::vector<std::filesystem::path> writeStageDumps(const std::filesystem::path& dir,
+                                                   const std::vector<CapturedStage>& captures, float exposure) {
+  std::filesystem::create_directories(dir);
+  std::vector<std::filesystem::path> written;
+  for (const CapturedStage& capture : captures) {
+    char frame[32];
+    std::snprintf(frame, sizeof frame, "frame%04llu", static_cast<unsigned long long>(capture.frame));
+    const std::string stem = std::string(frame) + "." + capture.pass + "." + capture.binding;
+    io::ImageF pixels = texelsToImage(capture.image, capture.texels->mapped());
+    written.push_back(dir / (stem + ".exr"));
+    io::writeExr(written.back(), pixels);
+    VisualizedImage view = visualize(pixels, capture.image.visualize);
+    written.push_back(dir / (stem + ".png"));
+    io::writePng(written.back(), view.image, view.encoding, exposure);
+  }
+  return written;
+}
+
+}  // namespace bounce::gpu

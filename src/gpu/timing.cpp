@@ -1,0 +1,49 @@
+#include "gpu/timing.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace bounce::gpu {
+
+void TimingStats::add(const std::string& pass, double milliseconds) {
+  auto [it, inserted] = samples_.try_emplace(pass);
+  if (inserted) order_.push_back(pass);
+  it->second.push_back(milliseconds);
+}
+
+std::vector<PassTiming> TimingStats::summary() const {
+  std::vector<PassTiming> rows;
+  for (const std::string& pass : order_) {
+    std::vector<double> values = samples_.at(pass);
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+    rows.push_back({pass, median, values.front(), values.back(), n});
+  }
+  return rows;
+}
+
+std::string TimingStats::table() const {
+  std::vector<PassTiming> rows = summary();
+  double total = 0;
+  std::size_t width = 5;
+  for (const PassTiming& r : rows) {
+    total += r.medianMs;
+    width = std::max(width, r.pass.size());
+  }
+  std::string text;
+  char line[512];
+  std::snprintf(line, sizeof line, "%-*s  %10s  %10s  %10s  %6s  %7s\n", int(width), "pass", "median ms", "min ms",
+                "max ms", "share", "frames");
+  text += line;
+  for (const PassTiming& r : rows) {
+    std::snprintf(line, sizeof line, "%-*s  %10.4f  %10.4f  %10.4f  %5.1f%%  %7zu\n", int(width), r.pass.c_str(),
+                  r.medianMs, r.minMs, r.maxMs, total > 0 ? 100.0 * r.medianMs / total : 0.0, r.samples);
+    text += line;
+  }
+  std::snprintf(line, sizeof line, "%-*s  %10.4f\n", int(width), "total", total);
+  text += line;
+  return text;
+}
+
+}  // namespace bounce::gpu

@@ -1,0 +1,30 @@
+// Moving pixels between the CPU and the GPU (blocking; for set-up, tests and
+// tools, not for per-frame work).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "gpu/resources.h"
+#include "io/image_io.h"
+
+namespace bounce::gpu {
+
+class Context;
+
+// Channel names a readback of this format gets: Y, RG, RGBA.
+std::vector<std::string> channelNames(VkFormat format);
+
+void uploadImage(Context& context, Image& image, const void* texels, std::size_t bytes);
+// Converts the float image to the image's format; channel counts must match.
+void uploadImage(Context& context, Image& image, const io::ImageF& pixels);
+io::ImageF readbackImage(Context& context, Image& image);
+
+void uploadBuffer(Context& context, Buffer& buffer, const void* data, std::size_t bytes);
+std::vector<std::uint8_t> readbackBuffer(Context& context, Buffer& buffer);
+
+// Texels of a host-visible buffer holding a tightly packed image, as floats.
+io::ImageF texelsToImage(const ImageDesc& desc, const void* texels);
+
+}  // namespace bounce::gpu

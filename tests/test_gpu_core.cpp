@@ -1,0 +1,200 @@
+// The gpu/ layer on a real Vulkan device (lavapipe in CI), validated.
+#include <gtest/gtest.h>
+
+#include <glm/glm.hpp>
+
+#include "gpu/embedded_shaders.h"
+#include "gpu/error.h"
+#include "gpu/format.h"
+#include "gpu/frame_loop.h"
+#include "gpu/pass.h"
+#include "gpu/recorder.h"
+#include "gpu/transfer.h"
+#include "gpu_test.h"
+
+namespace bounce::testing {
+namespace {
+
+using gpu::Access;
+using gpu::GpuError;
+
+constexpr std::uint32_t kSize = 32;
+
+gpu::PassDesc writeProbeDesc() {
+  return {.name = "tests.barrier_probe_write",
+          .shader = "tests/barrier_probe_write",
+          .resources = {{"gOut_Value", Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "constant"}},
+          .pushConstantSize = sizeof(glm::vec4)};
+}
+
+gpu::PassDesc readProbeDesc() {
+  return {.name = "tests.barrier_probe_read",
+          .shader = "tests/barrier_probe_read",
+          .resources = {{"gIn_Value", Access::Read, VK_FORMAT_R16G16B16A16_SFLOAT, "source"},
+                        {"gOut_Copy", Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "copy"}}};
+}
+
+gpu::ImageDesc probeImage(const char* name) {
+  return {name, kSize, kSize, VK_FORMAT_R16G16B16A16_SFLOAT, gpu::Visualize::Radiance};
+}
+
+// Expects `make` to throw a GpuError whose message contains every fragment.
+template <class F>
+void expectGpuError(F make, std::initializer_list<const char*> fragments) {
+  try {
+    make();
+    ADD_FAILURE() << "no GpuError thrown";
+  } catch (const GpuError& e) {
+    for (const char* f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+  }
+}
+
+using GpuCore = GpuTest;
+
+TEST_F(GpuCore, MisspelledBindingNameIsRejectedNamingPassAndBinding) {
+  gpu::PassDesc desc = writeProbeDesc();
+  desc.resources[0].name = "gOut_Valeu";
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); },
+                 {"tests.barrier_probe_write", "gOut_Valeu", "gOut_Value"});
+}
+
+TEST_F(GpuCore, WrongFormatAccessKindAndPushSizeAreRejected) {
+  gpu::PassDesc desc = writeProbeDesc();
+  desc.resources[0].format = VK_FORMAT_R32_SFLOAT;
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"gOut_Value", "r32f", "rgba16f"});
+  desc = writeProbeDesc();
+  desc.resources[0].access = Access::Read;
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"gOut_Value", "writeonly"});
+  desc = writeProbeDesc();
+  desc.resources[0].kind = gpu::ResourceKind::StorageBuffer;
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"storage buffer", "storage image"});
+  desc = writeProbeDesc();
+  desc.pushConstantSize = 8;
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"push constants", "16"});
+  desc = readProbeDesc();
+  desc.resources.pop_back();
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"gOut_Copy", "not declared"});
+}
+
+TEST_F(GpuCore, DispatchRejectsUnknownMissingAndMisformattedBinds) {
+  gpu::ComputePass read(context(), readProbeDesc());
+  gpu::Image a(context(), probeImage("a")), b(context(), probeImage("b"));
+  gpu::Image wrong(context(), {"wrong", kSize, kSize, VK_FORMAT_R32_SFLOAT});
+  context().submitAndWait([&](gpu::Recorder& r) {
+    expectGpuError([&] { r.dispatch(read, kSize, kSize, {{"gIn_Value", a}, {"gOut_Cpy", b}}); }, {"gOut_Cpy"});
+    expectGpuError([&] { r.dispatch(read, kSize, kSize, {{"gIn_Value", a}}); }, {"gOut_Copy", "not bound"});
+    expectGpuError(
+        [&] {
+          r.dispatch(read, kSize, kSize, {{"gIn_Value", wrong}, {"gOut_Copy", b}});
+        },
+        {"wrong", "r32f"});
+  });
+}
+
+// Writes `value` with the write probe, copies it with the read probe, and
+// returns the copy. With autoBarriers false the read races the write.
+glm::vec4 writeThenCopy(gpu::Context& context, bool autoBarriers, glm::vec4 value) {
+  gpu::ComputePass write(context, writeProbeDesc());
+  gpu::ComputePass read(context, readProbeDesc());
+  gpu::Image source(context, probeImage("probe.source")), copy(context, probeImage("probe.copy"));
+  // First use of each image (its layout transition) in a submission of its own,
+  // so the only possible hazard in the next one is the missing barrier.
+  context.submitAndWait([&](gpu::Recorder& r) {
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, glm::vec4(0.0f));
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", copy}}, glm::vec4(0.0f));
+  });
+  context.submitAndWait([&](gpu::Recorder& r) {
+    r.setAutoBarriers(autoBarriers);
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, value);
+    r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+  });
+  io::ImageF result = gpu::readbackImage(context, copy);
+  return {result.at(5, 7, 0), result.at(5, 7, 1), result.at(5, 7, 2), result.at(5, 7, 3)};
+}
+
+TEST_F(GpuCore, MissingBarrierIsCaughtBySynchronizationValidation) {
+  writeThenCopy(context(), false, glm::vec4(1.0f));
+  std::vector<std::string> messages = context().validationMessages();
+  ASSERT_FALSE(messages.empty()) << "a read-after-write without a barrier must be reported";
+  bool hazard = false;
+  for (const std::string& m : messages) hazard |= m.find("SYNC-HAZARD-READ") != std::string::npos;
+  EXPECT_TRUE(hazard) << messages.front();
+  context().clearValidationMessages();  // expected: the test is that they appeared
+}
+
+TEST_F(GpuCore, AutomaticBarriersMakeTheSamePairCorrectAndSilent) {
+  glm::vec4 copied = writeThenCopy(context(), true, glm::vec4(0.25f, 0.5f, 2.0f, 7.0f));
+  EXPECT_EQ(copied, glm::vec4(0.25f, 0.5f, 2.0f, 7.0f));
+}
+
+TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {
+  gpu::ComputePass write(context(), writeProbeDesc());
+  gpu::ComputePass read(context(), readProbeDesc());
+  gpu::Image source(context(), probeImage("probe.source")), copy(context(), probeImage("probe.copy"));
+  gpu::FrameLoop loop(context(), 2);
+  constexpr int kFrames = 7;
+  for (int frame = 0; frame < kFrames; ++frame) {
+    gpu::Recorder& r = loop.beginFrame(frame == 3);
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, glm::vec4(float(frame)));
+    r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+    loop.endFrame();
+  }
+  loop.finish();
+  EXPECT_EQ(gpu::readbackImage(context(), copy).at(1, 1, 0), float(kFrames - 1));
+
+  auto rows = loop.timings().summary();
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].pass, "tests.barrier_probe_write");
+  EXPECT_EQ(rows[1].pass, "tests.barrier_probe_read");
+  for (const gpu::PassTiming& row : rows) {
+    EXPECT_EQ(row.samples, std::size_t(kFrames));
+    EXPECT_GT(row.maxMs, 0.0);
+  }
+
+  // Frame 3 was captured: each pass's output as it was right after that pass.
+  std::vector<gpu::CapturedStage> captures = loop.takeCaptures();
+  ASSERT_EQ(captures.size(), 2u);
+  for (const gpu::CapturedStage& c : captures) {
+    EXPECT_EQ(c.frame, 3u);
+    EXPECT_EQ(gpu::texelsToImage(c.image, c.texels->mapped()).at(4, 4, 0), 3.0f) << c.pass;
+  }
+  EXPECT_EQ(captures[0].binding, "gOut_Value");
+  EXPECT_EQ(captures[1].binding, "gOut_Copy");
+}
+
+TEST_F(GpuCore, UploadAndReadbackRoundTripEveryFormat) {
+  for (VkFormat format : {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT,
+                          VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_UINT, VK_FORMAT_R8G8B8A8_UNORM}) {
+    const gpu::FormatInfo& info = gpu::formatInfo(format);
+    gpu::Image image(context(), {std::string("roundtrip.") + info.name, 13, 5, format});
+    io::ImageF pixels(13, 5, gpu::channelNames(format));
+    for (std::size_t i = 0; i < pixels.pixels.size(); ++i)
+      pixels.pixels[i] = format == VK_FORMAT_R32_UINT ? float(i * 3) : float(i % 256) / 255.0f;
+    gpu::uploadImage(context(), image, pixels);
+    io::ImageF back = gpu::readbackImage(context(), image);
+    ASSERT_EQ(back.pixels.size(), pixels.pixels.size()) << info.name;
+    const float tolerance = format == VK_FORMAT_R16G16_SFLOAT || format == VK_FORMAT_R16G16B16A16_SFLOAT ? 5e-4f
+                            : format == VK_FORMAT_R8G8B8A8_UNORM                                         ? 1e-6f
+                                                                                                         : 0.0f;
+    for (std::size_t i = 0; i < pixels.pixels.size(); ++i)
+      ASSERT_NEAR(back.pixels[i], pixels.pixels[i], tolerance) << info.name << " value " << i;
+  }
+}
+
+TEST_F(GpuCore, HistoryImagesAlternateByFrameParity) {
+  gpu::HistoryImage history(context(), probeImage("history"));
+  EXPECT_EQ(&history.current(0), &history.previous(1));
+  EXPECT_EQ(&history.previous(0), &history.current(1));
+  EXPECT_NE(&history.current(0), &history.previous(0));
+  EXPECT_EQ(&history.current(2), &history.current(0));
+  EXPECT_NE(history.current(0).name(), history.previous(0).name());
+}
+
+TEST_F(GpuCore, BadImageSizesAreClearErrors) {
+  expectGpuError([&] { gpu::Image image(context(), {"empty", 0, 4, VK_FORMAT_R32_SFLOAT}); }, {"empty", "0x4"});
+  expectGpuError([&] { gpu::Image image(context(), {"huge", 1u << 30, 4, VK_FORMAT_R32_SFLOAT}); }, {"huge"});
+  expectGpuError([&] { gpu::findShader("no/such_shader"); }, {"no/such_shader", "render/direct_sun"});
+}
+
+}  // namespace
+}  // namespace bounce::testing

@@ -1,0 +1,93 @@
+// Shared math on the GPU equals the same source compiled as C++.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "gpu/pass.h"
+#include "gpu/recorder.h"
+#include "gpu/transfer.h"
+#include "gpu_test.h"
+#include "tests/shared_math_check.glsl"
+
+namespace bounce::testing {
+namespace {
+
+using shared::SharedMathCheckInput;
+using shared::SharedMathCheckOutput;
+
+bool closeEnough(float gpu, float cpu, float relative, float absolute) {
+  if (std::isinf(cpu) || std::isinf(gpu)) return gpu == cpu;
+  return std::abs(gpu - cpu) <= absolute + relative * std::abs(cpu);
+}
+
+using SharedMathOnGpu = GpuTest;
+
+TEST_F(SharedMathOnGpu, MatchesCpuOnThousandsOfRandomInputs) {
+  constexpr std::uint32_t kCount = 8192;
+  std::vector<SharedMathCheckInput> inputs(kCount);
+  shared::uint state = 20261122u;
+  for (SharedMathCheckInput& in : inputs) {
+    in.values = glm::vec4(shared::rngUniform(state), shared::rngUniform(state), shared::rngUniform(state),
+                          shared::rngUniform(state));
+    in.bits =
+        glm::uvec4(shared::rngNext(state), shared::rngNext(state), shared::rngNext(state), shared::rngNext(state));
+  }
+  // Edge inputs: zeros, the top of the range, exact halves.
+  inputs[0].values = glm::vec4(0.0f);
+  inputs[1].values = glm::vec4(0.99999994f);
+  inputs[2].values = glm::vec4(0.5f);
+  inputs[3].bits = glm::uvec4(0u);
+  inputs[4].bits = glm::uvec4(0xffffffffu);
+
+  gpu::Buffer inputBuffer(context(), "tests.inputs", sizeof(SharedMathCheckInput) * kCount,
+                          gpu::BufferUsage::DeviceLocal);
+  gpu::Buffer outputBuffer(context(), "tests.outputs", sizeof(SharedMathCheckOutput) * kCount,
+                           gpu::BufferUsage::DeviceLocal);
+  gpu::uploadBuffer(context(), inputBuffer, inputs.data(), inputBuffer.size());
+  gpu::ComputePass pass(
+      context(),
+      {.name = "tests.shared_math_check",
+       .shader = "tests/shared_math_check",
+       .resources = {{"gIn_Inputs", gpu::Access::Read, VK_FORMAT_UNDEFINED, "inputs", gpu::ResourceKind::StorageBuffer},
+                     {"gOut_Outputs", gpu::Access::Write, VK_FORMAT_UNDEFINED, "results",
+                      gpu::ResourceKind::StorageBuffer}},
+       .pushConstantSize = sizeof(std::uint32_t)});
+  context().submitAndWait([&](gpu::Recorder& r) {
+    r.dispatch(pass, kCount, 1, {{"gIn_Inputs", inputBuffer}, {"gOut_Outputs", outputBuffer}}, kCount);
+  });
+  std::vector<std::uint8_t> bytes = gpu::readbackBuffer(context(), outputBuffer);
+  std::vector<SharedMathCheckOutput> gpuResults(kCount);
+  std::memcpy(gpuResults.data(), bytes.data(), bytes.size());
+
+  int packedNormalOffByOne = 0;
+  for (std::uint32_t i = 0; i < kCount; ++i) {
+    const SharedMathCheckOutput cpu = shared::runSharedMathCheck(inputs[i]);
+    const SharedMathCheckOutput& gpu = gpuResults[i];
+    // Integer hashing must agree bit for bit.
+    ASSERT_EQ(gpu.integers.x, cpu.integers.x) << "pcgHash, input " << i;
+    ASSERT_EQ(gpu.integers.y, cpu.integers.y) << "rngSeed, input " << i;
+    ASSERT_EQ(gpu.integers.z, cpu.integers.z) << "rngNext, input " << i;
+    ASSERT_EQ(gpu.scalars.x, cpu.scalars.x) << "rngUniform, input " << i;
+    // Snorm packing rounds; GPU and CPU may round an exact .5 differently.
+    if (gpu.integers.w != cpu.integers.w) {
+      const glm::vec2 g = glm::unpackSnorm2x16(gpu.integers.w), c = glm::unpackSnorm2x16(cpu.integers.w);
+      ASSERT_LE(glm::max(std::abs(g.x - c.x), std::abs(g.y - c.y)), 1.0f / 32767.0f + 1e-7f) << "input " << i;
+      ++packedNormalOffByOne;
+    }
+    // Float math: GPU transcendental functions are close, not exact.
+    ASSERT_TRUE(closeEnough(gpu.scalars.y, cpu.scalars.y, 1e-5f, 1e-6f)) << "luminance, input " << i;
+    ASSERT_TRUE(closeEnough(gpu.scalars.z, cpu.scalars.z, 1e-4f, 1e-6f)) << "srgbEncode, input " << i;
+    ASSERT_TRUE(closeEnough(gpu.scalars.w, cpu.scalars.w, 1e-4f, 1e-6f)) << "srgbDecode, input " << i;
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_TRUE(closeEnough(gpu.normalHit[c], cpu.normalHit[c], 1e-4f, 1e-4f)) << "unpackNormal, input " << i;
+      ASSERT_TRUE(closeEnough(gpu.display[c], cpu.display[c], 1e-4f, 1e-5f)) << "tonemap, input " << i;
+    }
+    ASSERT_TRUE(closeEnough(gpu.normalHit.w, cpu.normalHit.w, 1e-4f, 1e-5f)) << "intersectSphere, input " << i;
+    ASSERT_TRUE(closeEnough(gpu.display.w, cpu.display.w, 1e-4f, 1e-5f)) << "displayEncode, input " << i;
+  }
+  EXPECT_LT(packedNormalOffByOne, int(kCount) / 100) << "rounding differences must stay rare";
+}
+
+}  // namespace
+}  // namespace bounce::testing
