@@ -1,0 +1,57 @@
+// The bounce subcommands. Each registers its options on the CLI and runs
+// when chosen; run functions return the process exit code and throw on errors
+// (main prints one line and exits non-zero).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gpu/context.h"
+
+namespace bounce::app {
+
+struct GpuOptions {
+  std::optional<int> device;
+  bool validate = false;
+};
+void addGpuOptions(CLI::App& command, GpuOptions& options);
+std::unique_ptr<gpu::Context> openContext(const GpuOptions& options);
+// 0 when validation is off or silent; otherwise prints how many messages
+// there were and returns 1, so a validated run fails on any message.
+int validationExitCode(const gpu::Context& context);
+
+struct InfoOptions {
+  GpuOptions gpu;
+};
+CLI::App* addInfoCommand(CLI::App& app, InfoOptions& options);
+int runInfo(const InfoOptions& options);
+
+struct RenderOptions {
+  GpuOptions gpu;
+  std::uint32_t width = 960;
+  std::uint32_t height = 540;
+  std::uint32_t frames = 1;
+  std::string out = "out";
+  float exposure = 1.0f;
+  bool dumpStages = false;
+  std::vector<std::uint32_t> dumpFrames;  // empty = the last frame
+};
+CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options);
+int runRender(const RenderOptions& options);
+
+struct BenchOptions {
+  GpuOptions gpu;
+  std::uint32_t width = 1920;
+  std::uint32_t height = 1080;
+  std::uint32_t frames = 200;
+  std::uint32_t warmup = 20;
+  std::uint32_t copyMegabytes = 256;
+  std::string json;
+};
+CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options);
+int runBench(const BenchOptions& options);
+
+}  // namespace bounce::app
