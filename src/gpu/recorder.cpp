@@ -60,7 +60,7 @@ void Recorder::require(SyncState& state, VkImage image, std::uint32_t mipLevels,
     barrier.newLayout = layout;
     barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = image;
-    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mipLevels, 0, 1};
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mipLevels, 0, VK_REMAINING_ARRAY_LAYERS};
     imageBarriers_.push_back(barrier);
   } else if (hazard) {
     memoryBarrier_.srcStageMask |= srcStage;
@@ -170,7 +170,11 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
                    "' is " + formatInfo(image.format()).name);
       require(image.sync(), image.handle(), image.desc().mipLevels, VK_IMAGE_LAYOUT_GENERAL, kCompute, access, writes);
       VkDescriptorImageInfo info{};
-      info.imageView = image.view();
+      // Storage images take one level: the one asked for, else level 0.
+      if (bind->mipLevel != Bind::kAllMips)
+        info.imageView = image.mipView(bind->mipLevel);
+      else
+        info.imageView = decl.kind == ResourceKind::StorageImage ? image.mipView(0) : image.view();
       info.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
       if (decl.kind == ResourceKind::SampledImage)
         info.sampler = bind->sampler ? bind->sampler : context_.linearSampler();
@@ -220,16 +224,32 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
 }
 
 void Recorder::copyBufferToImage(Buffer& source, Image& destination) {
-  if (source.size() < destination.byteSize())
-    throw GpuError("upload to '" + destination.name() + "': buffer '" + source.name() + "' is too small");
+  copyBufferToImage(source, destination, ImageRegion{});
+}
+
+void Recorder::copyBufferToImage(Buffer& source, Image& destination, const ImageRegion& region) {
+  const auto fail = [&](const std::string& why) {
+    return GpuError("upload to '" + destination.name() + "' from '" + source.name() + "': " + why);
+  };
+  if (region.mipLevel >= destination.desc().mipLevels || region.layer >= destination.desc().layers)
+    throw fail("mip level or layer out of range");
+  const std::uint32_t levelWidth = destination.mipWidth(region.mipLevel);
+  const std::uint32_t levelHeight = destination.mipHeight(region.mipLevel);
+  const std::uint32_t width = region.width ? region.width : levelWidth;
+  const std::uint32_t height = region.height ? region.height : levelHeight;
+  if (region.x + width > levelWidth || region.y + height > levelHeight) throw fail("region outside the image");
+  const VkDeviceSize bytes = VkDeviceSize(width) * height * formatInfo(destination.format()).bytesPerPixel;
+  if (region.bufferOffset + bytes > source.size()) throw fail("buffer is too small");
   require(source.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_READ_BIT, false);
   require(destination.sync(), destination.handle(), destination.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
           kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, true);
   flushBarriers();
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {destination.width(), destination.height(), 1};
-  vkCmdCopyBufferToImage(cmd_, source.handle(), destination.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  VkBufferImageCopy copy{};
+  copy.bufferOffset = region.bufferOffset;
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, region.mipLevel, region.layer, 1};
+  copy.imageOffset = {std::int32_t(region.x), std::int32_t(region.y), 0};
+  copy.imageExtent = {width, height, 1};
+  vkCmdCopyBufferToImage(cmd_, source.handle(), destination.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
 }
 
 void Recorder::copyImageToBuffer(Image& source, Buffer& destination) {
@@ -262,7 +282,7 @@ void Recorder::clearImage(Image& image, const VkClearColorValue& value) {
   require(image.sync(), image.handle(), image.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, kTransfer,
           VK_ACCESS_2_TRANSFER_WRITE_BIT, true);
   flushBarriers();
-  VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, image.desc().mipLevels, 0, 1};
+  VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, image.desc().mipLevels, 0, image.desc().layers};
   vkCmdClearColorImage(cmd_, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
 }
 

@@ -29,14 +29,33 @@ namespace bounce::gpu {
 class Context;
 
 // One resource bound to a pass, by the name the pass declares.
+// One mip level of an image, for Bind.
+struct MipLevel {
+  std::uint32_t level = 0;
+};
+
 struct Bind {
+  static constexpr std::uint32_t kAllMips = ~0u;
   Bind(std::string_view name, Image& image, VkSampler sampler = VK_NULL_HANDLE)
       : name(name), image(&image), sampler(sampler) {}
+  // A single mip level (storage images otherwise see level 0; sampled images all levels).
+  Bind(std::string_view name, Image& image, MipLevel mip, VkSampler sampler = VK_NULL_HANDLE)
+      : name(name), image(&image), sampler(sampler), mipLevel(mip.level) {}
   Bind(std::string_view name, Buffer& buffer) : name(name), buffer(&buffer) {}
   std::string_view name;
   Image* image = nullptr;
   Buffer* buffer = nullptr;
   VkSampler sampler = VK_NULL_HANDLE;  // sampled images: VK_NULL_HANDLE = the context's linear sampler
+  std::uint32_t mipLevel = kAllMips;
+};
+
+// Where texels of one upload land: a rectangle of one mip level of one layer.
+struct ImageRegion {
+  std::uint32_t mipLevel = 0;
+  std::uint32_t layer = 0;
+  std::uint32_t x = 0, y = 0;
+  std::uint32_t width = 0, height = 0;  // 0 = the whole mip level
+  VkDeviceSize bufferOffset = 0;        // tightly packed texels start here
 };
 
 // A copy of one image a pass wrote, taken right after that pass ran
@@ -77,6 +96,7 @@ class Recorder {
 
   // Transfers, with the same automatic barriers.
   void copyBufferToImage(Buffer& source, Image& destination);  // tightly packed mip 0
+  void copyBufferToImage(Buffer& source, Image& destination, const ImageRegion& region);
   void copyImageToBuffer(Image& source, Buffer& destination);
   void copyBuffer(Buffer& source, Buffer& destination, VkDeviceSize bytes);
   void clearImage(Image& image, const VkClearColorValue& value);

@@ -1,5 +1,6 @@
 #include "gpu/resources.h"
 
+#include <bit>
 #include <string>
 
 #include "gpu/context.h"
@@ -60,6 +61,12 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
   if (desc.width == 0 || desc.height == 0 || desc.width > maxSide || desc.height > maxSide)
     throw GpuError("image '" + desc.name + "': size " + std::to_string(desc.width) + "x" + std::to_string(desc.height) +
                    " is outside 1.." + std::to_string(maxSide));
+  if (desc.layers == 0 || desc.layers > 2048)
+    throw GpuError("image '" + desc.name + "': " + std::to_string(desc.layers) + " layers is outside 1..2048");
+  const std::uint32_t fullChain = std::uint32_t(std::bit_width(std::max(desc.width, desc.height)));
+  if (desc.mipLevels == 0 || desc.mipLevels > fullChain)
+    throw GpuError("image '" + desc.name + "': " + std::to_string(desc.mipLevels) + " mip levels is outside 1.." +
+                   std::to_string(fullChain));
   const FormatInfo& format = formatInfo(desc.format);
   VkFormatProperties props;
   vkGetPhysicalDeviceFormatProperties(context.physicalDevice(), desc.format, &props);
@@ -71,7 +78,7 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
   info.format = desc.format;
   info.extent = {desc.width, desc.height, 1};
   info.mipLevels = desc.mipLevels;
-  info.arrayLayers = 1;
+  info.arrayLayers = desc.layers;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
@@ -95,18 +102,34 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
 
   VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   viewInfo.image = image_;
-  viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  viewInfo.viewType = desc.layers > 1 || desc.arrayed ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
   viewInfo.format = desc.format;
-  viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, desc.mipLevels, 0, 1};
+  viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, desc.mipLevels, 0, desc.layers};
   check(vkCreateImageView(device, &viewInfo, nullptr, &view_), "vkCreateImageView");
+  if (desc.mipLevels > 1) {
+    for (std::uint32_t level = 0; level < desc.mipLevels; ++level) {
+      viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, 1, 0, desc.layers};
+      VkImageView view = VK_NULL_HANDLE;
+      check(vkCreateImageView(device, &viewInfo, nullptr, &view), "vkCreateImageView (mip level)");
+      mipViews_.push_back(view);
+    }
+  }
   context.nameObject(VK_OBJECT_TYPE_IMAGE, std::uint64_t(image_), desc.name);
 }
 
 Image::~Image() {
   VkDevice device = context_.device();
+  for (VkImageView view : mipViews_) vkDestroyImageView(device, view, nullptr);
   vkDestroyImageView(device, view_, nullptr);
   vkDestroyImage(device, image_, nullptr);
   vkFreeMemory(device, memory_, nullptr);
+}
+
+VkImageView Image::mipView(std::uint32_t level) const {
+  if (level >= desc_.mipLevels)
+    throw GpuError("image '" + desc_.name + "': mip level " + std::to_string(level) + " of " +
+                   std::to_string(desc_.mipLevels));
+  return mipViews_.empty() ? view_ : mipViews_[level];
 }
 
 VkDeviceSize Image::byteSize() const {

@@ -3,10 +3,12 @@
 // updates to place barriers automatically (see recorder.h).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -69,6 +71,8 @@ struct ImageDesc {
   VkFormat format = VK_FORMAT_R16G16B16A16_SFLOAT;
   Visualize visualize = Visualize::Radiance;
   std::uint32_t mipLevels = 1;
+  std::uint32_t layers = 1;  // > 1 makes an array image (image2DArray / sampler2DArray in shaders)
+  bool arrayed = false;      // viewed as an array even with one layer (its shaders declare *2DArray)
 };
 
 // A 2D image usable as storage image, sampled image and transfer source and
@@ -88,7 +92,12 @@ class Image {
   VkFormat format() const { return desc_.format; }
   VkImage handle() const { return image_; }
   VkImageView view() const { return view_; }  // all mip levels
-  VkDeviceSize byteSize() const;              // of mip level 0
+  // One mip level, for a pass that writes (or reads) that level alone, e.g.
+  // building a mip chain level by level.
+  VkImageView mipView(std::uint32_t level) const;
+  std::uint32_t mipWidth(std::uint32_t level) const { return std::max(1u, desc_.width >> level); }
+  std::uint32_t mipHeight(std::uint32_t level) const { return std::max(1u, desc_.height >> level); }
+  VkDeviceSize byteSize() const;  // of mip level 0, layer 0
   SyncState& sync() { return sync_; }
 
  private:
@@ -97,6 +106,7 @@ class Image {
   VkImage image_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkImageView view_ = VK_NULL_HANDLE;
+  std::vector<VkImageView> mipViews_;  // one per level when there are several
   SyncState sync_;
 };
 
