@@ -9,7 +9,8 @@ packages=(
   libvulkan-dev glslc spirv-tools spirv-headers
   mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libglm-dev libstb-dev libopenexr-dev libcli11-dev libgtest-dev
-  nlohmann-json3-dev
+  nlohmann-json3-dev libtinygltf-dev
+  assimp-testmodels  # malformed glTF files the importer tests must refuse cleanly
 )
 
 missing=()

@@ -1,0 +1,218 @@
+// Scene evaluation at a moment (animation sampling, node transforms) and the
+// invariant check every scene passes before it reaches the GPU.
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace bounce::scene {
+namespace {
+
+std::string where(const Scene& scene) { return scene.source.empty() ? scene.name : scene.source.string(); }
+
+[[noreturn]] void fail(const Scene& scene, const std::string& reason) {
+  throw SceneError(where(scene) + ": " + reason);
+}
+
+glm::vec4 hermite(const glm::vec4& p0, const glm::vec4& m0, const glm::vec4& p1, const glm::vec4& m1, float t,
+                  float dt) {
+  const float t2 = t * t;
+  const float t3 = t2 * t;
+  return (2.0f * t3 - 3.0f * t2 + 1.0f) * p0 + (t3 - 2.0f * t2 + t) * dt * m0 + (-2.0f * t3 + 3.0f * t2) * p1 +
+         (t3 - t2) * dt * m1;
+}
+
+// The channel's value at `time` (clamped to its first and last key).
+glm::vec4 sampleChannel(const AnimationChannel& channel, float time) {
+  const std::vector<float>& times = channel.times;
+  const bool cubic = channel.interpolation == Interpolation::CubicSpline;
+  const auto value = [&](std::size_t key) { return channel.values[cubic ? key * 3 + 1 : key]; };
+  if (time <= times.front()) return value(0);
+  if (time >= times.back()) return value(times.size() - 1);
+  const std::size_t next = std::size_t(std::upper_bound(times.begin(), times.end(), time) - times.begin());
+  const std::size_t prev = next - 1;
+  const float dt = times[next] - times[prev];
+  const float t = (time - times[prev]) / dt;
+  switch (channel.interpolation) {
+    case Interpolation::Step:
+      return value(prev);
+    case Interpolation::CubicSpline:
+      return hermite(value(prev), channel.values[prev * 3 + 2], value(next), channel.values[next * 3], t, dt);
+    case Interpolation::Linear:
+      break;
+  }
+  if (channel.property == AnimatedProperty::Rotation) {
+    const glm::vec4 a = value(prev);
+    const glm::vec4 b = value(next);
+    const glm::quat q = glm::slerp(glm::quat(a.w, a.x, a.y, a.z), glm::quat(b.w, b.x, b.y, b.z), t);
+    return {q.x, q.y, q.z, q.w};
+  }
+  return glm::mix(value(prev), value(next), t);
+}
+
+float animationLength(const Animation& animation) {
+  float length = 0.0f;
+  for (const AnimationChannel& channel : animation.channels)
+    if (!channel.times.empty()) length = std::max(length, channel.times.back());
+  return length;
+}
+
+}  // namespace
+
+glm::mat4 Transform::matrix() const {
+  return glm::translate(glm::mat4(1.0f), translation) * glm::mat4_cast(rotation) * glm::scale(glm::mat4(1.0f), scale);
+}
+
+glm::vec3 Sun::direction() const {
+  const float elevation = glm::radians(elevationDegrees);
+  const float azimuth = glm::radians(azimuthDegrees);
+  return {std::cos(elevation) * std::sin(azimuth), std::sin(elevation), std::cos(elevation) * std::cos(azimuth)};
+}
+
+std::vector<Transform> animatedLocalTransforms(const Scene& scene, float time) {
+  std::vector<Transform> locals(scene.nodes.size());
+  for (std::size_t i = 0; i < scene.nodes.size(); ++i) locals[i] = scene.nodes[i].local;
+  for (const Animation& animation : scene.animations) {
+    const float length = animationLength(animation);
+    const float local = length > 0.0f ? std::fmod(std::max(time, 0.0f), length) : 0.0f;
+    for (const AnimationChannel& channel : animation.channels) {
+      if (channel.times.empty()) continue;
+      const glm::vec4 v = sampleChannel(channel, local);
+      Transform& target = locals[std::size_t(channel.node)];
+      switch (channel.property) {
+        case AnimatedProperty::Translation:
+          target.translation = glm::vec3(v);
+          break;
+        case AnimatedProperty::Rotation:
+          target.rotation = glm::normalize(glm::quat(v.w, v.x, v.y, v.z));
+          break;
+        case AnimatedProperty::Scale:
+          target.scale = glm::vec3(v);
+          break;
+      }
+    }
+  }
+  return locals;
+}
+
+std::vector<glm::mat4> nodeWorldMatrices(const Scene& scene, float time) {
+  const std::vector<Transform> locals = animatedLocalTransforms(scene, time);
+  std::vector<glm::mat4> world(scene.nodes.size(), glm::mat4(1.0f));
+  // Depth-first from every parentless node; validate() has ruled out cycles.
+  std::vector<int> stack;
+  for (std::size_t i = 0; i < scene.nodes.size(); ++i)
+    if (scene.nodes[i].parent < 0) stack.push_back(int(i));
+  while (!stack.empty()) {
+    const int index = stack.back();
+    stack.pop_back();
+    const Node& node = scene.nodes[std::size_t(index)];
+    const glm::mat4 parent = node.parent >= 0 ? world[std::size_t(node.parent)] : glm::mat4(1.0f);
+    world[std::size_t(index)] = parent * locals[std::size_t(index)].matrix();
+    for (int child : node.children) stack.push_back(child);
+  }
+  return world;
+}
+
+std::vector<Instance> instancesAt(const Scene& scene, float time) {
+  const std::vector<glm::mat4> world = nodeWorldMatrices(scene, time);
+  std::vector<Instance> instances;
+  std::vector<int> stack(scene.roots.rbegin(), scene.roots.rend());
+  while (!stack.empty()) {
+    const int index = stack.back();
+    stack.pop_back();
+    const Node& node = scene.nodes[std::size_t(index)];
+    for (int mesh : node.meshes) instances.push_back({mesh, index, world[std::size_t(index)]});
+    for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) stack.push_back(*child);
+  }
+  return instances;
+}
+
+Bounds worldBounds(const Scene& scene, float time) {
+  Bounds bounds;
+  for (const Instance& instance : instancesAt(scene, time))
+    for (const glm::vec3& p : scene.meshes[std::size_t(instance.mesh)].positions)
+      bounds.extend(glm::vec3(instance.objectToWorld * glm::vec4(p, 1.0f)));
+  return bounds;
+}
+
+void validate(const Scene& scene) {
+  const auto finite = [](const auto& v) {
+    for (int i = 0; i < v.length(); ++i)
+      if (!std::isfinite(v[i])) return false;
+    return true;
+  };
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    const std::string name = "mesh " + std::to_string(m) + (mesh.name.empty() ? "" : " '" + mesh.name + "'");
+    const std::size_t vertices = mesh.positions.size();
+    if (mesh.normals.size() != vertices || mesh.tangents.size() != vertices || mesh.texcoords.size() != vertices)
+      fail(scene, name + ": attribute arrays differ in length");
+    if (mesh.indices.size() % 3 != 0) fail(scene, name + ": index count is not a multiple of 3");
+    for (std::uint32_t index : mesh.indices)
+      if (index >= vertices)
+        fail(scene, name + ": index " + std::to_string(index) + " out of range (" + std::to_string(vertices) +
+                        " vertices)");
+    for (std::size_t v = 0; v < vertices; ++v)
+      if (!finite(mesh.positions[v]) || !finite(mesh.normals[v]) || !finite(mesh.tangents[v]) ||
+          !finite(mesh.texcoords[v]))
+        fail(scene, name + ": vertex " + std::to_string(v) + " has a NaN or infinite attribute");
+    if (mesh.material < 0 || std::size_t(mesh.material) >= scene.materials.size())
+      fail(scene, name + ": material index " + std::to_string(mesh.material) + " out of range");
+  }
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& material = scene.materials[i];
+    for (int texture : {material.baseColorTexture, material.metallicRoughnessTexture, material.normalTexture,
+                        material.emissiveTexture, material.occlusionTexture})
+      if (texture < -1 || texture >= int(scene.textures.size()))
+        fail(scene, "material " + std::to_string(i) + ": texture index " + std::to_string(texture) + " out of range");
+    if (!finite(material.baseColorFactor) || !finite(material.emissiveFactor) ||
+        !std::isfinite(material.metallicFactor) || !std::isfinite(material.roughnessFactor) ||
+        !std::isfinite(material.emissiveStrength))
+      fail(scene, "material " + std::to_string(i) + ": a factor is NaN or infinite");
+  }
+  for (const Texture& texture : scene.textures)
+    if (texture.width <= 0 || texture.height <= 0 ||
+        texture.rgba8.size() != std::size_t(texture.width) * std::size_t(texture.height) * 4)
+      fail(scene, "texture '" + texture.name + "': size and pixel data disagree");
+
+  // Node graph: indices in range, parent/child links consistent, no cycles.
+  const int nodeCount = int(scene.nodes.size());
+  for (int i = 0; i < nodeCount; ++i) {
+    const Node& node = scene.nodes[std::size_t(i)];
+    for (int child : node.children)
+      if (child < 0 || child >= nodeCount || scene.nodes[std::size_t(child)].parent != i)
+        fail(scene, "node " + std::to_string(i) + ": child " + std::to_string(child) + " is invalid");
+    for (int mesh : node.meshes)
+      if (mesh < 0 || mesh >= int(scene.meshes.size())) fail(scene, "node " + std::to_string(i) + ": bad mesh index");
+    if (node.camera >= int(scene.cameras.size()) || node.light >= int(scene.lights.size()))
+      fail(scene, "node " + std::to_string(i) + ": bad camera or light index");
+    if (!finite(node.local.translation) || !finite(node.local.scale) ||
+        !finite(glm::vec4(node.local.rotation.x, node.local.rotation.y, node.local.rotation.z, node.local.rotation.w)))
+      fail(scene, "node " + std::to_string(i) + ": transform has a NaN or infinite value");
+    int steps = 0;
+    for (int up = node.parent; up >= 0; up = scene.nodes[std::size_t(up)].parent) {
+      if (up >= nodeCount) fail(scene, "node " + std::to_string(i) + ": parent index out of range");
+      if (++steps > nodeCount) fail(scene, "node " + std::to_string(i) + " is part of a cycle in the node graph");
+    }
+  }
+  for (int root : scene.roots)
+    if (root < 0 || root >= nodeCount || scene.nodes[std::size_t(root)].parent >= 0)
+      fail(scene, "scene root " + std::to_string(root) + " is not a parentless node");
+  for (const Animation& animation : scene.animations)
+    for (const AnimationChannel& channel : animation.channels) {
+      if (channel.node < 0 || channel.node >= nodeCount) fail(scene, "animation '" + animation.name + "': bad node");
+      const std::size_t perKey = channel.interpolation == Interpolation::CubicSpline ? 3 : 1;
+      if (channel.values.size() != channel.times.size() * perKey)
+        fail(scene, "animation '" + animation.name + "': key count and value count disagree");
+      for (std::size_t k = 0; k < channel.times.size(); ++k)
+        if (!std::isfinite(channel.times[k]) || (k > 0 && !(channel.times[k] > channel.times[k - 1])))
+          fail(scene, "animation '" + animation.name + "': key times are not finite and increasing");
+      for (const glm::vec4& v : channel.values)
+        if (!finite(v)) fail(scene, "animation '" + animation.name + "': a key value is NaN or infinite");
+    }
+}
+
+}  // namespace bounce::scene

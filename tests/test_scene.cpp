@@ -1,0 +1,135 @@
+// Tests of src/scene/scene: transforms, animation sampling, instances, validation.
+#include "scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace bounce::scene {
+namespace {
+
+Mesh triangleMesh() {
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.normals.assign(3, {0, 0, 1});
+  mesh.tangents.assign(3, {1, 0, 0, 1});
+  mesh.texcoords.assign(3, {0, 0});
+  mesh.indices = {0, 1, 2};
+  return mesh;
+}
+
+// parent (translated by +x 2) -> child (rotated 90 degrees about y) holding the triangle.
+Scene twoNodeScene() {
+  Scene scene;
+  scene.name = "test";
+  scene.materials.push_back({});
+  scene.meshes.push_back(triangleMesh());
+  Node parent;
+  parent.local.translation = {2, 0, 0};
+  parent.children = {1};
+  Node child;
+  child.parent = 0;
+  child.local.rotation = glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0));
+  child.meshes = {0};
+  scene.nodes = {parent, child};
+  scene.roots = {0};
+  return scene;
+}
+
+void expectNear(const glm::vec3& a, const glm::vec3& b, float tolerance = 1e-5f) {
+  EXPECT_NEAR(a.x, b.x, tolerance);
+  EXPECT_NEAR(a.y, b.y, tolerance);
+  EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+TEST(Scene, ChildTransformsComposeParentFirst) {
+  const Scene scene = twoNodeScene();
+  const std::vector<Instance> instances = instancesAt(scene, 0.0f);
+  ASSERT_EQ(instances.size(), 1u);
+  // Rotating (1,0,0) by 90 degrees about +y gives (0,0,-1); then +2 in x.
+  expectNear(glm::vec3(instances[0].objectToWorld * glm::vec4(1, 0, 0, 1)), {2, 0, -1});
+  const Bounds bounds = worldBounds(scene, 0.0f);
+  expectNear(bounds.min, {2, 0, -1});
+  expectNear(bounds.max, {2, 1, 0});
+}
+
+TEST(Scene, LinearStepAndRotationChannelsInterpolate) {
+  Scene scene = twoNodeScene();
+  Animation animation;
+  animation.channels.push_back({0, AnimatedProperty::Translation, Interpolation::Linear, {0.0f, 2.0f},
+                                {glm::vec4(0, 0, 0, 0), glm::vec4(4, 0, 0, 0)}});
+  animation.channels.push_back({1, AnimatedProperty::Scale, Interpolation::Step, {0.0f, 1.0f, 2.0f},
+                                {glm::vec4(1), glm::vec4(3), glm::vec4(5)}});
+  const glm::quat turn = glm::angleAxis(glm::radians(120.0f), glm::vec3(0, 0, 1));
+  animation.channels.push_back({1, AnimatedProperty::Rotation, Interpolation::Linear, {0.0f, 2.0f},
+                                {glm::vec4(0, 0, 0, 1), glm::vec4(turn.x, turn.y, turn.z, turn.w)}});
+  scene.animations.push_back(animation);
+  validate(scene);
+
+  const std::vector<Transform> at = animatedLocalTransforms(scene, 0.5f);
+  expectNear(at[0].translation, {1, 0, 0});
+  expectNear(at[1].scale, glm::vec3(1));  // step holds the earlier key
+  // A quarter of the way to 120 degrees about z is 30 degrees (slerp, not lerp).
+  expectNear(at[1].rotation * glm::vec3(1, 0, 0), {std::cos(glm::radians(30.0f)), std::sin(glm::radians(30.0f)), 0});
+  expectNear(animatedLocalTransforms(scene, 1.5f)[1].scale, glm::vec3(3));
+  // The animation is 2 s long and loops.
+  expectNear(animatedLocalTransforms(scene, 2.5f)[0].translation, {1, 0, 0});
+}
+
+TEST(Scene, CubicSplineUsesTangents) {
+  Scene scene = twoNodeScene();
+  // p0 = 0, p1 = 0, out-tangent of key 0 = 1, in-tangent of key 1 = 0: the
+  // Hermite curve at t = 0.5 over dt = 1 is (t^3 - 2t^2 + t) * 1 = 0.125.
+  Animation animation;
+  animation.channels.push_back({0, AnimatedProperty::Translation, Interpolation::CubicSpline, {0.0f, 1.0f},
+                                {glm::vec4(0), glm::vec4(0), glm::vec4(1, 0, 0, 0),  //
+                                 glm::vec4(0), glm::vec4(0), glm::vec4(0)}});
+  scene.animations.push_back(animation);
+  validate(scene);
+  EXPECT_NEAR(animatedLocalTransforms(scene, 0.5f)[0].translation.x, 0.125f, 1e-6f);
+}
+
+TEST(Scene, ValidateNamesTheProblem) {
+  const auto messageOf = [](const Scene& scene) -> std::string {
+    try {
+      validate(scene);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(messageOf(twoNodeScene()), "no error");
+
+  Scene badIndex = twoNodeScene();
+  badIndex.meshes[0].indices[2] = 7;
+  EXPECT_EQ(messageOf(badIndex), "test: mesh 0: index 7 out of range (3 vertices)");
+
+  Scene nan = twoNodeScene();
+  nan.meshes[0].positions[1].y = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(messageOf(nan), "test: mesh 0: vertex 1 has a NaN or infinite attribute");
+
+  Scene cycle = twoNodeScene();
+  cycle.nodes[0].parent = 1;
+  cycle.nodes[1].children = {0};
+  cycle.roots = {};
+  EXPECT_NE(messageOf(cycle).find("cycle"), std::string::npos) << messageOf(cycle);
+
+  Scene badMaterial = twoNodeScene();
+  badMaterial.meshes[0].material = 3;
+  EXPECT_EQ(messageOf(badMaterial), "test: mesh 0: material index 3 out of range");
+}
+
+TEST(Scene, SunDirectionFollowsElevationAndAzimuth) {
+  Sun sun;
+  sun.elevationDegrees = 90.0f;
+  expectNear(sun.direction(), {0, 1, 0});
+  sun.elevationDegrees = 0.0f;
+  sun.azimuthDegrees = 90.0f;
+  expectNear(sun.direction(), {1, 0, 0});
+}
+
+}  // namespace
+}  // namespace bounce::scene
