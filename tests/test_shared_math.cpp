@@ -5,6 +5,7 @@
 #include <set>
 #include <vector>
 
+#include "shared/brdf.glsl"
 #include "shared/color.glsl"
 #include "shared/intersect.glsl"
 #include "shared/packing.glsl"
@@ -159,6 +160,90 @@ TEST(Intersect, SphereAndPlaneHitsMatchClosedForm) {
   EXPECT_NEAR(intersectPlane(vec3(0, 2, 0), glm::normalize(vec3(1, -1, 0)), vec3(0, 1, 0), 0.0f, 0.0f),
               2.0f * std::sqrt(2.0f), 1e-5f);
   EXPECT_EQ(intersectPlane(vec3(0, 2, 0), vec3(1, 0, 0), vec3(0, 1, 0), 0.0f, 0.0f), kNoHit) << "parallel";
+}
+
+// --- brdf.glsl
+
+vec3 directionAt(float cosTheta, float phi) {
+  const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  return vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+}
+
+// Directional albedo of the specular lobe, integrated on a fine grid in
+// (cos theta, phi): the share of light from v the lobe reflects.
+float specularAlbedo(float cosThetaV, float roughness, vec3 f0) {
+  const vec3 n(0, 0, 1);
+  const vec3 v = directionAt(cosThetaV, 0.0f);
+  const int steps = 400;
+  double sum = 0.0;
+  for (int i = 0; i < steps; ++i)
+    for (int j = 0; j < steps; ++j) {
+      const float cosTheta = (float(i) + 0.5f) / float(steps);
+      const float phi = 2.0f * kPi * (float(j) + 0.5f) / float(steps);
+      sum += ggxSpecularCosine(n, v, directionAt(cosTheta, phi), f0, ggxAlpha(roughness)).x;
+    }
+  return float(sum * (2.0 * kPi) / double(steps * steps));  // d(omega) = d(cos) d(phi)
+}
+
+TEST(Brdf, WhiteFurnaceReflectsAtMostAllLight) {
+  for (float roughness : {0.3f, 0.6f, 1.0f})
+    for (float cosThetaV : {1.0f, 0.5f, 0.1f}) {
+      const float albedo = specularAlbedo(cosThetaV, roughness, vec3(1.0f));
+      EXPECT_LE(albedo, 1.0f + 1e-2f) << roughness << " " << cosThetaV;
+      EXPECT_GT(albedo, 0.25f) << roughness << " " << cosThetaV;
+    }
+  // A smooth lobe keeps almost everything; single scattering loses more as
+  // the surface gets rougher.
+  EXPECT_NEAR(specularAlbedo(1.0f, 0.3f, vec3(1.0f)), 1.0f, 0.03f);
+  EXPECT_GT(specularAlbedo(1.0f, 0.6f, vec3(1.0f)), specularAlbedo(1.0f, 1.0f, vec3(1.0f)));
+}
+
+// The GGX NDF is normalized: the projected microfacet area is one.
+TEST(Brdf, GgxDistributionProjectsToUnitArea) {
+  for (float roughness : {0.3f, 0.6f, 1.0f}) {
+    const int steps = 20000;
+    double sum = 0.0;
+    for (int i = 0; i < steps; ++i) {
+      const float cosTheta = (float(i) + 0.5f) / float(steps);
+      sum += ggxD(cosTheta, ggxAlpha(roughness)) * cosTheta;
+    }
+    EXPECT_NEAR(sum * 2.0 * kPi / steps, 1.0, 2e-3) << roughness;
+  }
+}
+
+TEST(Brdf, LambertPartIsAlbedoOverPi) {
+  const vec3 n(0, 0, 1);
+  const vec3 l = directionAt(0.6f, 1.0f);
+  const vec3 v = directionAt(0.8f, 2.5f);
+  // A rough dielectric's diffuse part: base colour * (1 - metallic) / pi * cos.
+  const vec3 total = materialBrdfCosine(n, v, l, vec3(0.5f), 0.0f, 1.0f);
+  const vec3 specular = ggxSpecularCosine(n, v, l, vec3(0.04f), ggxAlpha(1.0f));
+  EXPECT_NEAR(total.x - specular.x, 0.5f * kInvPi * 0.6f, 1e-6f);
+  // Metals have no diffuse lobe.
+  const vec3 metal = materialBrdfCosine(n, v, l, vec3(0.5f), 1.0f, 1.0f);
+  EXPECT_NEAR(metal.x, ggxSpecularCosine(n, v, l, vec3(0.5f), ggxAlpha(1.0f)).x, 1e-6f);
+}
+
+TEST(Brdf, ReciprocalFiniteAndZeroBelowTheHorizon) {
+  uint state = rngSeed(uvec2(3, 4), 5u, 6u);
+  const vec3 n(0, 0, 1);
+  for (int i = 0; i < 5000; ++i) {
+    const vec3 a = directionAt(rngUniform(state), 2.0f * kPi * rngUniform(state));
+    const vec3 b = directionAt(rngUniform(state), 2.0f * kPi * rngUniform(state));
+    const float roughness = rngUniform(state);
+    const vec3 f0(0.04f + 0.9f * rngUniform(state));
+    const vec3 ab = ggxSpecularCosine(n, a, b, f0, ggxAlpha(roughness));
+    const vec3 ba = ggxSpecularCosine(n, b, a, f0, ggxAlpha(roughness));
+    ASSERT_TRUE(std::isfinite(ab.x)) << i;
+    // f(a, b) cos(b) / cos(b) == f(b, a) cos(a) / cos(a)
+    if (a.z > 1e-3f && b.z > 1e-3f) {
+      EXPECT_NEAR(ab.x / b.z, ba.x / a.z, 1e-3f * std::max(1.0f, ab.x / b.z)) << i;
+    }
+  }
+  // Grazing and roughness 0 stay finite.
+  EXPECT_TRUE(std::isfinite(ggxSpecularCosine(n, directionAt(1e-7f, 0), directionAt(1e-7f, kPi), vec3(1), ggxAlpha(0)).x));
+  EXPECT_TRUE(std::isfinite(ggxSpecularCosine(n, n, n, vec3(1), ggxAlpha(0.0f)).x));
+  EXPECT_EQ(materialBrdfCosine(n, n, vec3(0, 0, -1), vec3(1), 0.0f, 0.5f), vec3(0.0f));
 }
 
 }  // namespace

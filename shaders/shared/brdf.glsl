@@ -1,0 +1,77 @@
+// The material model's evaluation: Cook-Torrance GGX specular with Schlick
+// Fresnel and height-correlated Smith masking-shadowing, plus Lambert diffuse
+// weighted by (1 - metallic). One source for GLSL and C++ (lang.glsl).
+//
+// Roughness everywhere is the glTF perceptual roughness r; the GGX alpha is
+// r * r, computed only in ggxAlpha(). Sampling and pdfs come with the
+// reference path tracer; this file holds what direct lighting needs.
+#ifndef BOUNCE_SHARED_BRDF_GLSL
+#define BOUNCE_SHARED_BRDF_GLSL
+
+#include "shared/lang.glsl"
+
+BOUNCE_SHARED_BEGIN
+
+// Below this alpha the GGX lobe is a near-delta that float32 cannot evaluate
+// (D overflows at the peak); punctual lights would give single-pixel
+// fireflies. 0.0025 is perceptual roughness 0.05.
+const float kMinGgxAlpha = 0.0025f;
+
+float ggxAlpha(float perceptualRoughness) {
+  float r = clamp(perceptualRoughness, 0.0f, 1.0f);
+  return max(r * r, kMinGgxAlpha);
+}
+
+// F0 of the metallic workflow: 4 % for dielectrics, base colour for metals.
+vec3 specularF0(vec3 baseColor, float metallic) { return mix(vec3(0.04f), baseColor, metallic); }
+
+vec3 fresnelSchlick(vec3 f0, float cosTheta) {
+  float m = clamp(1.0f - cosTheta, 0.0f, 1.0f);
+  float m2 = m * m;
+  return f0 + (vec3(1.0f) - f0) * (m2 * m2 * m);
+}
+
+// GGX normal distribution D(m) for cos(theta_m) = nDotH.
+float ggxD(float nDotH, float alpha) {
+  float a2 = alpha * alpha;
+  float d = (nDotH * a2 - nDotH) * nDotH + 1.0f;
+  return a2 / (kPi * d * d);
+}
+
+// Smith Lambda for GGX; G1 = 1 / (1 + Lambda).
+float ggxLambda(float cosTheta, float alpha) {
+  float c2 = max(cosTheta * cosTheta, 1e-8f);
+  float tan2 = max(1.0f - c2, 0.0f) / c2;
+  return 0.5f * (sqrt(1.0f + alpha * alpha * tan2) - 1.0f);
+}
+
+float smithG1(float cosTheta, float alpha) { return 1.0f / (1.0f + ggxLambda(cosTheta, alpha)); }
+
+// Height-correlated masking-shadowing (Heitz 2014).
+float smithG2(float nDotL, float nDotV, float alpha) {
+  return 1.0f / (1.0f + ggxLambda(nDotL, alpha) + ggxLambda(nDotV, alpha));
+}
+
+// Specular BRDF times cos(theta_l): D F G2 / (4 nDotV), zero below either horizon.
+vec3 ggxSpecularCosine(vec3 n, vec3 v, vec3 l, vec3 f0, float alpha) {
+  float nDotL = dot(n, l);
+  float nDotV = dot(n, v);
+  if (nDotL <= 0.0f || nDotV <= 0.0f) return vec3(0.0f);
+  vec3 h = normalize(v + l);
+  float nDotH = max(dot(n, h), 0.0f);
+  float vDotH = max(dot(v, h), 0.0f);
+  return fresnelSchlick(f0, vDotH) * (ggxD(nDotH, alpha) * smithG2(nDotL, nDotV, alpha) / (4.0f * nDotV));
+}
+
+// The whole material (diffuse + specular) times cos(theta_l). The diffuse
+// lobe is Lambert, scaled by (1 - metallic) since metals have no diffuse.
+vec3 materialBrdfCosine(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float perceptualRoughness) {
+  float nDotL = dot(n, l);
+  if (nDotL <= 0.0f || dot(n, v) <= 0.0f) return vec3(0.0f);
+  vec3 diffuse = baseColor * ((1.0f - metallic) * kInvPi * nDotL);
+  return diffuse + ggxSpecularCosine(n, v, l, specularF0(baseColor, metallic), ggxAlpha(perceptualRoughness));
+}
+
+BOUNCE_SHARED_END
+
+#endif
