@@ -1,0 +1,1361 @@
+// glTF 2.0 import. tinygltf parses the file; everything it hands over is
+// treated as untrusted: every index, accessor range and value is checked here
+// before use, because tinygltf itself checks little (it does not range-check
+// accessors, and barely checks JSON types). Before tinygltf sees the file, a
+// small schema check refuses values of the wrong JSON type, which tinygltf
+// would otherwise silently replace by defaults.
+#include "scene/gltf_import.h"
+
+#include <stb/stb_image.h>
+#include <tiny_gltf.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "scene/tangents.h"
+
+namespace bounce::scene {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// ---------------------------------------------------------------- JSON schema
+
+// The JSON type a glTF property must have. Index: a non-negative integer that
+// fits an int (an index into an array, an enum); Size: any non-negative
+// integer (byte lengths and offsets, counts).
+enum class Kind {
+  Index,
+  Size,
+  Number,
+  Bool,
+  String,
+  Object,
+  IndexArray,
+  NumberArray,
+  StringArray,
+  ObjectArray,
+  IndexMap
+};
+
+struct Property {
+  std::string_view name;
+  Kind kind;
+  bool required = false;
+  std::span<const Property> members = {};  // for Object and ObjectArray
+};
+
+// The glTF 2.0 core schema, reduced to the properties this importer or
+// tinygltf reads. "name", "extensions" and "extras" are checked on every object.
+constexpr Property kTextureInfo[] = {
+    {"index", Kind::Index, true}, {"texCoord", Kind::Index}, {"scale", Kind::Number}, {"strength", Kind::Number}};
+constexpr Property kPbrMetallicRoughness[] = {{"baseColorFactor", Kind::NumberArray},
+                                              {"baseColorTexture", Kind::Object, false, kTextureInfo},
+                                              {"metallicFactor", Kind::Number},
+                                              {"roughnessFactor", Kind::Number},
+                                              {"metallicRoughnessTexture", Kind::Object, false, kTextureInfo}};
+constexpr Property kMaterial[] = {{"pbrMetallicRoughness", Kind::Object, false, kPbrMetallicRoughness},
+                                  {"normalTexture", Kind::Object, false, kTextureInfo},
+                                  {"occlusionTexture", Kind::Object, false, kTextureInfo},
+                                  {"emissiveTexture", Kind::Object, false, kTextureInfo},
+                                  {"emissiveFactor", Kind::NumberArray},
+                                  {"alphaMode", Kind::String},
+                                  {"alphaCutoff", Kind::Number},
+                                  {"doubleSided", Kind::Bool}};
+constexpr Property kSparseIndices[] = {
+    {"bufferView", Kind::Index, true}, {"byteOffset", Kind::Size}, {"componentType", Kind::Index, true}};
+constexpr Property kSparseValues[] = {{"bufferView", Kind::Index, true}, {"byteOffset", Kind::Size}};
+constexpr Property kSparse[] = {{"count", Kind::Size, true},
+                                {"indices", Kind::Object, true, kSparseIndices},
+                                {"values", Kind::Object, true, kSparseValues}};
+constexpr Property kAccessor[] = {
+    {"bufferView", Kind::Index}, {"byteOffset", Kind::Size},  {"componentType", Kind::Index, true},
+    {"normalized", Kind::Bool},  {"count", Kind::Size, true}, {"type", Kind::String, true},
+    {"max", Kind::NumberArray},  {"min", Kind::NumberArray},  {"sparse", Kind::Object, false, kSparse}};
+constexpr Property kChannelTarget[] = {{"node", Kind::Index}, {"path", Kind::String, true}};
+constexpr Property kChannel[] = {{"sampler", Kind::Index, true}, {"target", Kind::Object, true, kChannelTarget}};
+constexpr Property kAnimationSampler[] = {
+    {"input", Kind::Index, true}, {"interpolation", Kind::String}, {"output", Kind::Index, true}};
+constexpr Property kAnimation[] = {{"channels", Kind::ObjectArray, true, kChannel},
+                                   {"samplers", Kind::ObjectArray, true, kAnimationSampler}};
+constexpr Property kAsset[] = {{"version", Kind::String, true},
+                               {"minVersion", Kind::String},
+                               {"generator", Kind::String},
+                               {"copyright", Kind::String}};
+constexpr Property kBuffer[] = {{"uri", Kind::String}, {"byteLength", Kind::Size, true}};
+constexpr Property kBufferView[] = {{"buffer", Kind::Index, true},
+                                    {"byteOffset", Kind::Size},
+                                    {"byteLength", Kind::Size, true},
+                                    {"byteStride", Kind::Size},
+                                    {"target", Kind::Index}};
+constexpr Property kPerspective[] = {
+    {"aspectRatio", Kind::Number}, {"yfov", Kind::Number, true}, {"zfar", Kind::Number}, {"znear", Kind::Number, true}};
+constexpr Property kOrthographic[] = {{"xmag", Kind::Number, true},
+                                      {"ymag", Kind::Number, true},
+                                      {"zfar", Kind::Number, true},
+                                      {"znear", Kind::Number, true}};
+constexpr Property kCamera[] = {{"type", Kind::String, true},
+                                {"perspective", Kind::Object, false, kPerspective},
+                                {"orthographic", Kind::Object, false, kOrthographic}};
+constexpr Property kImage[] = {{"uri", Kind::String}, {"mimeType", Kind::String}, {"bufferView", Kind::Index}};
+constexpr Property kPrimitive[] = {{"attributes", Kind::IndexMap, true},
+                                   {"indices", Kind::Index},
+                                   {"material", Kind::Index},
+                                   {"mode", Kind::Index},
+                                   {"targets", Kind::ObjectArray}};
+constexpr Property kMesh[] = {{"primitives", Kind::ObjectArray, true, kPrimitive}, {"weights", Kind::NumberArray}};
+constexpr Property kNode[] = {{"camera", Kind::Index},       {"children", Kind::IndexArray},
+                              {"skin", Kind::Index},         {"matrix", Kind::NumberArray},
+                              {"mesh", Kind::Index},         {"rotation", Kind::NumberArray},
+                              {"scale", Kind::NumberArray},  {"translation", Kind::NumberArray},
+                              {"weights", Kind::NumberArray}};
+constexpr Property kSampler[] = {
+    {"magFilter", Kind::Index}, {"minFilter", Kind::Index}, {"wrapS", Kind::Index}, {"wrapT", Kind::Index}};
+constexpr Property kScene[] = {{"nodes", Kind::IndexArray}};
+constexpr Property kSkin[] = {
+    {"inverseBindMatrices", Kind::Index}, {"skeleton", Kind::Index}, {"joints", Kind::IndexArray, true}};
+constexpr Property kTexture[] = {{"sampler", Kind::Index}, {"source", Kind::Index}};
+constexpr Property kRoot[] = {{"extensionsUsed", Kind::StringArray},
+                              {"extensionsRequired", Kind::StringArray},
+                              {"accessors", Kind::ObjectArray, false, kAccessor},
+                              {"animations", Kind::ObjectArray, false, kAnimation},
+                              {"asset", Kind::Object, true, kAsset},
+                              {"buffers", Kind::ObjectArray, false, kBuffer},
+                              {"bufferViews", Kind::ObjectArray, false, kBufferView},
+                              {"cameras", Kind::ObjectArray, false, kCamera},
+                              {"images", Kind::ObjectArray, false, kImage},
+                              {"materials", Kind::ObjectArray, false, kMaterial},
+                              {"meshes", Kind::ObjectArray, false, kMesh},
+                              {"nodes", Kind::ObjectArray, false, kNode},
+                              {"samplers", Kind::ObjectArray, false, kSampler},
+                              {"scene", Kind::Index},
+                              {"scenes", Kind::ObjectArray, false, kScene},
+                              {"skins", Kind::ObjectArray, false, kSkin},
+                              {"textures", Kind::ObjectArray, false, kTexture}};
+
+const char* describe(Kind kind) {
+  switch (kind) {
+    case Kind::Index:
+    case Kind::Size:
+      return "a non-negative integer";
+    case Kind::Number:
+      return "a number";
+    case Kind::Bool:
+      return "true or false";
+    case Kind::String:
+      return "a string";
+    case Kind::Object:
+      return "an object";
+    case Kind::IndexArray:
+      return "an array of non-negative integers";
+    case Kind::NumberArray:
+      return "an array of numbers";
+    case Kind::StringArray:
+      return "an array of strings";
+    case Kind::ObjectArray:
+      return "an array of objects";
+    case Kind::IndexMap:
+      return "an object whose values are non-negative integers";
+  }
+  return "?";
+}
+
+bool isSize(const json& value) {
+  return value.is_number_unsigned() || (value.is_number_integer() && value.get<std::int64_t>() >= 0);
+}
+bool isIndex(const json& value) {
+  return isSize(value) && value.get<std::uint64_t>() <= std::uint64_t(std::numeric_limits<int>::max());
+}
+
+// Returns the first schema violation below `object` ("meshes[0].primitives
+// must be an array of objects"), or an empty string.
+std::string schemaViolation(const json& object, std::span<const Property> properties, const std::string& where);
+
+std::string kindViolation(const json& value, const Property& property, const std::string& where) {
+  const auto all = [&](auto&& predicate) {
+    return value.is_array() && std::all_of(value.begin(), value.end(), predicate);
+  };
+  bool ok = false;
+  switch (property.kind) {
+    case Kind::Index:
+      ok = isIndex(value);
+      break;
+    case Kind::Size:
+      ok = isSize(value);
+      break;
+    case Kind::Number:
+      ok = value.is_number();
+      break;
+    case Kind::Bool:
+      ok = value.is_boolean();
+      break;
+    case Kind::String:
+      ok = value.is_string();
+      break;
+    case Kind::Object:
+      ok = value.is_object();
+      break;
+    case Kind::IndexArray:
+      ok = all([](const json& v) { return isIndex(v); });
+      break;
+    case Kind::NumberArray:
+      ok = all([](const json& v) { return v.is_number(); });
+      break;
+    case Kind::StringArray:
+      ok = all([](const json& v) { return v.is_string(); });
+      break;
+    case Kind::ObjectArray:
+      ok = all([](const json& v) { return v.is_object(); });
+      break;
+    case Kind::IndexMap:
+      ok = value.is_object() && std::all_of(value.begin(), value.end(), [](const json& v) { return isIndex(v); });
+      break;
+  }
+  if (!ok) return where + " must be " + describe(property.kind);
+  if (property.kind == Kind::Object) return schemaViolation(value, property.members, where);
+  if (property.kind == Kind::ObjectArray)
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      std::string violation = schemaViolation(value[i], property.members, where + "[" + std::to_string(i) + "]");
+      if (!violation.empty()) return violation;
+    }
+  return {};
+}
+
+std::string schemaViolation(const json& object, std::span<const Property> properties, const std::string& where) {
+  const std::string prefix = where.empty() ? "" : where + ".";
+  for (const Property& property : properties) {
+    const auto found = object.find(std::string(property.name));
+    if (found == object.end()) {
+      if (property.required) return prefix + std::string(property.name) + " is missing";
+      continue;
+    }
+    std::string violation = kindViolation(*found, property, prefix + std::string(property.name));
+    if (!violation.empty()) return violation;
+  }
+  if (const auto name = object.find("name"); name != object.end() && !name->is_string())
+    return prefix + "name must be a string";
+  if (const auto extensions = object.find("extensions"); extensions != object.end()) {
+    if (!extensions->is_object()) return prefix + "extensions must be an object";
+    for (const auto& [extension, value] : extensions->items())
+      if (!value.is_object()) return prefix + "extensions." + extension + " must be an object";
+  }
+  return {};
+}
+
+// ---------------------------------------------------------------- file access
+
+// tinygltf file callbacks that only ever open absolute paths: tinygltf also
+// looks for missing files in the current directory, which would make a
+// broken scene load or not depending on where the program runs.
+bool absoluteFileExists(const std::string& path, void*) {
+  std::error_code error;
+  return fs::path(path).is_absolute() && fs::is_regular_file(path, error);
+}
+std::string keepFilePath(const std::string& path, void*) { return path; }
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = file ? std::streamoff(file.tellg()) : -1;
+  if (size >= 0) {
+    out->resize(std::size_t(size));
+    file.seekg(0);
+    if (file.read(reinterpret_cast<char*>(out->data()), size)) return true;
+  }
+  if (err) *err = "cannot read " + path;
+  return false;
+}
+bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err = "the importer never writes files";
+  return false;
+}
+
+// tinygltf hands every image's encoded bytes to this callback. Keeping them
+// encoded (instead of letting tinygltf decode everything) means only images
+// that materials use get decoded, in parallel, and formats such as DDS that
+// are only referenced by extensions are never touched.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+  // For images stored in a bufferView tinygltf passes a pointer it has not
+  // range-checked; those are read later through the checked bufferView path.
+  if (image->bufferView >= 0) return true;
+  image->image.assign(bytes, bytes + std::max(size, 0));
+  image->as_is = true;
+  return true;
+}
+
+std::string percentDecoded(const std::string& uri) {
+  std::string decoded;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      decoded += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      decoded += uri[i];
+    }
+  }
+  return decoded;
+}
+
+// tinygltf's messages end lines with '\n'; a SceneError is one line.
+std::string oneLine(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  for (std::size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at)) text.replace(at, 1, "; ");
+  return text;
+}
+
+std::uint32_t readU32(const std::vector<unsigned char>& bytes, std::size_t offset) {
+  std::uint32_t value;
+  std::memcpy(&value, bytes.data() + offset, 4);
+  return value;  // GLB is little-endian, as is every machine this runs on
+}
+
+// ---------------------------------------------------------------- accessors
+
+const char* componentTypeName(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return "BYTE";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return "UNSIGNED_BYTE";
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return "SHORT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return "UNSIGNED_SHORT";
+    case TINYGLTF_COMPONENT_TYPE_INT:
+      return "INT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return "UNSIGNED_INT";
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return "FLOAT";
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+      return "DOUBLE";
+  }
+  return "an unknown component type";
+}
+
+std::size_t componentSize(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+  }
+  return 0;
+}
+
+const char* typeName(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+      return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+      return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
+  }
+  return "an unknown type";
+}
+
+std::size_t componentCount(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+  }
+  return 0;
+}
+
+// One component as a number; normalized integers map to [0,1] or [-1,1] as the
+// glTF spec says (signed: max(c / MAX, -1)).
+double componentValue(const unsigned char* bytes, int componentType, bool normalized) {
+  const auto load = [bytes](auto value) {
+    std::memcpy(&value, bytes, sizeof(value));
+    return value;
+  };
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const double value = load(std::int8_t());
+      return normalized ? std::max(value / 127.0, -1.0) : value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+      const double value = load(std::uint8_t());
+      return normalized ? value / 255.0 : value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      const double value = load(std::int16_t());
+      return normalized ? std::max(value / 32767.0, -1.0) : value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      const double value = load(std::uint16_t());
+      return normalized ? value / 65535.0 : value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_INT:
+      return load(std::int32_t());
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return load(std::uint32_t());
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return load(float());
+  }
+  return 0.0;
+}
+
+// What an accessor must hold for one use (a vertex attribute, indices, keys).
+struct AccessorFormat {
+  int type;                         // TINYGLTF_TYPE_*
+  std::vector<int> componentTypes;  // allowed TINYGLTF_COMPONENT_TYPE_*
+  bool integersNormalized;          // integer components must be normalized (true) or must not be (false)
+};
+
+const AccessorFormat kVec3Floats{TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, false};
+const AccessorFormat kVec4Floats{TINYGLTF_TYPE_VEC4, {TINYGLTF_COMPONENT_TYPE_FLOAT}, false};
+const AccessorFormat kScalarFloats{TINYGLTF_TYPE_SCALAR, {TINYGLTF_COMPONENT_TYPE_FLOAT}, false};
+const AccessorFormat kTexcoords{
+    TINYGLTF_TYPE_VEC2,
+    {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+    true};
+const AccessorFormat kIndices{TINYGLTF_TYPE_SCALAR,
+                              {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+                              false};
+const AccessorFormat kRotationKeys{
+    TINYGLTF_TYPE_VEC4,
+    {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+     TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+    true};
+
+// An accessor without a bufferView is all zeros (plus sparse values); this
+// bounds the memory such an accessor can make us allocate.
+constexpr std::size_t kMaxVirtualElements = std::size_t(1) << 24;
+// glTF images are at most this many pixels a side here (as in io/image_io).
+constexpr int kMaxTextureSide = 16384;
+
+// ---------------------------------------------------------------- the importer
+
+enum class Topology { Triangles, Strip, Fan };
+
+struct DecodeJob {
+  int image = -1;
+  std::string name;
+  std::vector<int> textures;  // Scene::textures filled from this image (sRGB and/or linear)
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba8;
+  std::string error;
+};
+
+class Importer {
+ public:
+  Importer(const fs::path& path, const GltfImportOptions& options) : path_(path), options_(options) {
+    scene_.name = path.filename().string();
+    scene_.source = path;
+  }
+
+  Scene run() {
+    const std::vector<unsigned char> bytes = readFile();
+    load(bytes);
+    checkVersion();
+    convertMaterials();
+    convertMeshes();
+    convertCameras();
+    convertLights();
+    convertNodes();
+    convertAnimations();
+    chooseRoots();
+    decodeTextures();
+    validate(scene_);
+    emitWarnings();
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& reason) const { throw SceneError(path_.string() + ": " + reason); }
+
+  // A JSON number as a float: values a float cannot hold are refused rather
+  // than turned into infinity.
+  float toFloat(double value, const std::string& what) const {
+    if (!(std::abs(value) <= double(std::numeric_limits<float>::max()))) fail(what + " is out of range");
+    return float(value);
+  }
+
+  // Collects one warning line per kind of problem, naming what it concerns.
+  void warn(const std::string& kind, const std::string& subject) {
+    auto found = std::find_if(warnings_.begin(), warnings_.end(), [&](const auto& w) { return w.first == kind; });
+    if (found == warnings_.end()) found = warnings_.insert(warnings_.end(), {kind, {}});
+    if (std::find(found->second.begin(), found->second.end(), subject) == found->second.end())
+      found->second.push_back(subject);
+  }
+
+  void emitWarnings() const {
+    constexpr std::size_t kNamedSubjects = 8;
+    const auto emit = [&](const std::string& line) {
+      if (options_.warn)
+        options_.warn(line);
+      else
+        std::cerr << "bounce: warning: " << line << "\n";
+    };
+    if (!ignoredExtensions_.empty()) {
+      std::string line = path_.string() + ": ignoring unsupported optional glTF extensions: ";
+      for (std::size_t i = 0; i < ignoredExtensions_.size(); ++i) line += (i ? ", " : "") + ignoredExtensions_[i];
+      emit(line);
+    }
+    for (const auto& [kind, subjects] : warnings_) {
+      std::string line = path_.string() + ": " + kind + ": ";
+      for (std::size_t i = 0; i < subjects.size() && i < kNamedSubjects; ++i) line += (i ? ", " : "") + subjects[i];
+      if (subjects.size() > kNamedSubjects)
+        line += " and " + std::to_string(subjects.size() - kNamedSubjects) + " more";
+      emit(line);
+    }
+  }
+
+  // ------------------------------------------------------------ loading
+
+  std::vector<unsigned char> readFile() const {
+    std::error_code error;
+    if (!fs::exists(path_, error)) fail("file not found");
+    if (!fs::is_regular_file(path_, error)) fail("not a regular file");
+    const std::uintmax_t size = fs::file_size(path_, error);
+    // tinygltf takes sizes as unsigned int.
+    if (error || size > std::uintmax_t(std::numeric_limits<std::int32_t>::max())) fail("file too large or unreadable");
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+    std::ifstream file(path_, std::ios::binary);
+    if (!file.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) fail("cannot read file");
+    return bytes;
+  }
+
+  void load(const std::vector<unsigned char>& bytes) {
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    std::size_t glbLength = 0;
+    if (binary) {
+      // tinygltf checks the GLB layout only partly (it can read past the end
+      // of a BIN chunk whose header lies), so the whole layout is checked here.
+      if (bytes.size() < 20) fail("truncated GLB header");
+      if (readU32(bytes, 4) != 2) fail("GLB container version " + std::to_string(readU32(bytes, 4)) + " is not 2");
+      glbLength = readU32(bytes, 8);
+      if (glbLength > bytes.size())
+        fail("truncated GLB: header says " + std::to_string(glbLength) + " bytes, file has " +
+             std::to_string(bytes.size()));
+      const std::uint64_t jsonLength = readU32(bytes, 12);
+      if (readU32(bytes, 16) != 0x4E4F534Au) fail("the first GLB chunk is not JSON");
+      if (20 + jsonLength > glbLength) fail("the GLB JSON chunk runs past the end of the file");
+      const std::uint64_t binStart = 20 + jsonLength;
+      if (binStart < glbLength) {
+        if (binStart + 8 > glbLength) fail("truncated GLB chunk header");
+        if (binStart + 8 + readU32(bytes, binStart) > glbLength)
+          fail("the GLB BIN chunk runs past the end of the file");
+        if (readU32(bytes, binStart + 4) != 0x004E4942u) fail("the second GLB chunk is not BIN");
+      }
+      text = text.substr(20, jsonLength);
+    }
+
+    json document;
+    try {
+      document = json::parse(text.begin(), text.end());
+    } catch (const json::exception& e) {
+      fail(std::string("not valid JSON (") + e.what() + ")");
+    }
+    if (!document.is_object()) fail("not a glTF file (the JSON is not an object)");
+    if (const std::string violation = schemaViolation(document, kRoot, ""); !violation.empty())
+      fail("invalid glTF: " + violation);
+    checkExtensions(document);
+
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&keepEncodedImage, nullptr);
+    loader.SetFsCallbacks({&absoluteFileExists, &keepFilePath, &readWholeFile, &refuseWrite, nullptr});
+    const std::string baseDir = fs::absolute(path_).parent_path().string();
+    std::string error;
+    // tinygltf's warnings only concern images it could not read; whether that
+    // matters depends on whether a material uses the image, checked later.
+    std::string ignoredWarnings;
+    bool loaded = false;
+    try {
+      loaded = binary ? loader.LoadBinaryFromMemory(&model_, &error, &ignoredWarnings, bytes.data(),
+                                                    unsigned(glbLength), baseDir)
+                      : loader.LoadASCIIFromString(&model_, &error, &ignoredWarnings, text.data(),
+                                                   unsigned(text.size()), baseDir);
+    } catch (const std::exception& e) {
+      // tinygltf's JSON library throws on some inputs the schema check lets through.
+      error = e.what();
+    }
+    if (!loaded) fail("cannot load glTF: " + (error.empty() ? std::string("tinygltf gave no reason") : oneLine(error)));
+  }
+
+  void checkExtensions(const json& document) {
+    static const std::vector<std::string> kSupported = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+    const auto names = [&](const char* key) {
+      std::vector<std::string> list;
+      if (const auto found = document.find(key); found != document.end())
+        for (const json& name : *found) list.push_back(name.get<std::string>());
+      return list;
+    };
+    const auto supported = [&](const std::string& name) {
+      return std::find(kSupported.begin(), kSupported.end(), name) != kSupported.end();
+    };
+    std::string missing;
+    for (const std::string& name : names("extensionsRequired"))
+      if (!supported(name)) missing += (missing.empty() ? "" : ", ") + name;
+    if (!missing.empty()) fail("requires glTF extensions this importer does not support: " + missing);
+    for (const std::string& name : names("extensionsUsed"))
+      if (!supported(name) &&
+          std::find(ignoredExtensions_.begin(), ignoredExtensions_.end(), name) == ignoredExtensions_.end())
+        ignoredExtensions_.push_back(name);
+  }
+
+  void checkVersion() const {
+    const auto major = [](const std::string& version) { return version.substr(0, version.find('.')); };
+    if (major(model_.asset.version) != "2")
+      fail("glTF version " + model_.asset.version + " is not supported (only 2.x)");
+    if (!model_.asset.minVersion.empty() && model_.asset.minVersion != "2.0")
+      fail("the file needs glTF " + model_.asset.minVersion + "; this importer reads 2.0");
+  }
+
+  // ------------------------------------------------------------ buffers and accessors
+
+  struct ByteRange {
+    const unsigned char* data;
+    std::size_t size;
+  };
+
+  ByteRange bufferView(int index, const std::string& what) const {
+    if (index < 0 || std::size_t(index) >= model_.bufferViews.size())
+      fail(what + ": bufferView " + std::to_string(index) + " does not exist");
+    const tinygltf::BufferView& view = model_.bufferViews[std::size_t(index)];
+    if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size())
+      fail(what + ": bufferView " + std::to_string(index) + " names buffer " + std::to_string(view.buffer) +
+           ", which does not exist");
+    const std::vector<unsigned char>& data = model_.buffers[std::size_t(view.buffer)].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+      fail(what + ": bufferView " + std::to_string(index) + " (bytes " + std::to_string(view.byteOffset) + " to " +
+           std::to_string(view.byteOffset + view.byteLength) + ") runs past the end of its buffer (" +
+           std::to_string(data.size()) + " bytes)");
+    return {data.data() + view.byteOffset, view.byteLength};
+  }
+
+  // Every component of accessor `index` (count * components values, sparse
+  // substitution applied), after checking that the accessor has `format` and
+  // that every byte it reads lies inside its bufferView.
+  template <typename T>
+  std::vector<T> readAccessor(int index, const AccessorFormat& format, const std::string& what) const {
+    if (index < 0 || std::size_t(index) >= model_.accessors.size())
+      fail(what + ": accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& accessor = model_.accessors[std::size_t(index)];
+    const std::string name = what + " (accessor " + std::to_string(index) + ")";
+    if (accessor.type != format.type)
+      fail(name + " is " + typeName(accessor.type) + ", expected " + typeName(format.type));
+    if (std::find(format.componentTypes.begin(), format.componentTypes.end(), accessor.componentType) ==
+        format.componentTypes.end()) {
+      std::string allowed;
+      for (int type : format.componentTypes)
+        allowed += std::string(allowed.empty() ? "" : " or ") + componentTypeName(type);
+      fail(name + " has components of type " + componentTypeName(accessor.componentType) + ", expected " + allowed);
+    }
+    const bool integer = accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
+    if (integer && accessor.normalized != format.integersNormalized)
+      fail(name + (format.integersNormalized ? " must be normalized" : " must not be normalized"));
+    const bool normalized = integer && accessor.normalized;
+    if (accessor.count == 0) fail(name + " has no elements");
+
+    const std::size_t components = componentCount(accessor.type);
+    const std::size_t bytesPerComponent = componentSize(accessor.componentType);
+    const std::size_t elementSize = components * bytesPerComponent;
+    std::vector<T> values;
+    if (accessor.bufferView < 0) {
+      if (accessor.count > kMaxVirtualElements) fail(name + " has too many elements");
+      values.assign(accessor.count * components, T(0));
+    } else {
+      const ByteRange view = bufferView(accessor.bufferView, name);
+      const std::size_t declaredStride = model_.bufferViews[std::size_t(accessor.bufferView)].byteStride;
+      if (declaredStride != 0 && (declaredStride < elementSize || declaredStride > 252))
+        fail(name + ": byteStride " + std::to_string(declaredStride) + " is invalid for elements of " +
+             std::to_string(elementSize) + " bytes");
+      const std::size_t stride = declaredStride ? declaredStride : elementSize;
+      // count <= view.size bounds the products below well inside 64 bits.
+      if (accessor.count > view.size || accessor.byteOffset > view.size ||
+          (accessor.count - 1) * stride + elementSize > view.size - accessor.byteOffset)
+        fail(name + ": " + std::to_string(accessor.count) + " elements from byte offset " +
+             std::to_string(accessor.byteOffset) + " do not fit in bufferView " + std::to_string(accessor.bufferView) +
+             " (" + std::to_string(view.size) + " bytes)");
+      values.resize(accessor.count * components);
+      for (std::size_t element = 0; element < accessor.count; ++element) {
+        const unsigned char* at = view.data + accessor.byteOffset + element * stride;
+        for (std::size_t c = 0; c < components; ++c)
+          values[element * components + c] =
+              T(componentValue(at + c * bytesPerComponent, accessor.componentType, normalized));
+      }
+    }
+    if (accessor.sparse.isSparse) applySparse(accessor, components, elementSize, normalized, values, name);
+    return values;
+  }
+
+  template <typename T>
+  void applySparse(const tinygltf::Accessor& accessor, std::size_t components, std::size_t elementSize, bool normalized,
+                   std::vector<T>& values, const std::string& name) const {
+    const auto& sparse = accessor.sparse;
+    const std::size_t count = std::size_t(std::max(sparse.count, 0));
+    if (count == 0 || count > accessor.count)
+      fail(name + ": sparse count " + std::to_string(sparse.count) + " is not between 1 and the accessor's count");
+    const int indexType = sparse.indices.componentType;
+    if (indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(name + ": sparse indices have component type " + componentTypeName(indexType));
+    const ByteRange indexView = bufferView(sparse.indices.bufferView, name + " sparse indices");
+    const ByteRange valueView = bufferView(sparse.values.bufferView, name + " sparse values");
+    const std::size_t indexOffset = std::size_t(std::max(sparse.indices.byteOffset, 0));
+    const std::size_t valueOffset = std::size_t(std::max(sparse.values.byteOffset, 0));
+    const std::size_t indexSize = componentSize(indexType);
+    if (indexOffset > indexView.size || count > (indexView.size - indexOffset) / indexSize)
+      fail(name + ": sparse indices do not fit in their bufferView");
+    if (valueOffset > valueView.size || count > (valueView.size - valueOffset) / elementSize)
+      fail(name + ": sparse values do not fit in their bufferView");
+    const std::size_t bytesPerComponent = elementSize / components;
+    std::size_t previous = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::size_t target =
+          std::size_t(componentValue(indexView.data + indexOffset + i * indexSize, indexType, false));
+      if (target >= accessor.count || (i > 0 && target <= previous))
+        fail(name + ": sparse index " + std::to_string(target) + " is out of range or not increasing");
+      previous = target;
+      const unsigned char* at = valueView.data + valueOffset + i * elementSize;
+      for (std::size_t c = 0; c < components; ++c)
+        values[target * components + c] =
+            T(componentValue(at + c * bytesPerComponent, accessor.componentType, normalized));
+    }
+  }
+
+  template <int N>
+  std::vector<glm::vec<N, float>> readVectors(int index, const AccessorFormat& format, const std::string& what) const {
+    const std::vector<float> flat = readAccessor<float>(index, format, what);
+    std::vector<glm::vec<N, float>> vectors(flat.size() / N);
+    std::memcpy(vectors.data(), flat.data(), vectors.size() * sizeof(vectors[0]));
+    return vectors;
+  }
+
+  // ------------------------------------------------------------ materials and textures
+
+  // The Scene::textures index for glTF texture `index` used as sRGB or linear
+  // data, creating the texture (and a decode job for its image) on first use.
+  int textureFor(int index, bool srgb, int texCoord, const std::string& what) {
+    if (index < 0) return -1;
+    if (std::size_t(index) >= model_.textures.size())
+      fail(what + ": texture " + std::to_string(index) + " does not exist");
+    if (texCoord != 0) warn("textures that use a texture coordinate set other than 0 are read with set 0", what);
+    const int image = model_.textures[std::size_t(index)].source;
+    if (image < 0) {
+      warn("textures without a PNG or JPEG image are ignored", "texture " + std::to_string(index));
+      return -1;
+    }
+    if (std::size_t(image) >= model_.images.size())
+      fail(what + ": texture " + std::to_string(index) + " uses image " + std::to_string(image) +
+           ", which does not exist");
+    const auto key = std::make_pair(image, srgb);
+    if (const auto found = textureIndex_.find(key); found != textureIndex_.end()) return found->second;
+
+    auto job =
+        std::find_if(decodeJobs_.begin(), decodeJobs_.end(), [&](const DecodeJob& j) { return j.image == image; });
+    if (job == decodeJobs_.end()) {
+      job = decodeJobs_.insert(decodeJobs_.end(), DecodeJob{});
+      job->image = image;
+      job->name = imageName(image);
+    }
+    const int textureIndex = int(scene_.textures.size());
+    Texture texture;
+    texture.name = job->name;
+    texture.srgb = srgb;
+    scene_.textures.push_back(std::move(texture));
+    job->textures.push_back(textureIndex);
+    textureIndex_[key] = textureIndex;
+    return textureIndex;
+  }
+
+  std::string imageName(int index) const {
+    const tinygltf::Image& image = model_.images[std::size_t(index)];
+    if (image.bufferView < 0 && !image.uri.empty() && image.uri.rfind("data:", 0) != 0)
+      return percentDecoded(image.uri);
+    return "image " + std::to_string(index) + " of " + path_.filename().string();
+  }
+
+  void convertMaterials() {
+    for (std::size_t i = 0; i < model_.materials.size(); ++i) {
+      const tinygltf::Material& source = model_.materials[i];
+      const std::string what = "material " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const auto vector = [&](const std::vector<double>& values, std::size_t size, const char* property) {
+        if (values.size() != size) fail(what + ": " + property + " must have " + std::to_string(size) + " numbers");
+        glm::vec4 result(0.0f);
+        for (std::size_t c = 0; c < size; ++c) result[int(c)] = toFloat(values[c], what + ": " + property);
+        return result;
+      };
+      const auto unit = [](double value) { return float(std::clamp(value, 0.0, 1.0)); };
+      const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
+      Material material;
+      material.name = source.name;
+      material.baseColorFactor = glm::clamp(vector(pbr.baseColorFactor, 4, "baseColorFactor"), 0.0f, 1.0f);
+      material.metallicFactor = unit(pbr.metallicFactor);
+      material.roughnessFactor = unit(pbr.roughnessFactor);
+      material.emissiveFactor = glm::max(glm::vec3(vector(source.emissiveFactor, 3, "emissiveFactor")), 0.0f);
+      material.normalScale = toFloat(source.normalTexture.scale, what + ": normal texture scale");
+      material.occlusionStrength = unit(source.occlusionTexture.strength);
+      if (source.alphaMode == "OPAQUE")
+        material.alphaMode = AlphaMode::Opaque;
+      else if (source.alphaMode == "MASK")
+        material.alphaMode = AlphaMode::Mask;
+      else if (source.alphaMode == "BLEND")
+        material.alphaMode = AlphaMode::Blend;
+      else
+        fail(what + ": unknown alphaMode '" + source.alphaMode + "'");
+      if (!(source.alphaCutoff >= 0.0)) fail(what + ": alphaCutoff must not be negative");
+      material.alphaCutoff = toFloat(source.alphaCutoff, what + ": alphaCutoff");
+      material.doubleSided = source.doubleSided;
+      if (const auto found = source.extensions.find("KHR_materials_emissive_strength");
+          found != source.extensions.end() && found->second.Has("emissiveStrength")) {
+        const tinygltf::Value& strength = found->second.Get("emissiveStrength");
+        if (!strength.IsNumber() || !(strength.GetNumberAsDouble() >= 0.0))
+          fail(what + ": KHR_materials_emissive_strength needs a non-negative emissiveStrength");
+        material.emissiveStrength = toFloat(strength.GetNumberAsDouble(), what + ": emissiveStrength");
+      }
+      material.baseColorTexture = textureFor(pbr.baseColorTexture.index, true, pbr.baseColorTexture.texCoord, what);
+      material.metallicRoughnessTexture =
+          textureFor(pbr.metallicRoughnessTexture.index, false, pbr.metallicRoughnessTexture.texCoord, what);
+      material.normalTexture = textureFor(source.normalTexture.index, false, source.normalTexture.texCoord, what);
+      material.emissiveTexture = textureFor(source.emissiveTexture.index, true, source.emissiveTexture.texCoord, what);
+      material.occlusionTexture =
+          textureFor(source.occlusionTexture.index, false, source.occlusionTexture.texCoord, what);
+      scene_.materials.push_back(std::move(material));
+    }
+  }
+
+  // Decodes every image a material uses, a few at a time in parallel (on a
+  // large scene this is most of the load time).
+  void decodeTextures() {
+    for (DecodeJob& job : decodeJobs_) {
+      const tinygltf::Image& image = model_.images[std::size_t(job.image)];
+      if (image.bufferView < 0 && image.image.empty())
+        fail("cannot read texture image '" + job.name + "' (file missing, empty or unreadable)");
+    }
+    std::vector<ByteRange> encoded;
+    for (const DecodeJob& job : decodeJobs_) {
+      const tinygltf::Image& image = model_.images[std::size_t(job.image)];
+      encoded.push_back(image.bufferView >= 0 ? bufferView(image.bufferView, "texture image '" + job.name + "'")
+                                              : ByteRange{image.image.data(), image.image.size()});
+    }
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      for (std::size_t j = next++; j < decodeJobs_.size(); j = next++) decode(decodeJobs_[j], encoded[j]);
+    };
+    const unsigned threads =
+        std::min<unsigned>({std::max(1u, std::thread::hardware_concurrency()), 8u, unsigned(decodeJobs_.size())});
+    {
+      std::vector<std::jthread> helpers;
+      for (unsigned t = 1; t < threads; ++t) helpers.emplace_back(work);
+      work();
+    }
+    for (DecodeJob& job : decodeJobs_) {
+      if (!job.error.empty()) fail(job.error);
+      for (std::size_t k = 0; k < job.textures.size(); ++k) {
+        Texture& texture = scene_.textures[std::size_t(job.textures[k])];
+        texture.width = job.width;
+        texture.height = job.height;
+        texture.rgba8 = k + 1 < job.textures.size() ? job.rgba8 : std::move(job.rgba8);
+      }
+    }
+  }
+
+  // Runs on worker threads: touches only its own job.
+  static void decode(DecodeJob& job, ByteRange bytes) {
+    const auto isPrefix = [&](std::string_view magic) {
+      return bytes.size >= magic.size() && std::memcmp(bytes.data, magic.data(), magic.size()) == 0;
+    };
+    const std::string what = "texture image '" + job.name + "'";
+    if (!isPrefix("\x89PNG") && !isPrefix("\xFF\xD8\xFF")) {
+      job.error = what + " is not a PNG or JPEG file";
+      return;
+    }
+    const int size = int(std::min<std::size_t>(bytes.size, std::size_t(std::numeric_limits<int>::max())));
+    int width = 0, height = 0, channels = 0;
+    if (!stbi_info_from_memory(bytes.data, size, &width, &height, &channels) || width <= 0 || height <= 0 ||
+        width > kMaxTextureSide || height > kMaxTextureSide) {
+      job.error = what + " has an unreadable header or an unsupported size";
+      return;
+    }
+    unsigned char* pixels = stbi_load_from_memory(bytes.data, size, &width, &height, &channels, 4);
+    if (!pixels) {
+      const char* reason = stbi_failure_reason();
+      job.error = what + " cannot be decoded (" + (reason ? reason : "unknown reason") + ")";
+      return;
+    }
+    job.width = width;
+    job.height = height;
+    job.rgba8.assign(pixels, pixels + std::size_t(width) * std::size_t(height) * 4);
+    stbi_image_free(pixels);
+  }
+
+  // ------------------------------------------------------------ meshes
+
+  void convertMeshes() {
+    bool needsDefaultMaterial = false;
+    meshPrimitives_.resize(model_.meshes.size());
+    for (std::size_t m = 0; m < model_.meshes.size(); ++m) {
+      const tinygltf::Mesh& source = model_.meshes[m];
+      const std::string meshName = "mesh " + std::to_string(m) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const bool morphed = !source.weights.empty() || std::any_of(source.primitives.begin(), source.primitives.end(),
+                                                                  [](const auto& p) { return !p.targets.empty(); });
+      if (morphed) warn("morph targets are ignored", meshName);
+      for (std::size_t p = 0; p < source.primitives.size(); ++p) {
+        const tinygltf::Primitive& primitive = source.primitives[p];
+        const std::string what = meshName + " primitive " + std::to_string(p);
+        std::optional<Mesh> mesh = convertPrimitive(primitive, what);
+        if (!mesh) continue;
+        mesh->name = source.name;
+        if (source.primitives.size() > 1) mesh->name.append("#").append(std::to_string(p));
+        if (primitive.material >= 0 && std::size_t(primitive.material) >= model_.materials.size())
+          fail(what + ": material " + std::to_string(primitive.material) + " does not exist");
+        needsDefaultMaterial |= primitive.material < 0;
+        mesh->material = primitive.material >= 0 ? primitive.material : int(model_.materials.size());
+        meshPrimitives_[m].push_back(int(scene_.meshes.size()));
+        scene_.meshes.push_back(std::move(*mesh));
+      }
+    }
+    if (needsDefaultMaterial) {
+      Material fallback;
+      fallback.name = "default";
+      scene_.materials.push_back(fallback);
+    }
+  }
+
+  std::optional<Mesh> convertPrimitive(const tinygltf::Primitive& primitive, const std::string& what) {
+    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+    Topology topology = Topology::Triangles;
+    switch (mode) {
+      case TINYGLTF_MODE_POINTS:
+      case TINYGLTF_MODE_LINE:
+      case TINYGLTF_MODE_LINE_LOOP:
+      case TINYGLTF_MODE_LINE_STRIP:
+        warn("point and line primitives are skipped (only triangles are drawn)", what);
+        return std::nullopt;
+      case TINYGLTF_MODE_TRIANGLES:
+        break;
+      case TINYGLTF_MODE_TRIANGLE_STRIP:
+        topology = Topology::Strip;
+        break;
+      case TINYGLTF_MODE_TRIANGLE_FAN:
+        topology = Topology::Fan;
+        break;
+      default:
+        fail(what + ": unknown primitive mode " + std::to_string(mode));
+    }
+    const auto attribute = [&](const char* name) {
+      const auto found = primitive.attributes.find(name);
+      return found == primitive.attributes.end() ? -1 : found->second;
+    };
+    if (attribute("POSITION") < 0) {
+      warn("primitives without POSITION are skipped", what);
+      return std::nullopt;
+    }
+    if (attribute("COLOR_0") >= 0) warn("vertex colours are ignored", what);
+
+    Mesh mesh;
+    mesh.positions = readVectors<3>(attribute("POSITION"), kVec3Floats, what + " POSITION");
+    const std::size_t vertexCount = mesh.positions.size();
+    const auto requireVertexCount = [&](std::size_t count, const char* name) {
+      if (count != vertexCount)
+        fail(what + ": " + name + " has " + std::to_string(count) + " elements but POSITION has " +
+             std::to_string(vertexCount));
+    };
+    for (std::size_t v = 0; v < vertexCount; ++v)
+      if (!std::isfinite(mesh.positions[v].x) || !std::isfinite(mesh.positions[v].y) ||
+          !std::isfinite(mesh.positions[v].z))
+        fail(what + ": POSITION of vertex " + std::to_string(v) + " is NaN or infinite");
+    const bool hasNormals = attribute("NORMAL") >= 0;
+    if (hasNormals) {
+      mesh.normals = readVectors<3>(attribute("NORMAL"), kVec3Floats, what + " NORMAL");
+      requireVertexCount(mesh.normals.size(), "NORMAL");
+      // glTF ignores tangents of a primitive without normals.
+      if (attribute("TANGENT") >= 0) {
+        mesh.tangents = readVectors<4>(attribute("TANGENT"), kVec4Floats, what + " TANGENT");
+        requireVertexCount(mesh.tangents.size(), "TANGENT");
+      }
+    }
+    if (attribute("TEXCOORD_0") >= 0) {
+      mesh.texcoords = readVectors<2>(attribute("TEXCOORD_0"), kTexcoords, what + " TEXCOORD_0");
+      requireVertexCount(mesh.texcoords.size(), "TEXCOORD_0");
+      for (glm::vec2& uv : mesh.texcoords)
+        if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail(what + ": TEXCOORD_0 has a NaN or infinite value");
+    } else {
+      mesh.texcoords.assign(vertexCount, glm::vec2(0.0f));
+    }
+
+    std::vector<std::uint32_t> vertices;
+    if (primitive.indices >= 0) {
+      vertices = readAccessor<std::uint32_t>(primitive.indices, kIndices, what + " indices");
+      for (std::size_t i = 0; i < vertices.size(); ++i)
+        if (vertices[i] >= vertexCount)
+          fail(what + ": index " + std::to_string(vertices[i]) + " (at position " + std::to_string(i) +
+               ") is out of range for " + std::to_string(vertexCount) + " vertices");
+    } else {
+      vertices.resize(vertexCount);
+      for (std::size_t v = 0; v < vertexCount; ++v) vertices[v] = std::uint32_t(v);
+    }
+    mesh.indices = triangleList(vertices, topology, what);
+    if (mesh.indices.empty()) {
+      warn("primitives without a single triangle are skipped", what);
+      return std::nullopt;
+    }
+
+    if (!hasNormals) {
+      generateFlatNormals(mesh);
+    } else if (normalizeNormals(mesh) > 0) {
+      warn("normals that were zero, not finite or not unit length were repaired", what);
+    }
+    if (mesh.tangents.empty())
+      generateTangents(mesh);
+    else if (orthonormalizeTangents(mesh) > 0)
+      warn("degenerate tangents were replaced", what);
+    return mesh;
+  }
+
+  // glTF vertex order for each topology (spec 3.7.2.1); strips and fans drop
+  // degenerate triangles, which there only stitch runs together.
+  std::vector<std::uint32_t> triangleList(const std::vector<std::uint32_t>& v, Topology topology,
+                                          const std::string& what) {
+    std::vector<std::uint32_t> list;
+    const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, bool dropDegenerate) {
+      if (dropDegenerate && (a == b || b == c || a == c)) return;
+      list.insert(list.end(), {a, b, c});
+    };
+    switch (topology) {
+      case Topology::Triangles:
+        if (v.size() % 3 != 0) warn("an incomplete last triangle was dropped (vertex count not a multiple of 3)", what);
+        for (std::size_t i = 0; i + 2 < v.size(); i += 3) add(v[i], v[i + 1], v[i + 2], false);
+        break;
+      case Topology::Strip:
+        for (std::size_t i = 0; i + 2 < v.size(); ++i)
+          if (i % 2 == 0)
+            add(v[i], v[i + 1], v[i + 2], true);
+          else
+            add(v[i], v[i + 2], v[i + 1], true);
+        break;
+      case Topology::Fan:
+        for (std::size_t i = 0; i + 2 < v.size(); ++i) add(v[i + 1], v[i + 2], v[0], true);
+        break;
+    }
+    return list;
+  }
+
+  // ------------------------------------------------------------ cameras and lights
+
+  void convertCameras() {
+    cameraIndex_.assign(model_.cameras.size(), -1);
+    for (std::size_t i = 0; i < model_.cameras.size(); ++i) {
+      const tinygltf::Camera& camera = model_.cameras[i];
+      const std::string what = "camera " + std::to_string(i) + (camera.name.empty() ? "" : " '" + camera.name + "'");
+      if (camera.type == "orthographic") {
+        warn("orthographic cameras are skipped", what);
+        continue;
+      }
+      if (camera.type != "perspective") fail(what + ": unknown camera type '" + camera.type + "'");
+      const double yfov = camera.perspective.yfov;
+      const double znear = camera.perspective.znear;
+      if (!(yfov > 0.0 && yfov < glm::pi<double>())) fail(what + ": yfov must be between 0 and pi");
+      if (!(znear > 0.0)) fail(what + ": znear must be positive");
+      cameraIndex_[i] = int(scene_.cameras.size());
+      scene_.cameras.push_back({camera.name, float(yfov), toFloat(znear, what + ": znear")});
+    }
+  }
+
+  void convertLights() {
+    for (std::size_t i = 0; i < model_.lights.size(); ++i) {
+      const tinygltf::Light& source = model_.lights[i];
+      const std::string what = "light " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      Light light;
+      light.name = source.name;
+      if (source.type == "directional")
+        light.type = LightType::Directional;
+      else if (source.type == "point")
+        light.type = LightType::Point;
+      else if (source.type == "spot")
+        light.type = LightType::Spot;
+      else
+        fail(what + ": unknown light type '" + source.type + "'");
+      if (!source.color.empty()) {
+        if (source.color.size() != 3) fail(what + ": color must have 3 numbers");
+        for (int c = 0; c < 3; ++c) {
+          if (!(source.color[std::size_t(c)] >= 0.0)) fail(what + ": color must not be negative");
+          light.color[c] = toFloat(source.color[std::size_t(c)], what + ": color");
+        }
+      }
+      if (!(source.intensity >= 0.0)) fail(what + ": intensity must not be negative");
+      if (!(source.range >= 0.0)) fail(what + ": range must be positive");
+      light.intensity = toFloat(source.intensity, what + ": intensity");
+      light.range = toFloat(source.range, what + ": range");
+      if (light.type == LightType::Spot) {
+        const double inner = source.spot.innerConeAngle;
+        const double outer = source.spot.outerConeAngle;
+        if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>() + 1e-6))
+          fail(what + ": spot cone angles must satisfy 0 <= inner < outer <= pi/2");
+        light.innerConeAngle = float(inner);
+        light.outerConeAngle = float(outer);
+      }
+      scene_.lights.push_back(light);
+    }
+  }
+
+  // ------------------------------------------------------------ nodes
+
+  void convertNodes() {
+    scene_.nodes.resize(model_.nodes.size());
+    for (std::size_t i = 0; i < model_.nodes.size(); ++i) {
+      const tinygltf::Node& source = model_.nodes[i];
+      const std::string what = "node " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      Node& node = scene_.nodes[i];
+      node.name = source.name;
+      node.local = localTransform(source, what);
+      for (int child : source.children) {
+        if (child < 0 || std::size_t(child) >= model_.nodes.size())
+          fail(what + ": child " + std::to_string(child) + " does not exist");
+        int& parent = scene_.nodes[std::size_t(child)].parent;
+        if (parent == int(i)) fail(what + ": lists child " + std::to_string(child) + " twice");
+        if (parent >= 0) fail("node " + std::to_string(child) + " has more than one parent");
+        parent = int(i);
+        node.children.push_back(child);
+      }
+      if (source.mesh >= 0) {
+        if (std::size_t(source.mesh) >= model_.meshes.size())
+          fail(what + ": mesh " + std::to_string(source.mesh) + " does not exist");
+        node.meshes = meshPrimitives_[std::size_t(source.mesh)];
+      }
+      if (source.camera >= 0) {
+        if (std::size_t(source.camera) >= model_.cameras.size())
+          fail(what + ": camera " + std::to_string(source.camera) + " does not exist");
+        node.camera = cameraIndex_[std::size_t(source.camera)];
+      }
+      if (const auto found = source.extensions.find("KHR_lights_punctual"); found != source.extensions.end()) {
+        const tinygltf::Value& light = found->second.Get("light");
+        if (!light.IsInt() || light.GetNumberAsInt() < 0 || std::size_t(light.GetNumberAsInt()) >= scene_.lights.size())
+          fail(what + ": KHR_lights_punctual names a light that does not exist");
+        node.light = light.GetNumberAsInt();
+      }
+      if (source.skin >= 0) warn("skins are ignored (skinned meshes are drawn in their bind pose)", what);
+      if (!source.weights.empty()) warn("morph targets are ignored", what);
+    }
+  }
+
+  Transform localTransform(const tinygltf::Node& source, const std::string& what) {
+    Transform local;
+    if (!source.matrix.empty()) {
+      if (source.matrix.size() != 16) fail(what + ": matrix must have 16 numbers");
+      glm::mat4 matrix;
+      for (int i = 0; i < 16; ++i)
+        glm::value_ptr(matrix)[i] = toFloat(source.matrix[std::size_t(i)], what + ": matrix");
+      return decomposed(matrix, what);
+    }
+    if (!source.translation.empty()) {
+      if (source.translation.size() != 3) fail(what + ": translation must have 3 numbers");
+      for (int c = 0; c < 3; ++c)
+        local.translation[c] = toFloat(source.translation[std::size_t(c)], what + ": translation");
+    }
+    if (!source.scale.empty()) {
+      if (source.scale.size() != 3) fail(what + ": scale must have 3 numbers");
+      for (int c = 0; c < 3; ++c) local.scale[c] = toFloat(source.scale[std::size_t(c)], what + ": scale");
+    }
+    if (!source.rotation.empty()) {
+      if (source.rotation.size() != 4) fail(what + ": rotation must have 4 numbers");
+      const glm::vec4 xyzw(source.rotation[0], source.rotation[1], source.rotation[2], source.rotation[3]);
+      local.rotation = unitQuaternion(xyzw, what + ": rotation");
+    }
+    return local;
+  }
+
+  glm::quat unitQuaternion(const glm::vec4& xyzw, const std::string& what) const {
+    const float length = glm::length(xyzw);
+    if (!std::isfinite(length) || length < 1e-6f) fail(what + " is not a unit quaternion");
+    const glm::vec4 unit = xyzw / length;
+    return glm::quat(unit.w, unit.x, unit.y, unit.z);
+  }
+
+  // Splits a node matrix into translation * rotation * scale. A mirroring
+  // matrix gets a negative x scale; an axis scaled to zero gets its rotation
+  // from the other two. Shear cannot be represented: it is dropped, warned about.
+  Transform decomposed(const glm::mat4& matrix, const std::string& what) {
+    Transform transform;
+    transform.translation = glm::vec3(matrix[3]);
+    glm::vec3 axes[3] = {glm::vec3(matrix[0]), glm::vec3(matrix[1]), glm::vec3(matrix[2])};
+    const float largest = std::max({glm::length(axes[0]), glm::length(axes[1]), glm::length(axes[2])});
+    int degenerate = 0;
+    for (int a = 0; a < 3; ++a) {
+      transform.scale[a] = glm::length(axes[a]);
+      if (!(transform.scale[a] > 1e-7f * largest)) {
+        transform.scale[a] = 0.0f;
+        ++degenerate;
+      } else {
+        axes[a] /= transform.scale[a];
+      }
+    }
+    if (glm::determinant(glm::mat3(axes[0], axes[1], axes[2])) < 0.0f) {
+      transform.scale.x = -transform.scale.x;
+      axes[0] = -axes[0];
+    }
+    if (!std::isfinite(largest)) fail(what + ": matrix is too large to decompose");
+    if (degenerate == 1) {
+      const int zero = transform.scale.x == 0.0f ? 0 : transform.scale.y == 0.0f ? 1 : 2;
+      const glm::vec3 normal = glm::cross(axes[(zero + 1) % 3], axes[(zero + 2) % 3]);
+      const float length = glm::length(normal);
+      if (length > 1e-6f)
+        axes[zero] = normal / length;
+      else
+        degenerate = 2;
+    }
+    // With two or three axes scaled to zero the rotation does not matter.
+    if (degenerate <= 1) transform.rotation = glm::normalize(glm::quat_cast(glm::mat3(axes[0], axes[1], axes[2])));
+    const glm::mat4 rebuilt = transform.matrix();
+    float error = 0.0f;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) error = std::max(error, std::abs(rebuilt[c][r] - matrix[c][r]));
+    if (!(error <= 1e-3f * std::max(1.0f, largest)))
+      warn("node matrices with shear or projection were approximated by translation, rotation and scale", what);
+    return transform;
+  }
+
+  // ------------------------------------------------------------ animations
+
+  void convertAnimations() {
+    for (std::size_t a = 0; a < model_.animations.size(); ++a) {
+      const tinygltf::Animation& source = model_.animations[a];
+      Animation animation;
+      animation.name = source.name.empty() ? "animation " + std::to_string(a) : source.name;
+      for (std::size_t c = 0; c < source.channels.size(); ++c) {
+        const tinygltf::AnimationChannel& channel = source.channels[c];
+        const std::string what = "animation '" + animation.name + "' channel " + std::to_string(c);
+        if (channel.target_node < 0) {
+          warn("animation channels without a target node are ignored", what);
+          continue;
+        }
+        if (std::size_t(channel.target_node) >= model_.nodes.size())
+          fail(what + ": node " + std::to_string(channel.target_node) + " does not exist");
+        if (channel.sampler < 0 || std::size_t(channel.sampler) >= source.samplers.size())
+          fail(what + ": sampler " + std::to_string(channel.sampler) + " does not exist");
+        AnimationChannel out;
+        out.node = channel.target_node;
+        if (channel.target_path == "translation")
+          out.property = AnimatedProperty::Translation;
+        else if (channel.target_path == "rotation")
+          out.property = AnimatedProperty::Rotation;
+        else if (channel.target_path == "scale")
+          out.property = AnimatedProperty::Scale;
+        else {
+          warn("animations of morph target weights and other properties are ignored", what);
+          continue;
+        }
+        const tinygltf::AnimationSampler& sampler = source.samplers[std::size_t(channel.sampler)];
+        if (sampler.interpolation == "LINEAR")
+          out.interpolation = Interpolation::Linear;
+        else if (sampler.interpolation == "STEP")
+          out.interpolation = Interpolation::Step;
+        else if (sampler.interpolation == "CUBICSPLINE")
+          out.interpolation = Interpolation::CubicSpline;
+        else
+          fail(what + ": unknown interpolation '" + sampler.interpolation + "'");
+        out.times = readAccessor<float>(sampler.input, kScalarFloats, what + " input");
+        const bool rotation = out.property == AnimatedProperty::Rotation;
+        if (rotation) {
+          for (const glm::vec4& v : readVectors<4>(sampler.output, kRotationKeys, what + " output"))
+            out.values.push_back(v);
+        } else {
+          for (const glm::vec3& v : readVectors<3>(sampler.output, kVec3Floats, what + " output"))
+            out.values.push_back(glm::vec4(v, 0.0f));
+        }
+        const std::size_t perKey = out.interpolation == Interpolation::CubicSpline ? 3 : 1;
+        if (out.values.size() != out.times.size() * perKey)
+          fail(what + ": " + std::to_string(out.times.size()) + " key times but " + std::to_string(out.values.size()) +
+               " values (expected " + std::to_string(out.times.size() * perKey) + ")");
+        if (rotation)
+          // Key values (not cubic-spline tangents) must be unit quaternions.
+          for (std::size_t k = perKey / 3; k < out.values.size(); k += perKey) {
+            const glm::quat q = unitQuaternion(out.values[k], what + ": key " + std::to_string(k / perKey));
+            out.values[k] = glm::vec4(q.x, q.y, q.z, q.w);
+          }
+        animation.channels.push_back(std::move(out));
+      }
+      if (!animation.channels.empty()) scene_.animations.push_back(std::move(animation));
+    }
+  }
+
+  // ------------------------------------------------------------ the displayed scene
+
+  void chooseRoots() {
+    int chosen = -1;
+    if (model_.defaultScene >= 0) {
+      if (std::size_t(model_.defaultScene) >= model_.scenes.size())
+        fail("the default scene " + std::to_string(model_.defaultScene) + " does not exist");
+      chosen = model_.defaultScene;
+    } else if (!model_.scenes.empty()) {
+      chosen = 0;
+    }
+    if (chosen < 0) {
+      for (std::size_t i = 0; i < scene_.nodes.size(); ++i)
+        if (scene_.nodes[i].parent < 0) scene_.roots.push_back(int(i));
+      return;
+    }
+    for (int node : model_.scenes[std::size_t(chosen)].nodes) {
+      if (node < 0 || std::size_t(node) >= scene_.nodes.size())
+        fail("scene " + std::to_string(chosen) + ": node " + std::to_string(node) + " does not exist");
+      if (std::find(scene_.roots.begin(), scene_.roots.end(), node) == scene_.roots.end()) scene_.roots.push_back(node);
+    }
+  }
+
+  const fs::path path_;
+  const GltfImportOptions& options_;
+  tinygltf::Model model_;
+  Scene scene_;
+  std::vector<std::string> ignoredExtensions_;
+  std::vector<std::pair<std::string, std::vector<std::string>>> warnings_;  // kind, subjects; in order of appearance
+  std::vector<std::vector<int>> meshPrimitives_;      // glTF mesh -> Scene::meshes (one per triangle primitive)
+  std::vector<int> cameraIndex_;                      // glTF camera -> Scene::cameras, -1 if skipped
+  std::map<std::pair<int, bool>, int> textureIndex_;  // (glTF image, sRGB) -> Scene::textures
+  std::vector<DecodeJob> decodeJobs_;                 // one per image that materials use
+};
+
+}  // namespace
+
+Scene loadGltf(const std::filesystem::path& path, const GltfImportOptions& options) {
+  return Importer(path, options).run();
+}
+
+}  // namespace bounce::scene
