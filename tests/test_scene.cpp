@@ -131,5 +131,24 @@ TEST(Scene, SunDirectionFollowsElevationAndAzimuth) {
   expectNear(sun.direction(), {1, 0, 0});
 }
 
+TEST(Scene, DirectionalLightBecomesTheSun) {
+  Scene scene = twoNodeScene();
+  EXPECT_FALSE(adoptDirectionalLightAsSun(scene));
+  Light light;
+  light.type = LightType::Directional;
+  light.intensity = 7.0f;
+  light.color = {1.0f, 0.5f, 0.25f};
+  scene.lights.push_back(light);
+  // Tilted 30 degrees down from the horizon about x: the beam goes down-ish
+  // along -z, so the sun is up at 30 degrees toward +z.
+  scene.nodes[0].local.rotation = glm::angleAxis(glm::radians(-30.0f), glm::vec3(1, 0, 0));
+  scene.nodes[0].light = 0;
+  ASSERT_TRUE(adoptDirectionalLightAsSun(scene));
+  EXPECT_NEAR(scene.sun.elevationDegrees, 30.0f, 1e-4f);
+  EXPECT_NEAR(scene.sun.azimuthDegrees, 0.0f, 1e-4f);
+  EXPECT_EQ(scene.sun.illuminance, 7.0f);
+  EXPECT_EQ(scene.nodes[0].light, -1) << "the light must not be drawn a second time";
+}
+
 }  // namespace
 }  // namespace bounce::scene

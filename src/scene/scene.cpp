@@ -138,6 +138,26 @@ Bounds worldBounds(const Scene& scene, float time) {
   return bounds;
 }
 
+bool adoptDirectionalLightAsSun(Scene& scene, float time) {
+  const std::vector<glm::mat4> world = nodeWorldMatrices(scene, time);
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
+    const int index = scene.nodes[n].light;
+    if (index < 0 || scene.lights[std::size_t(index)].type != LightType::Directional) continue;
+    const Light& light = scene.lights[std::size_t(index)];
+    // The light shines down its node's -Z; the sun direction points back up the beam.
+    const glm::vec3 toSun = glm::normalize(glm::vec3(world[n] * glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)));
+    if (!std::isfinite(toSun.x)) continue;
+    scene.sun.elevationDegrees = glm::degrees(std::asin(std::clamp(toSun.y, -1.0f, 1.0f)));
+    scene.sun.azimuthDegrees = glm::degrees(std::atan2(toSun.x, toSun.z));
+    scene.sun.illuminance = light.intensity;
+    scene.sun.color = light.color;
+    scene.hasSun = true;
+    scene.nodes[n].light = -1;
+    return true;
+  }
+  return false;
+}
+
 void validate(const Scene& scene) {
   const auto finite = [](const auto& v) {
     for (int i = 0; i < v.length(); ++i)

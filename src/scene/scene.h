@@ -194,6 +194,13 @@ Bounds worldBounds(const Scene& scene, float time);
 // True when any animation channel exists (motion vectors then include object motion).
 inline bool isAnimated(const Scene& scene) { return !scene.animations.empty(); }
 
+// The sky model has one sun, and a scene's directional light must agree with
+// it: the first directional light found (in node order) becomes scene.sun
+// (direction from its node at `time`, illuminance = intensity, colour) and is
+// detached from its node, so it is not drawn twice. Returns false, leaving
+// the scene as it is, when there is none.
+bool adoptDirectionalLightAsSun(Scene& scene, float time = 0.0f);
+
 // Checks the invariants the renderer relies on (indices in range, attribute
 // arrays the right length, finite positions, material and texture indices
 // valid, no cycles in the node graph) and throws SceneError naming the scene
