@@ -787,6 +787,20 @@ TEST_F(ImageIoTest, HdrCorruptRunsAndHeadersAreRefused) {
   expectContains(errorOf([&] { readImage(file("noend.hdr")); }), "header does not end");
 }
 
+TEST_F(ImageIoTest, DecodeRgba8FromMemoryKeepsBytesAndRefusesTruncation) {
+  const fs::path path = file("texture.png");
+  const Bytes pixels = {10, 20, 30, 40, 50, 60, 70, 80};
+  ASSERT_TRUE(stbi_write_png(path.c_str(), 2, 1, 4, pixels.data(), 8));
+  const Bytes encoded = readBytes(path);
+  const Rgba8Image image = decodeRgba8(encoded, "texture.png");
+  EXPECT_EQ(image.width, 2);
+  EXPECT_EQ(image.height, 1);
+  EXPECT_EQ(image.rgba8, std::vector<std::uint8_t>(pixels.begin(), pixels.end())) << "no sRGB decoding";
+  const Bytes cut(encoded.begin(), encoded.end() - 12);
+  expectContains(errorOf([&] { decodeRgba8(cut, "inside scene.glb"); }), "inside scene.glb");
+  expectContains(errorOf([&] { decodeRgba8(Bytes{'G', 'I', 'F'}, "x"); }), "not a PNG or JPEG");
+}
+
 // ============================================================== bad files
 
 TEST_F(ImageIoTest, UnknownFormatThrows) {

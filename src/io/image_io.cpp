@@ -32,6 +32,7 @@
 #include <memory>
 #include <new>
 #include <set>
+#include <span>
 #include <string_view>
 #include <system_error>
 
@@ -250,7 +251,7 @@ ImageF readExr(const fs::path& path) {
 // first is therefore an exact read that ran off the end.
 class StbMemoryReader {
  public:
-  explicit StbMemoryReader(const std::vector<unsigned char>& bytes) : bytes_(bytes) {}
+  explicit StbMemoryReader(std::span<const unsigned char> bytes) : bytes_(bytes) {}
 
   static const stbi_io_callbacks& callbacks() {
     static const stbi_io_callbacks kCallbacks = {&StbMemoryReader::read, &StbMemoryReader::skip, &StbMemoryReader::eof};
@@ -287,7 +288,7 @@ class StbMemoryReader {
     return self.position_ >= self.bytes_.size() ? 1 : 0;
   }
 
-  const std::vector<unsigned char>& bytes_;
+  std::span<const unsigned char> bytes_;
   std::size_t position_ = 0;
   int refillSize_ = 0;
   bool readPastEnd_ = false;
@@ -300,7 +301,7 @@ struct StbFree {
 // Runs one stb call over a fresh reader and turns every kind of failure into an
 // ImageIoError. stbCall(callbacks, user) returns the decoded pixels (or nullptr).
 template <typename T, typename Call>
-std::unique_ptr<T, StbFree> callStb(const fs::path& path, const std::vector<unsigned char>& bytes, Call&& stbCall) {
+std::unique_ptr<T, StbFree> callStb(const fs::path& path, std::span<const unsigned char> bytes, Call&& stbCall) {
   StbMemoryReader reader(bytes);
   std::unique_ptr<T, StbFree> pixels(stbCall(&StbMemoryReader::callbacks(), &reader));
   if (reader.readPastEnd()) fail(path, "truncated or corrupt (decoder read past end of file)");
@@ -466,6 +467,27 @@ ImageF::ImageF(int w, int h, std::vector<std::string> channelNames)
     : width(w), height(h), channels(std::move(channelNames)) {
   if (w < 0 || h < 0) throw std::invalid_argument("ImageF: negative size " + sizeText(w, h));
   pixels.assign(std::size_t(w) * std::size_t(h) * channels.size(), 0.0f);
+}
+
+Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name) {
+  const fs::path path(name);
+  const bool png = bytes.size() >= 4 && std::memcmp(bytes.data(), "\x89PNG", 4) == 0;
+  const bool jpeg = bytes.size() >= 3 && std::memcmp(bytes.data(), "\xff\xd8\xff", 3) == 0;
+  if (!png && !jpeg) fail(path, "not a PNG or JPEG image");
+  if (bytes.size() > std::size_t(INT32_MAX)) fail(path, "file too large for the PNG/JPEG decoder");
+  int width = 0, height = 0, components = 0;
+  {
+    StbMemoryReader reader(bytes);
+    const int ok = stbi_info_from_callbacks(&StbMemoryReader::callbacks(), &reader, &width, &height, &components);
+    if (reader.readPastEnd() || !ok) fail(path, "truncated or corrupt header");
+  }
+  checkReadSize(path, width, height);
+  auto pixels = callStb<stbi_uc>(path, bytes, [&](const stbi_io_callbacks* io, void* user) {
+    return stbi_load_from_callbacks(io, user, &width, &height, &components, 4);
+  });
+  Rgba8Image image{width, height, {}};
+  image.rgba8.assign(pixels.get(), pixels.get() + std::size_t(width) * std::size_t(height) * 4);
+  return image;
 }
 
 ImageF readImage(const fs::path& path, bool allowNonFinite) {

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -49,6 +51,18 @@ enum class PngEncoding {
 // a side), and, unless allowNonFinite, any NaN or Inf value (naming the first
 // bad pixel and the count).
 ImageF readImage(const std::filesystem::path& path, bool allowNonFinite = false);
+
+// 8-bit RGBA pixels exactly as stored (no sRGB decoding), for textures.
+struct Rgba8Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba8;  // width * height * 4, row 0 at the top
+};
+
+// Decodes a PNG or JPEG held in memory (e.g. inside a .glb) to RGBA8, with the
+// same refusal of truncated or corrupt data as readImage. `name` is used in
+// the error message.
+Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name);
 
 // Writes float32 channels with their names (ZIP compression). The file is
 // written beside the target and renamed into place, so a failed write never

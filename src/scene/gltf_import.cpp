@@ -6,7 +6,6 @@
 // would otherwise silently replace by defaults.
 #include "scene/gltf_import.h"
 
-#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 #include <nlohmann/json.hpp>
 
@@ -32,6 +31,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "io/image_io.h"
 #include "scene/tangents.h"
 
 namespace bounce::scene {
@@ -908,23 +908,18 @@ class Importer {
       job.error = what + " is not a PNG or JPEG file";
       return;
     }
-    const int size = int(std::min<std::size_t>(bytes.size, std::size_t(std::numeric_limits<int>::max())));
-    int width = 0, height = 0, channels = 0;
-    if (!stbi_info_from_memory(bytes.data, size, &width, &height, &channels) || width <= 0 || height <= 0 ||
-        width > kMaxTextureSide || height > kMaxTextureSide) {
-      job.error = what + " has an unreadable header or an unsupported size";
-      return;
+    try {
+      io::Rgba8Image image = io::decodeRgba8(std::span(bytes.data, bytes.size), what);
+      if (image.width > kMaxTextureSide || image.height > kMaxTextureSide) {
+        job.error = what + " has an unsupported size";
+        return;
+      }
+      job.width = image.width;
+      job.height = image.height;
+      job.rgba8 = std::move(image.rgba8);
+    } catch (const io::ImageIoError& e) {
+      job.error = e.what();
     }
-    unsigned char* pixels = stbi_load_from_memory(bytes.data, size, &width, &height, &channels, 4);
-    if (!pixels) {
-      const char* reason = stbi_failure_reason();
-      job.error = what + " cannot be decoded (" + (reason ? reason : "unknown reason") + ")";
-      return;
-    }
-    job.width = width;
-    job.height = height;
-    job.rgba8.assign(pixels, pixels + std::size_t(width) * std::size_t(height) * 4);
-    stbi_image_free(pixels);
   }
 
   // ------------------------------------------------------------ meshes
