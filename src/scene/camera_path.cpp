@@ -1,0 +1,457 @@
+// The camera paths of camera_path.h: presets derived from the scene, glTF
+// cameras, and JSON keyframes.
+#include "scene/camera_path.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include <glm/gtc/constants.hpp>
+#include <nlohmann/json.hpp>
+
+namespace bounce::scene {
+namespace {
+
+constexpr glm::vec3 kWorldUp(0.0f, 1.0f, 0.0f);
+constexpr float kOrbitSeconds = 8.0f;
+constexpr float kDollySeconds = 8.0f;
+constexpr float kFlySeconds = 16.0f;
+
+// A pose that shows the whole of `bounds` from the front (+Z) and a little
+// above, for scenes that suggest no camera.
+CameraPose framingPose(const Bounds& bounds) {
+  CameraPose pose;
+  if (bounds.empty()) return pose;
+  const float radius = std::max(0.5f * glm::length(bounds.extent()), 0.1f);
+  const float distance = 1.1f * radius / std::sin(glm::radians(pose.fovYDegrees) / 2);
+  pose.target = bounds.center();
+  pose.position = pose.target + glm::normalize(glm::vec3(0.0f, 0.35f, 1.0f)) * distance;
+  return pose;
+}
+
+CameraPose startingPose(const Scene& scene, const Bounds& bounds) {
+  return scene.suggestedCamera ? *scene.suggestedCamera : framingPose(bounds);
+}
+
+// Seconds into the current repetition of a path `period` seconds long.
+float wrap(float time, float period) {
+  const float local = std::fmod(time, period);
+  return local < 0.0f ? local + period : local;
+}
+
+class StaticPath final : public CameraPath {
+ public:
+  explicit StaticPath(const CameraPose& pose) : pose_(pose) {}
+  CameraPose pose(float) const override { return pose_; }
+  float duration() const override { return 0.0f; }
+
+ private:
+  CameraPose pose_;
+};
+
+class OrbitPath final : public CameraPath {
+ public:
+  OrbitPath(const CameraPose& start, const Bounds& bounds) : fovY_(start.fovYDegrees) {
+    const glm::vec3 centre = bounds.empty() ? start.target : bounds.center();
+    const glm::vec3 halfExtent = bounds.empty() ? glm::vec3(1.0f) : 0.5f * bounds.extent();
+    const glm::vec2 offset(start.position.x - centre.x, start.position.z - centre.z);
+    const bool inside = !bounds.empty() && start.position.x > bounds.min.x && start.position.x < bounds.max.x &&
+                        start.position.z > bounds.min.z && start.position.z < bounds.max.z;
+    // Inside a room, a circle at the camera's distance would go through the walls.
+    const float roomRadius = 0.75f * std::min(halfExtent.x, halfExtent.z);
+    radius_ = glm::length(offset);
+    if (inside) radius_ = std::min(radius_, roomRadius);
+    if (radius_ < 1e-3f) radius_ = inside ? roomRadius : 1.5f * std::max(halfExtent.x, halfExtent.z);
+    radius_ = std::max(radius_, 1e-2f);
+    startAngle_ = glm::length(offset) > 1e-6f ? std::atan2(offset.x, offset.y) : 0.0f;
+    centre_ = {centre.x, start.position.y, centre.z};
+    target_ = {centre.x, start.target.y, centre.z};
+  }
+
+  CameraPose pose(float time) const override {
+    const float angle = startAngle_ + glm::two_pi<float>() * wrap(time, kOrbitSeconds) / kOrbitSeconds;
+    return {centre_ + radius_ * glm::vec3(std::sin(angle), 0.0f, std::cos(angle)), target_, kWorldUp, fovY_};
+  }
+  float duration() const override { return kOrbitSeconds; }
+
+ private:
+  glm::vec3 centre_{0.0f};  // of the camera's circle, at its height
+  glm::vec3 target_{0.0f};
+  float radius_ = 1.0f;
+  float startAngle_ = 0.0f;  // from +Z towards +X, as Sun::azimuthDegrees
+  float fovY_ = 45.0f;
+};
+
+class DollyPath final : public CameraPath {
+ public:
+  explicit DollyPath(const CameraPose& start) : start_(start) {}
+
+  CameraPose pose(float time) const override {
+    const float ease = 0.5f - 0.5f * std::cos(glm::two_pi<float>() * wrap(time, kDollySeconds) / kDollySeconds);
+    CameraPose pose = start_;
+    pose.position = start_.position + 0.5f * ease * (start_.target - start_.position);
+    return pose;
+  }
+  float duration() const override { return kDollySeconds; }
+
+ private:
+  CameraPose start_;
+};
+
+// Uniform Catmull-Rom between p1 and p2 (f in [0, 1]).
+glm::vec3 catmullRom(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& p3, float f) {
+  const float f2 = f * f;
+  const float f3 = f2 * f;
+  return 0.5f * (2.0f * p1 + (p2 - p0) * f + (2.0f * p0 - 5.0f * p1 + 4.0f * p2 - p3) * f2 +
+                 (3.0f * p1 - p0 - 3.0f * p2 + p3) * f3);
+}
+
+class FlyPath final : public CameraPath {
+ public:
+  FlyPath(const CameraPose& start, const Bounds& bounds) : fovY_(start.fovYDegrees) {
+    const Bounds box = bounds.empty() ? Bounds{start.target - 1.0f, start.target + 1.0f} : bounds;
+    centre_ = box.center();
+    const glm::vec3 extent = box.extent();
+    const glm::vec2 radii = glm::max(0.3f * glm::vec2(extent.x, extent.z), glm::vec2(0.5f));
+    // Alternating radius and height make the curve swoop rather than circle.
+    for (std::size_t k = 0; k < waypoints_.size(); ++k) {
+      const float angle = glm::two_pi<float>() * float(k) / float(waypoints_.size());
+      const float reach = k % 2 == 0 ? 1.0f : 0.8f;
+      const float height = box.min.y + extent.y * (k % 2 == 0 ? 0.65f : 0.78f);
+      waypoints_[k] = {centre_.x + reach * radii.x * std::sin(angle), height,
+                       centre_.z + reach * radii.y * std::cos(angle)};
+    }
+  }
+
+  CameraPose pose(float time) const override {
+    const glm::vec3 position = curve(time);
+    glm::vec3 target = curve(time + kLookAheadSeconds);
+    target.y -= 0.5f * (target.y - centre_.y);  // look down towards the middle of the scene
+    return {position, target, kWorldUp, fovY_};
+  }
+  float duration() const override { return kFlySeconds; }
+
+ private:
+  static constexpr float kLookAheadSeconds = 1.0f;
+
+  glm::vec3 curve(float time) const {
+    const std::size_t count = waypoints_.size();
+    const float u = wrap(time, kFlySeconds) / kFlySeconds * float(count);
+    const std::size_t i = std::min(std::size_t(u), count - 1);
+    const auto point = [&](std::size_t k) { return waypoints_[(k + count) % count]; };
+    return catmullRom(point(i + count - 1), point(i), point(i + 1), point(i + 2), u - float(i));
+  }
+
+  std::array<glm::vec3, 6> waypoints_{};
+  glm::vec3 centre_{0.0f};
+  float fovY_ = 45.0f;
+};
+
+float animationLength(const Animation& animation) {
+  float length = 0.0f;
+  for (const AnimationChannel& channel : animation.channels)
+    if (!channel.times.empty()) length = std::max(length, channel.times.back());
+  return length;
+}
+
+// A glTF camera node: its world transform at each time. Keeps its own copy of
+// the node graph and animations (no meshes), so it does not depend on the
+// scene outliving it.
+class GltfCameraPath final : public CameraPath {
+ public:
+  GltfCameraPath(const Scene& scene, int node)
+      : node_(node), fovY_(glm::degrees(scene.cameras[std::size_t(scene.nodes[std::size_t(node)].camera)].yfov)) {
+    motion_.name = scene.name;
+    motion_.nodes = scene.nodes;
+    std::vector<bool> chain(scene.nodes.size(), false);
+    for (int n = node; n >= 0; n = scene.nodes[std::size_t(n)].parent) chain[std::size_t(n)] = true;
+    // Only animations that move the camera matter: they set its duration and cuts.
+    for (const Animation& animation : scene.animations)
+      for (const AnimationChannel& channel : animation.channels)
+        if (chain[std::size_t(channel.node)]) {
+          motion_.animations.push_back(animation);
+          break;
+        }
+  }
+
+  CameraPose pose(float time) const override {
+    const glm::mat4 world = nodeWorldMatrices(motion_, time)[std::size_t(node_)];
+    const glm::vec3 position(world[3]);
+    const glm::vec3 forward = glm::normalize(-glm::vec3(world[2]));
+    return {position, position + forward, glm::normalize(glm::vec3(world[1])), fovY_};
+  }
+
+  // Each animation jumps back to its start when it loops; a periodic one
+  // does not really jump, but one extra history reset per loop is harmless.
+  int segment(float time) const override {
+    int loops = 0;
+    for (const Animation& animation : motion_.animations) {
+      const float length = animationLength(animation);
+      if (length > 0.0f) loops += int(std::floor(std::max(time, 0.0f) / length));
+    }
+    return loops;
+  }
+
+  float duration() const override {
+    float longest = 0.0f;
+    for (const Animation& animation : motion_.animations) longest = std::max(longest, animationLength(animation));
+    return longest;
+  }
+
+ private:
+  Scene motion_;
+  int node_ = -1;
+  float fovY_ = 45.0f;
+};
+
+// The first node with a camera, depth-first from the roots in order; -1 if none.
+int firstCameraNode(const Scene& scene) {
+  std::vector<int> stack(scene.roots.rbegin(), scene.roots.rend());
+  while (!stack.empty()) {
+    const int index = stack.back();
+    stack.pop_back();
+    const Node& node = scene.nodes[std::size_t(index)];
+    if (node.camera >= 0) return index;
+    for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) stack.push_back(*child);
+  }
+  return -1;
+}
+
+// ---- JSON keyframes
+
+struct Keyframe {
+  float time = 0.0f;
+  glm::vec3 position{0.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up = kWorldUp;
+  float fovY = 45.0f;
+  bool cut = false;
+};
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+class KeyframeParser {
+ public:
+  explicit KeyframeParser(std::string source) : source_(std::move(source)) {}
+
+  std::vector<Keyframe> parse(const std::string& text) {
+    nlohmann::json document;
+    try {
+      document = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& error) {
+      fail("invalid JSON: " + std::string(error.what()));
+    }
+    if (!document.is_object()) fail("expected an object {\"keyframes\": [...]}");
+    for (const auto& [key, value] : document.items())
+      if (key != "keyframes") fail("unknown field '" + key + "' (expected only \"keyframes\")");
+    const auto list = document.find("keyframes");
+    if (list == document.end() || !list->is_array()) fail("\"keyframes\" must be an array");
+    if (list->empty()) fail("\"keyframes\" is empty");
+
+    std::vector<Keyframe> keys;
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      index_ = int(i);
+      keys.push_back(parseKeyframe((*list)[i], keys.empty() ? nullptr : &keys.back()));
+    }
+    return keys;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw SceneError(source_ + ": " + (index_ >= 0 ? "keyframe " + std::to_string(index_) + ": " : "") + problem);
+  }
+
+  // A JSON number that is finite as a float (JSON has no NaN or infinity, but
+  // 1e39 is a finite double and an infinite float).
+  static bool isFiniteFloat(const nlohmann::json& value) {
+    return value.is_number() && std::abs(value.get<double>()) <= double(std::numeric_limits<float>::max());
+  }
+
+  float finiteNumber(const nlohmann::json& value, const char* field) const {
+    if (!isFiniteFloat(value)) fail(std::string("'") + field + "' must be a finite number (as a 32-bit float)");
+    return float(value.get<double>());
+  }
+
+  glm::vec3 vector3(const nlohmann::json& value, const char* field) const {
+    const bool ok = value.is_array() && value.size() == 3 && std::all_of(value.begin(), value.end(), isFiniteFloat);
+    if (!ok) fail(std::string("'") + field + "' must be an array of 3 finite numbers");
+    return {float(value[0].get<double>()), float(value[1].get<double>()), float(value[2].get<double>())};
+  }
+
+  Keyframe parseKeyframe(const nlohmann::json& entry, const Keyframe* previous) const {
+    if (!entry.is_object()) fail("expected an object with time, position and target");
+    static const std::array<const char*, 6> kFields = {"time", "position", "target", "fovY", "up", "cut"};
+    for (const auto& [key, value] : entry.items())
+      if (std::find(kFields.begin(), kFields.end(), key) == kFields.end())
+        fail("unknown field '" + key + "' (known: time, position, target, fovY, up, cut)");
+    for (const char* required : {"time", "position", "target"})
+      if (!entry.contains(required)) fail(std::string("missing '") + required + "'");
+
+    Keyframe key;
+    key.time = finiteNumber(entry["time"], "time");
+    key.position = vector3(entry["position"], "position");
+    key.target = vector3(entry["target"], "target");
+    key.fovY = previous ? previous->fovY : key.fovY;
+    if (entry.contains("fovY")) key.fovY = finiteNumber(entry["fovY"], "fovY");
+    if (entry.contains("up")) key.up = vector3(entry["up"], "up");
+    if (entry.contains("cut")) {
+      if (!entry["cut"].is_boolean()) fail("'cut' must be true or false");
+      key.cut = entry["cut"].get<bool>();
+    }
+
+    if (previous && !(key.time > previous->time))
+      fail("time " + number(key.time) + " is not after the previous keyframe's time " + number(previous->time) +
+           " (times must strictly increase)");
+    if (!(key.fovY > 0.0f && key.fovY < 180.0f)) fail("fovY " + number(key.fovY) + " is outside (0, 180) degrees");
+    const glm::vec3 view = key.target - key.position;
+    if (glm::length(view) < 1e-6f) fail("position and target are the same point");
+    if (glm::length(key.up) < 1e-6f) fail("'up' is a zero vector");
+    key.up = glm::normalize(key.up);
+    if (glm::length(glm::cross(glm::normalize(view), key.up)) < 1e-4f)
+      fail(std::string("the view direction is parallel to ") +
+           (entry.contains("up") ? "'up'" : "the default up (0, 1, 0); give an 'up'"));
+    return key;
+  }
+
+  std::string source_;
+  int index_ = -1;  // the keyframe being read; -1 while reading the document
+};
+
+// Cubic Hermite on [t0, t1] with tangents m0, m1 (per second).
+glm::vec3 hermite(const glm::vec3& p0, const glm::vec3& m0, const glm::vec3& p1, const glm::vec3& m1, float t0,
+                  float t1, float time) {
+  const float dt = t1 - t0;
+  const float s = (time - t0) / dt;
+  const float s2 = s * s;
+  const float s3 = s2 * s;
+  return (2.0f * s3 - 3.0f * s2 + 1.0f) * p0 + (s3 - 2.0f * s2 + s) * dt * m0 + (-2.0f * s3 + 3.0f * s2) * p1 +
+         (s3 - s2) * dt * m1;
+}
+
+class KeyframePath final : public CameraPath {
+ public:
+  explicit KeyframePath(std::vector<Keyframe> keys) : keys_(std::move(keys)) {}
+
+  CameraPose pose(float time) const override {
+    if (time <= keys_.front().time) return poseOf(keys_.front());
+    if (time >= keys_.back().time) return poseOf(keys_.back());
+    const auto after =
+        std::upper_bound(keys_.begin(), keys_.end(), time, [](float t, const Keyframe& key) { return t < key.time; });
+    const std::size_t next = std::size_t(after - keys_.begin());
+    const std::size_t prev = next - 1;
+    const Keyframe& a = keys_[prev];
+    const Keyframe& b = keys_[next];
+    if (b.cut) return poseOf(a);  // the segment has ended; hold until the jump
+
+    const float t0 = a.time, t1 = b.time;
+    const float f = (time - t0) / (t1 - t0);
+    CameraPose pose;
+    pose.position = hermite(a.position, tangent(prev, &Keyframe::position), b.position,
+                            tangent(next, &Keyframe::position), t0, t1, time);
+    pose.target =
+        hermite(a.target, tangent(prev, &Keyframe::target), b.target, tangent(next, &Keyframe::target), t0, t1, time);
+    pose.fovYDegrees = a.fovY + (b.fovY - a.fovY) * f;
+    const glm::vec3 up = glm::mix(a.up, b.up, f);
+    pose.up = glm::length(up) > 1e-4f ? glm::normalize(up) : a.up;
+    return pose;
+  }
+
+  int segment(float time) const override {
+    int cuts = 0;
+    for (std::size_t k = 1; k < keys_.size() && keys_[k].time <= time; ++k) cuts += keys_[k].cut ? 1 : 0;
+    return cuts;
+  }
+
+  float duration() const override { return std::max(0.0f, keys_.back().time); }
+
+ private:
+  static CameraPose poseOf(const Keyframe& key) { return {key.position, key.target, key.up, key.fovY}; }
+
+  // Catmull-Rom velocity at key k from its neighbours within its segment; one-sided at the segment's ends.
+  glm::vec3 tangent(std::size_t k, glm::vec3 Keyframe::*field) const {
+    const bool hasPrevious = k > 0 && !keys_[k].cut;
+    const bool hasNext = k + 1 < keys_.size() && !keys_[k + 1].cut;
+    const std::size_t lo = hasPrevious ? k - 1 : k;
+    const std::size_t hi = hasNext ? k + 1 : k;
+    if (lo == hi) return glm::vec3(0.0f);
+    return (keys_[hi].*field - keys_[lo].*field) / (keys_[hi].time - keys_[lo].time);
+  }
+
+  std::vector<Keyframe> keys_;
+};
+
+}  // namespace
+
+std::vector<std::string> cameraPathPresets() { return {"orbit", "dolly", "fly", "static", "gltf"}; }
+
+std::unique_ptr<CameraPath> makeCameraPath(std::string_view spec, const Scene& scene) {
+  const auto bounds = [&] { return worldBounds(scene, 0.0f); };
+  if (spec == "static") return std::make_unique<StaticPath>(startingPose(scene, bounds()));
+  if (spec == "orbit") {
+    const Bounds b = bounds();
+    return std::make_unique<OrbitPath>(startingPose(scene, b), b);
+  }
+  if (spec == "dolly") return std::make_unique<DollyPath>(startingPose(scene, bounds()));
+  if (spec == "fly") {
+    const Bounds b = bounds();
+    return std::make_unique<FlyPath>(startingPose(scene, b), b);
+  }
+  if (spec == "gltf") {
+    const int node = firstCameraNode(scene);
+    if (node < 0) throw SceneError("scene '" + scene.name + "' has no glTF camera (camera path 'gltf')");
+    return std::make_unique<GltfCameraPath>(scene, node);
+  }
+  const std::filesystem::path file{std::string(spec)};
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) {
+    std::string presets;
+    for (const std::string& preset : cameraPathPresets()) presets += (presets.empty() ? "" : ", ") + preset;
+    throw SceneError("camera path '" + std::string(spec) + "' is neither a preset (" + presets +
+                     ") nor an existing JSON keyframe file");
+  }
+  return loadCameraKeyframes(file);
+}
+
+std::unique_ptr<CameraPath> defaultCameraPath(const Scene& scene) {
+  const int node = firstCameraNode(scene);
+  if (node >= 0) return std::make_unique<GltfCameraPath>(scene, node);
+  return std::make_unique<StaticPath>(startingPose(scene, worldBounds(scene, 0.0f)));
+}
+
+std::unique_ptr<CameraPath> parseCameraKeyframes(const std::string& json, const std::string& source) {
+  return std::make_unique<KeyframePath>(KeyframeParser(source).parse(json));
+}
+
+std::unique_ptr<CameraPath> loadCameraKeyframes(const std::filesystem::path& file) {
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream) throw SceneError(file.string() + ": cannot open the camera keyframe file");
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return parseCameraKeyframes(text.str(), file.string());
+}
+
+std::vector<CameraFrame> sampleCameraPath(const CameraPath& path, int frameCount, float fps) {
+  if (frameCount < 0) throw std::invalid_argument("sampleCameraPath: negative frame count");
+  if (!(fps > 0.0f) || !std::isfinite(fps)) throw std::invalid_argument("sampleCameraPath: fps must be positive");
+  std::vector<CameraFrame> frames(static_cast<std::size_t>(frameCount));
+  int previousSegment = 0;
+  for (int i = 0; i < frameCount; ++i) {
+    const float time = float(i) / fps;
+    const int segment = path.segment(time);
+    frames[std::size_t(i)] = {path.pose(time), i == 0 || segment != previousSegment};
+    previousSegment = segment;
+  }
+  return frames;
+}
+
+}  // namespace bounce::scene
