@@ -111,7 +111,7 @@ void Recorder::writeTimestamp(bool begin, const std::string& passName) {
 }
 
 void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height,
-                        std::initializer_list<Bind> binds, const void* pushConstants, std::size_t pushConstantBytes) {
+                        std::span<const Bind> binds, const void* pushConstants, std::size_t pushConstantBytes) {
   const PassDesc& desc = pass.desc();
   auto fail = [&](const std::string& why) { return GpuError("pass '" + desc.name + "': " + why); };
   if (width == 0 || height == 0) throw fail("dispatch over an empty grid");

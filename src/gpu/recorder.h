@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -86,10 +87,20 @@ class Recorder {
   // workgroup count comes from the shader's local size. Every declared
   // resource must be bound exactly once; push constants must be exactly the
   // declared size.
-  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::initializer_list<Bind> binds,
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> binds,
                 const void* pushConstants = nullptr, std::size_t pushConstantBytes = 0);
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::initializer_list<Bind> binds,
+                const void* pushConstants = nullptr, std::size_t pushConstantBytes = 0) {
+    dispatch(pass, width, height, std::span<const Bind>(binds.begin(), binds.size()), pushConstants, pushConstantBytes);
+  }
   template <class Params>
   void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::initializer_list<Bind> binds,
+                const Params& params) {
+    dispatch(pass, width, height, binds, &params, sizeof(Params));
+  }
+  // Bind lists put together at run time, e.g. a pass's own binds plus GpuBvh::appendBinds.
+  template <class Params>
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> binds,
                 const Params& params) {
     dispatch(pass, width, height, binds, &params, sizeof(Params));
   }

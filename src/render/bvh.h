@@ -1,0 +1,157 @@
+// Bounding volume hierarchies for ray casting: a generic binned-SAH builder,
+// and the two-level scene BVH the renderer traces on the GPU (one BLAS per
+// mesh, built once in object space; one TLAS over the instances, rebuilt
+// every frame because nodes animate). Everything here is CPU-side; the data
+// is laid out exactly as render/bvh_trace.glsl reads it, and a CPU traversal
+// mirrors that shader so tests can check it against brute force.
+// Layout, build and traversal: docs/bvh.md.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "render/bvh_types.glsl"
+#include "scene/scene.h"
+
+namespace bounce::render {
+
+using shared::BvhHit;
+using shared::BvhInstance;
+using shared::BvhNode;
+
+static_assert(sizeof(BvhNode) == 32, "BvhNode must match its std430 layout");
+static_assert(sizeof(BvhInstance) == 112, "BvhInstance must match its std430 layout");
+
+struct Aabb {
+  glm::vec3 min{std::numeric_limits<float>::max()};
+  glm::vec3 max{-std::numeric_limits<float>::max()};
+
+  bool empty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
+  void extend(const glm::vec3& p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+  }
+  void extend(const Aabb& b) {
+    min = glm::min(min, b.min);
+    max = glm::max(max, b.max);
+  }
+  glm::vec3 centroid() const { return (min + max) * 0.5f; }
+  // Half the surface area: the SAH only compares areas, so the factor 2 is dropped. 0 when empty.
+  float halfArea() const {
+    if (empty()) return 0.0f;
+    const glm::vec3 e = max - min;
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  }
+  bool contains(const Aabb& b) const {
+    return glm::all(glm::lessThanEqual(min, b.min)) && glm::all(glm::greaterThanEqual(max, b.max));
+  }
+};
+
+struct BvhBuildOptions {
+  std::uint32_t binCount = 16;                    // SAH bins per axis (all three axes are tried)
+  std::uint32_t maxLeafSize = 4;                  // leaves hold 1..maxLeafSize items; the SAH decides below that
+  std::uint32_t maxDepth = shared::kBvhMaxDepth;  // deepest leaf (root = 0); median splits keep to it
+  float traversalCost = 1.0f;                     // SAH cost of visiting an interior node ...
+  float intersectionCost = 1.0f;                  // ... relative to intersecting one item
+};
+
+// A flattened BVH. Leaves address items through itemOrder: leaf slot i holds
+// item itemOrder[i]. Zero items give no nodes at all.
+struct Bvh {
+  std::vector<BvhNode> nodes;            // root at 0; children of an interior node are adjacent
+  std::vector<std::uint32_t> itemOrder;  // a permutation of 0 .. itemCount - 1
+  std::uint32_t depth = 0;               // of the deepest leaf
+};
+
+// Builds a BVH over axis-aligned boxes (one per item) by binned SAH; see docs/bvh.md.
+// Throws std::invalid_argument for options that cannot hold every item
+// (maxLeafSize 0, binCount below 2, more items than maxLeafSize * 2^maxDepth).
+Bvh buildBvh(std::span<const Aabb> itemBounds, const BvhBuildOptions& options = {});
+
+// Decides whether a hit on an alpha-masked triangle counts (the CPU twin of
+// BVH_ALPHA_TEST in bvh_trace.glsl). Empty: every triangle is opaque.
+using BvhAlphaTest = std::function<bool(std::uint32_t instance, std::uint32_t triangle, glm::vec2 barycentrics)>;
+
+// The two-level scene BVH, flattened into the arrays the GPU reads.
+class SceneBvh {
+ public:
+  // Builds one BLAS per mesh (object space). Throws scene::SceneError when a
+  // mesh's indices are out of range or its material index is invalid.
+  explicit SceneBvh(const scene::Scene& scene);
+
+  // Rebuilds the TLAS over these instances (call whenever they move). An
+  // instance whose mesh has no triangles, or whose transform is singular or
+  // not finite, is left out of the TLAS (it cannot be hit). Throws
+  // scene::SceneError for a mesh index out of range.
+  void setInstances(std::span<const scene::Instance> instances);
+
+  // --- The arrays uploaded to the GPU (render/bvh_trace.glsl) ---
+  // Every mesh's BLAS, concatenated: interior leftFirst and leaf leftFirst are global indices.
+  const std::vector<BvhNode>& blasNodes() const { return blasNodes_; }
+  // Per triangle in BLAS leaf order: global vertex indices i0, i1, i2 and
+  // w = material index | kBvhAlphaMaskedBit for Mask and Blend materials.
+  const std::vector<glm::uvec4>& triangles() const { return triangles_; }
+  // Object-space vertex positions of all meshes, concatenated in mesh order (w = 1).
+  const std::vector<glm::vec4>& positions() const { return positions_; }
+  // Instances in the TLAS, in TLAS leaf order.
+  const std::vector<BvhInstance>& instances() const { return instances_; }
+  // Never empty: a scene with nothing to hit has one inverted (empty) root.
+  const std::vector<BvhNode>& tlasNodes() const { return tlasNodes_; }
+
+  // Where mesh m's BLAS root is in blasNodes(), or kBvhInvalidIndex for a mesh without triangles.
+  std::uint32_t blasRoot(std::size_t mesh) const { return blasRoots_[mesh]; }
+  // The triangles of mesh m are triangles()[meshFirstTriangle(m) .. meshFirstTriangle(m + 1) - 1]
+  // (in BLAS leaf order); m may be the mesh count, which gives the total.
+  std::uint32_t meshFirstTriangle(std::size_t mesh) const { return meshFirstTriangle_[mesh]; }
+  // The index triangle t had in its mesh's index list (3 * it = its first index).
+  std::uint32_t sourceTriangle(std::uint32_t triangle) const { return sourceTriangle_[triangle]; }
+  // How many instances the last setInstances call was given (including those left out of the TLAS).
+  std::size_t instanceCount() const { return instanceCount_; }
+  std::uint32_t blasDepth() const { return blasDepth_; }
+  std::uint32_t tlasDepth() const { return tlasDepth_; }
+  double blasBuildSeconds() const { return blasBuildSeconds_; }
+
+  // --- CPU traversal, the twin of bvh_trace.glsl, and brute force to check both ---
+  // Closest hit in (tMin, tMax); t = kNoHit when nothing was hit.
+  BvhHit traceClosest(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,
+                      const BvhAlphaTest& alphaTest = {}) const;
+  // Whether anything is hit in (tMin, tMax) (shadow rays).
+  bool traceAny(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,
+                const BvhAlphaTest& alphaTest = {}) const;
+  // Every triangle of every TLAS instance, no hierarchy.
+  BvhHit traceClosestBruteForce(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,
+                                const BvhAlphaTest& alphaTest = {}) const;
+  // Every hit in (tMin, tMax), in no particular order (for tests that need
+  // the second-closest hit, to tell when the closest one is unambiguous).
+  std::vector<BvhHit> traceAllBruteForce(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,
+                                         const BvhAlphaTest& alphaTest = {}) const;
+
+ private:
+  // Returns true when a hit was recorded (and, for any-hit rays, stops there).
+  bool traceBlas(const BvhInstance& instance, glm::vec3 origin, glm::vec3 direction, float tMin, bool anyHit,
+                 const BvhAlphaTest& alphaTest, BvhHit& hit) const;
+  bool trace(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax, bool anyHit, const BvhAlphaTest& alphaTest,
+             BvhHit& hit) const;
+  bool acceptHit(std::uint32_t instance, std::uint32_t triangle, glm::vec2 barycentrics,
+                 const BvhAlphaTest& alphaTest) const;
+
+  std::vector<BvhNode> blasNodes_;
+  std::vector<glm::uvec4> triangles_;
+  std::vector<glm::vec4> positions_;
+  std::vector<std::uint32_t> blasRoots_;
+  std::vector<std::uint32_t> meshFirstTriangle_;
+  std::vector<std::uint32_t> sourceTriangle_;
+  std::vector<BvhInstance> instances_;
+  std::vector<BvhNode> tlasNodes_;
+  std::size_t instanceCount_ = 0;
+  std::uint32_t blasDepth_ = 0;
+  std::uint32_t tlasDepth_ = 0;
+  double blasBuildSeconds_ = 0.0;
+};
+
+}  // namespace bounce::render
