@@ -1,0 +1,407 @@
+#include "render/environment.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "gpu/error.h"
+#include "gpu/transfer.h"
+#include "shared/sky.glsl"
+
+namespace bounce::render {
+namespace {
+
+// --- The sun's spectrum and the atmosphere's transmittance (Preetham et al.
+// 1999, Table 2 and Appendix A.1, after Iqbal, "An Introduction to Solar
+// Radiation", 1983), sampled every 10 nm from 380 to 750 nm: the band where
+// the eye's sensitivity is not negligible.
+constexpr int kSpectrumSamples = 38;
+constexpr double kFirstWavelengthNm = 380.0;
+constexpr double kWavelengthStepNm = 10.0;
+
+// Extraterrestrial solar spectral radiance, W / (m^2 sr nm) (the paper's
+// Table 2 gives W / (cm^2 um sr), ten times smaller numbers).
+constexpr std::array<double, kSpectrumSamples> kSolarRadiance = {
+    16559.0, 16233.7, 21127.5, 25888.2, 25829.1, 24232.3, 26760.5, 29658.3, 30545.4, 30057.5, 30663.7, 28830.4, 28712.1,
+    27825.0, 27100.6, 27233.6, 26361.3, 25503.8, 25060.2, 25311.6, 25355.9, 25134.2, 24631.5, 24173.2, 23685.3, 23212.1,
+    22827.7, 22339.8, 21970.2, 21526.7, 21097.9, 20728.3, 20240.4, 19870.8, 19427.2, 19072.4, 18628.9, 18259.2};
+
+// Ozone absorption coefficient k_o (1/cm). Iqbal's table has no entries
+// between 355 nm (0) and 445 nm (0.003); those are interpolated linearly.
+constexpr std::array<double, kSpectrumSamples> kOzoneAbsorption = {
+    0.00083, 0.00117, 0.0015, 0.00183, 0.00217, 0.0025, 0.00283, 0.003, 0.006, 0.009, 0.014, 0.021, 0.03,
+    0.04,    0.048,   0.063,  0.075,   0.085,   0.103,  0.12,    0.12,  0.115, 0.125, 0.12,  0.105, 0.09,
+    0.079,   0.067,   0.057,  0.048,   0.036,   0.028,  0.023,   0.018, 0.014, 0.011, 0.010, 0.009};
+
+// Water-vapour absorption coefficient k_wa (1/cm) from 690 to 750 nm; zero
+// below. (The mixed gases' k_g absorbs only at 760 nm, outside this band.)
+constexpr int kFirstWaterVapourSample = 31;  // 690 nm
+constexpr std::array<double, kSpectrumSamples - kFirstWaterVapourSample> kWaterVapourAbsorption = {
+    0.016, 0.024, 0.0125, 1.0, 0.87, 0.061, 0.001};
+
+// CIE 1924 photopic luminous efficiency V(lambda).
+constexpr std::array<double, kSpectrumSamples> kPhotopicEfficiency = {
+    0.000039, 0.00012, 0.000396, 0.00121,  0.004,    0.0116,  0.023,    0.038,   0.06,  0.09098,
+    0.13902,  0.20802, 0.323,    0.503,    0.71,     0.862,   0.954,    0.99495, 0.995, 0.952,
+    0.87,     0.757,   0.631,    0.503,    0.381,    0.265,   0.175,    0.107,   0.061, 0.032,
+    0.017,    0.00821, 0.004102, 0.002091, 0.001047, 0.00052, 0.000249, 0.00012};
+
+constexpr double kLumensPerWatt = 683.0;
+constexpr double kOzoneThicknessCm = 0.35;
+constexpr double kPrecipitableWaterCm = 2.0;
+
+// The sky's brightness is tied to a sun no dimmer than this share of its
+// light outside the atmosphere. The renderer's sun keeps the E its user
+// chose at every elevation, while the real sun's illuminance falls by orders
+// of magnitude near the horizon (to 2 lux at sunset for T = 3, and below
+// 10 % already under 8 degrees for T = 3 and under 15 degrees for T = 6), so
+// the exact ratio would make a fixed-E low-sun sky tens to thousands of
+// times brighter than its sun (docs/environment.md).
+constexpr double kMinSunTransmittanceForScale = 0.1;
+
+constexpr float kHalfMax = 65504.0f;
+
+// The black environment is one small level: nothing to prefilter.
+constexpr std::uint32_t kBlackWidth = 16;
+
+shared::SkyParams toShared(const SkyParameters& p) { return {p.toSunTurbidity, p.scale, p.groundRadiance}; }
+
+struct SkyBakeParams {
+  shared::SkyParams sky;
+};
+static_assert(sizeof(SkyBakeParams) == sizeof(SkyParameters));
+
+struct PrefilterParams {
+  std::uint32_t level = 0;
+  std::uint32_t mipCount = 1;
+  std::uint32_t sampleCount = 1;
+  std::uint32_t sourceLevels = 1;
+};
+
+gpu::PassDesc skyBakeDesc() {
+  return {.name = "render.sky_bake",
+          .shader = "render/sky_bake",
+          .resources = {{"gOut_Sky", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT,
+                         "procedural sky radiance, level 0 of the source chain"}},
+          .pushConstantSize = sizeof(SkyBakeParams)};
+}
+
+gpu::PassDesc downsampleDesc() {
+  return {.name = "render.env_downsample",
+          .shader = "render/env_downsample",
+          .resources = {{"gIn_Source", gpu::Access::Read, VK_FORMAT_UNDEFINED, "one level of the source chain",
+                         gpu::ResourceKind::SampledImage},
+                        {"gOut_Destination", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT,
+                         "the next level, solid-angle-weighted box filter"}}};
+}
+
+gpu::PassDesc prefilterDesc() {
+  return {.name = "render.env_prefilter",
+          .shader = "render/env_prefilter",
+          .resources = {{"gIn_SourceEven", gpu::Access::Read, VK_FORMAT_UNDEFINED,
+                         "even levels of the box-filtered source chain", gpu::ResourceKind::SampledImage},
+                        {"gIn_SourceOdd", gpu::Access::Read, VK_FORMAT_UNDEFINED,
+                         "odd levels of the box-filtered source chain", gpu::ResourceKind::SampledImage},
+                        {"gOut_Radiance", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT,
+                         "one level of the GGX-prefiltered chain"}},
+          .pushConstantSize = sizeof(PrefilterParams)};
+}
+
+std::uint32_t fullMipCount(std::uint32_t width, std::uint32_t height) {
+  std::uint32_t levels = 1;
+  while ((std::max(width, height) >> levels) > 0) ++levels;
+  return levels;
+}
+
+bool finite(float value) { return std::isfinite(value); }
+
+void validate(const EnvironmentDesc& desc) {
+  const auto fail = [](const std::string& why) { return gpu::GpuError("environment: " + why); };
+  if (!finite(desc.intensity) || desc.intensity < 0.0f)
+    throw fail("intensity " + std::to_string(desc.intensity) + " is not a finite value >= 0");
+  if (!finite(desc.rotationDegrees)) throw fail("rotation is not finite");
+  if (!finite(desc.turbidity)) throw fail("turbidity is not finite");
+  if (!finite(desc.groundAlbedo) || desc.groundAlbedo < 0.0f || desc.groundAlbedo > 1.0f)
+    throw fail("ground albedo " + std::to_string(desc.groundAlbedo) + " is outside [0, 1]");
+  if (!finite(desc.sun.elevationDegrees) || !finite(desc.sun.azimuthDegrees) || !finite(desc.sun.illuminance) ||
+      desc.sun.illuminance < 0.0f || !finite(desc.sun.color.x + desc.sun.color.y + desc.sun.color.z))
+    throw fail("the sun has a non-finite direction or colour, or a negative illuminance");
+  if (desc.skyWidth < 8 || desc.skyWidth > 16384)
+    throw fail("sky width " + std::to_string(desc.skyWidth) + " is outside 8..16384");
+  if (desc.maxMapWidth < 8) throw fail("maximum map width " + std::to_string(desc.maxMapWidth) + " is below 8");
+  if (desc.maxMipCount < 1 || desc.maxMipCount > 16)
+    throw fail("maximum mip count " + std::to_string(desc.maxMipCount) + " is outside 1..16");
+  if (desc.prefilterSamples < 1 || desc.prefilterSamples > 65536)
+    throw fail("prefilter sample count " + std::to_string(desc.prefilterSamples) + " is outside 1..65536");
+}
+
+// The exact solid angle of the latitude band between fractional rows a and b
+// of an image `height` rows tall, up to the constant 2 pi / width.
+double bandWeight(double a, double b, double height) {
+  return std::cos(std::numbers::pi * a / height) - std::cos(std::numbers::pi * b / height);
+}
+
+// Area-weighted resampling to a smaller size: each output texel averages the
+// input area it covers, rows weighted by their solid angle, so the map keeps
+// its integral over the sphere.
+io::ImageF shrink(const io::ImageF& in, int width, int height) {
+  io::ImageF out(width, height, in.channels);
+  const int channels = int(in.channelCount());
+  const double scaleX = double(in.width) / width;
+  const double scaleY = double(in.height) / height;
+  // Horizontal pass into rows of `in`, then vertical.
+  io::ImageF rows(width, in.height, in.channels);
+  for (int y = 0; y < in.height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double x0 = x * scaleX, x1 = (x + 1) * scaleX;
+      for (int c = 0; c < channels; ++c) {
+        double sum = 0.0;
+        for (int sx = int(x0); sx < std::min(in.width, int(std::ceil(x1))); ++sx)
+          sum += in.at(sx, y, c) * (std::min(x1, sx + 1.0) - std::max(x0, double(sx)));
+        rows.at(x, y, c) = float(sum / scaleX);
+      }
+    }
+  for (int y = 0; y < height; ++y) {
+    const double y0 = y * scaleY, y1 = (y + 1) * scaleY;
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < channels; ++c) {
+        double sum = 0.0, weightSum = 0.0;
+        for (int sy = int(y0); sy < std::min(in.height, int(std::ceil(y1))); ++sy) {
+          const double weight = bandWeight(std::max(y0, double(sy)), std::min(y1, sy + 1.0), in.height);
+          sum += rows.at(x, sy, c) * weight;
+          weightSum += weight;
+        }
+        out.at(x, y, c) = float(weightSum > 0.0 ? sum / weightSum : 0.0);
+      }
+  }
+  return out;
+}
+
+// The Preetham sun's illuminance (lux) at normal incidence through
+// `airMass` atmospheres (0: outside the atmosphere).
+double sunIlluminanceThroughAirMass(double airMass, float turbidity) {
+  const double t = std::clamp(double(turbidity), double(shared::kMinTurbidity), double(shared::kMaxTurbidity));
+  const double beta = 0.04608 * t - 0.04586;  // Angstrom turbidity coefficient
+  const double alpha = 1.3;                   // Angstrom wavelength exponent
+  double luminance = 0.0;
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    const double micrometres = (kFirstWavelengthNm + kWavelengthStepNm * i) * 1e-3;
+    const double rayleigh = std::exp(-0.008735 * std::pow(micrometres, -4.08) * airMass);
+    const double aerosol = std::exp(-beta * std::pow(micrometres, -alpha) * airMass);
+    const double ozone = std::exp(-kOzoneAbsorption[i] * kOzoneThicknessCm * airMass);
+    const double waterAbsorption =
+        i >= kFirstWaterVapourSample ? kWaterVapourAbsorption[std::size_t(i - kFirstWaterVapourSample)] : 0.0;
+    const double waterPath = waterAbsorption * kPrecipitableWaterCm * airMass;
+    const double water = std::exp(-0.2385 * waterPath / std::pow(1.0 + 20.07 * waterPath, 0.45));
+    luminance += kPhotopicEfficiency[i] * kSolarRadiance[i] * rayleigh * aerosol * ozone * water * kWavelengthStepNm;
+  }
+  return kLumensPerWatt * luminance * double(shared::kSunSolidAngle);
+}
+
+}  // namespace
+
+std::uint32_t prefilteredMipCount(std::uint32_t height, std::uint32_t maxMipCount) {
+  std::uint32_t levels = 1;
+  while ((height >> levels) >= 8 && levels < maxMipCount) ++levels;
+  return std::max(1u, std::min(levels, maxMipCount));
+}
+
+float preethamSunIlluminance(float elevationDegrees, float turbidity) {
+  const double zenithDegrees = 90.0 - std::clamp(double(elevationDegrees), 0.0, 90.0);
+  // Relative optical air mass (Kasten 1966), finite at the horizon.
+  const double airMass =
+      1.0 / (std::cos(zenithDegrees * std::numbers::pi / 180.0) + 0.15 * std::pow(93.885 - zenithDegrees, -1.253));
+  return float(sunIlluminanceThroughAirMass(airMass, turbidity));
+}
+
+float twilightFactor(float elevationDegrees) {
+  if (elevationDegrees >= 0.0f) return 1.0f;
+  if (elevationDegrees <= -12.0f) return 0.0f;
+  return std::pow(10.0f, 0.5f * elevationDegrees);
+}
+
+glm::vec3 skyHorizontalIrradiance(const SkyParameters& params) {
+  const shared::SkyParams sky = toShared(params);
+  // Midpoint rule in (cos theta, phi), where the measure is dmu dphi and the
+  // cosine factor is mu: smooth integrand, 64 x 128 points are plenty.
+  constexpr int kRings = 64, kSegments = 128;
+  glm::dvec3 sum(0.0);
+  for (int i = 0; i < kRings; ++i) {
+    const float mu = (float(i) + 0.5f) / float(kRings);
+    const float sinTheta = std::sqrt(1.0f - mu * mu);
+    for (int j = 0; j < kSegments; ++j) {
+      const float phi = (float(j) + 0.5f) / float(kSegments) * 2.0f * std::numbers::pi_v<float>;
+      const glm::vec3 direction(sinTheta * std::sin(phi), mu, sinTheta * std::cos(phi));
+      sum += glm::dvec3(shared::skyRadiance(sky, direction)) * double(mu);
+    }
+  }
+  return glm::vec3(sum * (2.0 * std::numbers::pi / (double(kRings) * kSegments)));
+}
+
+SkyParameters skyParams(const EnvironmentDesc& desc) {
+  SkyParameters params;
+  if (!desc.hasSun) return params;
+  const scene::Sun& sun = desc.sun;
+  const float turbidity = std::clamp(desc.turbidity, shared::kMinTurbidity, shared::kMaxTurbidity);
+  params.toSunTurbidity = glm::vec4(sun.direction(), turbidity);
+  // Preetham's sky is in cd/m^2 and its sun in lux; the renderer's sun has
+  // illuminance E, so one cd/m^2 of sky is E / E_preetham in renderer units.
+  const float sunLux = std::max(preethamSunIlluminance(sun.elevationDegrees, turbidity),
+                                float(kMinSunTransmittanceForScale * sunIlluminanceThroughAirMass(0.0, turbidity)));
+  params.scale.x = desc.intensity * twilightFactor(sun.elevationDegrees) * sun.illuminance / sunLux;
+  // The ground is Lambert: albedo / pi times the irradiance from the sky
+  // above it and from the sun (when up).
+  const glm::vec3 sunIrradiance = sun.color * (sun.illuminance * std::max(sun.direction().y, 0.0f) * desc.intensity);
+  params.groundRadiance = glm::vec4(
+      (skyHorizontalIrradiance(params) + sunIrradiance) * (desc.groundAlbedo * std::numbers::inv_pi_v<float>), 0.0f);
+  return params;
+}
+
+io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
+                                 std::uint32_t maxWidth) {
+  const std::size_t channels = map.channelCount();
+  if (channels != 1 && channels < 3)
+    throw io::ImageIoError(name + ": an environment map needs 1, 3 or 4 channels, not " + std::to_string(channels));
+  if (map.width < 8)
+    throw io::ImageIoError(name + ": " + std::to_string(map.width) + "x" + std::to_string(map.height) +
+                           " is too small for an environment map (at least 8x4)");
+  if (std::abs(map.width - 2 * map.height) > std::max(1, map.width / 100))
+    throw io::ImageIoError(name + ": " + std::to_string(map.width) + "x" + std::to_string(map.height) +
+                           " is not an equirectangular map (width = 2 x height)");
+
+  io::ImageF rgb(map.width, map.height, {"R", "G", "B", "A"});
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = map.at(x, y, channels == 1 ? 0 : c);
+      rgb.at(x, y, 3) = 1.0f;
+    }
+  if (std::uint32_t(rgb.width) > maxWidth) {
+    const int width = int(maxWidth & ~1u);
+    rgb = shrink(rgb, width, width / 2);
+  }
+
+  // Turning by +a about +Y moves every feature by -a / 360 of the width
+  // (shared/equirect.glsl), so output column x reads input column x + shift.
+  const int width = rgb.width;
+  double shift = double(rotationDegrees) / 360.0 * width;
+  shift -= std::floor(shift / width) * width;
+  const int whole = int(std::floor(shift));
+  const float fraction = float(shift - whole);
+  io::ImageF out(rgb.width, rgb.height, rgb.channels);
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const int x0 = (x + whole) % width, x1 = (x + whole + 1) % width;
+      for (int c = 0; c < 3; ++c) {
+        const float value = (rgb.at(x0, y, c) * (1.0f - fraction) + rgb.at(x1, y, c) * fraction) * intensity;
+        out.at(x, y, c) = std::clamp(value, 0.0f, kHalfMax);
+      }
+      out.at(x, y, 3) = 1.0f;
+    }
+  return out;
+}
+
+Environment::Environment(gpu::Context& context, const EnvironmentDesc& desc) : context_(context), desc_(desc) {
+  validate(desc);
+  std::uint32_t width = desc.skyWidth, height = desc.skyWidth / 2;
+  io::ImageF map;
+  if (!desc.map.empty()) {
+    kind_ = Kind::Map;
+    map = prepareEnvironmentMap(io::readImage(desc.map), desc.map.string(), desc.intensity, desc.rotationDegrees,
+                                desc.maxMapWidth);
+    width = std::uint32_t(map.width);
+    height = std::uint32_t(map.height);
+  } else if (!desc.hasSun) {
+    kind_ = Kind::Black;
+    width = kBlackWidth;
+    height = kBlackWidth / 2;
+  } else {
+    sky_ = skyParams(desc);
+  }
+
+  VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  samplerInfo.magFilter = samplerInfo.minFilter = VK_FILTER_LINEAR;
+  samplerInfo.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  samplerInfo.addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  samplerInfo.addressModeV = samplerInfo.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  samplerInfo.maxLod = VK_LOD_CLAMP_NONE;
+  gpu::check(vkCreateSampler(context.device(), &samplerInfo, nullptr, &sampler_), "vkCreateSampler (environment)");
+  // The source chain is read at exact integer levels, some of which hold
+  // nothing (see source_): nearest-mip selection never touches a neighbour.
+  samplerInfo.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  if (const VkResult result = vkCreateSampler(context.device(), &samplerInfo, nullptr, &sourceSampler_);
+      result != VK_SUCCESS) {
+    vkDestroySampler(context.device(), sampler_, nullptr);
+    gpu::check(result, "vkCreateSampler (environment source)");
+  }
+
+  try {
+    const std::uint32_t mipCount = kind_ == Kind::Black ? 1 : prefilteredMipCount(height, desc.maxMipCount);
+    radiance_ = std::make_unique<gpu::Image>(context, gpu::ImageDesc{.name = "environment.radiance",
+                                                                     .width = width,
+                                                                     .height = height,
+                                                                     .format = VK_FORMAT_R16G16B16A16_SFLOAT,
+                                                                     .visualize = gpu::Visualize::Radiance,
+                                                                     .mipLevels = mipCount});
+    if (kind_ == Kind::Black) return;
+    sourceLevels_ = fullMipCount(width, height);
+    source_[0] = std::make_unique<gpu::Image>(context, gpu::ImageDesc{.name = "environment.source_even",
+                                                                      .width = width,
+                                                                      .height = height,
+                                                                      .format = VK_FORMAT_R16G16B16A16_SFLOAT,
+                                                                      .visualize = gpu::Visualize::Radiance,
+                                                                      .mipLevels = sourceLevels_});
+    source_[1] = std::make_unique<gpu::Image>(context, gpu::ImageDesc{.name = "environment.source_odd",
+                                                                      .width = std::max(1u, width / 2),
+                                                                      .height = std::max(1u, height / 2),
+                                                                      .format = VK_FORMAT_R16G16B16A16_SFLOAT,
+                                                                      .visualize = gpu::Visualize::Radiance,
+                                                                      .mipLevels = sourceLevels_ - 1});
+    if (kind_ == Kind::Map) gpu::uploadImage(context, *source_[0], map);
+    if (kind_ == Kind::Sky) skyBakePass_ = std::make_unique<gpu::ComputePass>(context, skyBakeDesc());
+    downsamplePass_ = std::make_unique<gpu::ComputePass>(context, downsampleDesc());
+    prefilterPass_ = std::make_unique<gpu::ComputePass>(context, prefilterDesc());
+  } catch (...) {
+    vkDestroySampler(context.device(), sampler_, nullptr);
+    vkDestroySampler(context.device(), sourceSampler_, nullptr);
+    throw;
+  }
+}
+
+Environment::~Environment() {
+  vkDestroySampler(context_.device(), sampler_, nullptr);
+  vkDestroySampler(context_.device(), sourceSampler_, nullptr);
+}
+
+gpu::Image& Environment::sourceImage(std::uint32_t chainLevel) { return *source_[chainLevel & 1u]; }
+
+std::uint32_t Environment::sourceMip(std::uint32_t chainLevel) { return chainLevel & ~1u; }
+
+void Environment::record(gpu::Recorder& recorder) {
+  if (recorded_) return;
+  recorded_ = true;
+  if (kind_ == Kind::Black) {
+    recorder.clearImage(*radiance_, VkClearColorValue{{0.0f, 0.0f, 0.0f, 1.0f}});
+    return;
+  }
+  if (kind_ == Kind::Sky)
+    recorder.dispatch(*skyBakePass_, source_[0]->width(), source_[0]->height(), {{"gOut_Sky", *source_[0]}},
+                      SkyBakeParams{toShared(sky_)});
+  for (std::uint32_t level = 1; level < sourceLevels_; ++level) {
+    gpu::Image& destination = sourceImage(level);
+    const std::uint32_t destinationMip = sourceMip(level);
+    recorder.dispatch(*downsamplePass_, destination.mipWidth(destinationMip), destination.mipHeight(destinationMip),
+                      {{"gIn_Source", sourceImage(level - 1), gpu::MipLevel{sourceMip(level - 1)}},
+                       {"gOut_Destination", destination, gpu::MipLevel{destinationMip}}});
+  }
+  const std::uint32_t levels = mipCount();
+  for (std::uint32_t level = 0; level < levels; ++level)
+    recorder.dispatch(*prefilterPass_, radiance_->mipWidth(level), radiance_->mipHeight(level),
+                      {{"gIn_SourceEven", *source_[0], sourceSampler_},
+                       {"gIn_SourceOdd", *source_[1], sourceSampler_},
+                       {"gOut_Radiance", *radiance_, gpu::MipLevel{level}}},
+                      PrefilterParams{level, levels, desc_.prefilterSamples, sourceLevels_});
+}
+
+}  // namespace bounce::render
