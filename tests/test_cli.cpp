@@ -1,6 +1,8 @@
 // The bounce command as a user runs it: exit codes, messages, files.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <sys/wait.h>
 #include <unistd.h>
 #include <algorithm>
@@ -72,24 +74,61 @@ TEST(Cli, UnknownDeviceIndexListsTheDevices) {
 
 TEST(Cli, RenderWritesImagesStagesAndTimingsWithoutValidationMessages) {
   const fs::path out = freshDirectory("render");
-  Result r = run("render --validate --width 64 --height 48 --frames 3 --dump-stages --out " + out.string());
+  Result r =
+      run("render cornell --validate --width 64 --height 48 --frames 3 --dump-stages --hdr "
+          "--aov viewZ,roughness,motion --out " +
+          out.string());
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output.find("validation"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("render.analytic_gbuffer"), std::string::npos) << "timing table: " << r.output;
-  EXPECT_NE(r.output.find("render.direct_sun"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("render.gbuffer"), std::string::npos) << "timing table: " << r.output;
+  EXPECT_NE(r.output.find("render.direct_light"), std::string::npos) << r.output;
 
   bounce::io::ImageF png = bounce::io::readImage(out / "render.png");
   EXPECT_EQ(png.width, 64);
   EXPECT_EQ(png.height, 48);
   bounce::io::ImageF exr = bounce::io::readImage(out / "render.exr");
   EXPECT_EQ(exr.width, 64);
+  // Every frame as PNG (and, with --hdr, linear EXR).
+  for (const char* frame : {"frame0000", "frame0001", "frame0002"}) {
+    EXPECT_TRUE(fs::exists(out / "frames" / (std::string(frame) + ".png"))) << frame;
+    EXPECT_TRUE(fs::exists(out / "frames" / (std::string(frame) + ".exr"))) << frame;
+  }
+  // The asked-for AOVs of the last frame, EXR and false colour.
+  for (const char* aov : {"viewZ", "roughness", "motion"}) {
+    EXPECT_TRUE(fs::exists(out / "aov" / (std::string(aov) + ".exr"))) << aov;
+    EXPECT_TRUE(fs::exists(out / "aov" / (std::string(aov) + ".png"))) << aov;
+  }
+  EXPECT_FALSE(fs::exists(out / "aov" / "normal.exr")) << "only what was asked for";
   // Stage dumps of the last frame: every pass output, as EXR and PNG.
-  for (const char* stem : {"frame0002.render.analytic_gbuffer.gOut_ViewZ", "frame0002.render.direct_sun.gOut_Radiance",
-                           "frame0002.render.analytic_gbuffer.gOut_NormalRoughness",
-                           "frame0002.render.analytic_gbuffer.gOut_BaseColorMetallic"}) {
+  for (const char* stem : {"frame0002.render.gbuffer.gOut_ViewZ", "frame0002.render.direct_light.gOut_Radiance",
+                           "frame0002.render.gbuffer.gOut_NormalRoughness", "frame0002.render.gbuffer.gOut_Motion",
+                           "frame0002.render.gbuffer.gOut_BaseColorMetallic"}) {
     EXPECT_TRUE(fs::exists(out / "stages" / (std::string(stem) + ".exr"))) << stem;
     EXPECT_TRUE(fs::exists(out / "stages" / (std::string(stem) + ".png"))) << stem;
   }
+  fs::remove_all(out);
+}
+
+TEST(Cli, BadScenesCamerasAndAovsAreOneClearLine) {
+  const fs::path out = freshDirectory("badinput");
+  Result unknown = run("render no-such-scene --out " + out.string());
+  EXPECT_EQ(unknown.exitCode, 1);
+  EXPECT_NE(unknown.output.find("neither a built-in scene"), std::string::npos) << unknown.output;
+  EXPECT_NE(unknown.output.find("cornell"), std::string::npos) << "lists the built-ins: " << unknown.output;
+
+  Result missing = run("render " + (out / "missing.gltf").string() + " --out " + out.string());
+  EXPECT_EQ(missing.exitCode, 1);
+  EXPECT_NE(missing.output.find("missing.gltf"), std::string::npos) << missing.output;
+
+  const fs::path keyframes = out / "path.json";
+  std::ofstream(keyframes) << "{\"keyframes\": [{\"time\": 0, \"position\": [0, 1]}]}";
+  Result camera = run("render cornell --camera " + keyframes.string() + " --out " + out.string());
+  EXPECT_EQ(camera.exitCode, 1);
+  EXPECT_NE(camera.output.find("path.json"), std::string::npos) << camera.output;
+
+  Result aov = run("render cornell --aov colour --out " + out.string());
+  EXPECT_EQ(aov.exitCode, 1);
+  EXPECT_NE(aov.output.find("unknown image 'colour'"), std::string::npos) << aov.output;
   fs::remove_all(out);
 }
 
@@ -101,8 +140,10 @@ TEST(Cli, DumpFramePastTheEndIsRefused) {
 }
 
 TEST(Cli, BenchPrintsTimingsAndBandwidth) {
-  Result r = run("bench --width 32 --height 32 --frames 3 --warmup 1 --copy-mb 1");
+  Result r = run("bench cornell --validate --width 32 --height 32 --frames 3 --warmup 1 --copy-mb 1 --rays 256");
   ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("render.bvh_trace_rays"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("incoherent closest-hit"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("gpu.copy_bandwidth"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("copy bandwidth:"), std::string::npos) << r.output;
 }

@@ -193,7 +193,7 @@ TEST_F(GpuCore, HistoryImagesAlternateByFrameParity) {
 TEST_F(GpuCore, BadImageSizesAreClearErrors) {
   expectGpuError([&] { gpu::Image image(context(), {"empty", 0, 4, VK_FORMAT_R32_SFLOAT}); }, {"empty", "0x4"});
   expectGpuError([&] { gpu::Image image(context(), {"huge", 1u << 30, 4, VK_FORMAT_R32_SFLOAT}); }, {"huge"});
-  expectGpuError([&] { gpu::findShader("no/such_shader"); }, {"no/such_shader", "render/direct_sun"});
+  expectGpuError([&] { gpu::findShader("no/such_shader"); }, {"no/such_shader", "render/direct_light"});
 }
 
 }  // namespace

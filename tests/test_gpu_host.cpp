@@ -1,40 +1,55 @@
 // gpu/ logic that needs no device: shader reflection and timing statistics.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include <spirv/unified1/spirv.hpp>
 
 #include "gpu/embedded_shaders.h"
 #include "gpu/error.h"
 #include "gpu/spirv_reflect.h"
 #include "gpu/timing.h"
-#include "render/analytic_scene_types.glsl"
 
 namespace bounce::testing {
 namespace {
 
+const gpu::ReflectedBinding& bindingNamed(const gpu::ShaderReflection& r, const std::string& name) {
+  for (const gpu::ReflectedBinding& b : r.bindings)
+    if (b.name == name) return b;
+  throw std::runtime_error("no binding " + name);
+}
+
 TEST(Reflection, ReadsNamesBindingsKindsFormatsAccessAndSizes) {
-  gpu::ShaderReflection r = gpu::reflectShader(gpu::findShader("render/direct_sun"), "render/direct_sun");
-  ASSERT_EQ(r.bindings.size(), 5u);
-  EXPECT_EQ(r.bindings[0].name, "gIn_Scene");
-  EXPECT_EQ(r.bindings[0].kind, gpu::ResourceKind::StorageBuffer);
-  EXPECT_FALSE(r.bindings[0].writable);
-  EXPECT_EQ(r.bindings[1].name, "gIn_ViewZ");
-  EXPECT_EQ(r.bindings[1].spirvImageFormat, std::uint32_t(spv::ImageFormatR32f));
-  EXPECT_FALSE(r.bindings[1].writable);
-  EXPECT_EQ(r.bindings[4].name, "gOut_Radiance");
-  EXPECT_EQ(r.bindings[4].binding, 4u);
-  EXPECT_EQ(r.bindings[4].spirvImageFormat, std::uint32_t(spv::ImageFormatRgba16f));
-  EXPECT_FALSE(r.bindings[4].readable);
-  EXPECT_TRUE(r.bindings[4].writable);
-  EXPECT_EQ(r.pushConstantSize, sizeof(shared::AnalyticSceneParams));
+  gpu::ShaderReflection r = gpu::reflectShader(gpu::findShader("render/direct_light"), "render/direct_light");
+  const gpu::ReflectedBinding& frame = bindingNamed(r, "gIn_Frame");
+  EXPECT_EQ(frame.kind, gpu::ResourceKind::UniformBuffer);
+  EXPECT_EQ(frame.binding, 0u);
+  const gpu::ReflectedBinding& lights = bindingNamed(r, "gIn_Lights");
+  EXPECT_EQ(lights.kind, gpu::ResourceKind::StorageBuffer);
+  EXPECT_FALSE(lights.writable);
+  const gpu::ReflectedBinding& viewZ = bindingNamed(r, "gIn_ViewZ");
+  EXPECT_EQ(viewZ.kind, gpu::ResourceKind::StorageImage);
+  EXPECT_EQ(viewZ.spirvImageFormat, std::uint32_t(spv::ImageFormatR32f));
+  EXPECT_FALSE(viewZ.writable);
+  EXPECT_EQ(bindingNamed(r, "gIn_Environment").kind, gpu::ResourceKind::SampledImage);
+  const gpu::ReflectedBinding& radiance = bindingNamed(r, "gOut_Radiance");
+  EXPECT_EQ(radiance.binding, 23u);
+  EXPECT_EQ(radiance.spirvImageFormat, std::uint32_t(spv::ImageFormatRgba16f));
+  EXPECT_FALSE(radiance.readable);
+  EXPECT_TRUE(radiance.writable);
+  EXPECT_EQ(bindingNamed(r, "gIn_BvhNodes").binding, 6u) << "BVH_FIRST_BINDING";
+  EXPECT_EQ(r.pushConstantSize, 0u);
   EXPECT_EQ(r.localSize[0], 8u);
   EXPECT_EQ(r.localSize[1], 8u);
+
+  gpu::ShaderReflection copy = gpu::reflectShader(gpu::findShader("gpu/copy_bandwidth"), "gpu/copy_bandwidth");
+  EXPECT_GT(copy.pushConstantSize, 0u);
 }
 
 TEST(Reflection, RejectsGarbage) {
   std::vector<std::uint32_t> words = {0x12345678u, 0, 0, 0, 0};
   EXPECT_THROW(gpu::reflectShader(words, "garbage"), gpu::GpuError);
-  std::span<const std::uint32_t> real = gpu::findShader("render/direct_sun");
+  std::span<const std::uint32_t> real = gpu::findShader("render/direct_light");
   std::vector<std::uint32_t> truncated(real.begin(), real.begin() + long(real.size() / 2));
   truncated.push_back(0xffff0000u | spv::OpName);  // an instruction claiming more words than remain
   EXPECT_THROW(gpu::reflectShader(truncated, "truncated"), gpu::GpuError);

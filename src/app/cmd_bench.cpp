@@ -1,19 +1,48 @@
-// bounce bench: GPU timestamps of every pass over many frames at a given
-// resolution, and the copy bandwidth the device reaches in compute.
+// bounce bench: GPU timestamps of every pass of the frame renderer over many
+// frames of a scene at a given resolution, the BVH's ray throughput (primary,
+// shadow and incoherent rays), and the copy bandwidth the device reaches in
+// compute.
 #include <cstdio>
 #include <fstream>
+#include <random>
 
 #include "app/commands.h"
 #include "app/progress.h"
 #include "gpu/copy_bandwidth.h"
 #include "gpu/frame_loop.h"
-#include "render/analytic_scene.h"
+#include "gpu/transfer.h"
+#include "render/frame_renderer.h"
+#include "render/gpu_bvh.h"
+#include "scene/camera_path.h"
 
 namespace bounce::app {
+namespace {
+
+// Rays from random points inside the scene's bounds in random directions:
+// the incoherent case (GI bounces), unlike primary rays.
+std::vector<render::BvhRay> randomRays(const scene::Scene& scene, std::uint32_t count) {
+  const scene::Bounds bounds = scene::worldBounds(scene, 0.0f);
+  std::mt19937 random(1234);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::normal_distribution<float> gauss;
+  std::vector<render::BvhRay> rays(count);
+  for (render::BvhRay& ray : rays) {
+    const glm::vec3 origin = bounds.min + bounds.extent() * glm::vec3(unit(random), unit(random), unit(random));
+    glm::vec3 direction(gauss(random), gauss(random), gauss(random));
+    direction = glm::normalize(direction + glm::vec3(1e-6f));
+    ray.originTMin = glm::vec4(origin, 0.0f);
+    ray.directionTMax = glm::vec4(direction, 1e30f);
+  }
+  return rays;
+}
+
+}  // namespace
 
 CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
-  CLI::App* command = app.add_subcommand("bench", "Time every pass with GPU timestamps, and the copy bandwidth");
+  CLI::App* command =
+      app.add_subcommand("bench", "Time every pass with GPU timestamps; BVH rays per second; copy bandwidth");
   addGpuOptions(*command, options.gpu);
+  command->add_option("scene", options.scene, "Built-in scene or .gltf/.glb file (default: the default built-in)");
   command->add_option("--width", options.width, "Image width in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--height", options.height, "Image height in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--frames", options.frames, "Timed frames")->check(CLI::Range(1u, 100000u));
@@ -21,37 +50,68 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       ->check(CLI::Range(0u, 100000u));
   command->add_option("--copy-mb", options.copyMegabytes, "Buffer size of the copy-bandwidth pass, MiB (0 = skip)")
       ->check(CLI::Range(0u, 4096u));
+  command->add_option("--rays", options.rays, "Incoherent rays per frame through render.bvh_trace_rays (0 = skip)")
+      ->check(CLI::Range(0u, 1u << 26));
   command->add_option("--json", options.json, "Also write the results to this JSON file");
   return command;
 }
 
 int runBench(const BenchOptions& options) {
+  const scene::Scene scene = loadSceneArgument(options.scene);
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   const gpu::DeviceInfo& device = context->deviceInfo();
   std::printf("device: %s (%s), driver %s\n", device.name.c_str(), device.type.c_str(), device.driver.c_str());
-  render::AnalyticRenderer renderer(*context, options.width, options.height, render::AnalyticScene::standard());
+
+  render::FrameRendererOptions rendererOptions;
+  rendererOptions.width = options.width;
+  rendererOptions.height = options.height;
+  rendererOptions.environment.sun = scene.sun;
+  rendererOptions.environment.hasSun = scene.hasSun;
+  render::FrameRenderer renderer(*context, scene, rendererOptions);
+  std::printf("scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
+  const scene::CameraPose camera = scene::defaultCameraPath(scene)->pose(0.0f);
+
   std::unique_ptr<gpu::CopyBandwidthProbe> copy;
   if (options.copyMegabytes)
     copy = std::make_unique<gpu::CopyBandwidthProbe>(*context, VkDeviceSize(options.copyMegabytes) << 20);
-
-  // Warm-up frames go to a loop whose timings are thrown away.
-  {
-    gpu::FrameLoop warmup(*context);
-    for (std::uint32_t i = 0; i < options.warmup; ++i) {
-      gpu::Recorder& recorder = warmup.beginFrame();
-      renderer.record(recorder, render::Camera{});
-      if (copy) copy->record(recorder);
-      warmup.endFrame();
-    }
-    warmup.finish();
+  std::unique_ptr<render::BvhRayTracer> tracer;
+  std::unique_ptr<gpu::Buffer> rays, results;
+  if (options.rays) {
+    const std::vector<render::BvhRay> rayData = randomRays(scene, options.rays);
+    rays = std::make_unique<gpu::Buffer>(*context, "bench.rays", rayData.size() * sizeof(render::BvhRay),
+                                         gpu::BufferUsage::DeviceLocal);
+    gpu::uploadBuffer(*context, *rays, rayData.data(), rayData.size() * sizeof(render::BvhRay));
+    results = std::make_unique<gpu::Buffer>(
+        *context, "bench.ray_results", rayData.size() * sizeof(render::BvhTraceResult), gpu::BufferUsage::DeviceLocal);
+    tracer = std::make_unique<render::BvhRayTracer>(*context);
   }
-  gpu::FrameLoop loop(*context);
-  ProgressBar progress("bench", options.frames);
-  for (std::uint32_t i = 0; i < options.frames; ++i) {
+  // The closest-hit and any-hit variants get their own timestamp names.
+  std::unique_ptr<render::BvhRayTracer> anyTracer;
+  if (options.rays)
+    anyTracer = std::make_unique<render::BvhRayTracer>(
+        *context, render::bvhTraceRaysPassDesc("render.bvh_trace_rays_any", "render/bvh_trace_rays"));
+
+  std::uint64_t frameCounter = 0;
+  const auto recordFrame = [&](gpu::FrameLoop& loop) {
     gpu::Recorder& recorder = loop.beginFrame();
-    renderer.record(recorder, render::Camera{});
+    renderer.record(recorder, frameCounter++, {camera, 0.0f, false});
+    if (tracer) {
+      tracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Closest);
+      anyTracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Any);
+    }
     if (copy) copy->record(recorder);
     loop.endFrame();
+  };
+  // Warm-up frames go to a loop whose timings are thrown away.
+  {
+    gpu::FrameLoop warmup(*context, render::FrameRenderer::kFramesInFlight);
+    for (std::uint32_t i = 0; i < options.warmup; ++i) recordFrame(warmup);
+    warmup.finish();
+  }
+  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
+  ProgressBar progress("bench", options.frames);
+  for (std::uint32_t i = 0; i < options.frames; ++i) {
+    recordFrame(loop);
     progress.update(i + 1);
   }
   loop.finish();
@@ -59,20 +119,35 @@ int runBench(const BenchOptions& options) {
 
   std::printf("\nGPU time per pass, %ux%u, %u frames (%s):\n%s", options.width, options.height, options.frames,
               device.name.c_str(), loop.timings().table().c_str());
-  double bandwidth = 0;
-  for (const gpu::PassTiming& t : loop.timings().summary())
-    if (copy && t.pass == gpu::CopyBandwidthProbe::kPassName)
-      bandwidth = double(copy->bytesMoved()) / (t.medianMs * 1e-3) / 1e9;
+  double bandwidth = 0.0, primaryRays = 0.0, incoherentClosest = 0.0, incoherentAny = 0.0;
+  const double pixels = double(options.width) * double(options.height);
+  for (const gpu::PassTiming& t : loop.timings().summary()) {
+    const double seconds = t.medianMs * 1e-3;
+    if (copy && t.pass == gpu::CopyBandwidthProbe::kPassName) bandwidth = double(copy->bytesMoved()) / seconds / 1e9;
+    if (t.pass == "render.gbuffer") primaryRays = pixels / seconds;
+    if (t.pass == "render.bvh_trace_rays") incoherentClosest = double(options.rays) / seconds;
+    if (t.pass == "render.bvh_trace_rays_any") incoherentAny = double(options.rays) / seconds;
+  }
+  std::printf("\nrays per second (median pass time): primary %.0f M (whole G-buffer pass, 1 ray per pixel)",
+              primaryRays / 1e6);
+  if (tracer)
+    std::printf(", incoherent closest-hit %.0f M, incoherent any-hit %.0f M (%u random rays in the scene bounds)",
+                incoherentClosest / 1e6, incoherentAny / 1e6, options.rays);
+  std::printf("\n");
   if (copy)
-    std::printf("\ncopy bandwidth: %.1f GB/s (%u MiB read + %u MiB written per dispatch, median)\n", bandwidth,
+    std::printf("copy bandwidth: %.1f GB/s (%u MiB read + %u MiB written per dispatch, median)\n", bandwidth,
                 options.copyMegabytes, options.copyMegabytes);
 
   if (!options.json.empty()) {
     std::ofstream json(options.json);
     if (!json) throw std::runtime_error("cannot write " + options.json);
     json << "{\n  \"device\": \"" << device.name << "\",\n  \"driver\": \"" << device.driver << "\",\n"
+         << "  \"scene\": \"" << scene.name << "\",\n  \"triangles\": " << renderer.triangleCount() << ",\n"
          << "  \"width\": " << options.width << ",\n  \"height\": " << options.height << ",\n"
          << "  \"frames\": " << options.frames << ",\n  \"copy_bandwidth_gbps\": " << bandwidth << ",\n"
+         << "  \"primary_rays_per_s\": " << primaryRays
+         << ",\n  \"incoherent_closest_rays_per_s\": " << incoherentClosest
+         << ",\n  \"incoherent_any_rays_per_s\": " << incoherentAny << ",\n"
          << "  \"passes\": [\n";
     auto rows = loop.timings().summary();
     for (std::size_t i = 0; i < rows.size(); ++i)

@@ -1,10 +1,14 @@
-// bounce render: renders the scene along a camera path, writes the final frame
-// (PNG for people, EXR for comparisons), optionally every pass's output, and
-// prints the per-pass GPU timings.
+// bounce render: renders a built-in or glTF scene along a camera path: the
+// G-buffer and direct light of every frame. Writes the final frame (PNG for
+// people, EXR for comparisons), every frame when asked (--hdr, numbered PNGs
+// and an MP4 when ffmpeg is installed), any AOVs, every pass's output
+// (--dump-stages), and prints the per-pass GPU timings.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <set>
 
 #include "app/commands.h"
 #include "app/progress.h"
@@ -12,34 +16,101 @@
 #include "gpu/stage_dump.h"
 #include "gpu/transfer.h"
 #include "io/image_io.h"
-#include "render/analytic_scene.h"
+#include "render/frame_renderer.h"
+#include "scene/builtin_scenes.h"
+#include "scene/camera_path.h"
 
 namespace bounce::app {
 namespace {
 
-// The quick start's camera path: a slow orbit around the spheres, 0.5 degree
-// per frame, so a multi-frame render shows camera motion.
-render::Camera orbitCamera(std::uint32_t frame) {
-  render::Camera camera;
-  const float angle = glm::radians(0.5f * float(frame));
-  const glm::vec3 offset = camera.position - camera.target;
-  camera.position = camera.target + glm::vec3(offset.x * std::cos(angle) + offset.z * std::sin(angle), offset.y,
-                                              -offset.x * std::sin(angle) + offset.z * std::cos(angle));
-  return camera;
+namespace fs = std::filesystem;
+
+const std::set<std::string>& knownAovs() {
+  static const std::set<std::string> names = {"viewZ",  "normal", "geometric-normal", "albedo",    "emissive",
+                                              "motion", "ids",    "direct",           "roughness", "metallic"};
+  return names;
+}
+
+void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
+               const fs::path& dir, float exposure) {
+  fs::create_directories(dir);
+  for (const render::Aov& aov : renderer.aovs()) {
+    const bool all = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
+    const bool asked = all || std::find(wanted.begin(), wanted.end(), aov.name) != wanted.end();
+    // roughness and metallic live in the alpha channels of normal and albedo.
+    const bool roughness = (all || std::count(wanted.begin(), wanted.end(), "roughness")) && aov.name == "normal";
+    const bool metallic = (all || std::count(wanted.begin(), wanted.end(), "metallic")) && aov.name == "albedo";
+    if (!asked && !roughness && !metallic) continue;
+    const io::ImageF image = gpu::readbackImage(context, *aov.image);
+    const auto write = [&](const std::string& name, const io::ImageF& pixels, gpu::Visualize how) {
+      io::writeExr(dir / (name + ".exr"), pixels);
+      const gpu::VisualizedImage view = gpu::visualize(pixels, how);
+      io::writePng(dir / (name + ".png"), view.image, view.encoding, exposure);
+    };
+    if (asked) write(aov.name, image, aov.image->desc().visualize);
+    if (roughness || metallic) {
+      io::ImageF channel(image.width, image.height, {roughness ? "roughness" : "metallic"});
+      for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) channel.at(x, y, 0) = image.at(x, y, 3);
+      write(roughness ? "roughness" : "metallic", channel, gpu::Visualize::Raw);
+    }
+  }
+}
+
+// Numbered PNGs into an MP4 when ffmpeg is installed; otherwise they stay.
+void encodeVideo(const fs::path& framesDir, const fs::path& video, float fps) {
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+    std::printf("ffmpeg not installed: frames stay as numbered PNGs in %s\n", framesDir.c_str());
+    return;
+  }
+  const std::string command = "ffmpeg -loglevel error -y -framerate " + std::to_string(fps) + " -i '" +
+                              (framesDir / "frame%04d.png").string() + "' -c:v libx264 -pix_fmt yuv420p -crf 18 '" +
+                              video.string() + "'";
+  if (std::system(command.c_str()) == 0)
+    std::printf("wrote %s\n", video.c_str());
+  else
+    std::printf("ffmpeg failed; frames stay as numbered PNGs in %s\n", framesDir.c_str());
 }
 
 }  // namespace
 
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
-  CLI::App* command = app.add_subcommand("render", "Render the built-in analytic scene (ground, spheres, sun)");
+  CLI::App* command = app.add_subcommand(
+      "render", "Render a scene (built-in name or .gltf/.glb) along a camera path: G-buffer and direct light");
   addGpuOptions(*command, options.gpu);
+  std::string names;
+  for (const std::string& n : scene::builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+  command->add_option(
+      "scene", options.scene,
+      "Built-in scene (" + names + "; default " + scene::defaultBuiltinScene() + ") or a .gltf/.glb file");
+  command->add_option("--camera", options.camera,
+                      "Camera path: orbit, dolly, fly, static, gltf, or a JSON keyframe file (default: the scene's "
+                      "first glTF camera, else its suggested view)");
   command->add_option("--width", options.width, "Image width in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--height", options.height, "Image height in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--frames", options.frames, "Frames to render along the camera path")
       ->check(CLI::Range(1u, 1000000u));
+  command->add_option("--fps", options.fps, "Frames per second of scene time (animation and camera)")
+      ->check(CLI::Range(0.001f, 10000.0f));
   command->add_option("--out", options.out, "Output directory (created if missing)");
   command->add_option("--exposure", options.exposure, "Exposure multiplier before tonemapping for PNGs")
       ->check(CLI::PositiveNumber);
+  command->add_option("--env", options.env, "Equirectangular environment map (.exr/.hdr); default: procedural sky");
+  command->add_option("--env-intensity", options.envIntensity, "Multiplier of the environment")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--env-rotation", options.envRotation, "Rotation of the environment map about +Y, degrees");
+  command->add_option("--sun-elevation", options.sunElevation, "Sun elevation above the horizon, degrees")
+      ->check(CLI::Range(-90.0f, 90.0f));
+  command->add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees");
+  command->add_flag("--no-sun", options.noSun,
+                    "No sunlight (e.g. when the --env map already shows its sun, which would then count twice)");
+  command
+      ->add_option("--aov", options.aovs,
+                   "Also write these images of the last frame as EXR + false-colour PNG to OUT/aov/: viewZ, "
+                   "normal, geometric-normal, albedo, roughness, metallic, emissive, motion, ids, direct, all")
+      ->delimiter(',');
+  command->add_flag("--hdr", options.hdr, "Write every final frame as linear EXR to OUT/frames/");
+  command->add_flag("--jitter", options.jitter, "Sub-pixel camera jitter (Halton 2,3) per frame");
   command->add_flag("--dump-stages", options.dumpStages,
                     "Write every pass's output (EXR + PNG) for the dump frames to OUT/stages/");
   command->add_option("--dump-frames", options.dumpFrames, "Frames to dump with --dump-stages (default: the last)")
@@ -52,38 +123,92 @@ int runRender(const RenderOptions& options) {
     if (f >= options.frames)
       throw std::runtime_error("--dump-frames " + std::to_string(f) + " is past the last frame (" +
                                std::to_string(options.frames - 1) + ")");
-  const std::filesystem::path outDir = options.out;
-  std::filesystem::create_directories(outDir);
+  for (const std::string& aov : options.aovs)
+    if (aov != "all" && !knownAovs().count(aov))
+      throw std::runtime_error("--aov: unknown image '" + aov +
+                               "' (known: viewZ, normal, geometric-normal, albedo, roughness, metallic, emissive, "
+                               "motion, ids, direct, all)");
 
+  const scene::Scene scene = loadSceneArgument(options.scene);
+  const std::unique_ptr<scene::CameraPath> path =
+      options.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(options.camera, scene);
+  const std::vector<scene::CameraFrame> cameraFrames = scene::sampleCameraPath(*path, int(options.frames), options.fps);
+
+  render::FrameRendererOptions rendererOptions;
+  rendererOptions.width = options.width;
+  rendererOptions.height = options.height;
+  rendererOptions.jitter = options.jitter;
+  render::EnvironmentDesc& environment = rendererOptions.environment;
+  environment.map = options.env;
+  environment.intensity = options.envIntensity;
+  environment.rotationDegrees = options.envRotation;
+  environment.sun = scene.sun;
+  environment.hasSun = scene.hasSun;
+  if (options.sunElevation) {
+    environment.sun.elevationDegrees = *options.sunElevation;
+    environment.hasSun = true;
+  }
+  if (options.sunAzimuth) environment.sun.azimuthDegrees = *options.sunAzimuth;
+  if (options.noSun) {
+    if (options.sunElevation || options.sunAzimuth)
+      throw std::runtime_error("--no-sun contradicts --sun-elevation/--sun-azimuth");
+    environment.hasSun = false;
+  }
+
+  const fs::path outDir = options.out;
+  fs::create_directories(outDir);
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
-  render::AnalyticRenderer renderer(*context, options.width, options.height, render::AnalyticScene::standard());
-  gpu::FrameLoop loop(*context);
+  render::FrameRenderer renderer(*context, scene, rendererOptions);
+  std::printf("scene: %s, %zu triangles, %zu textures\n", scene.name.c_str(), renderer.triangleCount(),
+              scene.textures.size());
+  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
 
   auto isDumpFrame = [&](std::uint32_t frame) {
     if (!options.dumpStages) return false;
     if (options.dumpFrames.empty()) return frame + 1 == options.frames;
     return std::find(options.dumpFrames.begin(), options.dumpFrames.end(), frame) != options.dumpFrames.end();
   };
+  const bool everyFrame = options.frames > 1 || options.hdr;
+  const fs::path framesDir = outDir / "frames";
+  if (everyFrame) fs::create_directories(framesDir);
   std::vector<gpu::CapturedStage> captures;
   ProgressBar progress("render", options.frames);
   for (std::uint32_t frame = 0; frame < options.frames; ++frame) {
     gpu::Recorder& recorder = loop.beginFrame(isDumpFrame(frame));
-    renderer.record(recorder, orbitCamera(frame));
+    const scene::CameraFrame& camera = cameraFrames[frame];
+    renderer.record(recorder, loop.frameIndex(), {camera.pose, float(frame) / options.fps, camera.cut});
     loop.endFrame();
     for (gpu::CapturedStage& c : loop.takeCaptures()) captures.push_back(std::move(c));
+    if (everyFrame) {
+      // Each frame's image is read back before the next reuses it.
+      loop.finish();
+      const io::ImageF image = gpu::readbackImage(*context, renderer.direct());
+      char name[32];
+      std::snprintf(name, sizeof name, "frame%04u", frame);
+      if (options.frames > 1) {
+        const gpu::VisualizedImage view = gpu::visualize(image, gpu::Visualize::Radiance);
+        io::writePng(framesDir / (std::string(name) + ".png"), view.image, view.encoding, options.exposure);
+      }
+      if (options.hdr) io::writeExr(framesDir / (std::string(name) + ".exr"), image);
+    }
     progress.update(frame + 1);
   }
   loop.finish();
   progress.finish();
   for (gpu::CapturedStage& c : loop.takeCaptures()) captures.push_back(std::move(c));
 
-  io::ImageF frame = gpu::readbackImage(*context, renderer.directLight());
-  gpu::VisualizedImage view = gpu::visualize(frame, gpu::Visualize::Radiance);
+  const io::ImageF final = gpu::readbackImage(*context, renderer.direct());
+  const gpu::VisualizedImage view = gpu::visualize(final, gpu::Visualize::Radiance);
   io::writePng(outDir / "render.png", view.image, view.encoding, options.exposure);
-  io::writeExr(outDir / "render.exr", view.image);
+  io::writeExr(outDir / "render.exr", final);
   std::printf("wrote %s and %s (%ux%u, %u frame%s)\n", (outDir / "render.png").c_str(), (outDir / "render.exr").c_str(),
               options.width, options.height, options.frames, options.frames == 1 ? "" : "s");
+  if (options.frames > 1) encodeVideo(framesDir, outDir / "render.mp4", options.fps);
+  if (!options.aovs.empty()) {
+    writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure);
+    std::printf("wrote AOVs to %s\n", (outDir / "aov").c_str());
+  }
   if (!captures.empty()) {
     auto files = gpu::writeStageDumps(outDir / "stages", captures, options.exposure);
     std::printf("wrote %zu stage images to %s\n", files.size(), (outDir / "stages").c_str());

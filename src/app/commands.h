@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gpu/context.h"
+#include "scene/scene.h"
 
 namespace bounce::app {
 
@@ -23,6 +24,10 @@ std::unique_ptr<gpu::Context> openContext(const GpuOptions& options);
 // there were and returns 1, so a validated run fails on any message.
 int validationExitCode(const gpu::Context& context);
 
+// A SCENE argument: a built-in name, a .gltf/.glb path, or empty for the
+// default built-in. A glTF directional light becomes the sun.
+scene::Scene loadSceneArgument(const std::string& argument);
+
 struct InfoOptions {
   GpuOptions gpu;
 };
@@ -31,11 +36,23 @@ int runInfo(const InfoOptions& options);
 
 struct RenderOptions {
   GpuOptions gpu;
+  std::string scene;   // built-in name or .gltf/.glb path; empty = the default built-in
+  std::string camera;  // preset name or JSON keyframe file; empty = the scene's own camera
   std::uint32_t width = 960;
   std::uint32_t height = 540;
   std::uint32_t frames = 1;
+  float fps = 30.0f;
   std::string out = "out";
   float exposure = 1.0f;
+  std::string env;  // equirect HDR/EXR; empty = procedural sky
+  float envIntensity = 1.0f;
+  float envRotation = 0.0f;
+  std::optional<float> sunElevation;
+  std::optional<float> sunAzimuth;
+  bool noSun = false;
+  std::vector<std::string> aovs;
+  bool hdr = false;
+  bool jitter = false;
   bool dumpStages = false;
   std::vector<std::uint32_t> dumpFrames;  // empty = the last frame
 };
@@ -44,11 +61,13 @@ int runRender(const RenderOptions& options);
 
 struct BenchOptions {
   GpuOptions gpu;
+  std::string scene;  // as for render
   std::uint32_t width = 1920;
   std::uint32_t height = 1080;
   std::uint32_t frames = 200;
   std::uint32_t warmup = 20;
   std::uint32_t copyMegabytes = 256;
+  std::uint32_t rays = 1u << 20;  // incoherent rays per frame for render.bvh_trace_rays (0 = skip)
   std::string json;
 };
 CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options);

@@ -10,7 +10,7 @@
 namespace bounce::gpu {
 
 struct EmbeddedShader {
-  const char* name;  // path below shaders/ without extension: "render/direct_sun"
+  const char* name;  // path below shaders/ without extension: "render/direct_light"
   const std::uint32_t* words;
   std::size_t wordCount;
 };

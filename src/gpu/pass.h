@@ -7,13 +7,13 @@
 // and the binding, never a silent mismatch by binding order.
 //
 //   const gpu::PassDesc kDirectSun{
-//       .name = "render.direct_sun",
-//       .shader = "render/direct_sun",
+//       .name = "render.direct_light",
+//       .shader = "render/direct_light",
 //       .resources = {
 //           {"gIn_ViewZ", gpu::Access::Read, VK_FORMAT_R32_SFLOAT, "linear view depth"},
 //           {"gOut_Radiance", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "direct light"},
 //       },
-//       .pushConstantSize = sizeof(DirectSunParams),
+//       .pushConstantSize = sizeof(DirectLightParams),
 //   };
 #pragma once
 
@@ -44,7 +44,7 @@ struct ResourceDecl {
 
 struct PassDesc {
   std::string name;    // stable: GPU timestamp key, debug label, dump file prefix
-  std::string shader;  // embedded shader path, e.g. "render/direct_sun"
+  std::string shader;  // embedded shader path, e.g. "render/direct_light"
   std::vector<ResourceDecl> resources;
   std::uint32_t pushConstantSize = 0;
 };

@@ -1,0 +1,332 @@
+#include "render/frame_renderer.h"
+
+#include <cmath>
+#include <cstring>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "gpu/error.h"
+#include "gpu/transfer.h"
+#include "render/bvh.h"
+#include "render/frame_types.glsl"
+#include "render/gpu_bvh.h"
+#include "render/texture_atlas.h"
+#include "shared/packing.glsl"
+
+namespace bounce::render {
+namespace {
+
+using shared::FrameConstants;
+using shared::GpuCamera;
+using shared::GpuInstance;
+using shared::GpuLight;
+using shared::GpuMaterial;
+
+constexpr VkFormat kR32f = VK_FORMAT_R32_SFLOAT;
+constexpr VkFormat kRgba16f = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kRgba8 = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormat kRg16f = VK_FORMAT_R16G16_SFLOAT;
+constexpr VkFormat kR32ui = VK_FORMAT_R32_UINT;
+
+}  // namespace
+
+GpuCamera gpuCamera(const scene::CameraPose& pose, std::uint32_t width, std::uint32_t height) {
+  const glm::vec3 forward = glm::normalize(pose.target - pose.position);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, pose.up));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float tanHalf = std::tan(glm::radians(pose.fovYDegrees) * 0.5f);
+  const float aspect = float(width) / float(height);
+  return {glm::vec4(pose.position, tanHalf), glm::vec4(right * tanHalf * aspect, 0.0f), glm::vec4(up * tanHalf, 0.0f),
+          glm::vec4(forward, 0.0f)};
+}
+
+namespace {
+
+// Camera poses that cannot make an image are refused before they make NaN.
+void checkCamera(const scene::CameraPose& pose) {
+  const glm::vec3 forward = pose.target - pose.position;
+  const bool finite = std::isfinite(glm::dot(pose.position, pose.position)) &&
+                      std::isfinite(glm::dot(pose.target, pose.target)) && std::isfinite(pose.fovYDegrees);
+  if (!finite || glm::dot(forward, forward) < 1e-12f ||
+      glm::length(glm::cross(glm::normalize(forward), pose.up)) < 1e-6f ||
+      !(pose.fovYDegrees > 0.0f && pose.fovYDegrees < 180.0f))
+    throw gpu::GpuError(
+        "camera: position and target must differ, the up vector must not be parallel to the view, "
+        "and the field of view must be in (0, 180) degrees");
+}
+
+float halton(std::uint32_t index, std::uint32_t base) {
+  float result = 0.0f;
+  float fraction = 1.0f / float(base);
+  for (; index > 0; index /= base, fraction /= float(base)) result += fraction * float(index % base);
+  return result;
+}
+
+void rows3x4(const glm::mat4& m, glm::vec4 out[3]) {
+  for (int r = 0; r < 3; ++r) out[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+}
+
+GpuMaterial packMaterial(const scene::Material& m) {
+  const auto texture = [](int index) { return index < 0 ? shared::kNoTexture : std::uint32_t(index); };
+  GpuMaterial g{};
+  g.baseColorFactor = m.baseColorFactor;
+  g.emissive =
+      glm::vec4(m.emissiveFactor * m.emissiveStrength, m.alphaMode == scene::AlphaMode::Opaque  ? -1.0f
+                                                       : m.alphaMode == scene::AlphaMode::Blend ? 0.5f
+                                                                                                : m.alphaCutoff);
+  g.factors = glm::vec4(m.metallicFactor, m.roughnessFactor, m.normalScale, m.doubleSided ? 1.0f : 0.0f);
+  g.textures = glm::uvec4(texture(m.baseColorTexture), texture(m.metallicRoughnessTexture), texture(m.normalTexture),
+                          texture(m.emissiveTexture));
+  return g;
+}
+
+// Vertex attributes of every mesh, concatenated in mesh order (the same
+// global vertex numbering the BVH's triangles use).
+std::vector<glm::uvec4> packVertexAttributes(const scene::Scene& scene) {
+  std::vector<glm::uvec4> packed;
+  for (const scene::Mesh& mesh : scene.meshes)
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      const glm::vec4& t = mesh.tangents[v];
+      const std::uint32_t tangent =
+          (shared::packNormalOct32(glm::vec3(t)) & ~1u) | (t.w < 0.0f ? 1u : 0u);  // lowest bit: handedness
+      packed.emplace_back(shared::packNormalOct32(mesh.normals[v]), tangent, glm::floatBitsToUint(mesh.texcoords[v].x),
+                          glm::floatBitsToUint(mesh.texcoords[v].y));
+    }
+  if (packed.empty()) packed.emplace_back(0u);
+  return packed;
+}
+
+std::vector<gpu::ResourceDecl> sceneAccessDecls() {
+  using gpu::Access;
+  using gpu::ResourceKind;
+  std::vector<gpu::ResourceDecl> decls = {
+      {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "camera, previous camera, sun, jitter",
+       ResourceKind::UniformBuffer},
+      {"gIn_Materials", Access::Read, VK_FORMAT_UNDEFINED, "materials", ResourceKind::StorageBuffer},
+      {"gIn_Instances", Access::Read, VK_FORMAT_UNDEFINED, "instance transforms, now and before",
+       ResourceKind::StorageBuffer},
+      {"gIn_VertexAttributes", Access::Read, VK_FORMAT_UNDEFINED, "normals, tangents, texcoords",
+       ResourceKind::StorageBuffer},
+      {"gIn_TextureAtlas", Access::Read, VK_FORMAT_UNDEFINED, "every texture and its mips", ResourceKind::SampledImage},
+      {"gIn_TextureAtlasEntries", Access::Read, VK_FORMAT_UNDEFINED, "where each texture is in the atlas",
+       ResourceKind::StorageBuffer},
+  };
+  for (const gpu::ResourceDecl& decl : GpuBvh::traceResources()) decls.push_back(decl);
+  return decls;
+}
+
+gpu::PassDesc gbufferDesc() {
+  std::vector<gpu::ResourceDecl> decls = sceneAccessDecls();
+  decls.insert(decls.end(), {
+                                {"gOut_ViewZ", gpu::Access::Write, kR32f, "positive view depth; 0 = background"},
+                                {"gOut_NormalRoughness", gpu::Access::Write, kRgba16f, "shading normal, roughness"},
+                                {"gOut_GeometricNormal", gpu::Access::Write, kRgba16f, "triangle normal"},
+                                {"gOut_BaseColorMetallic", gpu::Access::Write, kRgba8, "base colour, metallic"},
+                                {"gOut_Emissive", gpu::Access::Write, kRgba16f, "emitted radiance"},
+                                {"gOut_Motion", gpu::Access::Write, kRg16f, "pixels; previous = current + motion"},
+                                {"gOut_Ids", gpu::Access::Write, kR32ui, "object << 16 | material"},
+                            });
+  return {.name = "render.gbuffer", .shader = "render/gbuffer", .resources = decls};
+}
+
+gpu::PassDesc directLightDesc() {
+  // Shading reads the G-buffer, not instances; glslc drops the unused binding.
+  std::vector<gpu::ResourceDecl> decls = sceneAccessDecls();
+  std::erase_if(decls, [](const gpu::ResourceDecl& d) { return d.name == "gIn_Instances"; });
+  using gpu::ResourceKind;
+  decls.insert(decls.end(), {
+                                {"gIn_ViewZ", gpu::Access::Read, kR32f, "position reconstruction"},
+                                {"gIn_NormalRoughness", gpu::Access::Read, kRgba16f, "shading normal, roughness"},
+                                {"gIn_GeometricNormal", gpu::Access::Read, kRgba16f, "shadow ray offset, horizon test"},
+                                {"gIn_BaseColorMetallic", gpu::Access::Read, kRgba8, "material"},
+                                {"gIn_Emissive", gpu::Access::Read, kRgba16f, "emission, added"},
+                                {"gIn_Lights", gpu::Access::Read, VK_FORMAT_UNDEFINED, "punctual lights",
+                                 ResourceKind::StorageBuffer},
+                                {"gIn_Environment", gpu::Access::Read, VK_FORMAT_UNDEFINED,
+                                 "sky or HDR map behind the scene", ResourceKind::SampledImage},
+                                {"gOut_Radiance", gpu::Access::Write, kRgba16f, "direct light + emission, linear HDR"},
+                            });
+  return {.name = "render.direct_light", .shader = "render/direct_light", .resources = decls};
+}
+
+}  // namespace
+
+FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, const FrameRendererOptions& options)
+    : context_(context), scene_(scene), options_(options) {
+  if (options.width == 0 || options.height == 0 || options.width > 16384 || options.height > 16384)
+    throw gpu::GpuError("frame size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
+                        " is outside 1..16384");
+  scene::validate(scene);
+  const std::vector<scene::Instance> instances = scene::instancesAt(scene, 0.0f);
+  instanceCount_ = instances.size();
+  if (instanceCount_ > 65535) throw gpu::GpuError(scene.name + ": more than 65535 mesh instances");
+  if (scene.materials.size() > 65535) throw gpu::GpuError(scene.name + ": more than 65535 materials");
+  for (const scene::Instance& instance : instances)
+    triangleCount_ += scene.meshes[std::size_t(instance.mesh)].indices.size() / 3;
+
+  bvh_ = std::make_unique<SceneBvh>(scene);
+  bvh_->setInstances(instances);
+  gpuBvh_ = std::make_unique<GpuBvh>(context, *bvh_, kFramesInFlight);
+  atlas_ = std::make_unique<TextureAtlas>(context, scene.textures, options.maxTextureSize);
+  EnvironmentDesc environment = options.environment;
+  environment_ = std::make_unique<Environment>(context, environment);
+
+  uploadStatic();
+  const std::size_t instanceBytes = std::max<std::size_t>(1, instanceCount_) * sizeof(GpuInstance);
+  instances_ = std::make_unique<gpu::Buffer>(context, "scene.instances", instanceBytes, gpu::BufferUsage::DeviceLocal);
+  lights_ = std::make_unique<gpu::Buffer>(context, "scene.lights", kMaxLights * sizeof(GpuLight),
+                                          gpu::BufferUsage::DeviceLocal);
+  for (std::uint32_t i = 0; i < kFramesInFlight; ++i) {
+    const std::string suffix = ".slot" + std::to_string(i);
+    slots_[i].constants = std::make_unique<gpu::Buffer>(context, "frame.constants" + suffix, sizeof(FrameConstants),
+                                                        gpu::BufferUsage::Upload);
+    slots_[i].instancesStaging = std::make_unique<gpu::Buffer>(context, "scene.instances.staging" + suffix,
+                                                               instanceBytes, gpu::BufferUsage::Upload);
+    slots_[i].lightsStaging = std::make_unique<gpu::Buffer>(context, "scene.lights.staging" + suffix,
+                                                            kMaxLights * sizeof(GpuLight), gpu::BufferUsage::Upload);
+  }
+
+  const auto image = [&](const char* name, VkFormat format, gpu::Visualize visualize) {
+    return std::make_unique<gpu::Image>(context,
+                                        gpu::ImageDesc{name, options.width, options.height, format, visualize});
+  };
+  viewZ_ = image("gbuffer.viewZ", kR32f, gpu::Visualize::Range);
+  normalRoughness_ = image("gbuffer.normal_roughness", kRgba16f, gpu::Visualize::Signed);
+  geometricNormal_ = image("gbuffer.geometric_normal", kRgba16f, gpu::Visualize::Signed);
+  baseColorMetallic_ = image("gbuffer.base_color_metallic", kRgba8, gpu::Visualize::Color);
+  emissive_ = image("gbuffer.emissive", kRgba16f, gpu::Visualize::Radiance);
+  motion_ = image("gbuffer.motion", kRg16f, gpu::Visualize::Range);
+  ids_ = image("gbuffer.ids", kR32ui, gpu::Visualize::Range);
+  direct_ = image("light.direct", kRgba16f, gpu::Visualize::Radiance);
+  gbufferPass_ = std::make_unique<gpu::ComputePass>(context, gbufferDesc());
+  directLightPass_ = std::make_unique<gpu::ComputePass>(context, directLightDesc());
+}
+
+FrameRenderer::~FrameRenderer() = default;
+
+void FrameRenderer::uploadStatic() {
+  std::vector<GpuMaterial> materials;
+  for (const scene::Material& m : scene_.materials) materials.push_back(packMaterial(m));
+  materials_ = std::make_unique<gpu::Buffer>(context_, "scene.materials", materials.size() * sizeof(GpuMaterial),
+                                             gpu::BufferUsage::DeviceLocal);
+  gpu::uploadBuffer(context_, *materials_, materials.data(), materials.size() * sizeof(GpuMaterial));
+  const std::vector<glm::uvec4> attributes = packVertexAttributes(scene_);
+  vertexAttributes_ = std::make_unique<gpu::Buffer>(
+      context_, "scene.vertex_attributes", attributes.size() * sizeof(glm::uvec4), gpu::BufferUsage::DeviceLocal);
+  gpu::uploadBuffer(context_, *vertexAttributes_, attributes.data(), attributes.size() * sizeof(glm::uvec4));
+}
+
+std::vector<Aov> FrameRenderer::aovs() {
+  return {{"viewZ", viewZ_.get()},
+          {"normal", normalRoughness_.get()},
+          {"geometric-normal", geometricNormal_.get()},
+          {"albedo", baseColorMetallic_.get()},
+          {"emissive", emissive_.get()},
+          {"motion", motion_.get()},
+          {"ids", ids_.get()},
+          {"direct", direct_.get()}};
+}
+
+void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, const FrameView& view) {
+  checkCamera(view.camera);
+  Slot& slot = slots_[frameIndex % kFramesInFlight];
+  const std::vector<glm::mat4> world = scene::nodeWorldMatrices(scene_, view.time);
+  const std::vector<scene::Instance> instances = scene::instancesAt(scene_, view.time);
+  const bool continuous = hasPrevious_ && !view.cut && previousTransforms_.size() == instances.size();
+
+  // Instances: this frame's and the previous frame's transforms.
+  auto* gpuInstances = static_cast<GpuInstance*>(slot.instancesStaging->mapped());
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    const glm::mat4& current = instances[i].objectToWorld;
+    GpuInstance g{};
+    rows3x4(current, g.objectToWorld);
+    rows3x4(continuous ? previousTransforms_[i] : current, g.previousObjectToWorld);
+    rows3x4(glm::mat4(glm::inverseTranspose(glm::mat3(current))), g.normalToWorld);
+    g.ids = glm::uvec4(std::uint32_t(i), 0u, 0u, 0u);
+    gpuInstances[i] = g;
+  }
+
+  // Punctual lights at their nodes' current places.
+  auto* gpuLights = static_cast<GpuLight*>(slot.lightsStaging->mapped());
+  std::uint32_t lightCount = 0;
+  for (std::size_t n = 0; n < scene_.nodes.size() && lightCount < kMaxLights; ++n) {
+    const int lightIndex = scene_.nodes[n].light;
+    if (lightIndex < 0) continue;
+    const scene::Light& light = scene_.lights[std::size_t(lightIndex)];
+    const glm::vec3 position(world[n][3]);
+    const glm::vec3 direction = glm::normalize(glm::vec3(world[n] * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    const float type = light.type == scene::LightType::Directional ? float(shared::kLightDirectional)
+                       : light.type == scene::LightType::Point     ? float(shared::kLightPoint)
+                                                                   : float(shared::kLightSpot);
+    const float cosOuter = std::cos(light.outerConeAngle);
+    const float cosInner = std::cos(light.innerConeAngle);
+    gpuLights[lightCount++] = {glm::vec4(position, type), glm::vec4(direction, light.range),
+                               glm::vec4(light.color * light.intensity, 0.0f),
+                               glm::vec4(cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), 0.0f, 0.0f)};
+  }
+
+  FrameConstants constants{};
+  constants.camera = gpuCamera(view.camera, options_.width, options_.height);
+  constants.previousCamera =
+      continuous ? gpuCamera(previousCamera_, options_.width, options_.height) : constants.camera;
+  constants.imageSize = glm::vec4(float(options_.width), float(options_.height), 1.0f / float(options_.width),
+                                  1.0f / float(options_.height));
+  const glm::vec2 jitter = options_.jitter ? glm::vec2(halton(std::uint32_t(frameIndex % 16) + 1, 2) - 0.5f,
+                                                       halton(std::uint32_t(frameIndex % 16) + 1, 3) - 0.5f)
+                                           : glm::vec2(0.0f);
+  const float pixelSpread = 2.0f * constants.camera.position.w / float(options_.height);
+  constants.jitter = glm::vec4(jitter, pixelSpread, float(frameIndex));
+  const scene::Sun& sun = options_.environment.sun;
+  constants.sunDirection = glm::vec4(sun.direction(), options_.environment.hasSun ? sun.illuminance : 0.0f);
+  constants.sunColor = glm::vec4(sun.color, float(lightCount));
+  constants.environment = glm::vec4(float(environment_->mipCount()), 1.0f, 0.0f, 0.0f);
+  std::memcpy(slot.constants->mapped(), &constants, sizeof constants);
+
+  recorder.copyBuffer(*slot.instancesStaging, *instances_,
+                      std::max<std::size_t>(1, instances.size()) * sizeof(GpuInstance));
+  recorder.copyBuffer(*slot.lightsStaging, *lights_, kMaxLights * sizeof(GpuLight));
+  bvh_->setInstances(instances);
+  gpuBvh_->updateInstances(recorder, std::uint32_t(frameIndex % kFramesInFlight));
+  environment_->record(recorder);
+
+  std::vector<gpu::Bind> binds = sceneBinds(*slot.constants);
+  binds.insert(binds.end(), {{"gOut_ViewZ", *viewZ_},
+                             {"gOut_NormalRoughness", *normalRoughness_},
+                             {"gOut_GeometricNormal", *geometricNormal_},
+                             {"gOut_BaseColorMetallic", *baseColorMetallic_},
+                             {"gOut_Emissive", *emissive_},
+                             {"gOut_Motion", *motion_},
+                             {"gOut_Ids", *ids_}});
+  recorder.dispatch(*gbufferPass_, options_.width, options_.height, binds);
+
+  binds = sceneBinds(*slot.constants);
+  std::erase_if(binds, [](const gpu::Bind& b) { return b.name == "gIn_Instances"; });
+  binds.insert(binds.end(), {{"gIn_ViewZ", *viewZ_},
+                             {"gIn_NormalRoughness", *normalRoughness_},
+                             {"gIn_GeometricNormal", *geometricNormal_},
+                             {"gIn_BaseColorMetallic", *baseColorMetallic_},
+                             {"gIn_Emissive", *emissive_},
+                             {"gIn_Lights", *lights_},
+                             {"gIn_Environment", environment_->radiance(), environment_->sampler()},
+                             {"gOut_Radiance", *direct_}});
+  recorder.dispatch(*directLightPass_, options_.width, options_.height, binds);
+
+  hasPrevious_ = true;
+  previousCamera_ = view.camera;
+  previousTransforms_.clear();
+  for (const scene::Instance& instance : instances) previousTransforms_.push_back(instance.objectToWorld);
+}
+
+// The bindings of scene_access.glsl, with this frame slot's constants.
+std::vector<gpu::Bind> FrameRenderer::sceneBinds(gpu::Buffer& frameConstants) {
+  std::vector<gpu::Bind> binds = {{"gIn_Frame", frameConstants},
+                                  {"gIn_Materials", *materials_},
+                                  {"gIn_Instances", *instances_},
+                                  {"gIn_VertexAttributes", *vertexAttributes_},
+                                  {"gIn_TextureAtlas", atlas_->pages(), context_.nearestSampler()},
+                                  {"gIn_TextureAtlasEntries", atlas_->entries()}};
+  gpuBvh_->appendBinds(binds);
+  return binds;
+}
+
+}  // namespace bounce::render

@@ -1,0 +1,112 @@
+// The frame renderer: for a scene and a camera, makes exactly the per-frame
+// inputs a real engine hands a GI pass — a full-resolution G-buffer from
+// BVH-traced primary rays, and direct lighting with ray-traced shadows.
+//
+//   render.gbuffer       viewZ, normal+roughness, geometric normal, base colour+metallic,
+//                        emissive, motion vectors, object/material ids
+//   render.direct_light  sun + punctual lights (GGX + Lambert), emission; environment behind
+//
+// Animated nodes move between frames; their motion vectors include the
+// motion (previous transforms are kept per instance).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gpu/context.h"
+#include "gpu/pass.h"
+#include "gpu/recorder.h"
+#include "gpu/resources.h"
+#include "render/environment.h"
+#include "render/frame_types.glsl"
+#include "scene/scene.h"
+
+namespace bounce::render {
+
+class SceneBvh;
+class GpuBvh;
+class TextureAtlas;
+
+// The camera of a pose as the passes see it (render/frame_types.glsl).
+shared::GpuCamera gpuCamera(const scene::CameraPose& pose, std::uint32_t width, std::uint32_t height);
+
+struct FrameRendererOptions {
+  std::uint32_t width = 960;
+  std::uint32_t height = 540;
+  bool jitter = false;  // sub-pixel camera jitter (Halton 2,3), kept out of motion vectors
+  std::uint32_t maxTextureSize = 2048;
+  EnvironmentDesc environment;
+};
+
+// One frame's view: where the camera is, when it is (animation time), and
+// whether it jumped (no motion vectors across a cut).
+struct FrameView {
+  scene::CameraPose camera;
+  float time = 0.0f;
+  bool cut = false;
+};
+
+// A named image the renderer makes, for --aov and --dump-stages.
+struct Aov {
+  std::string name;  // viewZ, normal, geometric-normal, albedo, roughness, metallic, emissive, motion, ids, direct
+  gpu::Image* image;
+};
+
+class FrameRenderer {
+ public:
+  FrameRenderer(gpu::Context& context, const scene::Scene& scene, const FrameRendererOptions& options);
+  ~FrameRenderer();
+
+  // Records one frame into the recorder of the FrameLoop slot `frameIndex % framesInFlight`.
+  void record(gpu::Recorder& recorder, std::uint64_t frameIndex, const FrameView& view);
+
+  gpu::Image& viewZ() { return *viewZ_; }
+  gpu::Image& normalRoughness() { return *normalRoughness_; }
+  gpu::Image& geometricNormal() { return *geometricNormal_; }
+  gpu::Image& baseColorMetallic() { return *baseColorMetallic_; }
+  gpu::Image& emissive() { return *emissive_; }
+  gpu::Image& motion() { return *motion_; }
+  gpu::Image& ids() { return *ids_; }
+  gpu::Image& direct() { return *direct_; }
+  std::vector<Aov> aovs();
+  Environment& environment() { return *environment_; }
+  GpuBvh& gpuBvh() { return *gpuBvh_; }
+  std::uint32_t width() const { return options_.width; }
+  std::uint32_t height() const { return options_.height; }
+  std::size_t triangleCount() const { return triangleCount_; }
+
+  static constexpr std::uint32_t kFramesInFlight = 2;
+  static constexpr std::uint32_t kMaxLights = 256;
+
+ private:
+  struct Slot {
+    std::unique_ptr<gpu::Buffer> constants;  // uniform, written by the CPU
+    std::unique_ptr<gpu::Buffer> instancesStaging;
+    std::unique_ptr<gpu::Buffer> lightsStaging;
+  };
+  void uploadStatic();
+  std::vector<gpu::Bind> sceneBinds(gpu::Buffer& frameConstants);
+
+  gpu::Context& context_;
+  const scene::Scene& scene_;
+  FrameRendererOptions options_;
+  std::size_t triangleCount_ = 0;
+  std::size_t instanceCount_ = 0;
+  std::unique_ptr<SceneBvh> bvh_;
+  std::unique_ptr<GpuBvh> gpuBvh_;
+  std::unique_ptr<TextureAtlas> atlas_;
+  std::unique_ptr<Environment> environment_;
+  std::unique_ptr<gpu::Buffer> materials_, vertexAttributes_, instances_, lights_;
+  std::array<Slot, kFramesInFlight> slots_;
+  std::unique_ptr<gpu::Image> viewZ_, normalRoughness_, geometricNormal_, baseColorMetallic_, emissive_, motion_, ids_,
+      direct_;
+  std::unique_ptr<gpu::ComputePass> gbufferPass_, directLightPass_;
+  // The previous frame's camera and instance transforms, for motion vectors.
+  bool hasPrevious_ = false;
+  scene::CameraPose previousCamera_;
+  std::vector<glm::mat4> previousTransforms_;
+};
+
+}  // namespace bounce::render

@@ -1,0 +1,342 @@
+// Tests of src/render/frame_renderer: the G-buffer and direct light of scenes
+// with known answers (a plane and a sphere), motion vectors checked by
+// reprojecting, and the direct-light laws (sun: E * BRDF * cos; point light:
+// inverse square; shadowed points: black). All on lavapipe with validation.
+#include "render/frame_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gpu/frame_loop.h"
+#include "gpu/transfer.h"
+#include "gpu_test.h"
+#include "render/frame_types.glsl"
+#include "shared/brdf.glsl"
+#include "shared/intersect.glsl"
+
+namespace bounce::render {
+namespace {
+
+constexpr std::uint32_t kWidth = 96;
+constexpr std::uint32_t kHeight = 64;
+const glm::vec3 kSphereCenter(0.0f, 1.0f, 0.0f);
+constexpr float kSphereRadius = 1.0f;
+
+scene::Mesh planeMesh(float halfSize) {
+  scene::Mesh mesh;
+  mesh.positions = {
+      {-halfSize, 0, -halfSize}, {halfSize, 0, -halfSize}, {halfSize, 0, halfSize}, {-halfSize, 0, halfSize}};
+  mesh.normals.assign(4, {0, 1, 0});
+  mesh.tangents.assign(4, {1, 0, 0, 1});
+  mesh.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  mesh.indices = {0, 2, 1, 0, 3, 2};
+  return mesh;
+}
+
+// A UV sphere of unit radius around the origin, smooth normals.
+scene::Mesh sphereMesh(int segments, int rings) {
+  scene::Mesh mesh;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s <= segments; ++s) {
+      const float theta = glm::pi<float>() * float(r) / float(rings);
+      const float phi = 2.0f * glm::pi<float>() * float(s) / float(segments);
+      const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      mesh.positions.push_back(n);
+      mesh.normals.push_back(n);
+      mesh.tangents.emplace_back(-std::sin(phi), 0.0f, std::cos(phi), 1.0f);
+      mesh.texcoords.emplace_back(float(s) / float(segments), float(r) / float(rings));
+    }
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const std::uint32_t a = std::uint32_t(r * (segments + 1) + s), b = a + std::uint32_t(segments + 1);
+      mesh.indices.insert(mesh.indices.end(), {a, a + 1, b, a + 1, b + 1, b});
+    }
+  mesh.material = 1;
+  return mesh;
+}
+
+// Plane (material 0) and sphere (material 1, node 1) under a sun.
+scene::Scene planeAndSphere() {
+  scene::Scene s;
+  s.name = "plane-and-sphere";
+  scene::Material ground;
+  ground.baseColorFactor = glm::vec4(0.6f, 0.5f, 0.4f, 1.0f);
+  ground.metallicFactor = 0.0f;
+  ground.roughnessFactor = 0.8f;
+  scene::Material ball = ground;
+  ball.baseColorFactor = glm::vec4(0.2f, 0.3f, 0.9f, 1.0f);
+  s.materials = {ground, ball};
+  s.meshes = {planeMesh(50.0f), sphereMesh(96, 48)};
+  scene::Node planeNode;
+  planeNode.meshes = {0};
+  scene::Node sphereNode;
+  sphereNode.meshes = {1};
+  sphereNode.local.translation = kSphereCenter;
+  s.nodes = {planeNode, sphereNode};
+  s.roots = {0, 1};
+  s.sun.elevationDegrees = 40.0f;
+  s.sun.azimuthDegrees = 20.0f;
+  s.sun.illuminance = 3.0f;
+  s.sun.color = glm::vec3(1.0f);
+  return s;
+}
+
+scene::CameraPose cameraAt(glm::vec3 position, glm::vec3 target) {
+  scene::CameraPose pose;
+  pose.position = position;
+  pose.target = target;
+  pose.fovYDegrees = 50.0f;
+  return pose;
+}
+
+FrameRendererOptions smallOptions(const scene::Scene& s) {
+  FrameRendererOptions options;
+  options.width = kWidth;
+  options.height = kHeight;
+  options.environment.sun = s.sun;
+  options.environment.hasSun = s.hasSun;
+  options.environment.skyWidth = 32;
+  return options;
+}
+
+// The CPU twin of a G-buffer ray through a pixel centre.
+glm::vec3 rayThrough(const shared::GpuCamera& camera, int x, int y) {
+  return shared::cameraRayDirection(camera, glm::vec2(float(x) + 0.5f, float(y) + 0.5f),
+                                    glm::vec2(float(kWidth), float(kHeight)));
+}
+
+// Base colour as the G-buffer stores it (rgba8 unorm).
+glm::vec3 storedBaseColor(const glm::vec4& factor) { return glm::round(glm::vec3(factor) * 255.0f) / 255.0f; }
+
+// The plane mesh is 100 m wide; the analytic plane goes on for ever.
+bool onPlaneMesh(const glm::vec3& p) { return std::abs(p.x) < 49.0f && std::abs(p.z) < 49.0f; }
+
+struct Frame {
+  io::ImageF viewZ, normal, geometric, motion, direct, ids;
+};
+
+class FrameRendererTest : public testing::GpuTest {
+ protected:
+  // Renders the given views in order (one FrameLoop frame each) and returns
+  // the G-buffer and direct light of every frame.
+  std::vector<Frame> render(const scene::Scene& s, const std::vector<FrameView>& views) {
+    FrameRenderer renderer(context(), s, smallOptions(s));
+    gpu::FrameLoop loop(context(), FrameRenderer::kFramesInFlight);
+    std::vector<Frame> frames;
+    for (const FrameView& view : views) {
+      gpu::Recorder& recorder = loop.beginFrame();
+      renderer.record(recorder, loop.frameIndex(), view);
+      loop.endFrame();
+      loop.finish();
+      frames.push_back(
+          {gpu::readbackImage(context(), renderer.viewZ()), gpu::readbackImage(context(), renderer.normalRoughness()),
+           gpu::readbackImage(context(), renderer.geometricNormal()), gpu::readbackImage(context(), renderer.motion()),
+           gpu::readbackImage(context(), renderer.direct()), gpu::readbackImage(context(), renderer.ids())});
+    }
+    return frames;
+  }
+};
+
+TEST_F(FrameRendererTest, PlaneAndSphereGiveExactViewZAndNormals) {
+  const scene::Scene s = planeAndSphere();
+  const scene::CameraPose pose = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
+  const Frame frame = render(s, {{pose, 0.0f, true}})[0];
+  const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
+  int planePixels = 0, spherePixels = 0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      const glm::vec3 d = rayThrough(camera, x, y);
+      const float tSphere = shared::intersectSphere(pose.position, d, kSphereCenter, kSphereRadius, 0.0f);
+      const float tPlane = shared::intersectPlane(pose.position, d, glm::vec3(0, 1, 0), 0.0f, 0.0f);
+      const float viewZ = frame.viewZ.at(x, y, 0);
+      // Pixels near the sphere's silhouette differ between the tessellation
+      // and the true sphere; they are left out.
+      const glm::vec3 toCenter = kSphereCenter - pose.position;
+      const float distanceToAxis = glm::length(toCenter - d * glm::dot(toCenter, d));
+      if (std::abs(distanceToAxis - kSphereRadius) < 0.03f) continue;
+      const bool sphere = tSphere < shared::kNoHit;
+      const float t = sphere ? tSphere : tPlane;
+      if (!sphere && tPlane < shared::kNoHit && !onPlaneMesh(pose.position + d * tPlane)) continue;
+      if (t >= shared::kNoHit) {
+        EXPECT_EQ(viewZ, 0.0f) << x << "," << y << " sees the sky";
+        continue;
+      }
+      const glm::vec3 hit = pose.position + d * t;
+      const float expectedViewZ = glm::dot(hit - pose.position, glm::vec3(camera.forward));
+      const glm::vec3 normal(frame.normal.at(x, y, 0), frame.normal.at(x, y, 1), frame.normal.at(x, y, 2));
+      const glm::vec3 geometric(frame.geometric.at(x, y, 0), frame.geometric.at(x, y, 1), frame.geometric.at(x, y, 2));
+      if (sphere) {
+        ++spherePixels;
+        const glm::vec3 expected = glm::normalize(hit - kSphereCenter);
+        // 96 x 48 facets: the chord sags 0.05 % of the radius; facet normals
+        // tilt up to ~3.8 degrees, interpolated ones about half that.
+        EXPECT_NEAR(viewZ, expectedViewZ, 2e-3f * expectedViewZ) << x << "," << y;
+        EXPECT_GT(glm::dot(geometric, expected), std::cos(glm::radians(4.0f))) << x << "," << y;
+        EXPECT_GT(glm::dot(normal, expected), std::cos(glm::radians(2.5f))) << x << "," << y;
+      } else {
+        ++planePixels;
+        EXPECT_NEAR(viewZ, expectedViewZ, 1e-4f * expectedViewZ) << x << "," << y;
+        EXPECT_NEAR(normal.y, 1.0f, 1e-3f) << x << "," << y;
+        EXPECT_NEAR(geometric.y, 1.0f, 1e-3f) << x << "," << y;
+        EXPECT_EQ(std::uint32_t(frame.ids.at(x, y, 0)) & 0xffffu, 0u) << "plane material";
+      }
+    }
+  EXPECT_GT(planePixels, 1000);
+  EXPECT_GT(spherePixels, 300);
+}
+
+TEST_F(FrameRendererTest, MotionVectorsReprojectToThePreviousPixel) {
+  const scene::Scene s = planeAndSphere();
+  // A small move and turn, as between two real frames (motion of a few pixels).
+  const scene::CameraPose first = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
+  const scene::CameraPose second = cameraAt({0.55f, 2.02f, 5.9f}, {0.03f, 0.8f, 0.0f});
+  const std::vector<Frame> frames = render(s, {{first, 0.0f, true}, {second, 0.0f, false}});
+  const shared::GpuCamera previous = gpuCamera(first, kWidth, kHeight);
+  const shared::GpuCamera current = gpuCamera(second, kWidth, kHeight);
+  const glm::vec2 size{float(kWidth), float(kHeight)};
+  int checked = 0, reprojected = 0;
+  float largest = 0.0f;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      const float viewZ = frames[1].viewZ.at(x, y, 0);
+      if (viewZ <= 0.0f) continue;
+      const glm::vec3 d = rayThrough(current, x, y);
+      const glm::vec3 world = second.position + d * (viewZ / glm::dot(d, glm::vec3(current.forward)));
+      const glm::vec2 expected = glm::vec2(shared::projectToPixel(previous, world, size));
+      const glm::vec2 motion(frames[1].motion.at(x, y, 0), frames[1].motion.at(x, y, 1));
+      const glm::vec2 reprojection = glm::vec2(float(x) + 0.5f, float(y) + 0.5f) + motion;
+      largest = std::max(largest, glm::length(motion));
+      EXPECT_LT(glm::length(reprojection - expected), 0.01f) << x << "," << y;
+      ++checked;
+      // And the previous frame really saw this point there: its depth at the
+      // reprojected pixel puts a surface at the same place (away from edges).
+      const int px = int(std::floor(reprojection.x)), py = int(std::floor(reprojection.y));
+      if (px < 0 || py < 0 || px >= int(kWidth) || py >= int(kHeight)) continue;
+      const float previousViewZ = frames[0].viewZ.at(px, py, 0);
+      if (previousViewZ <= 0.0f) continue;
+      const glm::vec3 dp = rayThrough(previous, px, py);
+      const glm::vec3 seen = first.position + dp * (previousViewZ / glm::dot(dp, glm::vec3(previous.forward)));
+      const float pixelSize = previousViewZ * 2.0f * previous.position.w / float(kHeight);
+      if (glm::length(seen - world) < 3.0f * pixelSize / std::max(0.2f, std::abs(dp.y))) ++reprojected;
+    }
+  EXPECT_GT(checked, 2000);
+  EXPECT_GT(largest, 1.0f) << "the camera must actually move the image";
+  EXPECT_GT(double(reprojected), 0.95 * checked);
+}
+
+TEST_F(FrameRendererTest, AnimatedNodeMotionIsInTheMotionVectors) {
+  scene::Scene s = planeAndSphere();
+  scene::Animation slide;
+  slide.channels.push_back({1,
+                            scene::AnimatedProperty::Translation,
+                            scene::Interpolation::Linear,
+                            {0.0f, 1.0f},
+                            {glm::vec4(kSphereCenter, 0.0f), glm::vec4(kSphereCenter + glm::vec3(1, 0, 0), 0.0f)}});
+  s.animations.push_back(slide);
+  const scene::CameraPose pose = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
+  const float t0 = 0.25f, t1 = 0.3f;  // the sphere moves 0.05 m
+  const std::vector<Frame> frames = render(s, {{pose, t0, true}, {pose, t1, false}});
+  const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
+  const glm::vec2 size{float(kWidth), float(kHeight)};
+  int spherePixels = 0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      const float viewZ = frames[1].viewZ.at(x, y, 0);
+      if (viewZ <= 0.0f) continue;
+      const glm::vec3 d = rayThrough(camera, x, y);
+      const glm::vec3 world = pose.position + d * (viewZ / glm::dot(d, glm::vec3(camera.forward)));
+      const bool onSphere = (std::uint32_t(frames[1].ids.at(x, y, 0)) >> 16) == 1u;
+      const glm::vec3 previousWorld = onSphere ? world - glm::vec3(0.05f, 0, 0) : world;
+      const glm::vec2 expected = glm::vec2(shared::projectToPixel(camera, previousWorld, size));
+      const glm::vec2 motion(frames[1].motion.at(x, y, 0), frames[1].motion.at(x, y, 1));
+      EXPECT_LT(glm::length(glm::vec2(float(x) + 0.5f, float(y) + 0.5f) + motion - expected), 0.01f) << x << "," << y;
+      if (onSphere) {
+        ++spherePixels;
+        EXPECT_GT(glm::length(motion), 0.3f) << "the moving sphere must have motion";
+      }
+    }
+  EXPECT_GT(spherePixels, 300);
+}
+
+TEST_F(FrameRendererTest, SunLightsThePlaneByTheBrdfAndShadowsAreBlack) {
+  const scene::Scene s = planeAndSphere();
+  const scene::CameraPose pose = cameraAt({0.5f, 3.0f, 6.0f}, {0.0f, 0.3f, 0.0f});
+  const Frame frame = render(s, {{pose, 0.0f, true}})[0];
+  const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
+  const glm::vec3 toSun = s.sun.direction();
+  const glm::vec3 baseColor = storedBaseColor(s.materials[0].baseColorFactor);
+  int lit = 0, shadowed = 0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      const glm::vec3 d = rayThrough(camera, x, y);
+      const float tSphere = shared::intersectSphere(pose.position, d, kSphereCenter, kSphereRadius * 1.02f, 0.0f);
+      const float tPlane = shared::intersectPlane(pose.position, d, glm::vec3(0, 1, 0), 0.0f, 0.0f);
+      if (tSphere < shared::kNoHit || tPlane >= shared::kNoHit) continue;
+      const glm::vec3 hit = pose.position + d * tPlane;
+      if (!onPlaneMesh(hit)) continue;
+      const glm::vec3 radiance(frame.direct.at(x, y, 0), frame.direct.at(x, y, 1), frame.direct.at(x, y, 2));
+      // Shadow of the (slightly enlarged, then shrunk) sphere: clear cases only.
+      const bool inShadow =
+          shared::intersectSphere(hit, toSun, kSphereCenter, kSphereRadius * 0.97f, 0.0f) < shared::kNoHit;
+      const bool clearlyLit =
+          shared::intersectSphere(hit, toSun, kSphereCenter, kSphereRadius * 1.03f, 0.0f) >= shared::kNoHit;
+      if (inShadow) {
+        ++shadowed;
+        EXPECT_EQ(radiance, glm::vec3(0.0f)) << x << "," << y;
+      } else if (clearlyLit) {
+        ++lit;
+        const glm::vec3 expected =
+            s.sun.illuminance * shared::materialBrdfCosine(glm::vec3(0, 1, 0), -d, toSun, baseColor, 0.0f, 0.8f);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(radiance[c], expected[c], 1e-3f * expected[c]) << x << "," << y;
+        // The diffuse part alone is E * albedo / pi * cos.
+        const glm::vec3 specular =
+            s.sun.illuminance *
+            shared::ggxSpecularCosine(glm::vec3(0, 1, 0), -d, toSun, glm::vec3(0.04f), shared::ggxAlpha(0.8f));
+        EXPECT_NEAR(radiance.x - specular.x, s.sun.illuminance * baseColor.x / glm::pi<float>() * toSun.y,
+                    2e-3f * radiance.x);
+      }
+    }
+  EXPECT_GT(lit, 1000);
+  EXPECT_GT(shadowed, 10);
+}
+
+TEST_F(FrameRendererTest, PointLightFallsOffWithTheInverseSquare) {
+  scene::Scene s = planeAndSphere();
+  s.nodes[1].meshes.clear();  // no sphere: nothing casts shadows
+  s.hasSun = false;
+  scene::Light bulb;
+  bulb.type = scene::LightType::Point;
+  bulb.intensity = 20.0f;
+  s.lights.push_back(bulb);
+  scene::Node lightNode;
+  lightNode.light = 0;
+  lightNode.local.translation = {0.0f, 2.0f, 0.0f};
+  s.nodes.push_back(lightNode);
+  s.roots.push_back(2);
+  const scene::CameraPose pose = cameraAt({0.0f, 4.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
+  const Frame frame = render(s, {{pose, 0.0f, true}})[0];
+  const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
+  const glm::vec3 baseColor = storedBaseColor(s.materials[0].baseColorFactor);
+  int checked = 0;
+  for (int y = 0; y < int(kHeight); y += 3)
+    for (int x = 0; x < int(kWidth); x += 3) {
+      const glm::vec3 d = rayThrough(camera, x, y);
+      const float t = shared::intersectPlane(pose.position, d, glm::vec3(0, 1, 0), 0.0f, 0.0f);
+      if (t >= shared::kNoHit) continue;
+      const glm::vec3 hit = pose.position + d * t;
+      if (!onPlaneMesh(hit)) continue;
+      const glm::vec3 toLight = glm::vec3(0, 2, 0) - hit;
+      const float distanceSquared = glm::dot(toLight, toLight);
+      const glm::vec3 expected =
+          bulb.intensity / distanceSquared *
+          shared::materialBrdfCosine(glm::vec3(0, 1, 0), -d, glm::normalize(toLight), baseColor, 0.0f, 0.8f);
+      const float red = frame.direct.at(x, y, 0);
+      EXPECT_NEAR(red, expected.x, 2e-3f * expected.x) << x << "," << y;
+      ++checked;
+    }
+  EXPECT_GT(checked, 300);
+}
+
+}  // namespace
+}  // namespace bounce::render
