@@ -198,3 +198,30 @@ TEST_F(GpuCore, BadImageSizesAreClearErrors) {
 
 }  // namespace
 }  // namespace bounce::testing
+
+namespace bounce::testing {
+namespace {
+
+// One image bound twice to a dispatch, one mip read and the next written,
+// right after an upload left it in a transfer layout: the transition and the
+// hazard barrier must not land unordered in one batch (sync validation says so).
+TEST_F(GpuCore, OneImageBoundTwiceNeedsNoHandWrittenBarrier) {
+  gpu::Image image(context(), {"chain", 16, 8, VK_FORMAT_R16G16B16A16_SFLOAT, gpu::Visualize::Radiance, 3});
+  io::ImageF pixels(16, 8, {"R", "G", "B", "A"});
+  for (float& v : pixels.pixels) v = 0.5f;
+  gpu::uploadImage(context(), image, pixels);
+  gpu::ComputePass downsample(
+      context(), {.name = "tests.downsample_in_place",
+                  .shader = "render/env_downsample",
+                  .resources = {{"gIn_Source", gpu::Access::Read, VK_FORMAT_UNDEFINED, "level k - 1",
+                                 gpu::ResourceKind::SampledImage},
+                                {"gOut_Destination", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "level k"}}});
+  context().submitAndWait([&](gpu::Recorder& r) {
+    for (std::uint32_t level = 1; level < 3; ++level)
+      r.dispatch(downsample, image.mipWidth(level), image.mipHeight(level),
+                 {{"gIn_Source", image, gpu::MipLevel{level - 1}}, {"gOut_Destination", image, gpu::MipLevel{level}}});
+  });
+}
+
+}  // namespace
+}  // namespace bounce::testing

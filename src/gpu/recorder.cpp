@@ -26,6 +26,13 @@ Recorder::Recorder(Context& context, VkCommandBuffer commandBuffer, TimestampSin
 
 void Recorder::require(SyncState& state, VkImage image, std::uint32_t mipLevels, VkImageLayout layout,
                        VkPipelineStageFlags2 stage, VkAccessFlags2 access, bool writes) {
+  // The same image bound twice to one dispatch (e.g. reading mip k - 1 while
+  // writing mip k): barriers within one batch are unordered, so the first
+  // one (often a layout transition) must be recorded before the second.
+  if (image != VK_NULL_HANDLE &&
+      std::any_of(imageBarriers_.begin(), imageBarriers_.end(),
+                  [&](const VkImageMemoryBarrier2& pending) { return pending.image == image; }))
+    flushBarriers();
   // A layout transition reads and writes the whole image, so it orders
   // against every earlier access, like a write.
   const bool transition = image != VK_NULL_HANDLE && state.layout != layout;
@@ -110,8 +117,8 @@ void Recorder::writeTimestamp(bool begin, const std::string& passName) {
   if (!begin) timestamps_->passes.push_back(passName);
 }
 
-void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height,
-                        std::span<const Bind> binds, const void* pushConstants, std::size_t pushConstantBytes) {
+void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> binds,
+                        const void* pushConstants, std::size_t pushConstantBytes) {
   const PassDesc& desc = pass.desc();
   auto fail = [&](const std::string& why) { return GpuError("pass '" + desc.name + "': " + why); };
   if (width == 0 || height == 0) throw fail("dispatch over an empty grid");
