@@ -31,23 +31,51 @@ const std::set<std::string>& knownAovs() {
   return names;
 }
 
+// Lays display images out left to right, top to bottom, `columns` to a row,
+// each shrunk by `shrink` (box filter), on black.
+io::ImageF contactSheet(const std::vector<io::ImageF>& cells, int columns, int shrink) {
+  const int cellWidth = cells.front().width / shrink, cellHeight = cells.front().height / shrink;
+  const int rows = (int(cells.size()) + columns - 1) / columns;
+  io::ImageF sheet(cellWidth * columns, cellHeight * rows, {"R", "G", "B"});
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const int ox = int(i) % columns * cellWidth, oy = int(i) / columns * cellHeight;
+    for (int y = 0; y < cellHeight; ++y)
+      for (int x = 0; x < cellWidth; ++x)
+        for (int c = 0; c < 3; ++c) {
+          float sum = 0.0f;
+          for (int sy = 0; sy < shrink; ++sy)
+            for (int sx = 0; sx < shrink; ++sx) sum += cells[i].at(x * shrink + sx, y * shrink + sy, c);
+          sheet.at(ox + x, oy + y, c) = sum / float(shrink * shrink);
+        }
+  }
+  return sheet;
+}
+
+// Writes each asked-for AOV of the last frame as EXR + false-colour PNG, and
+// all of them side by side on OUT/aov/sheet.png (in the order printed).
 void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
                const fs::path& dir, float exposure) {
   fs::create_directories(dir);
+  const bool all = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
+  const auto wants = [&](const std::string& name) {
+    return all || std::find(wanted.begin(), wanted.end(), name) != wanted.end();
+  };
+  std::vector<io::ImageF> cells;
+  std::string order;
+  const auto write = [&](const std::string& name, const io::ImageF& pixels, gpu::Visualize how) {
+    io::writeExr(dir / (name + ".exr"), pixels);
+    const gpu::VisualizedImage view = gpu::visualize(pixels, how);
+    io::writePng(dir / (name + ".png"), view.image, view.encoding, exposure);
+    cells.push_back(io::toDisplay(view.image, view.encoding, exposure));
+    order += (order.empty() ? "" : ", ") + name;
+  };
   for (const render::Aov& aov : renderer.aovs()) {
-    const bool all = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
-    const bool asked = all || std::find(wanted.begin(), wanted.end(), aov.name) != wanted.end();
     // roughness and metallic live in the alpha channels of normal and albedo.
-    const bool roughness = (all || std::count(wanted.begin(), wanted.end(), "roughness")) && aov.name == "normal";
-    const bool metallic = (all || std::count(wanted.begin(), wanted.end(), "metallic")) && aov.name == "albedo";
-    if (!asked && !roughness && !metallic) continue;
+    const bool roughness = aov.name == "normal" && wants("roughness");
+    const bool metallic = aov.name == "albedo" && wants("metallic");
+    if (!wants(aov.name) && !roughness && !metallic) continue;
     const io::ImageF image = gpu::readbackImage(context, *aov.image);
-    const auto write = [&](const std::string& name, const io::ImageF& pixels, gpu::Visualize how) {
-      io::writeExr(dir / (name + ".exr"), pixels);
-      const gpu::VisualizedImage view = gpu::visualize(pixels, how);
-      io::writePng(dir / (name + ".png"), view.image, view.encoding, exposure);
-    };
-    if (asked) write(aov.name, image, aov.image->desc().visualize);
+    if (wants(aov.name)) write(aov.name, image, aov.image->desc().visualize);
     if (roughness || metallic) {
       io::ImageF channel(image.width, image.height, {roughness ? "roughness" : "metallic"});
       for (int y = 0; y < image.height; ++y)
@@ -55,6 +83,9 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
       write(roughness ? "roughness" : "metallic", channel, gpu::Visualize::Raw);
     }
   }
+  const int shrink = cells.front().width > 480 ? 2 : 1;
+  io::writePng(dir / "sheet.png", contactSheet(cells, 4, shrink), io::PngEncoding::Linear);
+  std::printf("wrote AOVs to %s; sheet.png shows, left to right, top to bottom: %s\n", dir.c_str(), order.c_str());
 }
 
 // Numbered PNGs into an MP4 when ffmpeg is installed; otherwise they stay.
@@ -207,7 +238,6 @@ int runRender(const RenderOptions& options) {
   if (options.frames > 1) encodeVideo(framesDir, outDir / "render.mp4", options.fps);
   if (!options.aovs.empty()) {
     writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure);
-    std::printf("wrote AOVs to %s\n", (outDir / "aov").c_str());
   }
   if (!captures.empty()) {
     auto files = gpu::writeStageDumps(outDir / "stages", captures, options.exposure);

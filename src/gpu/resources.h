@@ -32,6 +32,8 @@ enum class Visualize {
   Signed,    // [-1,1] vectors such as normals: x*0.5+0.5
   Range,     // scalar data such as depth: min..max of the image to black..white
   Raw,       // stored as is, clamped to [0,1]
+  Motion,    // 2D vectors: x in red, y in green, 0.5 = still, scaled by the largest
+  Ids,       // integer labels: one hashed colour per value, all-ones (none) black
 };
 
 enum class BufferUsage {

@@ -7,6 +7,8 @@
 
 #include "gpu/transfer.h"
 
+#include "shared/rng.glsl"
+
 namespace bounce::gpu {
 namespace {
 
@@ -48,6 +50,31 @@ VisualizedImage visualize(const io::ImageF& image, Visualize how) {
     }
     case Visualize::Raw:
       return {firstChannels(image, 3), io::PngEncoding::Linear};
+    case Visualize::Motion: {
+      io::ImageF out(image.width, image.height, {"R", "G", "B"});
+      float largest = 0.0f;
+      for (float v : image.pixels)
+        if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
+      const float scale = largest > 0.0f ? 0.5f / largest : 0.0f;
+      for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+          for (int c = 0; c < 2 && c < int(image.channelCount()); ++c)
+            out.at(x, y, c) = 0.5f + image.at(x, y, c) * scale;
+      return {out, io::PngEncoding::Linear};
+    }
+    case Visualize::Ids: {
+      io::ImageF out(image.width, image.height, {"R", "G", "B"});
+      for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+          // Readback gives floats: exact below 2^24, and all-ones rounds up to 2^32.
+          const float value = image.at(x, y, 0);
+          if (!(value >= 0.0f && value < 4294967040.0f)) continue;
+          const auto id = std::uint32_t(value);
+          const std::uint32_t h = shared::pcgHash(id);
+          for (int c = 0; c < 3; ++c) out.at(x, y, c) = 0.2f + 0.8f * float((h >> (8 * c)) & 0xffu) / 255.0f;
+        }
+      return {out, io::PngEncoding::Linear};
+    }
   }
   return {image, io::PngEncoding::Linear};
 }

@@ -459,6 +459,25 @@ void writeFileAtomically(const fs::path& path, const void* data, std::size_t siz
   }
 }
 
+// The colour of one pixel of an image with 1 to 4 channels.
+glm::vec3 pixelColour(const float* in, std::size_t channelCount) {
+  if (channelCount == 1) return glm::vec3(in[0]);
+  if (channelCount == 2) return glm::vec3(in[0], in[1], 0.0f);  // e.g. motion vectors: x in red, y in green
+  return glm::vec3(in[0], in[1], in[2]);
+}
+
+glm::vec3 encodeForDisplay(glm::vec3 rgb, PngEncoding encoding, float exposure) {
+  switch (encoding) {
+    case PngEncoding::Tonemapped:
+      return shared::displayEncode(glm::min(rgb, glm::vec3(kTonemapInputLimit / exposure)), exposure);
+    case PngEncoding::Srgb:
+      return shared::srgbEncode(glm::clamp(rgb, 0.0f, 1.0f));
+    case PngEncoding::Linear:
+      break;
+  }
+  return glm::clamp(rgb, 0.0f, 1.0f);
+}
+
 std::uint8_t toByte(float v) { return std::uint8_t(std::floor(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f)); }
 
 }  // namespace
@@ -554,6 +573,19 @@ void writeExr(const fs::path& path, const ImageF& image) {
   writeFileAtomically(path, encoded.data(), encoded.size());
 }
 
+ImageF toDisplay(const ImageF& image, PngEncoding encoding, float exposure) {
+  ImageF display(image.width, image.height, {"R", "G", "B"});
+  const std::size_t channelCount = image.channelCount();
+  for (std::size_t i = 0; i < std::size_t(image.width) * std::size_t(image.height); ++i) {
+    const float* in = image.pixels.data() + i * channelCount;
+    const glm::vec3 rgb = pixelColour(in, channelCount);
+    const bool bad = !std::isfinite(rgb.x) || !std::isfinite(rgb.y) || !std::isfinite(rgb.z);
+    const glm::vec3 encoded = bad ? glm::vec3(1.0f, 0.0f, 1.0f) : encodeForDisplay(rgb, encoding, exposure);
+    for (int c = 0; c < 3; ++c) display.pixels[i * 3 + std::size_t(c)] = encoded[c];
+  }
+  return display;
+}
+
 void writePng(const fs::path& path, const ImageF& image, PngEncoding encoding, float exposure) {
   validateForWrite(path, image);
   if (encoding == PngEncoding::Tonemapped && !(std::isfinite(exposure) && exposure >= 0.0f)) {
@@ -567,30 +599,13 @@ void writePng(const fs::path& path, const ImageF& image, PngEncoding encoding, f
   // A grey image with bad values is written as RGB so the magenta shows.
   const int outComponents = hasAlpha ? 4 : (channelCount == 1 && !anyNonFinite ? 1 : 3);
 
-  const auto encode = [&](glm::vec3 rgb) -> glm::vec3 {
-    switch (encoding) {
-      case PngEncoding::Tonemapped:
-        return shared::displayEncode(glm::min(rgb, glm::vec3(kTonemapInputLimit / exposure)), exposure);
-      case PngEncoding::Srgb:
-        return shared::srgbEncode(glm::clamp(rgb, 0.0f, 1.0f));
-      case PngEncoding::Linear:
-        break;
-    }
-    return glm::clamp(rgb, 0.0f, 1.0f);
-  };
+  const auto encode = [&](glm::vec3 rgb) { return encodeForDisplay(rgb, encoding, exposure); };
 
   std::vector<std::uint8_t> bytes(pixelCount * std::size_t(outComponents));
   std::uint8_t* out = bytes.data();
   for (std::size_t i = 0; i < pixelCount; ++i) {
     const float* in = image.pixels.data() + i * channelCount;
-    glm::vec3 rgb;
-    if (channelCount == 1) {
-      rgb = glm::vec3(in[0]);
-    } else if (channelCount == 2) {
-      rgb = glm::vec3(in[0], in[1], 0.0f);  // e.g. motion vectors: x in red, y in green
-    } else {
-      rgb = glm::vec3(in[0], in[1], in[2]);
-    }
+    const glm::vec3 rgb = pixelColour(in, channelCount);
     const float alpha = hasAlpha ? in[3] : 1.0f;
     const bool bad = !std::isfinite(rgb.x) || !std::isfinite(rgb.y) || !std::isfinite(rgb.z) || !std::isfinite(alpha);
     if (bad) {

@@ -69,6 +69,10 @@ Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& 
 // leaves a half file. Throws ImageIoError.
 void writeExr(const std::filesystem::path& path, const ImageF& image);
 
+// What writePng would show, as RGB display values in [0,1] (non-finite
+// pixels magenta), e.g. to lay several images out on one contact sheet.
+ImageF toDisplay(const ImageF& image, PngEncoding encoding, float exposure = 1.0f);
+
 // Writes an 8-bit PNG (RGB, or RGBA when the image has 4 channels; one channel
 // becomes grey). Same atomic write and errors as writeExr.
 void writePng(const std::filesystem::path& path, const ImageF& image, PngEncoding encoding = PngEncoding::Tonemapped,

@@ -195,8 +195,8 @@ FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, c
   geometricNormal_ = image("gbuffer.geometric_normal", kRgba16f, gpu::Visualize::Signed);
   baseColorMetallic_ = image("gbuffer.base_color_metallic", kRgba8, gpu::Visualize::Color);
   emissive_ = image("gbuffer.emissive", kRgba16f, gpu::Visualize::Radiance);
-  motion_ = image("gbuffer.motion", kRg16f, gpu::Visualize::Range);
-  ids_ = image("gbuffer.ids", kR32ui, gpu::Visualize::Range);
+  motion_ = image("gbuffer.motion", kRg16f, gpu::Visualize::Motion);
+  ids_ = image("gbuffer.ids", kR32ui, gpu::Visualize::Ids);
   direct_ = image("light.direct", kRgba16f, gpu::Visualize::Radiance);
   gbufferPass_ = std::make_unique<gpu::ComputePass>(context, gbufferDesc());
   directLightPass_ = std::make_unique<gpu::ComputePass>(context, directLightDesc());
