@@ -74,18 +74,11 @@ bool bvhTraverseBlas(BvhInstance instance, vec3 worldOrigin, vec3 worldDirection
   for (;;) {
     BvhNode node = gIn_BvhNodes.items[nodeIndex];
     if (node.count == 0u) {
-      uint left = node.leftFirst;
-      BvhNode a = gIn_BvhNodes.items[left];
-      BvhNode b = gIn_BvhNodes.items[left + 1u];
-      float tA = bvhIntersectBox(origin, inverseDirection, a.boundsMin, a.boundsMax, tMin, hit.t);
-      float tB = bvhIntersectBox(origin, inverseDirection, b.boundsMin, b.boundsMax, tMin, hit.t);
-      if (tA < kNoHit && tB < kNoHit) {
-        nodeIndex = tA <= tB ? left : left + 1u;
-        stack[stackSize++] = tA <= tB ? left + 1u : left;
-        continue;
-      }
-      if (tA < kNoHit || tB < kNoHit) {
-        nodeIndex = tA < kNoHit ? left : left + 1u;
+      uvec2 next = bvhChildrenInOrder(gIn_BvhNodes.items[node.leftFirst], gIn_BvhNodes.items[node.leftFirst + 1u],
+                                      node.leftFirst, origin, inverseDirection, tMin, hit.t);
+      if (next.x != kBvhInvalidIndex) {
+        if (next.y != kBvhInvalidIndex) stack[stackSize++] = next.y;
+        nodeIndex = next.x;
         continue;
       }
     } else {
@@ -122,18 +115,11 @@ bool bvhTrace(vec3 origin, vec3 direction, float tMin, float tMax, bool anyHit, 
     for (;;) {
       BvhNode node = gIn_BvhTlasNodes.items[nodeIndex];
       if (node.count == 0u) {
-        uint left = node.leftFirst;
-        BvhNode a = gIn_BvhTlasNodes.items[left];
-        BvhNode b = gIn_BvhTlasNodes.items[left + 1u];
-        float tA = bvhIntersectBox(origin, inverseDirection, a.boundsMin, a.boundsMax, tMin, hit.t);
-        float tB = bvhIntersectBox(origin, inverseDirection, b.boundsMin, b.boundsMax, tMin, hit.t);
-        if (tA < kNoHit && tB < kNoHit) {
-          nodeIndex = tA <= tB ? left : left + 1u;
-          stack[stackSize++] = tA <= tB ? left + 1u : left;
-          continue;
-        }
-        if (tA < kNoHit || tB < kNoHit) {
-          nodeIndex = tA < kNoHit ? left : left + 1u;
+        uvec2 next = bvhChildrenInOrder(gIn_BvhTlasNodes.items[node.leftFirst], gIn_BvhTlasNodes.items[node.leftFirst + 1u],
+                                        node.leftFirst, origin, inverseDirection, tMin, hit.t);
+        if (next.x != kBvhInvalidIndex) {
+          if (next.y != kBvhInvalidIndex) stack[stackSize++] = next.y;
+          nodeIndex = next.x;
           continue;
         }
       } else {

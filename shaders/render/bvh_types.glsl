@@ -135,6 +135,20 @@ bool bvhIntersectTriangle(vec3 origin, vec3 direction, vec3 p0, vec3 p1, vec3 p2
   return true;
 }
 
+// One interior-node step of the front-to-back walk, shared by both levels
+// and by the CPU twin: x = the child to visit next, y = the farther child to
+// push (kBvhInvalidIndex where a child's box is missed); x is invalid when
+// neither box is hit within (tMin, tMax).
+uvec2 bvhChildrenInOrder(BvhNode a, BvhNode b, uint left, vec3 origin, vec3 inverseDirection, float tMin,
+                         float tMax) {
+  float tA = bvhIntersectBox(origin, inverseDirection, a.boundsMin, a.boundsMax, tMin, tMax);
+  float tB = bvhIntersectBox(origin, inverseDirection, b.boundsMin, b.boundsMax, tMin, tMax);
+  if (tA < kNoHit && tB < kNoHit) return tA <= tB ? uvec2(left, left + 1u) : uvec2(left + 1u, left);
+  if (tA < kNoHit) return uvec2(left, kBvhInvalidIndex);
+  if (tB < kNoHit) return uvec2(left + 1u, kBvhInvalidIndex);
+  return uvec2(kBvhInvalidIndex, kBvhInvalidIndex);
+}
+
 vec3 bvhTransformPoint(const vec4 rows[3], vec3 p) {
   return vec3(dot(rows[0], vec4(p, 1.0f)), dot(rows[1], vec4(p, 1.0f)), dot(rows[2], vec4(p, 1.0f)));
 }

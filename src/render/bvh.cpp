@@ -351,19 +351,15 @@ bool SceneBvh::traceBlas(const BvhInstance& instance, glm::vec3 worldOrigin, glm
   for (;;) {
     const BvhNode& node = blasNodes_[nodeIndex];
     if (node.count == 0) {
-      const std::uint32_t left = node.leftFirst;
-      const BvhNode& a = blasNodes_[left];
-      const BvhNode& b = blasNodes_[left + 1];
-      const float tA = shared::bvhIntersectBox(origin, inverseDirection, a.boundsMin, a.boundsMax, tMin, hit.t);
-      const float tB = shared::bvhIntersectBox(origin, inverseDirection, b.boundsMin, b.boundsMax, tMin, hit.t);
-      if (tA < kNoHit && tB < kNoHit) {
-        if (stackSize == kBvhMaxDepth) throw std::logic_error("BLAS traversal stack overflow: the depth bound failed");
-        nodeIndex = tA <= tB ? left : left + 1;
-        stack[stackSize++] = tA <= tB ? left + 1 : left;
-        continue;
-      }
-      if (tA < kNoHit || tB < kNoHit) {
-        nodeIndex = tA < kNoHit ? left : left + 1;
+      const glm::uvec2 next = shared::bvhChildrenInOrder(blasNodes_[node.leftFirst], blasNodes_[node.leftFirst + 1],
+                                                         node.leftFirst, origin, inverseDirection, tMin, hit.t);
+      if (next.x != kBvhInvalidIndex) {
+        if (next.y != kBvhInvalidIndex) {
+          if (stackSize == kBvhMaxDepth)
+            throw std::logic_error("BLAS traversal stack overflow: the depth bound failed");
+          stack[stackSize++] = next.y;
+        }
+        nodeIndex = next.x;
         continue;
       }
     } else {
@@ -402,20 +398,15 @@ bool SceneBvh::trace(glm::vec3 origin, glm::vec3 direction, float tMin, float tM
     for (;;) {
       const BvhNode& node = tlasNodes_[nodeIndex];
       if (node.count == 0) {
-        const std::uint32_t left = node.leftFirst;
-        const BvhNode& a = tlasNodes_[left];
-        const BvhNode& b = tlasNodes_[left + 1];
-        const float tA = shared::bvhIntersectBox(origin, inverseDirection, a.boundsMin, a.boundsMax, tMin, hit.t);
-        const float tB = shared::bvhIntersectBox(origin, inverseDirection, b.boundsMin, b.boundsMax, tMin, hit.t);
-        if (tA < kNoHit && tB < kNoHit) {
-          if (stackSize == kBvhMaxDepth)
-            throw std::logic_error("TLAS traversal stack overflow: the depth bound failed");
-          nodeIndex = tA <= tB ? left : left + 1;
-          stack[stackSize++] = tA <= tB ? left + 1 : left;
-          continue;
-        }
-        if (tA < kNoHit || tB < kNoHit) {
-          nodeIndex = tA < kNoHit ? left : left + 1;
+        const glm::uvec2 next = shared::bvhChildrenInOrder(tlasNodes_[node.leftFirst], tlasNodes_[node.leftFirst + 1],
+                                                           node.leftFirst, origin, inverseDirection, tMin, hit.t);
+        if (next.x != kBvhInvalidIndex) {
+          if (next.y != kBvhInvalidIndex) {
+            if (stackSize == kBvhMaxDepth)
+              throw std::logic_error("TLAS traversal stack overflow: the depth bound failed");
+            stack[stackSize++] = next.y;
+          }
+          nodeIndex = next.x;
           continue;
         }
       } else {
