@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "gpu/error.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
@@ -336,6 +337,29 @@ TEST_F(FrameRendererTest, PointLightFallsOffWithTheInverseSquare) {
       ++checked;
     }
   EXPECT_GT(checked, 300);
+}
+
+}  // namespace
+}  // namespace bounce::render
+
+namespace bounce::render {
+namespace {
+
+TEST_F(FrameRendererTest, TooManyLightsAreRefusedNotDropped) {
+  scene::Scene s = planeAndSphere();
+  s.lights.push_back({});
+  for (std::uint32_t i = 0; i <= FrameRenderer::kMaxLights; ++i) {
+    scene::Node node;
+    node.light = 0;
+    s.nodes.push_back(node);
+    s.roots.push_back(int(s.nodes.size()) - 1);
+  }
+  try {
+    FrameRenderer renderer(context(), s, smallOptions(s));
+    ADD_FAILURE() << "expected an error";
+  } catch (const gpu::GpuError& e) {
+    EXPECT_NE(std::string(e.what()).find("257 punctual lights"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "render/frame_renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -161,6 +162,11 @@ FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, c
   instanceCount_ = instances.size();
   if (instanceCount_ > 65535) throw gpu::GpuError(scene.name + ": more than 65535 mesh instances");
   if (scene.materials.size() > 65535) throw gpu::GpuError(scene.name + ": more than 65535 materials");
+  const auto lightNodes =
+      std::count_if(scene.nodes.begin(), scene.nodes.end(), [](const scene::Node& n) { return n.light >= 0; });
+  if (lightNodes > std::ptrdiff_t(kMaxLights))
+    throw gpu::GpuError(scene.name + ": " + std::to_string(lightNodes) +
+                        " punctual lights; the renderer takes at most " + std::to_string(kMaxLights));
   for (const scene::Instance& instance : instances)
     triangleCount_ += scene.meshes[std::size_t(instance.mesh)].indices.size() / 3;
 
@@ -249,7 +255,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
   // Punctual lights at their nodes' current places.
   auto* gpuLights = static_cast<GpuLight*>(slot.lightsStaging->mapped());
   std::uint32_t lightCount = 0;
-  for (std::size_t n = 0; n < scene_.nodes.size() && lightCount < kMaxLights; ++n) {
+  for (std::size_t n = 0; n < scene_.nodes.size(); ++n) {
     const int lightIndex = scene_.nodes[n].light;
     if (lightIndex < 0) continue;
     const scene::Light& light = scene_.lights[std::size_t(lightIndex)];
