@@ -50,9 +50,20 @@ TEST(Reflection, RejectsGarbage) {
   std::vector<std::uint32_t> words = {0x12345678u, 0, 0, 0, 0};
   EXPECT_THROW(gpu::reflectShader(words, "garbage"), gpu::GpuError);
   std::span<const std::uint32_t> real = gpu::findShader("render/direct_light");
-  std::vector<std::uint32_t> truncated(real.begin(), real.begin() + long(real.size() / 2));
-  truncated.push_back(0xffff0000u | spv::OpName);  // an instruction claiming more words than remain
-  EXPECT_THROW(gpu::reflectShader(truncated, "truncated"), gpu::GpuError);
+  // Walk to the first instruction boundary past the middle, and to an
+  // instruction of several words, so the cuts below land where intended.
+  std::size_t boundary = 5, longInstruction = 0;
+  while (boundary < real.size() / 2) {
+    const std::size_t words = real[boundary] >> 16;
+    if (words > 2 && longInstruction == 0) longInstruction = boundary;
+    boundary += words;
+  }
+  std::vector<std::uint32_t> overlong(real.begin(), real.begin() + long(boundary));
+  overlong.push_back(0xffff0000u | spv::OpName);  // an instruction claiming more words than remain
+  EXPECT_THROW(gpu::reflectShader(overlong, "overlong"), gpu::GpuError);
+  ASSERT_GT(longInstruction, 0u);
+  std::vector<std::uint32_t> cut(real.begin(), real.begin() + long(longInstruction + 1));
+  EXPECT_THROW(gpu::reflectShader(cut, "cut inside an instruction"), gpu::GpuError);
 }
 
 TEST(Timing, MedianShareAndOrder) {
