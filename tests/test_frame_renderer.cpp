@@ -121,8 +121,10 @@ class FrameRendererTest : public testing::GpuTest {
  protected:
   // Renders the given views in order (one FrameLoop frame each) and returns
   // the G-buffer and direct light of every frame.
-  std::vector<Frame> render(const scene::Scene& s, const std::vector<FrameView>& views) {
-    FrameRenderer renderer(context(), s, smallOptions(s));
+  std::vector<Frame> render(const scene::Scene& s, const std::vector<FrameView>& views, bool jitter = false) {
+    FrameRendererOptions options = smallOptions(s);
+    options.jitter = jitter;
+    FrameRenderer renderer(context(), s, options);
     gpu::FrameLoop loop(context(), FrameRenderer::kFramesInFlight);
     std::vector<Frame> frames;
     for (const FrameView& view : views) {
@@ -360,6 +362,44 @@ TEST_F(FrameRendererTest, TooManyLightsAreRefusedNotDropped) {
   } catch (const gpu::GpuError& e) {
     EXPECT_NE(std::string(e.what()).find("257 punctual lights"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace bounce::render
+
+namespace bounce::render {
+namespace {
+
+// With jitter the rays move inside their pixels every frame; the motion
+// vectors must still describe only the surface's motion.
+TEST_F(FrameRendererTest, JitterStaysOutOfMotionVectorsAndCutsZeroThem) {
+  const scene::Scene s = planeAndSphere();
+  const scene::CameraPose first = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
+  const scene::CameraPose second = cameraAt({0.55f, 2.02f, 5.9f}, {0.03f, 0.8f, 0.0f});
+  const std::vector<Frame> frames =
+      render(s, {{first, 0.0f, true}, {second, 0.0f, false}, {first, 0.0f, true}}, /*jitter=*/true);
+  const shared::GpuCamera previous = gpuCamera(first, kWidth, kHeight);
+  const shared::GpuCamera current = gpuCamera(second, kWidth, kHeight);
+  const glm::vec2 size{float(kWidth), float(kHeight)};
+  const glm::vec2 jitter = jitterOffset(1);  // the FrameLoop's second frame
+  ASSERT_GT(glm::length(jitter), 0.05f);
+  int checked = 0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      const float viewZ = frames[1].viewZ.at(x, y, 0);
+      if (viewZ <= 0.0f) continue;
+      const glm::vec2 through = glm::vec2(float(x) + 0.5f, float(y) + 0.5f) + jitter;
+      const glm::vec3 d = shared::cameraRayDirection(current, through, size);
+      const glm::vec3 world = second.position + d * (viewZ / glm::dot(d, glm::vec3(current.forward)));
+      const glm::vec2 expected = glm::vec2(shared::projectToPixel(previous, world, size));
+      const glm::vec2 motion(frames[1].motion.at(x, y, 0), frames[1].motion.at(x, y, 1));
+      EXPECT_LT(glm::length(through + motion - expected), 0.01f) << x << "," << y;
+      ++checked;
+      // The third frame is a cut back to the first camera: no history, no motion.
+      EXPECT_EQ(frames[2].motion.at(x, y, 0), 0.0f);
+      EXPECT_EQ(frames[2].motion.at(x, y, 1), 0.0f);
+    }
+  EXPECT_GT(checked, 2000);
 }
 
 }  // namespace

@@ -56,12 +56,20 @@ void checkCamera(const scene::CameraPose& pose) {
         "and the field of view must be in (0, 180) degrees");
 }
 
-float halton(std::uint32_t index, std::uint32_t base) {
-  float result = 0.0f;
-  float fraction = 1.0f / float(base);
-  for (; index > 0; index /= base, fraction /= float(base)) result += fraction * float(index % base);
-  return result;
+}  // namespace
+
+glm::vec2 jitterOffset(std::uint64_t frameIndex) {
+  const auto halton = [](std::uint32_t index, std::uint32_t base) {
+    float result = 0.0f;
+    float fraction = 1.0f / float(base);
+    for (; index > 0; index /= base, fraction /= float(base)) result += fraction * float(index % base);
+    return result;
+  };
+  const std::uint32_t index = std::uint32_t(frameIndex % 16) + 1;
+  return {halton(index, 2) - 0.5f, halton(index, 3) - 0.5f};
 }
+
+namespace {
 
 void rows3x4(const glm::mat4& m, glm::vec4 out[3]) {
   for (int r = 0; r < 3; ++r) out[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
@@ -277,9 +285,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
       continuous ? gpuCamera(previousCamera_, options_.width, options_.height) : constants.camera;
   constants.imageSize = glm::vec4(float(options_.width), float(options_.height), 1.0f / float(options_.width),
                                   1.0f / float(options_.height));
-  const glm::vec2 jitter = options_.jitter ? glm::vec2(halton(std::uint32_t(frameIndex % 16) + 1, 2) - 0.5f,
-                                                       halton(std::uint32_t(frameIndex % 16) + 1, 3) - 0.5f)
-                                           : glm::vec2(0.0f);
+  const glm::vec2 jitter = options_.jitter ? jitterOffset(frameIndex) : glm::vec2(0.0f);
   const float pixelSpread = 2.0f * constants.camera.position.w / float(options_.height);
   constants.jitter = glm::vec4(jitter, pixelSpread, float(frameIndex));
   const scene::Sun& sun = options_.environment.sun;

@@ -32,6 +32,10 @@ class TextureAtlas;
 // The camera of a pose as the passes see it (render/frame_types.glsl).
 shared::GpuCamera gpuCamera(const scene::CameraPose& pose, std::uint32_t width, std::uint32_t height);
 
+// The sub-pixel offset (pixels, in [-0.5, 0.5)) of frame `frameIndex`'s rays
+// when jitter is on: Halton (2, 3), 16 frames long.
+glm::vec2 jitterOffset(std::uint64_t frameIndex);
+
 struct FrameRendererOptions {
   std::uint32_t width = 960;
   std::uint32_t height = 540;
