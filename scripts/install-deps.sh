@@ -9,7 +9,7 @@ packages=(
   libvulkan-dev glslc spirv-tools spirv-headers
   mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libglm-dev libstb-dev libopenexr-dev libcli11-dev libgtest-dev
-  nlohmann-json3-dev libtinygltf-dev
+  nlohmann-json3-dev libtinygltf-dev zlib1g-dev
   assimp-testmodels  # malformed glTF files the importer tests must refuse cleanly
 )
 

@@ -99,6 +99,8 @@ TEST(Cli, RenderWritesImagesStagesAndTimingsWithoutValidationMessages) {
     EXPECT_TRUE(fs::exists(out / "aov" / (std::string(aov) + ".png"))) << aov;
   }
   EXPECT_FALSE(fs::exists(out / "aov" / "normal.exr")) << "only what was asked for";
+  EXPECT_TRUE(fs::exists(out / "animation.png")) << "animated PNG of the 3 frames";
+  EXPECT_EQ(bounce::io::readImage(out / "animation.png").width, 64) << "its first frame is a plain PNG";
   // Stage dumps of the last frame: every pass output, as EXR and PNG.
   for (const char* stem : {"frame0002.render.gbuffer.gOut_ViewZ", "frame0002.render.direct_light.gOut_Radiance",
                            "frame0002.render.gbuffer.gOut_NormalRoughness", "frame0002.render.gbuffer.gOut_Motion",

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include <zlib.h>
+
 #include "shared/color.glsl"
 
 namespace bounce::io {
@@ -799,6 +801,102 @@ TEST_F(ImageIoTest, DecodeRgba8FromMemoryKeepsBytesAndRefusesTruncation) {
   const Bytes cut(encoded.begin(), encoded.end() - 12);
   expectContains(errorOf([&] { decodeRgba8(cut, "inside scene.glb"); }), "inside scene.glb");
   expectContains(errorOf([&] { decodeRgba8(Bytes{'G', 'I', 'F'}, "x"); }), "not a PNG or JPEG");
+}
+
+// ============================================================== APNG
+
+struct ParsedChunk {
+  std::string type;
+  Bytes data;
+};
+
+std::uint32_t bigEndian(const std::uint8_t* p) {
+  return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | std::uint32_t(p[3]);
+}
+
+// Splits a PNG file into chunks, checking every CRC with zlib's crc32.
+std::vector<ParsedChunk> parseChunks(const Bytes& file) {
+  std::vector<ParsedChunk> chunks;
+  EXPECT_EQ(Bytes(file.begin(), file.begin() + 8), (Bytes{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}));
+  for (std::size_t at = 8; at + 12 <= file.size();) {
+    const std::uint32_t length = bigEndian(&file[at]);
+    const std::uint32_t crc = bigEndian(&file[at + 8 + length]);
+    EXPECT_EQ(crc, std::uint32_t(::crc32(0, &file[at + 4], uInt(length + 4)))) << "chunk at " << at;
+    chunks.push_back({std::string(file.begin() + long(at + 4), file.begin() + long(at + 8)),
+                      Bytes(file.begin() + long(at + 8), file.begin() + long(at + 8 + length))});
+    at += 12 + length;
+  }
+  return chunks;
+}
+
+Bytes chunkBytes(const char* type, const Bytes& data) {
+  Bytes out = {std::uint8_t(data.size() >> 24), std::uint8_t(data.size() >> 16), std::uint8_t(data.size() >> 8),
+               std::uint8_t(data.size())};
+  out.insert(out.end(), type, type + 4);
+  out.insert(out.end(), data.begin(), data.end());
+  const auto crc = std::uint32_t(::crc32(0, out.data() + 4, uInt(data.size() + 4)));
+  for (int i = 3; i >= 0; --i) out.push_back(std::uint8_t(crc >> (8 * i)));
+  return out;
+}
+
+TEST_F(ImageIoTest, ApngHoldsEveryFrameInOrderWithValidChunks) {
+  std::vector<ImageF> frames;
+  for (float shade : {0.0f, 0.5f, 1.0f}) {
+    ImageF frame(5, 3, {"R", "G", "B"});
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 5; ++x) {
+        frame.at(x, y, 0) = shade;
+        frame.at(x, y, 1) = float(x) / 4.0f;
+        frame.at(x, y, 2) = 1.0f - shade;
+      }
+    frames.push_back(frame);
+  }
+  const fs::path path = file("anim.png");
+  writeApng(path, frames, 25.0f);
+  const std::vector<ParsedChunk> chunks = parseChunks(readBytes(path));
+  ASSERT_GE(chunks.size(), 9u);
+  EXPECT_EQ(chunks[0].type, "IHDR");
+  ASSERT_EQ(chunks[1].type, "acTL");
+  EXPECT_EQ(bigEndian(&chunks[1].data[0]), 3u) << "frame count";
+  EXPECT_EQ(chunks.back().type, "IEND");
+
+  // Sequence numbers count up across fcTL and fdAT; frame 2's data makes a PNG
+  // of its own that decodes to frame 2's pixels.
+  std::uint32_t expectedSequence = 0;
+  std::vector<Bytes> frameData(3);
+  int frame = -1;
+  for (const ParsedChunk& chunk : chunks) {
+    if (chunk.type == "fcTL") {
+      EXPECT_EQ(bigEndian(&chunk.data[0]), expectedSequence++);
+      EXPECT_EQ(bigEndian(&chunk.data[4]), 5u);
+      EXPECT_EQ((chunk.data[20] << 8) | chunk.data[21], 40) << "1000/25 ms delay numerator";
+      ++frame;
+    } else if (chunk.type == "fdAT") {
+      EXPECT_EQ(bigEndian(&chunk.data[0]), expectedSequence++);
+      frameData[std::size_t(frame)].insert(frameData[std::size_t(frame)].end(), chunk.data.begin() + 4,
+                                           chunk.data.end());
+    } else if (chunk.type == "IDAT") {
+      EXPECT_EQ(frame, 0) << "only the first frame is stored as IDAT";
+      frameData[0].insert(frameData[0].end(), chunk.data.begin(), chunk.data.end());
+    }
+  }
+  EXPECT_EQ(frame, 2);
+  for (std::size_t f = 0; f < 3; ++f) {
+    Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    const Bytes header = chunkBytes("IHDR", chunks[0].data), data = chunkBytes("IDAT", frameData[f]),
+                end = chunkBytes("IEND", {});
+    png.insert(png.end(), header.begin(), header.end());
+    png.insert(png.end(), data.begin(), data.end());
+    png.insert(png.end(), end.begin(), end.end());
+    const Rgba8Image decoded = decodeRgba8(png, "frame " + std::to_string(f));
+    EXPECT_EQ(int(decoded.rgba8[0]), int(std::lround(frames[f].at(0, 0, 0) * 255.0f))) << f;
+    EXPECT_EQ(int(decoded.rgba8[2]), int(std::lround(frames[f].at(0, 0, 2) * 255.0f))) << f;
+    EXPECT_EQ(int(decoded.rgba8[4 * 4 + 1]), 255) << "x = 4 is full green";
+  }
+
+  std::vector<ImageF> mixed = {frames[0], ImageF(4, 3, {"R", "G", "B"})};
+  expectContains(errorOf([&] { writeApng(file("mixed.png"), mixed, 25.0f); }), "frame 1 is 4x3");
+  EXPECT_FALSE(fs::exists(file("mixed.png"))) << "no half file";
 }
 
 // ============================================================== bad files

@@ -88,12 +88,14 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
   std::printf("wrote AOVs to %s; sheet.png shows, left to right, top to bottom: %s\n", dir.c_str(), order.c_str());
 }
 
+// Frames of an animation kept for the APNG: up to this many pixels over all
+// frames (about 0.4 GB as floats); longer or larger runs keep only the
+// numbered PNGs (and the MP4 when ffmpeg exists).
+constexpr double kMaxAnimationPixels = 32.0e6;
+
 // Numbered PNGs into an MP4 when ffmpeg is installed; otherwise they stay.
 void encodeVideo(const fs::path& framesDir, const fs::path& video, float fps) {
-  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
-    std::printf("ffmpeg not installed: frames stay as numbered PNGs in %s\n", framesDir.c_str());
-    return;
-  }
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) return;
   const std::string command = "ffmpeg -loglevel error -y -framerate " + std::to_string(fps) + " -i '" +
                               (framesDir / "frame%04d.png").string() + "' -c:v libx264 -pix_fmt yuv420p -crf 18 '" +
                               video.string() + "'";
@@ -201,6 +203,9 @@ int runRender(const RenderOptions& options) {
     return std::find(options.dumpFrames.begin(), options.dumpFrames.end(), frame) != options.dumpFrames.end();
   };
   const bool everyFrame = options.frames > 1 || options.hdr;
+  const bool animate =
+      options.frames > 1 && double(options.width) * double(options.height) * options.frames <= kMaxAnimationPixels;
+  std::vector<io::ImageF> animation;
   const fs::path framesDir = outDir / "frames";
   if (everyFrame) fs::create_directories(framesDir);
   std::vector<gpu::CapturedStage> captures;
@@ -220,6 +225,7 @@ int runRender(const RenderOptions& options) {
       if (options.frames > 1) {
         const gpu::VisualizedImage view = gpu::visualize(image, gpu::Visualize::Radiance);
         io::writePng(framesDir / (std::string(name) + ".png"), view.image, view.encoding, options.exposure);
+        if (animate) animation.push_back(io::toDisplay(view.image, view.encoding, options.exposure));
       }
       if (options.hdr) io::writeExr(framesDir / (std::string(name) + ".exr"), image);
     }
@@ -235,7 +241,17 @@ int runRender(const RenderOptions& options) {
   io::writeExr(outDir / "render.exr", final);
   std::printf("wrote %s and %s (%ux%u, %u frame%s)\n", (outDir / "render.png").c_str(), (outDir / "render.exr").c_str(),
               options.width, options.height, options.frames, options.frames == 1 ? "" : "s");
-  if (options.frames > 1) encodeVideo(framesDir, outDir / "render.mp4", options.fps);
+  if (options.frames > 1) {
+    std::printf("wrote %u frames as numbered PNGs to %s\n", options.frames, framesDir.c_str());
+    if (animate) {
+      io::writeApng(outDir / "animation.png", animation, options.fps);
+      std::printf("wrote %s (animated PNG)\n", (outDir / "animation.png").c_str());
+    } else {
+      std::printf("no animated PNG: %u frames of %ux%u is more than it keeps in memory\n", options.frames,
+                  options.width, options.height);
+    }
+    encodeVideo(framesDir, outDir / "render.mp4", options.fps);
+  }
   if (!options.aovs.empty()) {
     writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure);
   }

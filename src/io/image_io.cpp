@@ -634,4 +634,118 @@ void writePng(const fs::path& path, const ImageF& image, PngEncoding encoding, f
   writeFileAtomically(path, encodedPng.data(), encodedPng.size());
 }
 
+namespace {
+
+// PNG chunk CRC (ISO 3309, as in the PNG specification's sample code).
+std::uint32_t pngCrc(const std::uint8_t* data, std::size_t size, std::uint32_t crc = 0xffffffffu) {
+  static const std::array<std::uint32_t, 256> table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t n = 0; n < 256; ++n) {
+      std::uint32_t c = n;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+      t[n] = c;
+    }
+    return t;
+  }();
+  for (std::size_t i = 0; i < size; ++i) crc = table[(crc ^ data[i]) & 0xffu] ^ (crc >> 8);
+  return crc;
+}
+
+void appendBigEndian(std::vector<std::uint8_t>& out, std::uint32_t value, int bytes = 4) {
+  for (int i = bytes - 1; i >= 0; --i) out.push_back(std::uint8_t(value >> (8 * i)));
+}
+
+void appendChunk(std::vector<std::uint8_t>& out, const char type[4], const std::vector<std::uint8_t>& data) {
+  appendBigEndian(out, std::uint32_t(data.size()));
+  const std::size_t typeStart = out.size();
+  out.insert(out.end(), type, type + 4);
+  out.insert(out.end(), data.begin(), data.end());
+  appendBigEndian(out, pngCrc(out.data() + typeStart, data.size() + 4) ^ 0xffffffffu);
+}
+
+struct PngChunk {
+  std::string type;
+  std::vector<std::uint8_t> data;
+};
+
+// The chunks of a PNG that stb just wrote (trusted input: no checks beyond bounds).
+std::vector<PngChunk> pngChunks(const std::vector<std::uint8_t>& png) {
+  std::vector<PngChunk> chunks;
+  std::size_t at = 8;
+  while (at + 12 <= png.size()) {
+    const std::uint32_t length = (std::uint32_t(png[at]) << 24) | (std::uint32_t(png[at + 1]) << 16) |
+                                 (std::uint32_t(png[at + 2]) << 8) | std::uint32_t(png[at + 3]);
+    if (at + 12 + length > png.size()) break;
+    chunks.push_back({std::string(png.begin() + long(at + 4), png.begin() + long(at + 8)),
+                      std::vector<std::uint8_t>(png.begin() + long(at + 8), png.begin() + long(at + 8 + length))});
+    at += 12 + length;
+  }
+  return chunks;
+}
+
+}  // namespace
+
+void writeApng(const fs::path& path, const std::vector<ImageF>& frames, float framesPerSecond) {
+  if (frames.empty()) fail(path, "an animation needs at least one frame");
+  if (!(framesPerSecond > 0.0f && framesPerSecond <= 1000.0f))
+    fail(path, "frames per second must be in (0, 1000] (got " + std::to_string(framesPerSecond) + ")");
+  const int width = frames.front().width, height = frames.front().height;
+  std::vector<std::uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::uint32_t sequence = 0;
+  // Delays as a fraction of a second: 1000 / (1000 * fps) keeps e.g. 30 fps exact enough.
+  const std::uint16_t delayDenominator = 1000;
+  const auto delayNumerator = std::uint16_t(std::clamp(std::lround(1000.0f / framesPerSecond), 1l, 65535l));
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const ImageF& frame = frames[f];
+    validateForWrite(path, frame);
+    if (frame.width != width || frame.height != height || frame.channelCount() != 3)
+      fail(path, "frame " + std::to_string(f) + " is " + sizeText(frame.width, frame.height) + " with " +
+                     std::to_string(frame.channelCount()) + " channels; every frame must be RGB " +
+                     sizeText(width, height));
+    std::vector<std::uint8_t> bytes(frame.pixels.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+      bytes[i] = std::isfinite(frame.pixels[i]) ? toByte(frame.pixels[i]) : std::uint8_t(i % 3 == 1 ? 0 : 255);
+    std::vector<std::uint8_t> png;
+    const auto append = [](void* context, void* data, int size) {
+      auto& buffer = *static_cast<std::vector<std::uint8_t>*>(context);
+      buffer.insert(buffer.end(), static_cast<const std::uint8_t*>(data),
+                    static_cast<const std::uint8_t*>(data) + size);
+    };
+    if (!stbi_write_png_to_func(append, &png, width, height, 3, bytes.data(), width * 3) || png.empty())
+      fail(path, "cannot encode frame " + std::to_string(f));
+    const std::vector<PngChunk> chunks = pngChunks(png);
+    if (f == 0) {
+      appendChunk(out, "IHDR", chunks.front().data);
+      std::vector<std::uint8_t> animation;
+      appendBigEndian(animation, std::uint32_t(frames.size()));
+      appendBigEndian(animation, 0);  // loop for ever
+      appendChunk(out, "acTL", animation);
+    }
+    std::vector<std::uint8_t> control;
+    appendBigEndian(control, sequence++);
+    appendBigEndian(control, std::uint32_t(width));
+    appendBigEndian(control, std::uint32_t(height));
+    appendBigEndian(control, 0);  // x offset
+    appendBigEndian(control, 0);  // y offset
+    appendBigEndian(control, delayNumerator, 2);
+    appendBigEndian(control, delayDenominator, 2);
+    control.push_back(0);  // dispose: none
+    control.push_back(0);  // blend: source
+    appendChunk(out, "fcTL", control);
+    for (const PngChunk& chunk : chunks) {
+      if (chunk.type != "IDAT") continue;
+      if (f == 0) {
+        appendChunk(out, "IDAT", chunk.data);  // the first frame doubles as the still image
+      } else {
+        std::vector<std::uint8_t> data;
+        appendBigEndian(data, sequence++);
+        data.insert(data.end(), chunk.data.begin(), chunk.data.end());
+        appendChunk(out, "fdAT", data);
+      }
+    }
+  }
+  appendChunk(out, "IEND", {});
+  writeFileAtomically(path, out.data(), out.size());
+}
+
 }  // namespace bounce::io

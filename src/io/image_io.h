@@ -78,4 +78,9 @@ ImageF toDisplay(const ImageF& image, PngEncoding encoding, float exposure = 1.0
 void writePng(const std::filesystem::path& path, const ImageF& image, PngEncoding encoding = PngEncoding::Tonemapped,
               float exposure = 1.0f);
 
+// Writes an animated PNG (APNG, looping) of RGB display values in [0,1]
+// (e.g. from toDisplay), all frames the same size. Viewers without APNG
+// support show the first frame. Same atomic write and errors as writePng.
+void writeApng(const std::filesystem::path& path, const std::vector<ImageF>& frames, float framesPerSecond);
+
 }  // namespace bounce::io
