@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -131,6 +132,30 @@ TEST(Cli, BadScenesCamerasAndAovsAreOneClearLine) {
   Result aov = run("render cornell --aov colour --out " + out.string());
   EXPECT_EQ(aov.exitCode, 1);
   EXPECT_NE(aov.output.find("unknown image 'colour'"), std::string::npos) << aov.output;
+  fs::remove_all(out);
+}
+
+// The frame count an APNG announces in its acTL chunk (0 if none).
+std::uint32_t apngFrameCount(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::size_t at = bytes.find("acTL");
+  if (at == std::string::npos || at + 8 > bytes.size()) return 0;
+  std::uint32_t count = 0;
+  for (int i = 0; i < 4; ++i) count = (count << 8) | std::uint8_t(bytes[at + 4 + std::size_t(i)]);
+  return count;
+}
+
+TEST(Cli, BrdfVizWritesLabelledAnimations) {
+  const fs::path out = freshDirectory("brdfviz");
+  Result r = run("brdf-viz --frames 5 --size 64 --out " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const char* name : {"roughness_sweep.png", "view_sweep.png"}) {
+    EXPECT_EQ(apngFrameCount(out / name), 5u) << name;
+    EXPECT_GT(bounce::io::readImage(out / name).height, 64) << "plot plus its labels";
+  }
+  Result bad = run("brdf-viz --base-color 1,2 --out " + out.string());
+  EXPECT_EQ(bad.exitCode, 2) << bad.output;
   fs::remove_all(out);
 }
 

@@ -71,6 +71,19 @@ struct BenchOptions {
   std::string json;
 };
 CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options);
+
+struct BrdfVizOptions {
+  std::string out = "brdf-viz";
+  std::uint32_t size = 256;
+  std::uint32_t frames = 48;
+  float fps = 12.0f;
+  std::vector<float> baseColor = {1.0f, 0.78f, 0.34f};  // gold
+  float metallic = 1.0f;
+  float roughness = 0.4f;     // of the view sweep
+  float viewDegrees = 45.0f;  // of the roughness sweep
+};
+CLI::App* addBrdfVizCommand(CLI::App& app, BrdfVizOptions& options);
+int runBrdfViz(const BrdfVizOptions& options);
 int runBench(const BenchOptions& options);
 
 }  // namespace bounce::app

@@ -41,9 +41,11 @@ int main(int argc, char** argv) {
   InfoOptions info;
   RenderOptions render;
   BenchOptions bench;
+  BrdfVizOptions brdfViz;
   CLI::App* infoCommand = addInfoCommand(app, info);
   CLI::App* renderCommand = addRenderCommand(app, render);
   CLI::App* benchCommand = addBenchCommand(app, bench);
+  CLI::App* brdfVizCommand = addBrdfVizCommand(app, brdfViz);
 
   try {
     app.parse(argc, argv);
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
     if (infoCommand->parsed()) return runInfo(info);
     if (renderCommand->parsed()) return runRender(render);
     if (benchCommand->parsed()) return runBench(bench);
+    if (brdfVizCommand->parsed()) return runBrdfViz(brdfViz);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
     return 1;

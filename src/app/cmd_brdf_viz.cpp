@@ -1,0 +1,131 @@
+// bounce brdf-viz: animated plots of the material model (seed 002's
+// pictures): how reflectance spreads over the hemisphere as roughness sweeps
+// 0..1 at a fixed view, and as the view sweeps to grazing at fixed
+// roughness. Each frame is labelled with its parameters; the animations are
+// written as APNG. The plots evaluate the same shared functions the shaders
+// run (shaders/shared/brdf.glsl), on the CPU.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "app/plot.h"
+#include "app/progress.h"
+#include "io/image_io.h"
+#include "shared/brdf.glsl"
+#include "shared/color.glsl"
+
+namespace bounce::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The upper hemisphere (z up) in a unit disk, area-preserving (Lambert
+// azimuthal): equal areas on the disk are equal solid angles, so a lobe's
+// visual size is its real share of directions.
+glm::vec3 diskToDirection(glm::vec2 p) {
+  const float r2 = glm::dot(p, p);  // in [0, 1] inside the disk
+  const float cosTheta = 1.0f - r2;
+  const float scale = std::sqrt(std::max(0.0f, 2.0f - r2));
+  return {p.x * scale, p.y * scale, cosTheta};
+}
+
+glm::vec2 directionToDisk(glm::vec3 d) {
+  const float r = std::sqrt(std::max(0.0f, 1.0f - d.z));
+  const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
+  return horizontal > 0.0f ? glm::vec2(d.x, d.y) * (r / horizontal) : glm::vec2(0.0f);
+}
+
+struct Parameters {
+  float roughness;
+  float viewDegrees;
+};
+
+// One frame: the hemisphere plot of f * cos for light directions, with the
+// view direction and its mirror marked, and the parameters written beside it.
+io::ImageF drawFrame(const BrdfVizOptions& options, const Parameters& p) {
+  const int size = int(options.size);
+  const int margin = 12, labelHeight = 60;
+  Canvas canvas(size + 2 * margin, size + 2 * margin + labelHeight, glm::vec3(0.08f));
+  const float viewRadians = glm::radians(p.viewDegrees);
+  const glm::vec3 n(0.0f, 0.0f, 1.0f);
+  const glm::vec3 v(std::sin(viewRadians), 0.0f, std::cos(viewRadians));
+  const glm::vec3 baseColor(options.baseColor[0], options.baseColor[1], options.baseColor[2]);
+  const float radius = 0.5f * float(size);
+  const glm::vec2 centre(float(margin) + radius, float(margin) + radius);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const glm::vec2 disk((float(x) + 0.5f - radius) / radius, (radius - float(y) - 0.5f) / radius);
+      if (glm::dot(disk, disk) > 1.0f) continue;
+      const glm::vec3 l = diskToDirection(disk);
+      const float value =
+          shared::luminance(shared::materialBrdfCosine(n, v, l, baseColor, options.metallic, p.roughness));
+      // A fixed, saturating tone curve keeps frames comparable with each other.
+      canvas.set(margin + x, margin + y, heatColour(1.0f - std::exp(-value)));
+    }
+  const auto mark = [&](glm::vec3 d, glm::vec3 colour) {
+    const glm::vec2 q = directionToDisk(d);
+    canvas.dot(centre.x + q.x * radius, centre.y - q.y * radius, 4.0f, colour);
+  };
+  mark(v, glm::vec3(0.3f, 0.8f, 1.0f));
+  mark(glm::reflect(-v, n), glm::vec3(1.0f));
+  char line[64];
+  std::snprintf(line, sizeof line, "roughness %.2f", double(p.roughness));
+  canvas.text(margin, size + 2 * margin, line, glm::vec3(1.0f));
+  std::snprintf(line, sizeof line, "view %.0f deg", double(p.viewDegrees));
+  canvas.text(margin, size + 2 * margin + 20, line, glm::vec3(1.0f));
+  std::snprintf(line, sizeof line, "metallic %.2f", double(options.metallic));
+  canvas.text(margin, size + 2 * margin + 40, line, glm::vec3(0.6f));
+  return canvas.image();
+}
+
+void writeSweep(const BrdfVizOptions& options, const fs::path& path, const char* what,
+                const std::function<Parameters(float)>& parametersAt) {
+  std::vector<io::ImageF> frames;
+  ProgressBar progress(what, options.frames);
+  for (std::uint32_t f = 0; f < options.frames; ++f) {
+    const float t = options.frames > 1 ? float(f) / float(options.frames - 1) : 0.0f;
+    frames.push_back(drawFrame(options, parametersAt(t)));
+    progress.update(f + 1);
+  }
+  progress.finish();
+  io::writeApng(path, frames, options.fps);
+  std::printf("wrote %s (%u frames)\n", path.c_str(), options.frames);
+}
+
+}  // namespace
+
+CLI::App* addBrdfVizCommand(CLI::App& app, BrdfVizOptions& options) {
+  CLI::App* command = app.add_subcommand(
+      "brdf-viz", "Animated hemisphere plots of the material model (roughness sweep, view sweep) as APNG");
+  command->add_option("--out", options.out, "Output directory (created if missing)");
+  command->add_option("--size", options.size, "Plot diameter in pixels")->check(CLI::Range(32u, 2048u));
+  command->add_option("--frames", options.frames, "Frames per sweep")->check(CLI::Range(1u, 1000u));
+  command->add_option("--fps", options.fps, "Playback frames per second")->check(CLI::Range(0.1f, 100.0f));
+  command->add_option("--base-color", options.baseColor, "Linear base colour r,g,b")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(CLI::Range(0.0f, 1.0f));
+  command->add_option("--metallic", options.metallic, "Metallic in [0,1]")->check(CLI::Range(0.0f, 1.0f));
+  command->add_option("--roughness", options.roughness, "Roughness of the view sweep")->check(CLI::Range(0.0f, 1.0f));
+  command->add_option("--view", options.viewDegrees, "View angle from the normal of the roughness sweep, degrees")
+      ->check(CLI::Range(0.0f, 89.0f));
+  return command;
+}
+
+int runBrdfViz(const BrdfVizOptions& options) {
+  const fs::path dir = options.out;
+  fs::create_directories(dir);
+  writeSweep(options, dir / "roughness_sweep.png", "roughness sweep", [&](float t) {
+    return Parameters{t, options.viewDegrees};
+  });
+  writeSweep(options, dir / "view_sweep.png", "view sweep", [&](float t) {
+    return Parameters{options.roughness, 85.0f * t};
+  });
+  return 0;
+}
+
+}  // namespace bounce::app
