@@ -84,6 +84,24 @@ struct BrdfVizOptions {
 };
 CLI::App* addBrdfVizCommand(CLI::App& app, BrdfVizOptions& options);
 int runBrdfViz(const BrdfVizOptions& options);
+
+struct CompareOptions {
+  // Two images (reference, then test), or with `sequence` the frames: one
+  // directory or several image files.
+  std::vector<std::string> images;
+  bool sequence = false;
+  std::string flip = "auto";  // auto (HDR-FLIP for EXR/HDR inputs, LDR-FLIP for PNG/JPEG), ldr or hdr
+  std::optional<float> ppd;   // pixels per degree; default that of the FLIP tool
+  std::string errorMap;       // PNG of the FLIP map (magma); empty = none
+  std::string json;           // every value as JSON; empty = none
+  std::optional<double> maxRelMse;
+  std::optional<double> maxRmse;
+  std::optional<double> minPsnr;
+  std::optional<double> maxFlip;      // mean FLIP
+  std::optional<double> maxTemporal;  // mean relative frame-to-frame change (with sequence)
+};
+CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options);
+int runCompare(const CompareOptions& options);
 int runBench(const BenchOptions& options);
 
 }  // namespace bounce::app

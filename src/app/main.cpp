@@ -42,10 +42,12 @@ int main(int argc, char** argv) {
   RenderOptions render;
   BenchOptions bench;
   BrdfVizOptions brdfViz;
+  CompareOptions compare;
   CLI::App* infoCommand = addInfoCommand(app, info);
   CLI::App* renderCommand = addRenderCommand(app, render);
   CLI::App* benchCommand = addBenchCommand(app, bench);
   CLI::App* brdfVizCommand = addBrdfVizCommand(app, brdfViz);
+  CLI::App* compareCommand = addCompareCommand(app, compare);
 
   try {
     app.parse(argc, argv);
@@ -65,6 +67,7 @@ int main(int argc, char** argv) {
     if (renderCommand->parsed()) return runRender(render);
     if (benchCommand->parsed()) return runBench(bench);
     if (brdfVizCommand->parsed()) return runBrdfViz(brdfViz);
+    if (compareCommand->parsed()) return runCompare(compare);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
     return 1;

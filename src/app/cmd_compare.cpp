@@ -1,0 +1,407 @@
+// bounce compare: how far a test image is from a reference (relMSE, RMSE,
+// PSNR, FLIP), or how stable a static camera's frames are over time. Made for
+// scripts as much as for people: thresholds turn a comparison into exit code
+// 1 with one line saying which metric failed, and --json writes every value.
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "io/image_io.h"
+#include "metrics/flip.h"
+#include "metrics/image_metrics.h"
+
+namespace bounce::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void fail(const fs::path& path, const std::string& reason) {
+  throw std::runtime_error(path.string() + ": " + reason);
+}
+
+std::string lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return text;
+}
+
+// Whether two paths name the same file, also when the output does not exist yet.
+bool sameFile(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
+}
+
+// Outputs never replace an input (nor each other): a mistyped command must not
+// destroy the reference it was meant to check.
+void refuseToOverwriteInputs(const fs::path& output, const std::string& flag, const std::vector<fs::path>& inputs) {
+  for (const fs::path& input : inputs) {
+    if (sameFile(output, input)) fail(output, "refusing to write " + flag + " over the input " + input.string());
+  }
+}
+
+// EXR and Radiance files hold linear radiance (HDR-FLIP); PNG and JPEG hold
+// display values (LDR-FLIP). Decided by signature, as readImage does.
+bool holdsRadiance(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::array<char, 4> head{};
+  file.read(head.data(), std::streamsize(head.size()));
+  if (file.gcount() < 2) return false;
+  const bool exr = file.gcount() == 4 && head == std::array<char, 4>{'\x76', '\x2f', '\x31', '\x01'};
+  const bool radiance = head[0] == '#' && head[1] == '?';
+  return exr || radiance;
+}
+
+// --- output: numbers as people and JSON read them
+
+std::string number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+// JSON has no infinity or NaN; those become null (PSNR of identical images).
+std::string jsonNumber(double value) {
+  if (!std::isfinite(value)) return "null";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", value);
+  return text;
+}
+
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (unsigned char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += char(c);
+    } else if (c < 0x20) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+      out += escaped;
+    } else {
+      out += char(c);
+    }
+  }
+  return out + "\"";
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  if (!file) fail(path, "cannot open for writing");
+  file << text;
+  file.close();
+  if (!file) fail(path, "write failed");
+}
+
+void checkMax(std::vector<std::string>& failures, const char* metric, double value, const std::optional<double>& limit,
+              const char* flag) {
+  if (limit && !(value <= *limit))
+    failures.push_back(std::string(metric) + " " + number(value) + " > " + flag + " " + number(*limit));
+}
+
+void checkMin(std::vector<std::string>& failures, const char* metric, double value, const std::optional<double>& limit,
+              const char* flag) {
+  if (limit && !(value >= *limit))
+    failures.push_back(std::string(metric) + " " + number(value) + " < " + flag + " " + number(*limit));
+}
+
+// One line on stderr for all failed thresholds, exit code 1; 0 when none failed.
+int thresholdExitCode(const std::vector<std::string>& failures) {
+  if (failures.empty()) return 0;
+  std::string line = "bounce: compare failed: ";
+  for (std::size_t i = 0; i < failures.size(); ++i) line += (i ? "; " : "") + failures[i];
+  std::fprintf(stderr, "%s\n", line.c_str());
+  return 1;
+}
+
+// --- image pairs
+
+void writeErrorMap(const fs::path& path, const metrics::ScalarImage& flipMap) {
+  io::ImageF coloured(flipMap.width, flipMap.height, {"R", "G", "B"});
+  for (std::size_t p = 0; p < flipMap.values.size(); ++p) {
+    const std::array<std::uint8_t, 3> rgb = metrics::magma(flipMap.values[p]);
+    for (std::size_t c = 0; c < 3; ++c) coloured.pixels[p * 3 + c] = float(rgb[c]) / 255.0f;
+  }
+  // Linear: the magma bytes are already display values and are stored as they are.
+  io::writePng(path, coloured, io::PngEncoding::Linear);
+}
+
+std::string pairJson(const CompareOptions& options, const io::ImageF& reference, const metrics::Comparison& c,
+                     bool passed) {
+  const metrics::ErrorStatistics& f = c.flip;
+  std::ostringstream json;
+  json << "{\n";
+  json << "  \"reference\": " << jsonString(options.images[0]) << ",\n";
+  json << "  \"test\": " << jsonString(options.images[1]) << ",\n";
+  json << "  \"width\": " << reference.width << ",\n  \"height\": " << reference.height << ",\n";
+  json << "  \"relmse\": " << jsonNumber(c.values.relMse) << ",\n";
+  json << "  \"relmse_epsilon\": " << jsonNumber(metrics::kRelMseEpsilon) << ",\n";
+  json << "  \"mse\": " << jsonNumber(c.values.mse) << ",\n";
+  json << "  \"rmse\": " << jsonNumber(c.values.rmse) << ",\n";
+  json << "  \"psnr_db\": " << jsonNumber(c.values.psnrDb) << ",\n";
+  json << "  \"psnr_peak\": " << jsonNumber(metrics::kPsnrPeak) << ",\n";
+  json << "  \"flip\": {\n";
+  json << "    \"mode\": \"" << (c.flipMode == metrics::FlipMode::Hdr ? "hdr" : "ldr") << "\",\n";
+  json << "    \"ppd\": " << jsonNumber(c.pixelsPerDegree) << ",\n";
+  json << "    \"mean\": " << jsonNumber(f.mean) << ",\n";
+  json << "    \"median\": " << jsonNumber(f.median) << ",\n";
+  json << "    \"first_quartile\": " << jsonNumber(f.firstQuartile) << ",\n";
+  json << "    \"third_quartile\": " << jsonNumber(f.thirdQuartile) << ",\n";
+  json << "    \"percentile_95\": " << jsonNumber(f.percentile95) << ",\n";
+  json << "    \"percentile_99\": " << jsonNumber(f.percentile99) << ",\n";
+  json << "    \"min\": " << jsonNumber(f.min) << ",\n";
+  json << "    \"max\": " << jsonNumber(f.max) << ",\n";
+  json << "    \"weighted_median\": " << jsonNumber(f.weightedMedian) << ",\n";
+  json << "    \"weighted_first_quartile\": " << jsonNumber(f.weightedFirstQuartile) << ",\n";
+  json << "    \"weighted_third_quartile\": " << jsonNumber(f.weightedThirdQuartile);
+  if (c.exposures) {
+    json << ",\n    \"start_exposure\": " << jsonNumber(c.exposures->start) << ",\n";
+    json << "    \"stop_exposure\": " << jsonNumber(c.exposures->stop) << ",\n";
+    json << "    \"exposure_count\": " << c.exposures->count;
+  }
+  json << "\n  },\n";
+  json << "  \"passed\": " << (passed ? "true" : "false") << "\n}\n";
+  return json.str();
+}
+
+int comparePair(const CompareOptions& options) {
+  const fs::path referencePath = options.images[0];
+  const fs::path testPath = options.images[1];
+  const std::vector<fs::path> inputs = {referencePath, testPath};
+  if (!options.errorMap.empty()) {
+    if (lowercase(fs::path(options.errorMap).extension().string()) != ".png") {
+      fail(options.errorMap, "--error-map writes a PNG; give a file name ending in .png");
+    }
+    refuseToOverwriteInputs(options.errorMap, "--error-map", inputs);
+  }
+  if (!options.json.empty()) {
+    refuseToOverwriteInputs(options.json, "--json", inputs);
+    if (!options.errorMap.empty() && sameFile(options.json, options.errorMap)) {
+      fail(options.json, "--json and --error-map name the same file");
+    }
+  }
+
+  const io::ImageF reference = io::readImage(referencePath);
+  const io::ImageF test = io::readImage(testPath);
+  if (const std::string reason = metrics::incompatibility(reference, test); !reason.empty()) {
+    fail(testPath, reason + " (" + referencePath.string() + ")");
+  }
+
+  metrics::ComparisonOptions comparisonOptions;
+  const bool hdr =
+      options.flip == "hdr" || (options.flip == "auto" && (holdsRadiance(referencePath) || holdsRadiance(testPath)));
+  comparisonOptions.flipMode = hdr ? metrics::FlipMode::Hdr : metrics::FlipMode::Ldr;
+  comparisonOptions.pixelsPerDegree = options.ppd.value_or(metrics::defaultPixelsPerDegree());
+  metrics::Comparison comparison;
+  try {
+    comparison = metrics::compareImages(reference, test, comparisonOptions);
+  } catch (const std::invalid_argument& e) {
+    // What remains are properties of the reference (channel layout for FLIP,
+    // a black reference for the HDR exposure range).
+    fail(referencePath, e.what());
+  }
+
+  const metrics::ErrorStatistics& f = comparison.flip;
+  std::printf("reference  %s (%dx%d)\n", referencePath.c_str(), reference.width, reference.height);
+  std::printf("test       %s\n", testPath.c_str());
+  std::printf("relMSE     %s  (epsilon %s)\n", number(comparison.values.relMse).c_str(),
+              number(metrics::kRelMseEpsilon).c_str());
+  std::printf("RMSE       %s\n", number(comparison.values.rmse).c_str());
+  std::printf("PSNR       %s dB  (peak %s)\n", number(comparison.values.psnrDb).c_str(),
+              number(metrics::kPsnrPeak).c_str());
+  std::printf("FLIP       mean %s  median %s  quartiles %s %s  max %s\n", number(f.mean).c_str(),
+              number(f.median).c_str(), number(f.firstQuartile).c_str(), number(f.thirdQuartile).c_str(),
+              number(f.max).c_str());
+  std::printf("           %s at %s pixels per degree", hdr ? "HDR-FLIP" : "LDR-FLIP",
+              number(comparison.pixelsPerDegree).c_str());
+  if (comparison.exposures) {
+    std::printf(", exposures %s to %s in %d steps", number(comparison.exposures->start).c_str(),
+                number(comparison.exposures->stop).c_str(), comparison.exposures->count);
+  }
+  std::printf("\n           weighted median %s, weighted quartiles %s %s (as the FLIP tool reports)\n",
+              number(f.weightedMedian).c_str(), number(f.weightedFirstQuartile).c_str(),
+              number(f.weightedThirdQuartile).c_str());
+
+  std::vector<std::string> failures;  // thresholds given and not met, as the failure line names them
+  checkMax(failures, "relMSE", comparison.values.relMse, options.maxRelMse, "--max-relmse");
+  checkMax(failures, "RMSE", comparison.values.rmse, options.maxRmse, "--max-rmse");
+  checkMin(failures, "PSNR", comparison.values.psnrDb, options.minPsnr, "--min-psnr");
+  checkMax(failures, "FLIP mean", f.mean, options.maxFlip, "--max-flip");
+
+  if (!options.errorMap.empty()) {
+    writeErrorMap(options.errorMap, comparison.flipMap);
+    std::printf("wrote %s\n", options.errorMap.c_str());
+  }
+  if (!options.json.empty()) {
+    writeText(options.json, pairJson(options, reference, comparison, failures.empty()));
+    std::printf("wrote %s\n", options.json.c_str());
+  }
+  std::fflush(stdout);
+  return thresholdExitCode(failures);
+}
+
+// --- sequences
+
+// The frames of a directory: its images of one kind, sorted by name. bounce
+// render writes frameNNNN.png and, with --hdr, frameNNNN.exr side by side, so
+// the most precise kind present is taken: EXR, then HDR, PNG, JPEG.
+std::vector<fs::path> framesInDirectory(const fs::path& directory) {
+  const std::vector<std::vector<std::string>> kinds = {{".exr"}, {".hdr"}, {".png"}, {".jpg", ".jpeg"}};
+  std::vector<fs::path> all;
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(directory, ec)) {
+    if (entry.is_regular_file()) all.push_back(entry.path());
+  }
+  if (ec) fail(directory, "cannot list (" + ec.message() + ")");
+  for (const std::vector<std::string>& extensions : kinds) {
+    std::vector<fs::path> frames;
+    for (const fs::path& path : all) {
+      const std::string extension = lowercase(path.extension().string());
+      if (std::find(extensions.begin(), extensions.end(), extension) != extensions.end()) frames.push_back(path);
+    }
+    if (!frames.empty()) {
+      std::sort(frames.begin(), frames.end());
+      return frames;
+    }
+  }
+  fail(directory, "holds no .exr, .hdr, .png or .jpg frames");
+}
+
+std::vector<fs::path> sequenceFrames(const CompareOptions& options) {
+  std::vector<fs::path> frames;
+  if (options.images.size() == 1) {
+    const fs::path only = options.images[0];
+    std::error_code ec;
+    if (!fs::is_directory(only, ec)) {
+      fail(only, "--sequence needs a directory of frames or at least two frame files");
+    }
+    frames = framesInDirectory(only);
+  } else {
+    frames.assign(options.images.begin(), options.images.end());
+  }
+  if (frames.size() < 2) {
+    fail(options.images[0], "--sequence needs at least two frames, found " + std::to_string(frames.size()));
+  }
+  return frames;
+}
+
+int compareSequence(const CompareOptions& options) {
+  const std::vector<fs::path> frames = sequenceFrames(options);
+  if (!options.json.empty()) refuseToOverwriteInputs(options.json, "--json", frames);
+
+  // One frame at a time, so that long sequences need two frames of memory.
+  const io::ImageF first = io::readImage(frames[0]);
+  std::vector<float> previous;
+  try {
+    previous = metrics::luminance(first);
+  } catch (const std::invalid_argument& e) {
+    fail(frames[0], e.what());
+  }
+  std::vector<double> changes;
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    const io::ImageF frame = io::readImage(frames[i]);
+    if (const std::string reason = metrics::incompatibility(first, frame, "the first frame"); !reason.empty()) {
+      fail(frames[i], reason + " (" + frames[0].string() + ")");
+    }
+    std::vector<float> current = metrics::luminance(frame);
+    changes.push_back(metrics::relativeChange(previous, current));
+    previous = std::move(current);
+  }
+
+  double mean = 0.0;
+  for (double change : changes) mean += change;
+  mean /= double(changes.size());
+  const auto worst = std::max_element(changes.begin(), changes.end());
+  const std::size_t worstIndex = std::size_t(worst - changes.begin());
+  std::printf("frames     %zu (%s ... %s)\n", frames.size(), frames.front().c_str(), frames.back().c_str());
+  std::printf("temporal   mean relative change %s per frame  (epsilon %s)\n", number(mean).c_str(),
+              number(metrics::kTemporalEpsilon).c_str());
+  std::printf("           largest %s, from %s to %s\n", number(*worst).c_str(), frames[worstIndex].filename().c_str(),
+              frames[worstIndex + 1].filename().c_str());
+
+  std::vector<std::string> failures;  // thresholds given and not met, as the failure line names them
+  checkMax(failures, "temporal change", mean, options.maxTemporal, "--max-temporal");
+
+  if (!options.json.empty()) {
+    std::ostringstream json;
+    json << "{\n  \"frames\": [";
+    for (std::size_t i = 0; i < frames.size(); ++i) json << (i ? ", " : "") << jsonString(frames[i].string());
+    json << "],\n  \"temporal_epsilon\": " << jsonNumber(metrics::kTemporalEpsilon) << ",\n";
+    json << "  \"change_per_frame\": [";
+    for (std::size_t i = 0; i < changes.size(); ++i) json << (i ? ", " : "") << jsonNumber(changes[i]);
+    json << "],\n  \"mean_change\": " << jsonNumber(mean) << ",\n";
+    json << "  \"max_change\": " << jsonNumber(*worst) << ",\n";
+    json << "  \"passed\": " << (failures.empty() ? "true" : "false") << "\n}\n";
+    writeText(options.json, json.str());
+    std::printf("wrote %s\n", options.json.c_str());
+  }
+  std::fflush(stdout);
+  return thresholdExitCode(failures);
+}
+
+}  // namespace
+
+CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
+  CLI::App* command = app.add_subcommand(
+      "compare",
+      "Compare a test image with a reference (relMSE, RMSE, PSNR, FLIP), or measure the temporal stability of "
+      "a static camera's frames (--sequence)");
+  command
+      ->add_option("images", options.images,
+                   "REFERENCE TEST (EXR, HDR, PNG or JPEG); with --sequence, a directory of frames or the frame "
+                   "files in order")
+      ->required();
+  CLI::Option* sequence = command->add_flag(
+      "--sequence", options.sequence,
+      "Measure temporal stability instead: mean relative luminance change between consecutive frames");
+  const std::vector<CLI::Option*> pairOnly = {
+      command
+          ->add_option("--flip", options.flip,
+                       "FLIP variant: auto (HDR-FLIP for EXR/HDR inputs, LDR-FLIP for PNG/JPEG), ldr or hdr")
+          ->check(CLI::IsMember({"auto", "ldr", "hdr"})),
+      command
+          ->add_option("--ppd", options.ppd,
+                       "Pixels per degree of visual angle for FLIP (default 67.02: 0.7 m from a 0.7 m wide 4K "
+                       "monitor, as the FLIP tool)")
+          ->check(CLI::Range(0.01f, 10000.0f)),
+      command->add_option("--error-map", options.errorMap,
+                          "Write the FLIP error map to this PNG (magma colour map); never over an input"),
+      command->add_option("--max-relmse", options.maxRelMse, "Exit 1 if relMSE is above this")
+          ->check(CLI::NonNegativeNumber),
+      command->add_option("--max-rmse", options.maxRmse, "Exit 1 if RMSE is above this")->check(CLI::NonNegativeNumber),
+      command->add_option("--min-psnr", options.minPsnr, "Exit 1 if PSNR (dB, peak 1) is below this"),
+      command->add_option("--max-flip", options.maxFlip, "Exit 1 if the mean FLIP is above this")
+          ->check(CLI::Range(0.0, 1.0))};
+  for (CLI::Option* option : pairOnly) sequence->excludes(option);
+  command
+      ->add_option("--max-temporal", options.maxTemporal,
+                   "With --sequence: exit 1 if the mean relative frame-to-frame change is above this")
+      ->check(CLI::NonNegativeNumber)
+      ->needs(sequence);
+  command->add_option("--json", options.json, "Also write every value to this JSON file; never over an input");
+  // The image count depends on --sequence, so it is checked once parsing is
+  // done; a ValidationError here is a usage error like any other (exit 2).
+  command->callback([&options] {
+    if (!options.sequence && options.images.size() != 2) {
+      throw CLI::ValidationError("compare needs two images, REFERENCE and TEST (got " +
+                                 std::to_string(options.images.size()) + "); use --sequence for frames");
+    }
+  });
+  return command;
+}
+
+int runCompare(const CompareOptions& options) {
+  return options.sequence ? compareSequence(options) : comparePair(options);
+}
+
+}  // namespace bounce::app

@@ -1,0 +1,566 @@
+// LDR-FLIP and HDR-FLIP. The arithmetic is float32 throughout, in the order
+// the FLIP tool uses, so that results agree with it to its printed digits
+// rather than merely to the tolerance of the fixtures (docs/metrics.md).
+#include "metrics/flip.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include <glm/common.hpp>
+
+#include "shared/color.glsl"
+
+namespace bounce::metrics {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// --- constants of the FLIP paper (HPG 2020, sections 3 and 4)
+
+// Colour pipeline: the HyAB difference is raised to kColourExponent (q_c);
+// differences below kColourCutoff * cmax (p_c) are mapped linearly onto
+// [0, kColourCutoffTarget] (p_t) and the rest compressed onto [p_t, 1].
+constexpr float kColourExponent = 0.7f;
+constexpr float kColourCutoff = 0.4f;
+constexpr float kColourCutoffTarget = 0.95f;
+// Feature pipeline: the edge/point detectors are derivatives of a Gaussian
+// whose standard deviation is half of kFeatureWidthDegrees (w) of visual
+// angle; the feature difference is raised to kFeatureExponent (q_f).
+constexpr float kFeatureWidthDegrees = 0.082f;
+constexpr float kFeatureExponent = 0.5f;
+
+// The contrast sensitivity functions of the opponent channels, as sums of two
+// Gaussians in the spatial domain: g(x) = a1 sqrt(pi/b1) exp(-pi^2 x^2 / b1)
+// + a2 sqrt(pi/b2) exp(-pi^2 x^2 / b2), x in degrees. The achromatic and
+// red-green channels have a single Gaussian (a2 = 0; b2 only keeps the
+// expression finite).
+struct GaussianSum {
+  float a1, b1, a2, b2;
+};
+constexpr GaussianSum kCsfAchromatic{1.0f, 0.0047f, 0.0f, 1.0e-5f};
+constexpr GaussianSum kCsfRedGreen{1.0f, 0.0053f, 0.0f, 1.0e-5f};
+constexpr GaussianSum kCsfBlueYellow{34.1f, 0.04f, 13.5f, 0.025f};
+
+// --- colour spaces (sRGB primaries, D65 white)
+
+// The exact rational sRGB-to-XYZ matrix (its row sums are the D65 white below).
+glm::vec3 linearRgbToXyz(glm::vec3 rgb) {
+  const float a11 = 10135552.0f / 24577794.0f, a12 = 8788810.0f / 24577794.0f, a13 = 4435075.0f / 24577794.0f;
+  const float a21 = 2613072.0f / 12288897.0f, a22 = 8788810.0f / 12288897.0f, a23 = 887015.0f / 12288897.0f;
+  const float a31 = 1425312.0f / 73733382.0f, a32 = 8788810.0f / 73733382.0f, a33 = 70074185.0f / 73733382.0f;
+  return {a11 * rgb.x + a12 * rgb.y + a13 * rgb.z, a21 * rgb.x + a22 * rgb.y + a23 * rgb.z,
+          a31 * rgb.x + a32 * rgb.y + a33 * rgb.z};
+}
+
+glm::vec3 xyzToLinearRgb(glm::vec3 xyz) {
+  return {3.241003275f * xyz.x - 1.537398934f * xyz.y - 0.498615861f * xyz.z,
+          -0.969224334f * xyz.x + 1.875930071f * xyz.y + 0.041554224f * xyz.z,
+          0.055639423f * xyz.x - 0.204011202f * xyz.y + 1.057148933f * xyz.z};
+}
+
+constexpr glm::vec3 kD65White{0.950428545f, 1.0f, 1.088900371f};
+constexpr glm::vec3 kInverseD65White{1.052156925f, 1.0f, 0.918357670f};
+
+// YCxCz (Flohr et al.): the linearised CIELAB the spatial filters work in, so
+// that filtering is a linear operation on colour.
+glm::vec3 xyzToYCxCz(glm::vec3 xyz) {
+  const glm::vec3 n = xyz * kInverseD65White;
+  return {116.0f * n.y - 16.0f, 500.0f * (n.x - n.y), 200.0f * (n.y - n.z)};
+}
+
+glm::vec3 yCxCzToXyz(glm::vec3 yCxCz) {
+  const float y = (yCxCz.x + 16.0f) / 116.0f;
+  const float cx = yCxCz.y / 500.0f;
+  const float cz = yCxCz.z / 200.0f;
+  return glm::vec3(y + cx, y, y - cz) * kD65White;
+}
+
+glm::vec3 xyzToCieLab(glm::vec3 xyz) {
+  const float delta = 6.0f / 29.0f;
+  const float deltaSquare = delta * delta;
+  const float deltaCube = delta * deltaSquare;
+  const float factor = 1.0f / (3.0f * deltaSquare);
+  const float term = 4.0f / 29.0f;
+  const glm::vec3 n = xyz * kInverseD65White;
+  const auto f = [&](float t) { return t > deltaCube ? std::pow(t, 1.0f / 3.0f) : factor * t + term; };
+  const float fx = f(n.x), fy = f(n.y), fz = f(n.z);
+  return {116.0f * fy - 16.0f, 500.0f * (fx - fy), 200.0f * (fy - fz)};
+}
+
+// The Hunt effect: chroma is perceived weaker at low luminance, so a and b are
+// scaled by L/100 before the difference is taken.
+glm::vec3 huntAdjust(glm::vec3 lab) { return {lab.x, 0.01f * lab.x * lab.y, 0.01f * lab.x * lab.z}; }
+
+// HyAB: city-block distance in lightness plus Euclidean distance in chroma,
+// which behaves better than CIEDE2000 for large differences.
+float hyab(glm::vec3 a, glm::vec3 b) {
+  const float da = a.y - b.y;
+  const float db = a.z - b.z;
+  return std::fabs(a.x - b.x) + std::sqrt(da * da + db * db);
+}
+
+// The largest colour difference FLIP expects (pure green against pure blue),
+// raised to the colour exponent: the normaliser of the colour error.
+float maximumColourDifference() {
+  const glm::vec3 green = huntAdjust(xyzToCieLab(linearRgbToXyz({0.0f, 1.0f, 0.0f})));
+  const glm::vec3 blue = huntAdjust(xyzToCieLab(linearRgbToXyz({0.0f, 0.0f, 1.0f})));
+  return std::pow(hyab(green, blue), kColourExponent);
+}
+
+// --- filters (separable: each 2D kernel is the outer product of 1D ones)
+
+// Radius of the CSF filters: three standard deviations of the widest Gaussian.
+int spatialFilterRadius(float ppd) {
+  const float widestScale = std::max(
+      {kCsfAchromatic.b1, kCsfAchromatic.b2, kCsfRedGreen.b1, kCsfRedGreen.b2, kCsfBlueYellow.b1, kCsfBlueYellow.b2});
+  return int(std::ceil(3.0f * std::sqrt(widestScale / (2.0f * kPi * kPi)) * ppd));
+}
+
+float csfGaussian(float x2, float a, float b) { return a * std::sqrt(kPi / b) * std::exp(-kPi * kPi * x2 / b); }
+
+// One factor of a separable 2D Gaussian a sqrt(pi/b) exp(-pi^2 (x^2+y^2) / b):
+// sqrt of the amplitude times the 1D exponential.
+float csfGaussianFactor(float x2, float a, float b) {
+  return std::sqrt(a * std::sqrt(kPi / b)) * std::exp(-kPi * kPi * x2 / b);
+}
+
+// The 1D CSF weights. The blue-yellow CSF is a sum of two Gaussians, which is
+// not separable as a whole, so it is filtered as two separable Gaussians
+// (blueYellow1, blueYellow2) whose results are added.
+struct SpatialFilters {
+  int radius = 0;
+  std::vector<float> achromatic, redGreen, blueYellow1, blueYellow2;
+};
+
+SpatialFilters makeSpatialFilters(float ppd) {
+  SpatialFilters f;
+  f.radius = spatialFilterRadius(ppd);
+  const int width = 2 * f.radius + 1;
+  const float degreesPerPixel = 1.0f / ppd;
+  float sumAchromatic = 0.0f, sumRedGreen = 0.0f, sumBlueYellow1 = 0.0f, sumBlueYellow2 = 0.0f;
+  for (int i = 0; i < width; ++i) {
+    const float x = float(i - f.radius) * degreesPerPixel;
+    const float x2 = x * x;
+    f.achromatic.push_back(csfGaussian(x2, kCsfAchromatic.a1, kCsfAchromatic.b1));
+    f.redGreen.push_back(csfGaussian(x2, kCsfRedGreen.a1, kCsfRedGreen.b1));
+    f.blueYellow1.push_back(csfGaussianFactor(x2, kCsfBlueYellow.a1, kCsfBlueYellow.b1));
+    f.blueYellow2.push_back(csfGaussianFactor(x2, kCsfBlueYellow.a2, kCsfBlueYellow.b2));
+    sumAchromatic += f.achromatic.back();
+    sumRedGreen += f.redGreen.back();
+    sumBlueYellow1 += f.blueYellow1.back();
+    sumBlueYellow2 += f.blueYellow2.back();
+  }
+  // Each 2D kernel must sum to 1. For the blue-yellow pair the 2D sum is
+  // S1^2 + S2^2, so both factors are divided by its square root.
+  const float blueYellowNorm = 1.0f / std::sqrt(sumBlueYellow1 * sumBlueYellow1 + sumBlueYellow2 * sumBlueYellow2);
+  for (int i = 0; i < width; ++i) {
+    f.achromatic[std::size_t(i)] *= 1.0f / sumAchromatic;
+    f.redGreen[std::size_t(i)] *= 1.0f / sumRedGreen;
+    f.blueYellow1[std::size_t(i)] *= blueYellowNorm;
+    f.blueYellow2[std::size_t(i)] *= blueYellowNorm;
+  }
+  return f;
+}
+
+// The feature detectors: a Gaussian and its first and second derivatives,
+// sigma = w/2 degrees. The Gaussian is normalised to sum 1; the positive and
+// negative lobes of each derivative to +1 and -1, so that a full-contrast
+// step or dot gives a response near 1 whatever the ppd.
+struct FeatureFilters {
+  int radius = 0;
+  std::vector<float> gaussian, firstDerivative, secondDerivative;
+};
+
+FeatureFilters makeFeatureFilters(float ppd) {
+  FeatureFilters f;
+  const float sigma = 0.5f * kFeatureWidthDegrees * ppd;
+  f.radius = int(std::ceil(3.0f * sigma));
+  const int width = 2 * f.radius + 1;
+  float gaussianSum = 0.0f;
+  float firstPositive = 0.0f, firstNegative = 0.0f, secondPositive = 0.0f, secondNegative = 0.0f;
+  for (int i = 0; i < width; ++i) {
+    const float x = float(i - f.radius);
+    const float g = std::exp(-(x * x) / (2.0f * sigma * sigma));
+    const float dg = -x * g;
+    const float ddg = (x * x / (sigma * sigma) - 1.0f) * g;
+    gaussianSum += g;
+    (dg > 0.0f ? firstPositive : firstNegative) += std::fabs(dg);
+    (ddg > 0.0f ? secondPositive : secondNegative) += std::fabs(ddg);
+    f.gaussian.push_back(g);
+    f.firstDerivative.push_back(dg);
+    f.secondDerivative.push_back(ddg);
+  }
+  for (int i = 0; i < width; ++i) {
+    const std::size_t k = std::size_t(i);
+    f.gaussian[k] /= gaussianSum;
+    f.firstDerivative[k] /= f.firstDerivative[k] > 0.0f ? firstPositive : firstNegative;
+    f.secondDerivative[k] /= f.secondDerivative[k] > 0.0f ? secondPositive : secondNegative;
+  }
+  return f;
+}
+
+// Clamp-to-edge addressing: the image is extended by repeating its border.
+int clampIndex(int i, int size) { return std::min(std::max(i, 0), size - 1); }
+
+// Runs row(y) for every y in [0, height), rows interleaved over the hardware
+// threads. Every output pixel is computed by one thread from inputs no thread
+// writes, so the result is the same bits whatever the thread count.
+template <typename RowFunction>
+void forEachRow(int height, const RowFunction& row) {
+  constexpr int kMinimumRowsPerThread = 32;  // below this, starting threads costs more than it saves
+  const int threads =
+      std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, height / kMinimumRowsPerThread));
+  if (threads == 1) {
+    for (int y = 0; y < height; ++y) row(y);
+    return;
+  }
+  std::vector<std::jthread> workers;
+  for (int t = 0; t < threads; ++t) {
+    workers.emplace_back([&row, height, threads, t] {
+      for (int y = t; y < height; y += threads) row(y);
+    });
+  }
+}
+
+// --- the two halves of LDR-FLIP
+
+// Colour difference per pixel in [0,1]: CSF-filtered YCxCz, back to linear RGB
+// clamped to the display gamut, to Hunt-adjusted CIELAB, HyAB, then the
+// compressing remap. Inputs are YCxCz images.
+ScalarImage colourDifference(const std::vector<glm::vec3>& reference, const std::vector<glm::vec3>& test, int width,
+                             int height, float ppd) {
+  const SpatialFilters filters = makeSpatialFilters(ppd);
+  const int r = filters.radius;
+  const std::size_t count = std::size_t(width) * std::size_t(height);
+
+  // Horizontal pass; per pixel (Y, Cx, Cz through Gaussian 1, Cz through Gaussian 2).
+  struct Partial {
+    float y, cx, cz1, cz2;
+  };
+  std::vector<Partial> horizontalReference(count), horizontalTest(count);
+  forEachRow(height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      Partial ref{0.0f, 0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f, 0.0f};
+      for (int k = -r; k <= r; ++k) {
+        const std::size_t source = std::size_t(y) * std::size_t(width) + std::size_t(clampIndex(x + k, width));
+        const std::size_t tap = std::size_t(k + r);
+        const glm::vec3 a = reference[source];
+        const glm::vec3 b = test[source];
+        ref.y += filters.achromatic[tap] * a.x;
+        ref.cx += filters.redGreen[tap] * a.y;
+        ref.cz1 += filters.blueYellow1[tap] * a.z;
+        ref.cz2 += filters.blueYellow2[tap] * a.z;
+        tst.y += filters.achromatic[tap] * b.x;
+        tst.cx += filters.redGreen[tap] * b.y;
+        tst.cz1 += filters.blueYellow1[tap] * b.z;
+        tst.cz2 += filters.blueYellow2[tap] * b.z;
+      }
+      const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+      horizontalReference[i] = ref;
+      horizontalTest[i] = tst;
+    }
+  });
+
+  const float cmax = maximumColourDifference();
+  const float cutoff = kColourCutoff * cmax;
+  // Filtered YCxCz -> displayable linear RGB -> Hunt-adjusted CIELAB.
+  const auto toPerceptual = [](const Partial& p) {
+    const glm::vec3 rgb = glm::clamp(xyzToLinearRgb(yCxCzToXyz({p.y, p.cx, p.cz1 + p.cz2})), 0.0f, 1.0f);
+    return huntAdjust(xyzToCieLab(linearRgbToXyz(rgb)));
+  };
+
+  ScalarImage difference(width, height);
+  forEachRow(height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      Partial ref{0.0f, 0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f, 0.0f};
+      for (int k = -r; k <= r; ++k) {
+        const std::size_t source = std::size_t(clampIndex(y + k, height)) * std::size_t(width) + std::size_t(x);
+        const std::size_t tap = std::size_t(k + r);
+        const Partial& a = horizontalReference[source];
+        const Partial& b = horizontalTest[source];
+        ref.y += filters.achromatic[tap] * a.y;
+        ref.cx += filters.redGreen[tap] * a.cx;
+        ref.cz1 += filters.blueYellow1[tap] * a.cz1;
+        ref.cz2 += filters.blueYellow2[tap] * a.cz2;
+        tst.y += filters.achromatic[tap] * b.y;
+        tst.cx += filters.redGreen[tap] * b.cx;
+        tst.cz1 += filters.blueYellow1[tap] * b.cz1;
+        tst.cz2 += filters.blueYellow2[tap] * b.cz2;
+      }
+      const float perceived = std::pow(hyab(toPerceptual(ref), toPerceptual(tst)), kColourExponent);
+      // Small differences use most of [0,1]; large ones are compressed into the top.
+      difference.at(x, y) = perceived < cutoff ? perceived * (kColourCutoffTarget / cutoff)
+                                               : kColourCutoffTarget + ((perceived - cutoff) / (cmax - cutoff)) *
+                                                                           (1.0f - kColourCutoffTarget);
+    }
+  });
+  return difference;
+}
+
+// Feature difference per pixel in [0,1]: the larger of the differences in
+// edge strength and in point strength between the images, measured on
+// luminance normalised to [0,1] ((Y + 16) / 116 of YCxCz, i.e. Y / Y_white).
+ScalarImage featureDifference(const std::vector<glm::vec3>& reference, const std::vector<glm::vec3>& test, int width,
+                              int height, float ppd) {
+  const FeatureFilters filters = makeFeatureFilters(ppd);
+  const int r = filters.radius;
+  const std::size_t count = std::size_t(width) * std::size_t(height);
+  const auto normalisedLuminance = [](const glm::vec3& yCxCz) { return yCxCz.x * (1.0f / 116.0f) + 16.0f / 116.0f; };
+
+  // Horizontal pass: d/dx, d2/dx2 and plain Gaussian, the latter for the
+  // vertical derivatives of the second pass.
+  struct Partial {
+    float dx, ddx, g;
+  };
+  std::vector<Partial> horizontalReference(count), horizontalTest(count);
+  forEachRow(height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      Partial ref{0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f};
+      for (int k = -r; k <= r; ++k) {
+        const std::size_t source = std::size_t(y) * std::size_t(width) + std::size_t(clampIndex(x + k, width));
+        const std::size_t tap = std::size_t(k + r);
+        const float a = normalisedLuminance(reference[source]);
+        const float b = normalisedLuminance(test[source]);
+        ref.dx += filters.firstDerivative[tap] * a;
+        ref.ddx += filters.secondDerivative[tap] * a;
+        ref.g += filters.gaussian[tap] * a;
+        tst.dx += filters.firstDerivative[tap] * b;
+        tst.ddx += filters.secondDerivative[tap] * b;
+        tst.g += filters.gaussian[tap] * b;
+      }
+      const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+      horizontalReference[i] = ref;
+      horizontalTest[i] = tst;
+    }
+  });
+
+  // Edge and point responses are gradient-magnitude-like, each in [0, sqrt(2)].
+  const float normalisation = 1.0f / std::sqrt(2.0f);
+  ScalarImage difference(width, height);
+  forEachRow(height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      float dxRef = 0.0f, ddxRef = 0.0f, dyRef = 0.0f, ddyRef = 0.0f;
+      float dxTest = 0.0f, ddxTest = 0.0f, dyTest = 0.0f, ddyTest = 0.0f;
+      for (int k = -r; k <= r; ++k) {
+        const std::size_t source = std::size_t(clampIndex(y + k, height)) * std::size_t(width) + std::size_t(x);
+        const std::size_t tap = std::size_t(k + r);
+        const Partial& a = horizontalReference[source];
+        const Partial& b = horizontalTest[source];
+        dxRef += filters.gaussian[tap] * a.dx;
+        ddxRef += filters.gaussian[tap] * a.ddx;
+        dyRef += filters.firstDerivative[tap] * a.g;
+        ddyRef += filters.secondDerivative[tap] * a.g;
+        dxTest += filters.gaussian[tap] * b.dx;
+        ddxTest += filters.gaussian[tap] * b.ddx;
+        dyTest += filters.firstDerivative[tap] * b.g;
+        ddyTest += filters.secondDerivative[tap] * b.g;
+      }
+      const float edgeDifference =
+          std::fabs(std::sqrt(dxRef * dxRef + dyRef * dyRef) - std::sqrt(dxTest * dxTest + dyTest * dyTest));
+      const float pointDifference =
+          std::fabs(std::sqrt(ddxRef * ddxRef + ddyRef * ddyRef) - std::sqrt(ddxTest * ddxTest + ddyTest * ddyTest));
+      difference.at(x, y) = std::pow(normalisation * std::max(edgeDifference, pointDifference), kFeatureExponent);
+    }
+  });
+  return difference;
+}
+
+void checkPair(const RgbImage& reference, const RgbImage& test, float ppd) {
+  if (reference.width <= 0 || reference.height <= 0) throw std::invalid_argument("FLIP: the reference image is empty");
+  if (reference.pixels.size() != std::size_t(reference.width) * std::size_t(reference.height) ||
+      test.pixels.size() != std::size_t(test.width) * std::size_t(test.height)) {
+    throw std::invalid_argument("FLIP: image pixel count does not match its size");
+  }
+  if (test.width != reference.width || test.height != reference.height) {
+    throw std::invalid_argument("FLIP: the test image is " + std::to_string(test.width) + "x" +
+                                std::to_string(test.height) + " but the reference is " +
+                                std::to_string(reference.width) + "x" + std::to_string(reference.height));
+  }
+  if (!(ppd > 0.0f) || !std::isfinite(ppd)) {
+    throw std::invalid_argument("FLIP: pixels per degree must be positive and finite (got " + std::to_string(ppd) +
+                                ")");
+  }
+}
+
+// The tone mapper's curve, (k0 x^2 + k1 x + k2) / (k3 x^2 + k4 x + k5).
+struct ToneCurve {
+  float k0, k1, k2, k3, k4, k5;
+};
+constexpr ToneCurve kAces{0.6f * 0.6f * 2.51f, 0.6f * 0.03f, 0.0f, 0.6f * 0.6f * 2.43f, 0.6f * 0.59f, 0.14f};
+// HDR-FLIP's exposure range aims the chosen luminances at this display value.
+constexpr float kExposureTarget = 0.85f;
+
+ScalarImage ldrFlipUnchecked(const RgbImage& reference, const RgbImage& test, float ppd) {
+  const std::size_t width = std::size_t(reference.width);
+  const auto toYCxCz = [width](const RgbImage& image) {
+    std::vector<glm::vec3> out(image.pixels.size());
+    forEachRow(image.height, [&](int y) {
+      for (std::size_t i = std::size_t(y) * width; i < std::size_t(y + 1) * width; ++i) {
+        out[i] = xyzToYCxCz(linearRgbToXyz(glm::clamp(image.pixels[i], 0.0f, 1.0f)));
+      }
+    });
+    return out;
+  };
+  const std::vector<glm::vec3> referenceYCxCz = toYCxCz(reference);
+  const std::vector<glm::vec3> testYCxCz = toYCxCz(test);
+  ScalarImage error = colourDifference(referenceYCxCz, testYCxCz, reference.width, reference.height, ppd);
+  const ScalarImage features = featureDifference(referenceYCxCz, testYCxCz, reference.width, reference.height, ppd);
+  // Features sharpen the colour error: where edges or points differ, the
+  // exponent drops below 1 and lifts the error towards 1.
+  forEachRow(reference.height, [&](int y) {
+    for (std::size_t i = std::size_t(y) * width; i < std::size_t(y + 1) * width; ++i) {
+      error.values[i] = std::pow(error.values[i], 1.0f - features.values[i]);
+    }
+  });
+  return error;
+}
+
+}  // namespace
+
+float pixelsPerDegree(float distanceMeters, float displayWidthPixels, float displayWidthMeters) {
+  return distanceMeters * (displayWidthPixels / displayWidthMeters) * (kPi / 180.0f);
+}
+
+float defaultPixelsPerDegree() { return pixelsPerDegree(0.7f, 3840.0f, 0.7f); }
+
+ScalarImage ldrFlip(const RgbImage& reference, const RgbImage& test, float ppd) {
+  checkPair(reference, test, ppd);
+  return ldrFlipUnchecked(reference, test, ppd);
+}
+
+glm::vec3 flipToneMap(glm::vec3 c) {
+  const glm::vec3 numerator = c * c * kAces.k0 + c * kAces.k1 + kAces.k2;
+  const glm::vec3 denominator = c * c * kAces.k3 + c * kAces.k4 + kAces.k5;
+  return glm::clamp(numerator / denominator, 0.0f, 1.0f);
+}
+
+ExposureRange hdrFlipExposureRange(const RgbImage& reference) {
+  if (reference.pixels.empty()) throw std::invalid_argument("HDR-FLIP: the reference image is empty");
+  // The radiance x the tone mapper maps to the target: the larger root of
+  // (k0 - t k3) x^2 + (k1 - t k4) x + (k2 - t k5) = 0.
+  const float a = kAces.k0 - kExposureTarget * kAces.k3;
+  const float b = kAces.k1 - kExposureTarget * kAces.k4;
+  const float c = kAces.k2 - kExposureTarget * kAces.k5;
+  const float halfB = -0.5f * (b / a);
+  const float targetRadiance = halfB + std::sqrt(halfB * halfB - c / a);
+
+  std::vector<float> luminances(reference.pixels.size());
+  for (std::size_t i = 0; i < luminances.size(); ++i) luminances[i] = shared::luminance(reference.pixels[i]);
+  const float maximum = *std::max_element(luminances.begin(), luminances.end());
+  // The upper median (element n/2 of the sorted values), as the FLIP tool takes it.
+  const auto middle = luminances.begin() + std::ptrdiff_t(luminances.size() / 2);
+  std::nth_element(luminances.begin(), middle, luminances.end());
+  const float median = *middle;
+  if (!(maximum > 0.0f)) {
+    throw std::invalid_argument("HDR-FLIP: the reference has no positive luminance, so no exposure range exists");
+  }
+
+  ExposureRange range;
+  range.start = std::log2(targetRadiance / maximum);
+  // A mostly black reference has median 0; then the darkest lit pixel stands in.
+  float stopLuminance = median;
+  if (!(stopLuminance > 0.0f)) {
+    stopLuminance = maximum;
+    for (float l : luminances) {
+      if (l > 0.0f) stopLuminance = std::min(stopLuminance, l);
+    }
+  }
+  range.stop = std::log2(targetRadiance / stopLuminance);
+  range.count = int(std::max(2.0f, std::ceil(range.stop - range.start)));
+  return range;
+}
+
+HdrFlipResult hdrFlip(const RgbImage& reference, const RgbImage& test, float ppd,
+                      std::optional<ExposureRange> exposures) {
+  checkPair(reference, test, ppd);
+  HdrFlipResult result;
+  result.exposures = exposures ? *exposures : hdrFlipExposureRange(reference);
+  const ExposureRange& range = result.exposures;
+  if (!(range.start <= range.stop) || range.count < 2 || !std::isfinite(range.start) || !std::isfinite(range.stop)) {
+    throw std::invalid_argument("HDR-FLIP: exposure range needs finite start <= stop and at least 2 exposures (got " +
+                                std::to_string(range.start) + " to " + std::to_string(range.stop) + ", " +
+                                std::to_string(range.count) + ")");
+  }
+
+  result.error = ScalarImage(reference.width, reference.height, 0.0f);
+  result.exposureOfMaximum = ScalarImage(reference.width, reference.height, 0.0f);
+  const float step = (range.stop - range.start) / float(range.count - 1);
+  RgbImage exposedReference(reference.width, reference.height);
+  RgbImage exposedTest(reference.width, reference.height);
+  for (int i = 0; i < range.count; ++i) {
+    const float multiplier = std::pow(2.0f, range.start + float(i) * step);
+    const std::size_t width = std::size_t(reference.width);
+    forEachRow(reference.height, [&](int y) {
+      for (std::size_t p = std::size_t(y) * width; p < std::size_t(y + 1) * width; ++p) {
+        exposedReference.pixels[p] = flipToneMap(reference.pixels[p] * multiplier);
+        exposedTest.pixels[p] = flipToneMap(test.pixels[p] * multiplier);
+      }
+    });
+    const ScalarImage error = ldrFlipUnchecked(exposedReference, exposedTest, ppd);
+    const float exposurePosition = float(i) / float(range.count - 1);
+    for (std::size_t p = 0; p < error.values.size(); ++p) {
+      if (error.values[p] > result.error.values[p]) {
+        result.error.values[p] = error.values[p];
+        result.exposureOfMaximum.values[p] = exposurePosition;
+      }
+    }
+  }
+  return result;
+}
+
+std::array<std::uint8_t, 3> magma(float value) {
+  // matplotlib's magma (CC0, by Nathaniel J. Smith and Stefan van der Walt),
+  // rounded to 8-bit sRGB: 256 entries from black-purple to pale yellow.
+  static constexpr std::uint8_t kMagma[256][3] = {
+      {0, 0, 4},       {1, 0, 5},       {1, 1, 6},       {1, 1, 8},       {2, 1, 9},       {2, 2, 11},
+      {2, 2, 13},      {3, 3, 15},      {3, 3, 18},      {4, 4, 20},      {5, 4, 22},      {6, 5, 24},
+      {6, 5, 26},      {7, 6, 28},      {8, 7, 30},      {9, 7, 32},      {10, 8, 34},     {11, 9, 36},
+      {12, 9, 38},     {13, 10, 41},    {14, 11, 43},    {16, 11, 45},    {17, 12, 47},    {18, 13, 49},
+      {19, 13, 52},    {20, 14, 54},    {21, 14, 56},    {22, 15, 59},    {24, 15, 61},    {25, 16, 63},
+      {26, 16, 66},    {28, 16, 68},    {29, 17, 71},    {30, 17, 73},    {32, 17, 75},    {33, 17, 78},
+      {34, 17, 80},    {36, 18, 83},    {37, 18, 85},    {39, 18, 88},    {41, 17, 90},    {42, 17, 92},
+      {44, 17, 95},    {45, 17, 97},    {47, 17, 99},    {49, 17, 101},   {51, 16, 103},   {52, 16, 105},
+      {54, 16, 107},   {56, 16, 108},   {57, 15, 110},   {59, 15, 112},   {61, 15, 113},   {63, 15, 114},
+      {64, 15, 116},   {66, 15, 117},   {68, 15, 118},   {69, 16, 119},   {71, 16, 120},   {73, 16, 120},
+      {74, 16, 121},   {76, 17, 122},   {78, 17, 123},   {79, 18, 123},   {81, 18, 124},   {82, 19, 124},
+      {84, 19, 125},   {86, 20, 125},   {87, 21, 126},   {89, 21, 126},   {90, 22, 126},   {92, 22, 127},
+      {93, 23, 127},   {95, 24, 127},   {96, 24, 128},   {98, 25, 128},   {100, 26, 128},  {101, 26, 128},
+      {103, 27, 128},  {104, 28, 129},  {106, 28, 129},  {107, 29, 129},  {109, 29, 129},  {110, 30, 129},
+      {112, 31, 129},  {114, 31, 129},  {115, 32, 129},  {117, 33, 129},  {118, 33, 129},  {120, 34, 129},
+      {121, 34, 130},  {123, 35, 130},  {124, 35, 130},  {126, 36, 130},  {128, 37, 130},  {129, 37, 129},
+      {131, 38, 129},  {132, 38, 129},  {134, 39, 129},  {136, 39, 129},  {137, 40, 129},  {139, 41, 129},
+      {140, 41, 129},  {142, 42, 129},  {144, 42, 129},  {145, 43, 129},  {147, 43, 128},  {148, 44, 128},
+      {150, 44, 128},  {152, 45, 128},  {153, 45, 128},  {155, 46, 127},  {156, 46, 127},  {158, 47, 127},
+      {160, 47, 127},  {161, 48, 126},  {163, 48, 126},  {165, 49, 126},  {166, 49, 125},  {168, 50, 125},
+      {170, 51, 125},  {171, 51, 124},  {173, 52, 124},  {174, 52, 123},  {176, 53, 123},  {178, 53, 123},
+      {179, 54, 122},  {181, 54, 122},  {183, 55, 121},  {184, 55, 121},  {186, 56, 120},  {188, 57, 120},
+      {189, 57, 119},  {191, 58, 119},  {192, 58, 118},  {194, 59, 117},  {196, 60, 117},  {197, 60, 116},
+      {199, 61, 115},  {200, 62, 115},  {202, 62, 114},  {204, 63, 113},  {205, 64, 113},  {207, 64, 112},
+      {208, 65, 111},  {210, 66, 111},  {211, 67, 110},  {213, 68, 109},  {214, 69, 108},  {216, 69, 108},
+      {217, 70, 107},  {219, 71, 106},  {220, 72, 105},  {222, 73, 104},  {223, 74, 104},  {224, 76, 103},
+      {226, 77, 102},  {227, 78, 101},  {228, 79, 100},  {229, 80, 100},  {231, 82, 99},   {232, 83, 98},
+      {233, 84, 98},   {234, 86, 97},   {235, 87, 96},   {236, 88, 96},   {237, 90, 95},   {238, 91, 94},
+      {239, 93, 94},   {240, 95, 94},   {241, 96, 93},   {242, 98, 93},   {242, 100, 92},  {243, 101, 92},
+      {244, 103, 92},  {244, 105, 92},  {245, 107, 92},  {246, 108, 92},  {246, 110, 92},  {247, 112, 92},
+      {247, 114, 92},  {248, 116, 92},  {248, 118, 92},  {249, 120, 93},  {249, 121, 93},  {249, 123, 93},
+      {250, 125, 94},  {250, 127, 94},  {250, 129, 95},  {251, 131, 95},  {251, 133, 96},  {251, 135, 97},
+      {252, 137, 97},  {252, 138, 98},  {252, 140, 99},  {252, 142, 100}, {252, 144, 101}, {253, 146, 102},
+      {253, 148, 103}, {253, 150, 104}, {253, 152, 105}, {253, 154, 106}, {253, 155, 107}, {254, 157, 108},
+      {254, 159, 109}, {254, 161, 110}, {254, 163, 111}, {254, 165, 113}, {254, 167, 114}, {254, 169, 115},
+      {254, 170, 116}, {254, 172, 118}, {254, 174, 119}, {254, 176, 120}, {254, 178, 122}, {254, 180, 123},
+      {254, 182, 124}, {254, 183, 126}, {254, 185, 127}, {254, 187, 129}, {254, 189, 130}, {254, 191, 132},
+      {254, 193, 133}, {254, 194, 135}, {254, 196, 136}, {254, 198, 138}, {254, 200, 140}, {254, 202, 141},
+      {254, 204, 143}, {254, 205, 144}, {254, 207, 146}, {254, 209, 148}, {254, 211, 149}, {254, 213, 151},
+      {254, 215, 153}, {254, 216, 154}, {253, 218, 156}, {253, 220, 158}, {253, 222, 160}, {253, 224, 161},
+      {253, 226, 163}, {253, 227, 165}, {253, 229, 167}, {253, 231, 169}, {253, 233, 170}, {253, 235, 172},
+      {252, 236, 174}, {252, 238, 176}, {252, 240, 178}, {252, 242, 180}, {252, 244, 182}, {252, 246, 184},
+      {252, 247, 185}, {252, 249, 187}, {252, 251, 189}, {252, 253, 191}};
+  const float clamped = std::isnan(value) ? 0.0f : std::clamp(value, 0.0f, 1.0f);
+  const std::uint8_t* entry = kMagma[int(clamped * 255.0f + 0.5f)];
+  return {entry[0], entry[1], entry[2]};
+}
+
+}  // namespace bounce::metrics
