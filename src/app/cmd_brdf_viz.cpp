@@ -4,6 +4,7 @@
 // roughness. Each frame is labelled with its parameters; the animations are
 // written as APNG. The plots evaluate the same shared functions the shaders
 // run (shaders/shared/brdf.glsl), on the CPU.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "app/plot.h"
 #include "app/progress.h"
 #include "io/image_io.h"
+#include "metrics/flip.h"
 #include "shared/brdf.glsl"
 #include "shared/color.glsl"
 
@@ -64,7 +66,8 @@ io::ImageF drawFrame(const BrdfVizOptions& options, const Parameters& p) {
       const float value =
           shared::luminance(shared::materialBrdfCosine(n, v, l, baseColor, options.metallic, p.roughness));
       // A fixed, saturating tone curve keeps frames comparable with each other.
-      canvas.set(margin + x, margin + y, heatColour(1.0f - std::exp(-value)));
+      const std::array<std::uint8_t, 3> colour = metrics::magma(1.0f - std::exp(-value));
+      canvas.set(margin + x, margin + y, glm::vec3(colour[0], colour[1], colour[2]) / 255.0f);
     }
   const auto mark = [&](glm::vec3 d, glm::vec3 colour) {
     const glm::vec2 q = directionToDisk(d);

@@ -80,18 +80,4 @@ void Canvas::text(int x, int y, std::string_view text, glm::vec3 colour, int sca
   }
 }
 
-glm::vec3 heatColour(float t) {
-  t = std::clamp(std::isfinite(t) ? t : 0.0f, 0.0f, 1.0f);
-  // Piecewise-linear through black, deep purple, red, orange, yellow, white.
-  static const std::array<glm::vec3, 6> stops = {glm::vec3(0.0f),
-                                                 glm::vec3(0.26f, 0.04f, 0.41f),
-                                                 glm::vec3(0.73f, 0.21f, 0.33f),
-                                                 glm::vec3(0.98f, 0.55f, 0.04f),
-                                                 glm::vec3(0.99f, 0.91f, 0.15f),
-                                                 glm::vec3(1.0f)};
-  const float position = t * float(stops.size() - 1);
-  const std::size_t index = std::min(stops.size() - 2, std::size_t(position));
-  return glm::mix(stops[index], stops[index + 1], position - float(index));
-}
-
 }  // namespace bounce::app

@@ -31,8 +31,4 @@ class Canvas {
   io::ImageF image_;
 };
 
-// A perceptually ordered black-red-yellow-white map of t in [0,1] (like
-// "inferno"), for heat maps.
-glm::vec3 heatColour(float t);
-
 }  // namespace bounce::app
