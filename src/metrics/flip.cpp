@@ -237,8 +237,15 @@ ScalarImage colourDifference(const std::vector<glm::vec3>& reference, const std:
   const std::size_t count = std::size_t(width) * std::size_t(height);
 
   // Horizontal pass; per pixel (Y, Cx, Cz through Gaussian 1, Cz through Gaussian 2).
+  // Each opponent channel has its own filter (the blue-yellow one two, summed later).
   struct Partial {
     float y, cx, cz1, cz2;
+  };
+  const auto addTap = [&](Partial& sum, std::size_t tap, float y, float cx, float cz1, float cz2) {
+    sum.y += filters.achromatic[tap] * y;
+    sum.cx += filters.redGreen[tap] * cx;
+    sum.cz1 += filters.blueYellow1[tap] * cz1;
+    sum.cz2 += filters.blueYellow2[tap] * cz2;
   };
   std::vector<Partial> horizontalReference(count), horizontalTest(count);
   forEachRow(height, [&](int y) {
@@ -249,14 +256,8 @@ ScalarImage colourDifference(const std::vector<glm::vec3>& reference, const std:
         const std::size_t tap = std::size_t(k + r);
         const glm::vec3 a = reference[source];
         const glm::vec3 b = test[source];
-        ref.y += filters.achromatic[tap] * a.x;
-        ref.cx += filters.redGreen[tap] * a.y;
-        ref.cz1 += filters.blueYellow1[tap] * a.z;
-        ref.cz2 += filters.blueYellow2[tap] * a.z;
-        tst.y += filters.achromatic[tap] * b.x;
-        tst.cx += filters.redGreen[tap] * b.y;
-        tst.cz1 += filters.blueYellow1[tap] * b.z;
-        tst.cz2 += filters.blueYellow2[tap] * b.z;
+        addTap(ref, tap, a.x, a.y, a.z, a.z);
+        addTap(tst, tap, b.x, b.y, b.z, b.z);
       }
       const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
       horizontalReference[i] = ref;
@@ -281,14 +282,8 @@ ScalarImage colourDifference(const std::vector<glm::vec3>& reference, const std:
         const std::size_t tap = std::size_t(k + r);
         const Partial& a = horizontalReference[source];
         const Partial& b = horizontalTest[source];
-        ref.y += filters.achromatic[tap] * a.y;
-        ref.cx += filters.redGreen[tap] * a.cx;
-        ref.cz1 += filters.blueYellow1[tap] * a.cz1;
-        ref.cz2 += filters.blueYellow2[tap] * a.cz2;
-        tst.y += filters.achromatic[tap] * b.y;
-        tst.cx += filters.redGreen[tap] * b.cx;
-        tst.cz1 += filters.blueYellow1[tap] * b.cz1;
-        tst.cz2 += filters.blueYellow2[tap] * b.cz2;
+        addTap(ref, tap, a.y, a.cx, a.cz1, a.cz2);
+        addTap(tst, tap, b.y, b.cx, b.cz1, b.cz2);
       }
       const float perceived = std::pow(hyab(toPerceptual(ref), toPerceptual(tst)), kColourExponent);
       // Small differences use most of [0,1]; large ones are compressed into the top.
