@@ -3,8 +3,8 @@
 // weighted by (1 - metallic). One source for GLSL and C++ (lang.glsl).
 //
 // Roughness everywhere is the glTF perceptual roughness r; the GGX alpha is
-// r * r, computed only in ggxAlpha(). Sampling and pdfs come with the
-// reference path tracer; this file holds what direct lighting needs.
+// r * r, computed only in ggxAlpha(). Sampling and pdfs are in sampling.glsl;
+// docs/material-model.md describes the whole model and its tests.
 #ifndef BOUNCE_SHARED_BRDF_GLSL
 #define BOUNCE_SHARED_BRDF_GLSL
 
@@ -38,6 +38,16 @@ float ggxD(float nDotH, float alpha) {
   return a2 / (kPi * d * d);
 }
 
+// ggxD from sin^2 and cos^2 of theta_m: the same value, but exact for the
+// tiny angles of smooth lobes, where 1 - nDotH^2 in float is mostly rounding
+// (at alpha = 0.0025 that moves D near its peak by a few per cent). The pdfs
+// of sampling.glsl use it, with sin^2 from the normal's tangential part.
+float ggxDSinCos(float sin2Theta, float cos2Theta, float alpha) {
+  float a2 = alpha * alpha;
+  float d = sin2Theta + a2 * cos2Theta;
+  return a2 / (kPi * d * d);
+}
+
 // Smith Lambda for GGX; G1 = 1 / (1 + Lambda).
 float ggxLambda(float cosTheta, float alpha) {
   float c2 = max(cosTheta * cosTheta, 1e-8f);
@@ -63,13 +73,45 @@ vec3 ggxSpecularCosine(vec3 n, vec3 v, vec3 l, vec3 f0, float alpha) {
   return fresnelSchlick(f0, vDotH) * (ggxD(nDotH, alpha) * smithG2(nDotL, nDotV, alpha) / (4.0f * nDotV));
 }
 
+// Selectable diffuse lobes for materialBrdfCosineWithDiffuse. Lambert is the
+// renderer's default (materialBrdfCosine); Burley is the Disney diffuse.
+const int kDiffuseLambert = 0;
+const int kDiffuseBurley = 1;
+
+// Burley's diffuse (Burley 2012, "Physically-Based Shading at Disney") as a
+// factor on Lambert: rough surfaces brighten towards grazing retro-reflection,
+// smooth ones darken at grazing angles. Symmetric in l and v, so reciprocal.
+// Takes the perceptual roughness, as Disney's model does.
+float burleyDiffuseFactor(float nDotL, float nDotV, float lDotH, float perceptualRoughness) {
+  float fd90 = 0.5f + 2.0f * clamp(perceptualRoughness, 0.0f, 1.0f) * lDotH * lDotH;
+  float ml = clamp(1.0f - nDotL, 0.0f, 1.0f);
+  float mv = clamp(1.0f - nDotV, 0.0f, 1.0f);
+  float ml2 = ml * ml;
+  float mv2 = mv * mv;
+  return (1.0f + (fd90 - 1.0f) * (ml2 * ml2 * ml)) * (1.0f + (fd90 - 1.0f) * (mv2 * mv2 * mv));
+}
+
+// materialBrdfCosine with the diffuse lobe chosen by diffuseModel
+// (kDiffuseLambert gives exactly materialBrdfCosine). Both diffuse lobes are
+// importance-sampled by the cosine lobe of sampleMaterial (sampling.glsl).
+vec3 materialBrdfCosineWithDiffuse(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float perceptualRoughness,
+                                   int diffuseModel) {
+  float nDotL = dot(n, l);
+  float nDotV = dot(n, v);
+  if (nDotL <= 0.0f || nDotV <= 0.0f) return vec3(0.0f);
+  float diffuseShape = 1.0f;
+  if (diffuseModel == kDiffuseBurley) {
+    vec3 h = normalize(v + l);
+    diffuseShape = burleyDiffuseFactor(nDotL, nDotV, max(dot(l, h), 0.0f), perceptualRoughness);
+  }
+  vec3 diffuse = baseColor * ((1.0f - metallic) * kInvPi * nDotL * diffuseShape);
+  return diffuse + ggxSpecularCosine(n, v, l, specularF0(baseColor, metallic), ggxAlpha(perceptualRoughness));
+}
+
 // The whole material (diffuse + specular) times cos(theta_l). The diffuse
 // lobe is Lambert, scaled by (1 - metallic) since metals have no diffuse.
 vec3 materialBrdfCosine(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, float perceptualRoughness) {
-  float nDotL = dot(n, l);
-  if (nDotL <= 0.0f || dot(n, v) <= 0.0f) return vec3(0.0f);
-  vec3 diffuse = baseColor * ((1.0f - metallic) * kInvPi * nDotL);
-  return diffuse + ggxSpecularCosine(n, v, l, specularF0(baseColor, metallic), ggxAlpha(perceptualRoughness));
+  return materialBrdfCosineWithDiffuse(n, v, l, baseColor, metallic, perceptualRoughness, kDiffuseLambert);
 }
 
 BOUNCE_SHARED_END
