@@ -114,6 +114,29 @@ vec3 materialBrdfCosine(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, 
   return materialBrdfCosineWithDiffuse(n, v, l, baseColor, metallic, perceptualRoughness, kDiffuseLambert);
 }
 
+// The specular lobe's directional albedo: the fraction of uniform incoming
+// light it reflects towards v, integral of F G2 D / (4 n.v) over the
+// hemisphere. Karis's analytic fit ("Physically Based Shading on Mobile",
+// 2014, after Lazarov 2013) of the split-sum DFG terms, F0 * A + B. Indirect
+// specular is *demodulated* by this (divided by it) until composite, where it
+// is multiplied back; the reference path tracer and the GI passes use this one
+// function, so the two agree exactly whatever the fit's error (a few percent;
+// tests/test_sampling.cpp measures it). Floored at kMinSpecularReflectance so
+// that dividing by it stays finite for black metals.
+const float kMinSpecularReflectance = 0.01f;
+vec3 specularReflectance(vec3 f0, float nDotV, float perceptualRoughness) {
+  float r = clamp(perceptualRoughness, 0.0f, 1.0f);
+  float c = clamp(nDotV, 0.0f, 1.0f);
+  float rx = 1.0f - r;
+  float ry = 0.0425f - 0.0275f * r;
+  float rz = 1.04f - 0.572f * r;
+  float rw = 0.022f * r - 0.04f;
+  float a004 = min(rx * rx, exp2(-9.28f * c)) * rx + ry;
+  float scale = -1.04f * a004 + rz;
+  float bias = 1.04f * a004 + rw;
+  return max(f0 * scale + vec3(bias), vec3(kMinSpecularReflectance));
+}
+
 BOUNCE_SHARED_END
 
 #endif
