@@ -34,8 +34,10 @@ void main() {
 
   vec3 position = origin + direction * (viewZ / dot(direction, gIn_Frame.frame.camera.forward.xyz));
   vec4 normalRoughness = imageLoad(gIn_NormalRoughness, pixel);
-  vec3 normal = normalRoughness.xyz;
-  vec3 geometricNormal = imageLoad(gIn_GeometricNormal, pixel).xyz;
+  // Stored as rgba16f: renormalised, since a GGX peak of alpha 0.0025 is
+  // narrower than the half-float error of a unit vector.
+  vec3 normal = normalize(normalRoughness.xyz);
+  vec3 geometricNormal = normalize(imageLoad(gIn_GeometricNormal, pixel).xyz);
   vec4 baseColorMetallic = imageLoad(gIn_BaseColorMetallic, pixel);
   vec3 toCamera = -direction;
   vec3 shadowOrigin = offsetOrigin(position, geometricNormal, viewZ);
