@@ -12,6 +12,7 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
+#include "test_meshes.h"
 #include "render/frame_types.glsl"
 #include "shared/brdf.glsl"
 #include "shared/intersect.glsl"
@@ -24,39 +25,6 @@ constexpr std::uint32_t kHeight = 64;
 const glm::vec3 kSphereCenter(0.0f, 1.0f, 0.0f);
 constexpr float kSphereRadius = 1.0f;
 
-scene::Mesh planeMesh(float halfSize) {
-  scene::Mesh mesh;
-  mesh.positions = {
-      {-halfSize, 0, -halfSize}, {halfSize, 0, -halfSize}, {halfSize, 0, halfSize}, {-halfSize, 0, halfSize}};
-  mesh.normals.assign(4, {0, 1, 0});
-  mesh.tangents.assign(4, {1, 0, 0, 1});
-  mesh.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  mesh.indices = {0, 2, 1, 0, 3, 2};
-  return mesh;
-}
-
-// A UV sphere of unit radius around the origin, smooth normals.
-scene::Mesh sphereMesh(int segments, int rings) {
-  scene::Mesh mesh;
-  for (int r = 0; r <= rings; ++r)
-    for (int s = 0; s <= segments; ++s) {
-      const float theta = glm::pi<float>() * float(r) / float(rings);
-      const float phi = 2.0f * glm::pi<float>() * float(s) / float(segments);
-      const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-      mesh.positions.push_back(n);
-      mesh.normals.push_back(n);
-      mesh.tangents.emplace_back(-std::sin(phi), 0.0f, std::cos(phi), 1.0f);
-      mesh.texcoords.emplace_back(float(s) / float(segments), float(r) / float(rings));
-    }
-  for (int r = 0; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const std::uint32_t a = std::uint32_t(r * (segments + 1) + s), b = a + std::uint32_t(segments + 1);
-      mesh.indices.insert(mesh.indices.end(), {a, a + 1, b, a + 1, b + 1, b});
-    }
-  mesh.material = 1;
-  return mesh;
-}
-
 // Plane (material 0) and sphere (material 1, node 1) under a sun.
 scene::Scene planeAndSphere() {
   scene::Scene s;
@@ -68,7 +36,8 @@ scene::Scene planeAndSphere() {
   scene::Material ball = ground;
   ball.baseColorFactor = glm::vec4(0.2f, 0.3f, 0.9f, 1.0f);
   s.materials = {ground, ball};
-  s.meshes = {planeMesh(50.0f), sphereMesh(96, 48)};
+  s.meshes = {testing::planeMesh(50.0f), testing::sphereMesh(96, 48)};
+  s.meshes[1].material = 1;
   scene::Node planeNode;
   planeNode.meshes = {0};
   scene::Node sphereNode;

@@ -105,7 +105,9 @@ std::vector<glm::uvec4> packVertexAttributes(const scene::Scene& scene) {
   return packed;
 }
 
-std::vector<gpu::ResourceDecl> sceneAccessDecls() {
+}  // namespace
+
+std::vector<gpu::ResourceDecl> FrameRenderer::sceneResources() {
   using gpu::Access;
   using gpu::ResourceKind;
   std::vector<gpu::ResourceDecl> decls = {
@@ -124,8 +126,10 @@ std::vector<gpu::ResourceDecl> sceneAccessDecls() {
   return decls;
 }
 
+namespace {
+
 gpu::PassDesc gbufferDesc() {
-  std::vector<gpu::ResourceDecl> decls = sceneAccessDecls();
+  std::vector<gpu::ResourceDecl> decls = FrameRenderer::sceneResources();
   decls.insert(decls.end(), {
                                 {"gOut_ViewZ", gpu::Access::Write, kR32f, "positive view depth; 0 = background"},
                                 {"gOut_NormalRoughness", gpu::Access::Write, kRgba16f, "shading normal, roughness"},
@@ -140,7 +144,7 @@ gpu::PassDesc gbufferDesc() {
 
 gpu::PassDesc directLightDesc() {
   // Shading reads the G-buffer, not instances; glslc drops the unused binding.
-  std::vector<gpu::ResourceDecl> decls = sceneAccessDecls();
+  std::vector<gpu::ResourceDecl> decls = FrameRenderer::sceneResources();
   std::erase_if(decls, [](const gpu::ResourceDecl& d) { return d.name == "gIn_Instances"; });
   using gpu::ResourceKind;
   decls.insert(decls.end(), {
@@ -301,7 +305,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
   gpuBvh_->updateInstances(recorder, std::uint32_t(frameIndex % kFramesInFlight));
   environment_->record(recorder);
 
-  std::vector<gpu::Bind> binds = sceneBinds(*slot.constants);
+  std::vector<gpu::Bind> binds = sceneBinds(frameIndex);
   binds.insert(binds.end(), {{"gOut_ViewZ", *viewZ_},
                              {"gOut_NormalRoughness", *normalRoughness_},
                              {"gOut_GeometricNormal", *geometricNormal_},
@@ -311,7 +315,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
                              {"gOut_Ids", *ids_}});
   recorder.dispatch(*gbufferPass_, options_.width, options_.height, binds);
 
-  binds = sceneBinds(*slot.constants);
+  binds = sceneBinds(frameIndex);
   std::erase_if(binds, [](const gpu::Bind& b) { return b.name == "gIn_Instances"; });
   binds.insert(binds.end(), {{"gIn_ViewZ", *viewZ_},
                              {"gIn_NormalRoughness", *normalRoughness_},
@@ -329,9 +333,8 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
   for (const scene::Instance& instance : instances) previousTransforms_.push_back(instance.objectToWorld);
 }
 
-// The bindings of scene_access.glsl, with this frame slot's constants.
-std::vector<gpu::Bind> FrameRenderer::sceneBinds(gpu::Buffer& frameConstants) {
-  std::vector<gpu::Bind> binds = {{"gIn_Frame", frameConstants},
+std::vector<gpu::Bind> FrameRenderer::sceneBinds(std::uint64_t frameIndex) {
+  std::vector<gpu::Bind> binds = {{"gIn_Frame", frameConstants(frameIndex)},
                                   {"gIn_Materials", *materials_},
                                   {"gIn_Instances", *instances_},
                                   {"gIn_VertexAttributes", *vertexAttributes_},

@@ -77,6 +77,15 @@ class FrameRenderer {
   std::vector<Aov> aovs();
   Environment& environment() { return *environment_; }
   GpuBvh& gpuBvh() { return *gpuBvh_; }
+  const SceneBvh& bvh() const { return *bvh_; }
+  gpu::Buffer& lights() { return *lights_; }
+  // The declarations of render/scene_access.glsl's bindings (frame constants,
+  // materials, instances, vertex attributes, texture atlas, BVH), for any
+  // pass that traces into the scene, and their binds for frame `frameIndex`
+  // (whose constants the last record() of that frame wrote).
+  static std::vector<gpu::ResourceDecl> sceneResources();
+  std::vector<gpu::Bind> sceneBinds(std::uint64_t frameIndex);
+  gpu::Buffer& frameConstants(std::uint64_t frameIndex) { return *slots_[frameIndex % kFramesInFlight].constants; }
   std::uint32_t width() const { return options_.width; }
   std::uint32_t height() const { return options_.height; }
   std::size_t triangleCount() const { return triangleCount_; }
@@ -91,7 +100,6 @@ class FrameRenderer {
     std::unique_ptr<gpu::Buffer> lightsStaging;
   };
   void uploadStatic();
-  std::vector<gpu::Bind> sceneBinds(gpu::Buffer& frameConstants);
 
   gpu::Context& context_;
   const scene::Scene& scene_;
