@@ -1,0 +1,41 @@
+// Push constants of the reference path tracer's passes, laid out identically
+// in GLSL and C++ (scalars only, 4 bytes each, no padding rules to differ).
+#ifndef BOUNCE_RENDER_REFERENCE_TYPES_GLSL
+#define BOUNCE_RENDER_REFERENCE_TYPES_GLSL
+
+#include "shared/lang.glsl"
+
+#ifdef __cplusplus
+namespace bounce::shared {
+#endif
+
+// Which lobes of the material the path tracer follows. kLobesAll is the
+// material; the single lobes make closed-form tests possible (a furnace of
+// pure Lambert or pure mirror reflection).
+const uint kLobeDiffuse = 1u;
+const uint kLobeSpecular = 2u;
+const uint kLobesAll = 3u;
+
+struct ReferencePathParams {
+  uint firstSample;         // index of this dispatch's first sample (decorrelates every sample)
+  uint sampleCount;         // samples per pixel in this dispatch
+  uint seed;                // the user's seed: another seed, other (independent) noise
+  uint maxBounces;          // surfaces a path may bounce off after the primary hit
+  uint rouletteBounces;     // Russian roulette from this bounce on
+  uint lobes;               // kLobeDiffuse | kLobeSpecular
+  uint environmentWidth;    // environment distribution cells; 0 = no environment light
+  uint environmentHeight;
+  uint emissiveCount;       // emissive triangles; 0 = none
+  float emissivePower;      // their summed luminance * area
+};
+
+struct ReferenceResolveParams {
+  float weightA;  // 1 / samples, for the accumulators of half A (0: leave the half out)
+  float weightB;  // the same for half B
+};
+
+#ifdef __cplusplus
+}  // namespace bounce::shared
+#endif
+
+#endif

@@ -1,0 +1,99 @@
+// The reference path tracer: ground truth for one frame of a FrameRenderer,
+// split into the same images the GI passes make (docs/reference.md):
+//
+//   direct             render.direct_light's image (exact: delta lights, one shadow ray)
+//   indirect diffuse   demodulated: incoming light through the Lambert lobe of albedo 1
+//   indirect specular  demodulated: the GGX lobe's reflected light / specularReflectance()
+//   radiance           direct + base colour (1 - metallic) diffuse + specularReflectance specular
+//
+// Passes:
+//   render.reference_path     adds samples per pixel to running sums (even ones to half A, odd to B)
+//   render.reference_resolve  running sums -> the images above
+//
+// Usage: record the frame with the FrameRenderer and let it finish (the
+// light distributions read the environment it built), then
+//
+//   ReferenceRenderer reference(context, frameRenderer, scene, frameIndex, time, options);
+//   while (reference.samplesPerPixel() < wanted)
+//     reference.record(loop.beginFrame(), wanted - reference.samplesPerPixel()), loop.endFrame();
+//   ReferenceImages images = reference.resolve(loop, ReferenceHalf::Both);
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "gpu/context.h"
+#include "gpu/frame_loop.h"
+#include "gpu/pass.h"
+#include "gpu/recorder.h"
+#include "gpu/resources.h"
+#include "io/image_io.h"
+#include "render/frame_renderer.h"
+#include "render/light_sampling.h"
+#include "render/reference_types.glsl"
+#include "scene/scene.h"
+
+namespace bounce::render {
+
+struct ReferenceOptions {
+  std::uint32_t maxBounces = 24;      // surfaces a path may bounce off after the primary hit
+  std::uint32_t rouletteBounces = 3;  // Russian roulette from this bounce on
+  std::uint32_t seed = 0;             // other seeds give independent noise; the same seed the same bits
+  // Samples per pixel a dispatch adds at most (0: automatic, about a million
+  // paths per dispatch on a GPU, so small images do not pay a submission per
+  // sample; 1 on a CPU device, see reference_renderer.cpp).
+  std::uint32_t samplesPerDispatch = 0;
+  // The material lobes paths follow: shared::kLobesAll, or one lobe for
+  // closed-form tests (a Lambert or mirror furnace).
+  std::uint32_t lobes = shared::kLobesAll;
+};
+
+enum class ReferenceHalf { Both, A, B };
+
+struct ReferenceImages {
+  io::ImageF radiance;          // RGB
+  io::ImageF direct;            // RGB
+  io::ImageF indirectDiffuse;   // RGB, demodulated
+  io::ImageF indirectSpecular;  // RGB, demodulated
+  std::uint64_t droppedSamples = 0;  // non-finite path samples left out (should be 0)
+};
+
+class ReferenceRenderer {
+ public:
+  // `frameIndex` is the FrameRenderer frame whose G-buffer and constants are
+  // traced from, `time` the scene time it was rendered at. Reads the
+  // environment back (blocking) to build its light distribution.
+  ReferenceRenderer(gpu::Context& context, FrameRenderer& frame, const scene::Scene& scene, std::uint64_t frameIndex,
+                    float time, const ReferenceOptions& options);
+  ~ReferenceRenderer();
+
+  // Adds up to `samples` samples per pixel (one dispatch; fewer when
+  // samplesPerDispatch is smaller); returns how many it added.
+  std::uint32_t record(gpu::Recorder& recorder, std::uint32_t samples);
+  std::uint64_t samplesPerPixel() const { return samples_; }
+  std::uint64_t samplesPerPixel(ReferenceHalf half) const;
+
+  // Records the resolve into a frame of `loop`, waits, reads the images back.
+  ReferenceImages resolve(gpu::FrameLoop& loop, ReferenceHalf half);
+
+  std::size_t emissiveTriangleCount() const { return emissiveCount_; }
+  bool samplesEnvironment() const { return environmentWidth_ > 0; }
+  std::uint32_t samplesPerDispatch() const { return samplesPerDispatch_; }
+
+ private:
+  gpu::Context& context_;
+  FrameRenderer& frame_;
+  std::uint64_t frameIndex_;
+  ReferenceOptions options_;
+  std::uint32_t samplesPerDispatch_ = 1;
+  std::uint32_t environmentWidth_ = 0, environmentHeight_ = 0;
+  std::size_t emissiveCount_ = 0;
+  float emissivePower_ = 0.0f;
+  std::uint64_t samples_ = 0;
+  std::unique_ptr<gpu::Buffer> environmentCdf_, emissiveTriangles_;
+  std::unique_ptr<gpu::Image> diffuseSum_[2], specularSum_[2];  // [0] half A, [1] half B
+  std::unique_ptr<gpu::Image> radiance_, diffuse_, specular_;
+  std::unique_ptr<gpu::ComputePass> pathPass_, resolvePass_;
+};
+
+}  // namespace bounce::render
