@@ -4,6 +4,8 @@
 #include <fstream>
 #include <iterator>
 
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "io/image_io.h"
 
@@ -53,7 +56,7 @@ TEST(Cli, BadArgumentsGiveOneLineAndExitTwo) {
 }
 
 TEST(Cli, HelpWorksOnEveryCommand) {
-  for (const char* arguments : {"--help", "render --help", "info --help", "bench --help"}) {
+  for (const char* arguments : {"--help", "render --help", "info --help", "bench --help", "reference --help"}) {
     Result r = run(arguments);
     EXPECT_EQ(r.exitCode, 0) << arguments;
     EXPECT_NE(r.output.find("--"), std::string::npos) << arguments;
@@ -173,6 +176,96 @@ TEST(Cli, BenchPrintsTimingsAndBandwidth) {
   EXPECT_NE(r.output.find("incoherent closest-hit"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("gpu.copy_bandwidth"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("copy bandwidth:"), std::string::npos) << r.output;
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Cli, ReferenceWritesTheFrameItsPartsAndItsGBuffer) {
+  const fs::path dir = freshDirectory("reference");
+  Result r = run("reference cornell --width 24 --height 16 --spp 4 --halves --validate --out " +
+                 (dir / "ref.exr").string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const char* name : {"ref.exr", "ref.png", "ref.direct.exr", "ref.indirect-diffuse.exr",
+                           "ref.indirect-specular.exr", "ref.indirect-diffuse.png", "ref.halfA.exr", "ref.halfB.exr",
+                           "ref.json", "ref.sheet.png", "ref.gbuffer/viewZ.exr", "ref.gbuffer/normal.exr", "ref.gbuffer/sheet.png",
+                           "ref.gbuffer/normals.png"})
+    EXPECT_TRUE(fs::exists(dir / name)) << name << "\n" << r.output;
+  const bounce::io::ImageF image = bounce::io::readImage(dir / "ref.exr");
+  EXPECT_EQ(image.width, 24);
+  EXPECT_EQ(image.height, 16);
+  std::ifstream json(dir / "ref.json");
+  const std::string meta((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(meta.find("\"spp\": 4"), std::string::npos) << meta;
+  EXPECT_NE(meta.find("\"interrupted\": false"), std::string::npos) << meta;
+  EXPECT_NE(r.output.find("relMSE between the two halves"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(Cli, ReferenceStopsAtTheTargetRelMse) {
+  const fs::path dir = freshDirectory("reference_target");
+  // A loose target is met at the first check (16 spp), long before --spp.
+  Result r = run("reference cornell --width 16 --height 12 --spp 4096 --target-relmse 10 --out " +
+                 (dir / "ref.exr").string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("reached --target-relmse 10 at 16 spp"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(Cli, ReferenceBadArgumentsAreOneClearLine) {
+  const fs::path dir = freshDirectory("reference_bad");
+  const std::vector<std::string> cases = {"reference cornell --spp 0",
+                                         "reference cornell --out " + (dir / "ref.png").string(),
+                                         "reference no-such-scene --out " + (dir / "ref.exr").string(),
+                                         "reference cornell --max-bounces 0", "reference cornell --target-relmse -1"};
+  for (const std::string& arguments : cases) {
+    Result r = run(arguments);
+    EXPECT_NE(r.exitCode, 0) << arguments;
+    EXPECT_EQ(lineCount(r.output), 1u) << arguments << ": " << r.output;
+    EXPECT_EQ(r.output.rfind("bounce: error:", 0), 0u) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "ref.exr"));
+  fs::remove_all(dir);
+}
+
+TEST(Cli, ReferenceKeepsWhatItAccumulatedOnCtrlC) {
+  const fs::path dir = freshDirectory("reference_interrupt");
+  fs::create_directories(dir);
+  const fs::path log = dir / "log.txt";
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const std::string out = (dir / "ref.exr").string();
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, STDOUT_FILENO);
+    dup2(fd, STDERR_FILENO);
+    execl(BOUNCE_BINARY, BOUNCE_BINARY, "reference", "cornell", "--width", "16", "--height", "12", "--spp", "1000000",
+          "--out", out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until it is sampling (the progress is in its json only at the end,
+  // so watch for the scene line), then interrupt.
+  for (int i = 0; i < 600; ++i) {
+    std::ifstream in(log);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.find("scene: cornell") != std::string::npos) break;
+    usleep(100000);
+  }
+  usleep(1500000);
+  kill(child, SIGINT);
+  int status = 0;
+  waitpid(child, &status, 0);
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << text;
+  EXPECT_NE(text.find("interrupted: wrote the"), std::string::npos) << text;
+  EXPECT_TRUE(fs::exists(dir / "ref.exr")) << text;
+  std::ifstream json(dir / "ref.json");
+  const std::string meta((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(meta.find("\"interrupted\": true"), std::string::npos) << meta;
+  fs::remove_all(dir);
 }
 
 }  // namespace

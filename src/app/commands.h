@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gpu/context.h"
+#include "render/frame_renderer.h"
 #include "scene/scene.h"
 
 namespace bounce::app {
@@ -28,6 +29,26 @@ int validationExitCode(const gpu::Context& context);
 // default built-in. A glTF directional light becomes the sun.
 scene::Scene loadSceneArgument(const std::string& argument);
 
+// What a rendering command renders: the scene, the camera path, the image
+// size and the lighting (sky or map, sun). Shared by render and reference.
+struct SceneOptions {
+  std::string scene;   // built-in name or .gltf/.glb path; empty = the default built-in
+  std::string camera;  // preset name or JSON keyframe file; empty = the scene's own camera
+  std::uint32_t width = 960;
+  std::uint32_t height = 540;
+  float fps = 30.0f;
+  std::string env;  // equirect HDR/EXR; empty = procedural sky
+  float envIntensity = 1.0f;
+  float envRotation = 0.0f;
+  std::optional<float> sunElevation;
+  std::optional<float> sunAzimuth;
+  bool noSun = false;
+};
+void addSceneOptions(CLI::App& command, SceneOptions& options);
+// The renderer options (size, environment, sun) for a loaded scene as the
+// flags say; throws for contradictory flags.
+render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options);
+
 struct InfoOptions {
   GpuOptions gpu;
 };
@@ -36,20 +57,10 @@ int runInfo(const InfoOptions& options);
 
 struct RenderOptions {
   GpuOptions gpu;
-  std::string scene;   // built-in name or .gltf/.glb path; empty = the default built-in
-  std::string camera;  // preset name or JSON keyframe file; empty = the scene's own camera
-  std::uint32_t width = 960;
-  std::uint32_t height = 540;
+  SceneOptions view;
   std::uint32_t frames = 1;
-  float fps = 30.0f;
   std::string out = "out";
   float exposure = 1.0f;
-  std::string env;  // equirect HDR/EXR; empty = procedural sky
-  float envIntensity = 1.0f;
-  float envRotation = 0.0f;
-  std::optional<float> sunElevation;
-  std::optional<float> sunAzimuth;
-  bool noSun = false;
   std::vector<std::string> aovs;
   bool hdr = false;
   bool jitter = false;
@@ -58,6 +69,22 @@ struct RenderOptions {
 };
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options);
 int runRender(const RenderOptions& options);
+
+struct ReferenceCommandOptions {
+  GpuOptions gpu;
+  SceneOptions view;
+  std::uint32_t frame = 0;  // of the camera path
+  std::uint32_t spp = 1024;
+  std::optional<double> targetRelMse;  // stop once the halves agree this well
+  std::uint32_t maxBounces = 24;
+  std::uint32_t seed = 0;
+  std::string out = "reference.exr";
+  float exposure = 1.0f;
+  bool halves = false;
+  bool dumpStages = false;
+};
+CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options);
+int runReference(const ReferenceCommandOptions& options);
 
 struct BenchOptions {
   GpuOptions gpu;

@@ -35,6 +35,8 @@ int validationExitCode(const gpu::Context& context) {
 
 int main(int argc, char** argv) {
   using namespace bounce::app;
+  // Line by line even into a file or pipe, so a log shows how far a long run got.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   CLI::App app{"Bounce: real-time screen-space global illumination (Vulkan compute)", "bounce"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "bounce 0.1.0");
@@ -43,11 +45,13 @@ int main(int argc, char** argv) {
   BenchOptions bench;
   BrdfVizOptions brdfViz;
   CompareOptions compare;
+  ReferenceCommandOptions reference;
   CLI::App* infoCommand = addInfoCommand(app, info);
   CLI::App* renderCommand = addRenderCommand(app, render);
   CLI::App* benchCommand = addBenchCommand(app, bench);
   CLI::App* brdfVizCommand = addBrdfVizCommand(app, brdfViz);
   CLI::App* compareCommand = addCompareCommand(app, compare);
+  CLI::App* referenceCommand = addReferenceCommand(app, reference);
 
   try {
     app.parse(argc, argv);
@@ -68,6 +72,7 @@ int main(int argc, char** argv) {
     if (benchCommand->parsed()) return runBench(bench);
     if (brdfVizCommand->parsed()) return runBrdfViz(brdfViz);
     if (compareCommand->parsed()) return runCompare(compare);
+    if (referenceCommand->parsed()) return runReference(reference);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
     return 1;

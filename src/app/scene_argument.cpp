@@ -23,4 +23,55 @@ scene::Scene loadSceneArgument(const std::string& argument) {
   return scene;
 }
 
+void addSceneOptions(CLI::App& command, SceneOptions& options) {
+  std::string names;
+  for (const std::string& n : scene::builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+  command.add_option(
+      "scene", options.scene,
+      "Built-in scene (" + names + "; default " + scene::defaultBuiltinScene() + ") or a .gltf/.glb file");
+  command.add_option("--camera", options.camera,
+                     "Camera path: orbit, dolly, fly, static, gltf, or a JSON keyframe file (default: the scene's "
+                     "first glTF camera, else its suggested view)");
+  command.add_option("--width", options.width, "Image width in pixels")
+      ->check(CLI::Range(1u, 16384u))
+      ->capture_default_str();
+  command.add_option("--height", options.height, "Image height in pixels")
+      ->check(CLI::Range(1u, 16384u))
+      ->capture_default_str();
+  command.add_option("--fps", options.fps, "Frames per second of scene time (animation and camera)")
+      ->check(CLI::Range(0.001f, 10000.0f));
+  command.add_option("--env", options.env, "Equirectangular environment map (.exr/.hdr); default: procedural sky");
+  command.add_option("--env-intensity", options.envIntensity, "Multiplier of the environment")
+      ->check(CLI::NonNegativeNumber);
+  command.add_option("--env-rotation", options.envRotation, "Rotation of the environment map about +Y, degrees");
+  command.add_option("--sun-elevation", options.sunElevation, "Sun elevation above the horizon, degrees")
+      ->check(CLI::Range(-90.0f, 90.0f));
+  command.add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees");
+  command.add_flag("--no-sun", options.noSun,
+                   "No sunlight (e.g. when the --env map already shows its sun, which would then count twice)");
+}
+
+render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options) {
+  render::FrameRendererOptions rendererOptions;
+  rendererOptions.width = options.width;
+  rendererOptions.height = options.height;
+  render::EnvironmentDesc& environment = rendererOptions.environment;
+  environment.map = options.env;
+  environment.intensity = options.envIntensity;
+  environment.rotationDegrees = options.envRotation;
+  environment.sun = scene.sun;
+  environment.hasSun = scene.hasSun;
+  if (options.sunElevation) {
+    environment.sun.elevationDegrees = *options.sunElevation;
+    environment.hasSun = true;
+  }
+  if (options.sunAzimuth) environment.sun.azimuthDegrees = *options.sunAzimuth;
+  if (options.noSun) {
+    if (options.sunElevation || options.sunAzimuth)
+      throw std::runtime_error("--no-sun contradicts --sun-elevation/--sun-azimuth");
+    environment.hasSun = false;
+  }
+  return rendererOptions;
+}
+
 }  // namespace bounce::app

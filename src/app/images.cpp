@@ -1,0 +1,109 @@
+#include "app/images.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+#include "app/plot.h"
+#include "gpu/stage_dump.h"
+#include "gpu/transfer.h"
+
+namespace bounce::app {
+
+namespace fs = std::filesystem;
+
+const std::set<std::string>& knownAovs() {
+  static const std::set<std::string> names = {"viewZ",  "normal", "geometric-normal", "albedo",    "emissive",
+                                              "motion", "ids",    "direct",           "roughness", "metallic"};
+  return names;
+}
+
+std::string knownAovList() {
+  std::string list;
+  for (const std::string& name : knownAovs()) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
+io::ImageF contactSheet(const std::vector<io::ImageF>& cells, int columns, int shrink) {
+  const int cellWidth = cells.front().width / shrink, cellHeight = cells.front().height / shrink;
+  const int rows = (int(cells.size()) + columns - 1) / columns;
+  io::ImageF sheet(cellWidth * columns, cellHeight * rows, {"R", "G", "B"});
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const int ox = int(i) % columns * cellWidth, oy = int(i) / columns * cellHeight;
+    for (int y = 0; y < cellHeight; ++y)
+      for (int x = 0; x < cellWidth; ++x)
+        for (int c = 0; c < 3; ++c) {
+          float sum = 0.0f;
+          for (int sy = 0; sy < shrink; ++sy)
+            for (int sx = 0; sx < shrink; ++sx) sum += cells[i].at(x * shrink + sx, y * shrink + sy, c);
+          sheet.at(ox + x, oy + y, c) = sum / float(shrink * shrink);
+        }
+  }
+  return sheet;
+}
+
+io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector<std::string>& labels, int columns) {
+  const int cellWidth = cells.front().width, cellHeight = cells.front().height;
+  // Large text where the longest label fits its cell, else small.
+  std::size_t longest = 0;
+  for (const std::string& label : labels) longest = std::max(longest, label.size());
+  const int scale = Canvas::textWidth(std::string(longest, 'x'), 2) + 12 <= cellWidth ? 2 : 1;
+  const int kStrip = 7 * scale + 8;
+  const int rows = (int(cells.size()) + columns - 1) / columns;
+  Canvas canvas(cellWidth * columns, (cellHeight + kStrip) * rows, glm::vec3(0.08f));
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const int ox = int(i) % columns * cellWidth, oy = int(i) / columns * (cellHeight + kStrip);
+    const std::size_t fits = std::size_t(std::max(0, cellWidth - 8) / (6 * scale));
+    if (i < labels.size()) canvas.text(ox + 6, oy + 4, labels[i].substr(0, fits), glm::vec3(0.95f), scale);
+    for (int y = 0; y < cellHeight; ++y)
+      for (int x = 0; x < cellWidth; ++x)
+        canvas.set(ox + x, oy + kStrip + y, glm::vec3(cells[i].at(x, y, 0), cells[i].at(x, y, 1), cells[i].at(x, y, 2)));
+  }
+  return canvas.image();
+}
+
+void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
+               const fs::path& dir, float exposure) {
+  fs::create_directories(dir);
+  const bool all = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
+  const auto wants = [&](const std::string& name) {
+    return all || std::find(wanted.begin(), wanted.end(), name) != wanted.end();
+  };
+  std::vector<io::ImageF> cells;
+  std::string order;
+  std::map<std::string, std::size_t> cellOf;
+  const auto write = [&](const std::string& name, const io::ImageF& pixels, gpu::Visualize how) {
+    io::writeExr(dir / (name + ".exr"), pixels);
+    const gpu::VisualizedImage view = gpu::visualize(pixels, how);
+    io::writePng(dir / (name + ".png"), view.image, view.encoding, exposure);
+    cellOf[name] = cells.size();
+    cells.push_back(io::toDisplay(view.image, view.encoding, exposure));
+    order += (order.empty() ? "" : ", ") + name;
+  };
+  for (const render::Aov& aov : renderer.aovs()) {
+    // roughness and metallic live in the alpha channels of normal and albedo.
+    const bool roughness = aov.name == "normal" && wants("roughness");
+    const bool metallic = aov.name == "albedo" && wants("metallic");
+    if (!wants(aov.name) && !roughness && !metallic) continue;
+    const io::ImageF image = gpu::readbackImage(context, *aov.image);
+    if (wants(aov.name)) write(aov.name, image, aov.image->desc().visualize);
+    if (roughness || metallic) {
+      io::ImageF channel(image.width, image.height, {roughness ? "roughness" : "metallic"});
+      for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) channel.at(x, y, 0) = image.at(x, y, 3);
+      write(roughness ? "roughness" : "metallic", channel, gpu::Visualize::Raw);
+    }
+  }
+  const int shrink = cells.front().width > 480 ? 2 : 1;
+  io::writePng(dir / "sheet.png", contactSheet(cells, 4, shrink), io::PngEncoding::Linear);
+  std::printf("wrote AOVs to %s; sheet.png shows, left to right, top to bottom: %s\n", dir.c_str(), order.c_str());
+  if (cellOf.count("normal") && cellOf.count("geometric-normal")) {
+    io::writePng(dir / "normals.png",
+                 contactSheet({cells[cellOf["normal"]], cells[cellOf["geometric-normal"]]}, 2, 1),
+                 io::PngEncoding::Linear);
+    std::printf("wrote %s: shading normals (left) beside geometric normals (right)\n", (dir / "normals.png").c_str());
+  }
+}
+
+
+}  // namespace bounce::app

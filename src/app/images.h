@@ -1,0 +1,35 @@
+// Images the commands write for people: AOVs of a frame as EXR + false-colour
+// PNG, and contact sheets that put several of them side by side.
+#pragma once
+
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "gpu/context.h"
+#include "io/image_io.h"
+#include "render/frame_renderer.h"
+
+namespace bounce::app {
+
+// The AOV names --aov accepts (besides "all"), and them as one line.
+const std::set<std::string>& knownAovs();
+std::string knownAovList();
+
+// Lays display images (all the size of the first) out left to right, top to
+// bottom, `columns` to a row, each shrunk by `shrink` (box filter), on black.
+io::ImageF contactSheet(const std::vector<io::ImageF>& cells, int columns, int shrink);
+
+// Display images (all the size of the first) side by side, `columns` to a
+// row, each with its label in a strip above it (lower-case text).
+io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector<std::string>& labels, int columns);
+
+// Writes each wanted AOV of the renderer's last frame ("all" for every one)
+// as EXR + false-colour PNG into `dir`, all of them side by side on
+// sheet.png, and, when both normals are written, normals.png: shading
+// normals (normal-mapped) beside geometric ones, where normal maps show.
+void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
+               const std::filesystem::path& dir, float exposure);
+
+}  // namespace bounce::app
