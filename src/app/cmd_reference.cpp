@@ -173,6 +173,7 @@ int runReference(const ReferenceCommandOptions& options) {
     const io::ImageF halfA = reference.resolve(sampling, render::ReferenceHalf::A).radiance;
     const io::ImageF halfB = reference.resolve(sampling, render::ReferenceHalf::B).radiance;
     halvesRelMse = relMseBetween(halfA, halfB);
+    if (options.targetRelMse && halvesRelMse < *options.targetRelMse) convergedRelMse = halvesRelMse;
     if (options.halves) {
       writeImage(sibling(out, ".halfA.exr"), halfA, options.exposure);
       writeImage(sibling(out, ".halfB.exr"), halfB, options.exposure);
