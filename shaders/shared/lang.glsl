@@ -7,6 +7,9 @@
 // - no swizzles (v.xy): write vec2(v.x, v.y).
 // - out / inout parameters are written OUT(T) / INOUT(T).
 // - no GLSL-only built-ins that glm lacks; glm has pack*/unpack*, floatBitsTo*.
+// - at most one call with side effects (rngUniform, rngNext) per
+//   expression: C++ leaves the order of a call's arguments open, GLSL
+//   evaluates them left to right.
 // - signs are written as (x >= 0.0f ? 1.0f : -1.0f) where 0 must map to +1,
 //   since sign(0) is 0 in both languages.
 #ifndef BOUNCE_SHARED_LANG_GLSL

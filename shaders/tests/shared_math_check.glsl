@@ -7,6 +7,8 @@
 #include "shared/intersect.glsl"
 #include "shared/packing.glsl"
 #include "shared/rng.glsl"
+#include "shared/brdf.glsl"
+#include "shared/sampling.glsl"
 
 BOUNCE_SHARED_BEGIN
 
@@ -20,6 +22,8 @@ struct SharedMathCheckOutput {
   vec4 scalars;    // rngUniform, luminance, srgbEncode, srgbDecode
   vec4 normalHit;  // unpackNormalOct32 (xyz), intersectSphere (w)
   vec4 display;    // tonemapAcesFitted (xyz), displayEncode (w, red channel)
+  vec4 material;   // luminance of materialBrdfCosine, pdfMaterial, specularReflectance (red), pdf of sampleMaterial
+  vec4 sampled;    // sampleMaterial's direction (xyz), 1 if it returned a sample (w)
 };
 
 SharedMathCheckOutput runSharedMathCheck(SharedMathCheckInput args) {
@@ -39,6 +43,32 @@ SharedMathCheckOutput runSharedMathCheck(SharedMathCheckInput args) {
                             0.2f + args.values.w, 1e-4f);
   result.normalHit = vec4(unpackNormalOct32(packedNormal), t);
   result.display = vec4(tonemapAcesFitted(radiance), displayEncode(radiance, 1.0f).x);
+
+  // The material model at a random surface and view (some below the horizon).
+  // One random number per statement: C++ leaves the order in which a call's
+  // arguments are evaluated open, GLSL does not.
+  uint materialState = args.bits.z;
+  float r0 = rngUniform(materialState);
+  float r1 = rngUniform(materialState);
+  float r2 = rngUniform(materialState);
+  vec3 jitter = vec3(r0, r1, r2) * 2.0f - vec3(1.0f);
+  vec3 view = normalize(normal * 1.05f + jitter);
+  vec3 light = normalize(normal * 1.05f - jitter * 0.7f);
+  vec3 baseColor = vec3(args.values.z, args.values.y, args.values.x);
+  float metallic = args.values.x > 0.5f ? 1.0f : args.values.y;
+  float roughness = 0.1f + 0.9f * args.values.w;
+  float u0 = rngUniform(materialState);
+  float u1 = rngUniform(materialState);
+  float u2 = rngUniform(materialState);
+  vec3 u = vec3(u0, u1, u2);
+  vec3 sampledDirection;
+  float sampledPdf;
+  bool sampled = sampleMaterial(normal, view, baseColor, metallic, roughness, u, sampledDirection, sampledPdf);
+  result.material = vec4(luminance(materialBrdfCosine(normal, view, light, baseColor, metallic, roughness)),
+                         pdfMaterial(normal, view, light, baseColor, metallic, roughness),
+                         specularReflectance(specularF0(baseColor, metallic), dot(normal, view), roughness).x,
+                         sampledPdf);
+  result.sampled = vec4(sampledDirection, sampled ? 1.0f : 0.0f);
   return result;
 }
 
