@@ -152,13 +152,16 @@ class ReferenceTest : public testing::GpuTest {
   }
 };
 
-scene::CameraPose furnaceCamera() {
+scene::CameraPose cameraAt(glm::vec3 position, glm::vec3 target, float fovYDegrees) {
   scene::CameraPose pose;
-  pose.position = glm::vec3(0.0f);
-  pose.target = glm::vec3(0.3f, -0.2f, -1.0f);
-  pose.fovYDegrees = 60.0f;
+  pose.position = position;
+  pose.target = target;
+  pose.fovYDegrees = fovYDegrees;
   return pose;
 }
+
+// From the furnace's centre, so every primary ray meets the sphere head on.
+scene::CameraPose furnaceCamera() { return cameraAt(glm::vec3(0.0f), glm::vec3(0.3f, -0.2f, -1.0f), 60.0f); }
 
 TEST_F(ReferenceTest, LambertFurnaceGlowsWithEmissionOverOneMinusAlbedo) {
   const glm::vec3 emission(1.0f, 0.5f, 0.25f);
@@ -194,13 +197,7 @@ TEST_F(ReferenceTest, MirrorFurnaceGlowsWithEmissionOverOneMinusReflectance) {
   expectNear(meanOf(images.radiance), emission / (1.0f - f0), 0.01f, "radiance");
 }
 
-scene::CameraPose lookingDownAtThePlane() {
-  scene::CameraPose pose;
-  pose.position = glm::vec3(0.0f, 2.0f, 2.0f);
-  pose.target = glm::vec3(0.0f);
-  pose.fovYDegrees = 30.0f;
-  return pose;
-}
+scene::CameraPose lookingDownAtThePlane() { return cameraAt(glm::vec3(0.0f, 2.0f, 2.0f), glm::vec3(0.0f), 30.0f); }
 
 TEST_F(ReferenceTest, LambertPlaneUnderAUniformSkyReflectsAlbedoTimesSky) {
   const glm::vec3 sky(0.5f, 1.0f, 2.0f);
