@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "io/colormap.h"
 #include "io/image_io.h"
 #include "metrics/flip.h"
 #include "metrics/image_metrics.h"
@@ -211,9 +212,9 @@ TEST(Flip, MismatchedSizesAreRefused) {
 TEST(Flip, ToneMapAndMagmaEndpoints) {
   EXPECT_EQ(metrics::flipToneMap(glm::vec3(0.0f)), glm::vec3(0.0f));
   EXPECT_EQ(metrics::flipToneMap(glm::vec3(1.0e6f)), glm::vec3(1.0f)) << "saturates to white";
-  EXPECT_EQ(metrics::magma(0.0f), (std::array<std::uint8_t, 3>{0, 0, 4}));
-  EXPECT_EQ(metrics::magma(1.0f), (std::array<std::uint8_t, 3>{252, 253, 191}));
-  EXPECT_EQ(metrics::magma(7.0f), metrics::magma(1.0f)) << "clamped";
+  EXPECT_EQ(io::magma(0.0f), (std::array<std::uint8_t, 3>{0, 0, 4}));
+  EXPECT_EQ(io::magma(1.0f), (std::array<std::uint8_t, 3>{252, 253, 191}));
+  EXPECT_EQ(io::magma(7.0f), io::magma(1.0f)) << "clamped";
 }
 
 // --- value errors, statistics, temporal stability
@@ -435,7 +436,7 @@ TEST_F(CompareCommand, ErrorMapIsAMagmaPngOfTheImageSize) {
   EXPECT_EQ(image.height, 96);
   // Every pixel is a magma colour; error 0 (e.g. where the shift leaves the
   // checkerboard unchanged) is magma's near-black.
-  const std::array<std::uint8_t, 3> zero = metrics::magma(0.0f);
+  const std::array<std::uint8_t, 3> zero = io::magma(0.0f);
   bool anyZero = false, anyBright = false;
   for (std::size_t p = 0; p < std::size_t(image.width * image.height); ++p) {
     std::array<int, 3> bytes{};

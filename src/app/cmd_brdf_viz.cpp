@@ -16,8 +16,8 @@
 #include "app/commands.h"
 #include "app/plot.h"
 #include "app/progress.h"
+#include "io/colormap.h"
 #include "io/image_io.h"
-#include "metrics/flip.h"
 #include "shared/brdf.glsl"
 #include "shared/color.glsl"
 #include "shared/sampling.glsl"
@@ -73,7 +73,7 @@ io::ImageF drawFrame(const BrdfVizOptions& options, const Parameters& p) {
       for (int x = 0; x < size; ++x) {
         const glm::vec2 disk((float(x) + 0.5f - radius) / radius, (radius - float(y) - 0.5f) / radius);
         if (glm::dot(disk, disk) > 1.0f) continue;
-        const std::array<std::uint8_t, 3> colour = metrics::magma(1.0f - std::exp(-value(diskToDirection(disk))));
+        const std::array<std::uint8_t, 3> colour = io::magma(1.0f - std::exp(-value(diskToDirection(disk))));
         canvas.set(panelLeft(panel) + x, top + y, glm::vec3(colour[0], colour[1], colour[2]) / 255.0f);
       }
   };

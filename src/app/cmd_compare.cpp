@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "io/colormap.h"
 #include "io/image_io.h"
 #include "metrics/flip.h"
 #include "metrics/image_metrics.h"
@@ -129,21 +130,31 @@ int thresholdExitCode(const std::vector<std::string>& failures) {
 void writeErrorMap(const fs::path& path, const metrics::ScalarImage& flipMap) {
   io::ImageF coloured(flipMap.width, flipMap.height, {"R", "G", "B"});
   for (std::size_t p = 0; p < flipMap.values.size(); ++p) {
-    const std::array<std::uint8_t, 3> rgb = metrics::magma(flipMap.values[p]);
+    const std::array<std::uint8_t, 3> rgb = io::magma(flipMap.values[p]);
     for (std::size_t c = 0; c < 3; ++c) coloured.pixels[p * 3 + c] = float(rgb[c]) / 255.0f;
   }
   // Linear: the magma bytes are already display values and are stored as they are.
   io::writePng(path, coloured, io::PngEncoding::Linear);
 }
 
-std::string pairJson(const CompareOptions& options, const io::ImageF& reference, const metrics::Comparison& c,
-                     bool passed) {
+// Bias shows in the image mean before it shows anywhere else.
+double meanLuminance(const io::ImageF& image) {
+  const std::vector<float> values = metrics::luminance(image);
+  double sum = 0.0;
+  for (float v : values) sum += v;
+  return values.empty() ? 0.0 : sum / double(values.size());
+}
+
+std::string pairJson(const CompareOptions& options, const io::ImageF& reference, const io::ImageF& test,
+                     const metrics::Comparison& c, bool passed) {
   const metrics::ErrorStatistics& f = c.flip;
   std::ostringstream json;
   json << "{\n";
   json << "  \"reference\": " << jsonString(options.images[0]) << ",\n";
   json << "  \"test\": " << jsonString(options.images[1]) << ",\n";
   json << "  \"width\": " << reference.width << ",\n  \"height\": " << reference.height << ",\n";
+  json << "  \"reference_mean_luminance\": " << jsonNumber(meanLuminance(reference)) << ",\n";
+  json << "  \"test_mean_luminance\": " << jsonNumber(meanLuminance(test)) << ",\n";
   json << "  \"relmse\": " << jsonNumber(c.values.relMse) << ",\n";
   json << "  \"relmse_epsilon\": " << jsonNumber(metrics::kRelMseEpsilon) << ",\n";
   json << "  \"mse\": " << jsonNumber(c.values.mse) << ",\n";
@@ -212,8 +223,11 @@ int comparePair(const CompareOptions& options) {
   }
 
   const metrics::ErrorStatistics& f = comparison.flip;
+  const double referenceMean = meanLuminance(reference), testMean = meanLuminance(test);
   std::printf("reference  %s (%dx%d)\n", referencePath.c_str(), reference.width, reference.height);
   std::printf("test       %s\n", testPath.c_str());
+  std::printf("mean       luminance %s (reference) %s (test), ratio %s\n", number(referenceMean).c_str(),
+              number(testMean).c_str(), number(referenceMean > 0.0 ? testMean / referenceMean : 0.0).c_str());
   std::printf("relMSE     %s  (epsilon %s)\n", number(comparison.values.relMse).c_str(),
               number(metrics::kRelMseEpsilon).c_str());
   std::printf("RMSE       %s\n", number(comparison.values.rmse).c_str());
@@ -243,7 +257,7 @@ int comparePair(const CompareOptions& options) {
     std::printf("wrote %s\n", options.errorMap.c_str());
   }
   if (!options.json.empty()) {
-    writeText(options.json, pairJson(options, reference, comparison, failures.empty()));
+    writeText(options.json, pairJson(options, reference, test, comparison, failures.empty()));
     std::printf("wrote %s\n", options.json.c_str());
   }
   std::fflush(stdout);

@@ -34,6 +34,8 @@ enum class Visualize {
   Raw,       // stored as is, clamped to [0,1]
   Motion,    // 2D vectors: x in red, y in green, 0.5 = still, scaled by the largest
   Ids,       // integer labels: one hashed colour per value, all-ones (none) black
+  Heat,      // positive scalars spanning decades (reservoir M and W, history lengths): log scale
+             // from the 1st to the 99th percentile of the positive values, magma colours; 0 black
 };
 
 enum class BufferUsage {

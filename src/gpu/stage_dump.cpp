@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "gpu/transfer.h"
+#include "io/colormap.h"
 
 #include "shared/rng.glsl"
 
@@ -72,6 +73,24 @@ VisualizedImage visualize(const io::ImageF& image, Visualize how) {
           const auto id = std::uint32_t(value);
           const std::uint32_t h = shared::pcgHash(id);
           for (int c = 0; c < 3; ++c) out.at(x, y, c) = 0.2f + 0.8f * float((h >> (8 * c)) & 0xffu) / 255.0f;
+        }
+      return {out, io::PngEncoding::Linear};
+    }
+    case Visualize::Heat: {
+      std::vector<float> positive;
+      for (std::size_t p = 0; p < image.pixels.size(); p += image.channelCount())
+        if (image.pixels[p] > 0.0f && std::isfinite(image.pixels[p])) positive.push_back(std::log(image.pixels[p]));
+      io::ImageF out(image.width, image.height, {"R", "G", "B"});
+      if (positive.empty()) return {out, io::PngEncoding::Linear};
+      std::sort(positive.begin(), positive.end());
+      const float lo = positive[positive.size() / 100], hi = positive[positive.size() - 1 - positive.size() / 100];
+      const float scale = hi > lo ? 1.0f / (hi - lo) : 0.0f;
+      for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+          const float v = image.at(x, y, 0);
+          if (!(v > 0.0f)) continue;
+          const std::array<std::uint8_t, 3> rgb = io::magma(hi > lo ? (std::log(v) - lo) * scale : 1.0f);
+          for (int c = 0; c < 3; ++c) out.at(x, y, c) = float(rgb[c]) / 255.0f;
         }
       return {out, io::PngEncoding::Linear};
     }

@@ -95,8 +95,5 @@ HdrFlipResult hdrFlip(const RgbImage& reference, const RgbImage& test, float pix
 // tonemapAcesFitted (Hill's fit): HDR-FLIP's values depend on this curve.
 glm::vec3 flipToneMap(glm::vec3 exposedRadiance);
 
-// The magma colour map (matplotlib's, which the FLIP tool uses for its error
-// maps) as 8-bit sRGB, for a value in [0,1] (clamped; NaN shows as 0).
-std::array<std::uint8_t, 3> magma(float value);
 
 }  // namespace bounce::metrics
