@@ -20,6 +20,8 @@ const FormatInfo kFormats[] = {
     {VK_FORMAT_R16G16B16A16_SFLOAT, "rgba16f", 4, 8, spv::ImageFormatRgba16f},
     {VK_FORMAT_R32G32B32A32_SFLOAT, "rgba32f", 4, 16, spv::ImageFormatRgba32f},
     {VK_FORMAT_R32_UINT, "r32ui", 1, 4, spv::ImageFormatR32ui},
+    {VK_FORMAT_R32G32_UINT, "rg32ui", 2, 8, spv::ImageFormatRg32ui},
+    {VK_FORMAT_R32G32B32A32_UINT, "rgba32ui", 4, 16, spv::ImageFormatRgba32ui},
     {VK_FORMAT_R8G8B8A8_UNORM, "rgba8", 4, 4, spv::ImageFormatRgba8},
 };
 
@@ -52,7 +54,11 @@ void texelsToFloats(VkFormat format, const void* texels, std::size_t pixelCount,
       for (std::size_t i = 0; i < values; ++i) out[i] = glm::unpackHalf1x16(halves[i]);
       return;
     }
-    case VK_FORMAT_R32_UINT: {
+    // Packed data (reservoirs, history surfaces) as the integers they are,
+    // exact below 2^24; the shader's own unpacking is what gives them meaning.
+    case VK_FORMAT_R32_UINT:
+    case VK_FORMAT_R32G32_UINT:
+    case VK_FORMAT_R32G32B32A32_UINT: {
       const auto* words = static_cast<const std::uint32_t*>(texels);
       for (std::size_t i = 0; i < values; ++i) out[i] = float(words[i]);
       return;

@@ -1,5 +1,6 @@
 #include "gpu/frame_loop.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "gpu/context.h"
@@ -54,9 +55,18 @@ void FrameLoop::collect(Slot& slot) {
                                 queryResults_.data(), sizeof(std::uint64_t),
                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
           "reading GPU timestamps");
+    // A pass dispatched several times in a frame (one mip level or pyramid
+    // step each) is one row: its dispatches' times add up.
     const double msPerTick = context_.timestampPeriodNs() * 1e-6;
-    for (std::size_t i = 0; i < slot.timestamps.passes.size(); ++i)
-      timings_.add(slot.timestamps.passes[i], double(queryResults_[2 * i + 1] - queryResults_[2 * i]) * msPerTick);
+    std::vector<std::pair<const std::string*, double>> frameTotals;
+    for (std::size_t i = 0; i < slot.timestamps.passes.size(); ++i) {
+      const double ms = double(queryResults_[2 * i + 1] - queryResults_[2 * i]) * msPerTick;
+      const std::string& pass = slot.timestamps.passes[i];
+      const auto same = std::find_if(frameTotals.begin(), frameTotals.end(), [&](const auto& t) { return *t.first == pass; });
+      if (same == frameTotals.end()) frameTotals.emplace_back(&pass, ms);
+      else same->second += ms;
+    }
+    for (const auto& [pass, ms] : frameTotals) timings_.add(*pass, ms);
   }
   slot.timestamps.passes.clear();
   for (CapturedStage& c : slot.captures) completedCaptures_.push_back(std::move(c));

@@ -285,6 +285,16 @@ void Recorder::copyBuffer(Buffer& source, Buffer& destination, VkDeviceSize byte
   vkCmdCopyBuffer(cmd_, source.handle(), destination.handle(), 1, &region);
 }
 
+void Recorder::updateBuffer(Buffer& destination, const void* data, std::size_t bytes) {
+  if (bytes == 0 || bytes % 4 != 0 || bytes > 65536 || bytes > destination.size())
+    throw GpuError("update of " + std::to_string(bytes) + " bytes of '" + destination.name() +
+                   "': must be a multiple of 4, at most 65536 and fit the buffer");
+  require(destination.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+          true);
+  flushBarriers();
+  vkCmdUpdateBuffer(cmd_, destination.handle(), 0, bytes, data);
+}
+
 void Recorder::clearImage(Image& image, const VkClearColorValue& value) {
   require(image.sync(), image.handle(), image.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, kTransfer,
           VK_ACCESS_2_TRANSFER_WRITE_BIT, true);

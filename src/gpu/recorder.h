@@ -110,6 +110,10 @@ class Recorder {
   void copyBufferToImage(Buffer& source, Image& destination, const ImageRegion& region);
   void copyImageToBuffer(Image& source, Buffer& destination);
   void copyBuffer(Buffer& source, Buffer& destination, VkDeviceSize bytes);
+  // Writes `bytes` (a multiple of 4, at most 65536) into the start of a
+  // buffer from the command buffer itself (vkCmdUpdateBuffer), so per-frame
+  // constants need no host-visible buffer per frame in flight.
+  void updateBuffer(Buffer& destination, const void* data, std::size_t bytes);
   void clearImage(Image& image, const VkClearColorValue& value);
   void fillBuffer(Buffer& buffer, std::uint32_t word);
   // Makes GPU writes to a host-visible buffer visible to the CPU after the
@@ -121,6 +125,9 @@ class Recorder {
     captures_ = sink;
     captureFrame_ = frame;
   }
+  // Whether this frame's pass outputs are being captured (passes that exist
+  // only to be looked at run then, and only then).
+  bool capturing() const { return captures_ != nullptr; }
 
   // For tests that prove synchronization validation works: with false, only
   // layout transitions are recorded, no hazard barriers.

@@ -58,6 +58,16 @@ io::ImageF readbackImage(Context& context, Image& image) {
   return texelsToImage(image.desc(), staging.mapped());
 }
 
+std::vector<std::uint8_t> readbackImageBytes(Context& context, Image& image) {
+  Buffer staging(context, "staging.readback." + image.name(), image.byteSize(), BufferUsage::Readback);
+  context.submitAndWait([&](Recorder& r) {
+    r.copyImageToBuffer(image, staging);
+    r.makeHostReadable(staging);
+  });
+  const auto* bytes = static_cast<const std::uint8_t*>(staging.mapped());
+  return std::vector<std::uint8_t>(bytes, bytes + image.byteSize());
+}
+
 void uploadBuffer(Context& context, Buffer& buffer, const void* data, std::size_t bytes) {
   if (bytes > buffer.size())
     throw GpuError("upload of " + std::to_string(bytes) + " bytes to buffer '" + buffer.name() + "' of " +

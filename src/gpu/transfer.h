@@ -20,6 +20,9 @@ void uploadImage(Context& context, Image& image, const void* texels, std::size_t
 // Converts the float image to the image's format; channel counts must match.
 void uploadImage(Context& context, Image& image, const io::ImageF& pixels);
 io::ImageF readbackImage(Context& context, Image& image);
+// Mip 0's texels exactly as stored (tightly packed rows), for packed
+// integer data that a float conversion would round.
+std::vector<std::uint8_t> readbackImageBytes(Context& context, Image& image);
 
 void uploadBuffer(Context& context, Buffer& buffer, const void* data, std::size_t bytes);
 std::vector<std::uint8_t> readbackBuffer(Context& context, Buffer& buffer);
