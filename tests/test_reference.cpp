@@ -52,8 +52,10 @@ scene::Scene oneMeshScene(std::string name, scene::Mesh mesh, scene::Material ma
 }
 
 // A closed sphere of radius 2 that emits e and reflects with `material`.
+// Its triangles face outwards, so it emits inwards only as a double-sided material.
 scene::Scene furnace(scene::Material material, glm::vec3 emission) {
   material.emissiveFactor = emission;
+  material.doubleSided = true;
   return oneMeshScene("furnace", testing::sphereMesh(64, 32), material, 2.0f);
 }
 
@@ -322,6 +324,21 @@ TEST_F(ReferenceTest, TheSameSeedGivesTheSameBitsAndAnotherSeedOtherNoise) {
   const io::ImageF first = render(1), again = render(1), other = render(2);
   EXPECT_EQ(first.pixels, again.pixels);
   EXPECT_NE(first.pixels, other.pixels);
+}
+
+TEST_F(ReferenceTest, SingleSidedEmittersLightOnlyTheirFrontSide) {
+  // A furnace whose shell faces outwards and is single-sided: seen and lit
+  // from inside, it emits nothing, so everything inside is black.
+  scene::Material material = lambert(glm::vec3(0.5f));
+  Run run = start([&] {
+    scene::Scene s = furnace(material, glm::vec3(1.0f));
+    s.materials[0].doubleSided = false;
+    return s;
+  }(), furnaceCamera(), {});
+  run.addSamples(4);
+  const ReferenceImages images = run.resolve();
+  EXPECT_EQ(meanOf(images.radiance), glm::vec3(0.0f));
+  EXPECT_EQ(meanOf(images.direct), glm::vec3(0.0f));
 }
 
 TEST_F(ReferenceTest, BadOptionsAreRefused) {

@@ -87,7 +87,6 @@ float emissiveLightPdfArea(LightSampling lights, uint material) {
   return luminance(gIn_Materials.items[material].emissive.xyz) / lights.emissivePower;
 }
 
-// A point on an emissive triangle, drawn by power and then uniformly by area.
 struct EmissiveSample {
   vec3 position;
   vec3 geometricNormal;  // either side: emitters are two-sided, as surfaces are
@@ -95,7 +94,10 @@ struct EmissiveSample {
   float pdfArea;
 };
 
-bool sampleEmissiveLight(LightSampling lights, vec3 u, out EmissiveSample light) {
+// A point on an emissive triangle for a receiver at `receiver`, drawn by
+// power and then uniformly by area; its emission is what it sends towards
+// the receiver (none from the back of a single-sided emitter).
+bool sampleEmissiveLight(LightSampling lights, vec3 u, vec3 receiver, out EmissiveSample light) {
   light.position = vec3(0.0f);
   light.geometricNormal = vec3(0.0f, 1.0f, 0.0f);
   light.emission = vec3(0.0f);
@@ -113,7 +115,14 @@ bool sampleEmissiveLight(LightSampling lights, vec3 u, out EmissiveSample light)
   // Uniform barycentrics (Shirley's square-root warp).
   float s = sqrt(u.x);
   vec2 barycentrics = vec2(s * (1.0f - u.y), s * u.y);
-  SceneSurface surface = resolveSurface(BvhHit(1.0f, entry.x, entry.y, barycentrics), vec3(0.0f, 0.0f, -1.0f), 1e-6f);
+  // Where the point is first, so that it is shaded as seen from the receiver.
+  uvec4 triangle = gIn_BvhTriangles.items[entry.y];
+  vec3 objectPosition = barycentricMix(gIn_BvhPositions.items[triangle.x].xyz, gIn_BvhPositions.items[triangle.y].xyz,
+                                       gIn_BvhPositions.items[triangle.z].xyz, barycentrics);
+  vec3 position = transformPoint(gIn_Instances.items[entry.x].objectToWorld, objectPosition);
+  vec3 toPoint = position - receiver;
+  vec3 direction = dot(toPoint, toPoint) > 0.0f ? normalize(toPoint) : vec3(0.0f, 0.0f, -1.0f);
+  SceneSurface surface = resolveSurface(BvhHit(1.0f, entry.x, entry.y, barycentrics), direction, 1e-6f);
   light.position = surface.position;
   light.geometricNormal = surface.geometricNormal;
   light.emission = surface.emissive;

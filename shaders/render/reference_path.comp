@@ -128,7 +128,7 @@ vec3 sampledLights(uint lobes, PathVertex x, vec3 v, inout uint rng) {
   }
   EmissiveSample light;
   vec3 u3 = vec3(rngUniform(rng), rngUniform(rng), rngUniform(rng));
-  if (sampleEmissiveLight(lights, u3, light)) {
+  if (sampleEmissiveLight(lights, u3, x.position, light)) {
     vec3 toLight = light.position - x.position;
     float distanceSquared = dot(toLight, toLight);
     direction = toLight * inversesqrt(max(distanceSquared, 1e-20f));

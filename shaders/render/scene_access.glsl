@@ -115,6 +115,9 @@ SceneSurface resolveSurface(BvhHit hit, vec3 direction, float coneWidth) {
   }
   vec3 emissive = material.emissive.xyz;
   if (material.textures.w != kNoTexture) emissive *= sampleAtlas(material.textures.w, uv, uvFootprint).xyz;
+  // A single-sided emitter (glTF doubleSided false) emits from its front
+  // face only; surfaces are otherwise shaded on either side.
+  if (backFace && material.factors.w < 0.5f) emissive = vec3(0.0f);
 
   vec3 objectNormal = barycentricMix(unpackNormalOct32(a0.x), unpackNormalOct32(a1.x), unpackNormalOct32(a2.x), bary);
   vec3 normal = normalize(transformVector(instance.normalToWorld, objectNormal));
