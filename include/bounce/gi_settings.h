@@ -1,0 +1,112 @@
+// Every setting of the GI library, in one plain struct with documented
+// defaults. Each field also has a key (gi.diffuse.spatial_radius, ...) under
+// which `bounce` takes it on the command line (--gi.diffuse.spatial_radius 24)
+// or from a JSON file ({"diffuse": {"spatial_radius": 24}}); see
+// src/gi/settings.cpp for the table of keys and docs/gi-settings.md for all
+// of them with their ranges.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace bounce::gi {
+
+// How a sample's radiance becomes a scalar weight (the target function p-hat
+// is this times the cosine at the shaded point).
+enum class TargetFunction : std::uint32_t {
+  Luminance = 0,    // Rec. 709 luminance
+  ColorLength = 1,  // length of the RGB vector (the seed's choice)
+};
+
+struct DiffuseSettings {
+  bool enabled = true;
+
+  // --- sample gathering (half resolution): candidates per pixel and source
+  std::uint32_t screenCandidates = 6;       // random pixels of the previous composited frame
+  std::uint32_t brightCandidates = 2;       // picks among the brightest pixels of that frame
+  std::uint32_t environmentCandidates = 2;  // uniform hemisphere directions into the environment
+  std::uint32_t brightPixels = 64;          // the reduction pyramid stops at about this many pixels
+  float environmentMip = 1.0f;              // prefiltered environment level the samples read
+  TargetFunction target = TargetFunction::Luminance;
+
+  // --- temporal reuse (half resolution)
+  std::uint32_t temporalMaxM = 20;        // history counts as at most this many frames of samples
+  float temporalDepthTolerance = 0.05f;   // reprojected depth may differ by this fraction of viewZ
+  float temporalNormalToleranceDegrees = 25.0f;
+
+  // --- spatial reuse (half resolution): two passes
+  float spatialRadius = 16.0f;  // first pass: disk radius in half-resolution pixels at the surface
+  std::uint32_t spatialSamples = 5;
+  float spatial2Radius = 6.0f;  // second pass
+  std::uint32_t spatial2Samples = 5;
+  float spatialNormalToleranceDegrees = 25.0f;  // neighbours whose normal differs more are rejected
+  float spatialPlaneTolerance = 0.05f;  // ... and those farther from the tangent plane than this fraction of viewZ
+  bool jacobian = true;                 // ReSTIR GI's reconnection Jacobian for reused samples
+  // Which reservoirs the next frame's temporal reuse starts from: false,
+  // those after temporal reuse (as the ReSTIR GI paper does); true, those
+  // after the second spatial pass (seed 001's feedback point). Measured on a
+  // floor lit by a wall, the spatial feedback darkens indirect diffuse by a
+  // quarter at M cap 20 (docs/gi.md), so it is off by default.
+  bool spatialFeedback = false;
+
+  // --- resolve (full resolution) with deferred screen-space visibility
+  std::uint32_t resolveReservoirs = 4;  // neighbouring half-resolution reservoirs each pixel evaluates (1..4)
+  std::uint32_t visibilitySteps = 12;   // ray-march steps from the pixel to each sample (0 = no visibility test)
+  float visibilityThickness = 0.03f;    // surfaces are this fraction of their viewZ thick
+  // Environment samples whose screen-space march leaves the screen without
+  // meeting anything are weighted by this (1 = assumed visible, as the seed
+  // does; 0 = assumed occluded, right for closed rooms).
+  float offscreenEnvironmentVisibility = 1.0f;
+
+  // --- temporal filter (full resolution)
+  float varianceClippingGamma = 1.5f;   // history clipped to mean +- gamma * sigma of the 3x3 neighbourhood
+  std::uint32_t temporalFilterFrames = 32;  // the longest history the filter accumulates
+};
+
+struct Settings {
+  DiffuseSettings diffuse;
+  // false: no temporal and no spatial reuse (gathering, resolve and filters
+  // stay): the baseline every reuse comparison is made against.
+  bool restir = true;
+  std::uint32_t seed = 0;  // another seed gives other (independent) noise
+};
+
+// One settable field: its key (relative to "gi.", e.g. "diffuse.spatial_radius"),
+// its type and range as text, its default and what it does.
+struct SettingInfo {
+  std::string key;
+  std::string type;  // "bool", "enum: a|b", or "uint"/"float" and its range: "uint [0, 64]", "float (0, 1]"
+  std::string defaultValue;
+  std::string description;
+};
+
+// Every key, in the order of the structs above.
+const std::vector<SettingInfo>& settingKeys();
+
+// Sets one field from text ("24", "on", "off", "true", "luminance", ...).
+// The key may also carry the command line's "gi." prefix.
+// Throws std::invalid_argument naming the key, the value and what it takes
+// (unknown key, not a number, out of range); the field is then left as it was.
+// Only this key's own range is checked: call validate() once every setting is
+// applied, for the checks that span keys (at least one kind of candidate).
+void applySetting(Settings& settings, const std::string& key, const std::string& value);
+
+// Applies a JSON file ({"restir": false, "diffuse": {"spatial_radius": 24}});
+// nested objects and dotted keys ({"diffuse.spatial_radius": 24}) are the same
+// key, and a {"gi": {...}} wrapper is allowed. Keys the file leaves out keep
+// their value. Throws std::runtime_error starting with the file's path (no
+// file, malformed JSON, unknown key, bad value, a key given twice), and then
+// changes nothing.
+void applySettingsFile(Settings& settings, const std::filesystem::path& file);
+
+// The current value of a key as text, in a form applySetting takes back
+// (bools as on/off, floats in as few digits as give the same float).
+std::string settingValue(const Settings& settings, const std::string& key);
+
+// Checks every field's range; throws std::invalid_argument naming the first
+// bad key (settings built in code, not only parsed, pass through this).
+void validate(const Settings& settings);
+
+}  // namespace bounce::gi

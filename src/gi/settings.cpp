@@ -1,0 +1,503 @@
+// The settings layer of gi_settings.h: one table of every settable field
+// (key, member, range, description) from which the key list, the parser, the
+// printer and the validator are all derived, so a new field is added in one
+// place and cannot be parsed but not validated, or listed but not parsed.
+#include "bounce/gi_settings.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace bounce::gi {
+namespace {
+
+constexpr std::string_view kKeyPrefix = "gi.";
+
+// A field is either in DiffuseSettings or directly in Settings; keeping the
+// pointer-to-member (not a lambda) lets validate() find a key from its field.
+template <typename T>
+struct Member {
+  T DiffuseSettings::*diffuse = nullptr;
+  T Settings::*top = nullptr;
+
+  T& of(Settings& settings) const { return diffuse ? settings.diffuse.*diffuse : settings.*top; }
+  const T& of(const Settings& settings) const { return diffuse ? settings.diffuse.*diffuse : settings.*top; }
+};
+
+template <typename T>
+constexpr Member<T> inDiffuse(T DiffuseSettings::*member) {
+  return {member, nullptr};
+}
+
+template <typename T>
+constexpr Member<T> inSettings(T Settings::*member) {
+  return {nullptr, member};
+}
+
+// The alternative held also says the field's type, so type and member cannot disagree.
+using Field = std::variant<Member<bool>, Member<std::uint32_t>, Member<float>, Member<TargetFunction>>;
+
+// Numeric range; unused for bool and enum fields.
+struct Bounds {
+  double min = 0.0;
+  double max = 0.0;
+  bool excludeMin = false;
+  bool excludeMax = false;
+
+  bool contains(double value) const {
+    const bool aboveMin = excludeMin ? value > min : value >= min;
+    const bool belowMax = excludeMax ? value < max : value <= max;
+    return aboveMin && belowMax;
+  }
+};
+
+constexpr Bounds closed(double min, double max) { return {min, max, false, false}; }
+constexpr Bounds aboveUpTo(double min, double max) { return {min, max, true, false}; }
+constexpr Bounds open(double min, double max) { return {min, max, true, true}; }
+constexpr Bounds kNoBounds{};
+constexpr Bounds kAnyUint = closed(0.0, std::numeric_limits<std::uint32_t>::max());
+
+struct Entry {
+  std::string_view key;  // relative to "gi."
+  Field field;
+  Bounds bounds;
+  std::string_view description;
+};
+
+struct TargetName {
+  TargetFunction value;
+  std::string_view name;
+};
+
+constexpr std::array kTargetNames{
+    TargetName{TargetFunction::Luminance, "luminance"},
+    TargetName{TargetFunction::ColorLength, "color-length"},
+};
+
+// The single source of truth, in the order of the structs in gi_settings.h.
+// The ranges keep every value inside what the passes are written for (loop
+// counts that fit a frame, angles that leave some neighbours, fractions of viewZ).
+constexpr std::array kEntries{
+    Entry{"diffuse.enabled", inDiffuse(&DiffuseSettings::enabled), kNoBounds,
+          "compute indirect diffuse at all (off: the frame has direct light only)"},
+    Entry{"diffuse.screen_candidates", inDiffuse(&DiffuseSettings::screenCandidates), closed(0, 64),
+          "initial candidates per pixel from random pixels of the previous composited frame"},
+    Entry{"diffuse.bright_candidates", inDiffuse(&DiffuseSettings::brightCandidates), closed(0, 64),
+          "initial candidates per pixel picked among the brightest pixels of the previous frame"},
+    Entry{"diffuse.environment_candidates", inDiffuse(&DiffuseSettings::environmentCandidates), closed(0, 64),
+          "initial candidates per pixel from uniform hemisphere directions into the environment"},
+    Entry{"diffuse.bright_pixels", inDiffuse(&DiffuseSettings::brightPixels), closed(1, 4096),
+          "the brightness reduction pyramid stops at about this many pixels to pick bright candidates from"},
+    Entry{"diffuse.environment_mip", inDiffuse(&DiffuseSettings::environmentMip), closed(0, 16),
+          "level of the prefiltered environment that environment samples read (higher: blurrier, less noise)"},
+    Entry{"diffuse.target", inDiffuse(&DiffuseSettings::target), kNoBounds,
+          "scalar weight of a sample's radiance in the target function (times the cosine)"},
+    Entry{"diffuse.temporal_max_m", inDiffuse(&DiffuseSettings::temporalMaxM), closed(1, 1000),
+          "temporal reuse: the history counts as at most this many frames of samples"},
+    Entry{"diffuse.temporal_depth_tolerance", inDiffuse(&DiffuseSettings::temporalDepthTolerance), aboveUpTo(0, 1),
+          "temporal reuse: reprojected depth may differ by this fraction of viewZ"},
+    Entry{"diffuse.temporal_normal_tolerance_degrees", inDiffuse(&DiffuseSettings::temporalNormalToleranceDegrees),
+          open(0, 180), "temporal reuse: reprojected normal may differ by this many degrees"},
+    Entry{"diffuse.spatial_radius", inDiffuse(&DiffuseSettings::spatialRadius), closed(0, 256),
+          "first spatial reuse pass: radius of the disk its neighbours are taken from, in half-resolution pixels"},
+    Entry{"diffuse.spatial_samples", inDiffuse(&DiffuseSettings::spatialSamples), closed(0, 64),
+          "first spatial reuse pass: neighbours merged per pixel"},
+    Entry{"diffuse.spatial2_radius", inDiffuse(&DiffuseSettings::spatial2Radius), closed(0, 256),
+          "second spatial reuse pass: radius of the disk its neighbours are taken from, in half-resolution pixels"},
+    Entry{"diffuse.spatial2_samples", inDiffuse(&DiffuseSettings::spatial2Samples), closed(0, 64),
+          "second spatial reuse pass: neighbours merged per pixel"},
+    Entry{"diffuse.spatial_normal_tolerance_degrees", inDiffuse(&DiffuseSettings::spatialNormalToleranceDegrees),
+          open(0, 180), "spatial reuse: neighbours whose normal differs by more degrees are rejected"},
+    Entry{"diffuse.spatial_plane_tolerance", inDiffuse(&DiffuseSettings::spatialPlaneTolerance), aboveUpTo(0, 1),
+          "spatial reuse: neighbours farther from the tangent plane than this fraction of viewZ are rejected"},
+    Entry{"diffuse.jacobian", inDiffuse(&DiffuseSettings::jacobian), kNoBounds,
+          "apply ReSTIR GI's reconnection Jacobian to reused samples"},
+    Entry{"diffuse.spatial_feedback", inDiffuse(&DiffuseSettings::spatialFeedback), kNoBounds,
+          "the next frame's temporal reuse starts from the spatially reused reservoirs (seed 001) instead of the "
+          "temporal ones"},
+    Entry{"diffuse.resolve_reservoirs", inDiffuse(&DiffuseSettings::resolveReservoirs), closed(1, 4),
+          "resolve: neighbouring half-resolution reservoirs each full-resolution pixel evaluates"},
+    Entry{"diffuse.visibility_steps", inDiffuse(&DiffuseSettings::visibilitySteps), closed(0, 256),
+          "resolve: screen-space ray-march steps from the pixel to each sample (0: no visibility test)"},
+    Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
+          "resolve: surfaces are assumed this fraction of their viewZ thick"},
+    Entry{"diffuse.offscreen_environment_visibility", inDiffuse(&DiffuseSettings::offscreenEnvironmentVisibility),
+          closed(0, 1), "weight of environment samples whose march leaves the screen (1: visible, 0: occluded)"},
+    Entry{"diffuse.variance_clipping_gamma", inDiffuse(&DiffuseSettings::varianceClippingGamma), aboveUpTo(0, 100),
+          "temporal filter: history is clipped to mean +- gamma * sigma of the 3x3 neighbourhood"},
+    Entry{"diffuse.temporal_filter_frames", inDiffuse(&DiffuseSettings::temporalFilterFrames), closed(1, 1024),
+          "temporal filter: the longest history it accumulates, in frames"},
+    Entry{"restir", inSettings(&Settings::restir), kNoBounds,
+          "temporal and spatial reuse (off: the no-reuse baseline; gathering, resolve and filters stay)"},
+    Entry{"seed", inSettings(&Settings::seed), kAnyUint, "random seed; another seed gives other, independent noise"},
+};
+
+std::string lowercase(std::string_view text) {
+  std::string lower(text);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); });
+  return lower;
+}
+
+template <typename Number>
+std::string formatNumber(Number value) {
+  // to_chars without a precision gives the shortest text that parses back to the same value.
+  std::array<char, 64> buffer{};
+  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  return std::string(buffer.data(), result.ptr);
+}
+
+std::string_view targetName(TargetFunction target) {
+  for (const TargetName& entry : kTargetNames) {
+    if (entry.value == target) return entry.name;
+  }
+  return {};
+}
+
+std::string describeBounds(const Bounds& bounds) {
+  return std::string(bounds.excludeMin ? "(" : "[") + formatNumber(bounds.min) + ", " + formatNumber(bounds.max) +
+         (bounds.excludeMax ? ")" : "]");
+}
+
+std::string typeText(const Entry& entry) {
+  struct Visitor {
+    const Bounds& bounds;
+    std::string operator()(const Member<bool>&) const { return "bool"; }
+    std::string operator()(const Member<std::uint32_t>&) const { return "uint " + describeBounds(bounds); }
+    std::string operator()(const Member<float>&) const { return "float " + describeBounds(bounds); }
+    std::string operator()(const Member<TargetFunction>&) const {
+      std::string text = "enum: ";
+      for (const TargetName& target : kTargetNames) {
+        if (&target != &kTargetNames.front()) text += "|";
+        text += target.name;
+      }
+      return text;
+    }
+  };
+  return std::visit(Visitor{entry.bounds}, entry.field);
+}
+
+// What a key accepts, phrased for the end of an error message.
+std::string acceptedText(const Entry& entry) {
+  struct Visitor {
+    const Bounds& bounds;
+    std::string operator()(const Member<bool>&) const { return "on, off, true, false, yes, no, 1 or 0"; }
+    std::string operator()(const Member<std::uint32_t>&) const { return "an integer in " + describeBounds(bounds); }
+    std::string operator()(const Member<float>&) const { return "a number in " + describeBounds(bounds); }
+    std::string operator()(const Member<TargetFunction>&) const {
+      std::string text;
+      for (std::size_t i = 0; i < kTargetNames.size(); ++i) {
+        if (i > 0) text += i + 1 == kTargetNames.size() ? " or " : ", ";
+        text += kTargetNames[i].name;
+      }
+      return text;
+    }
+  };
+  return std::visit(Visitor{entry.bounds}, entry.field);
+}
+
+[[noreturn]] void throwBadValue(const Entry& entry, std::string_view value) {
+  throw std::invalid_argument("invalid value \"" + std::string(value) + "\" for " + std::string(kKeyPrefix) +
+                              std::string(entry.key) + ": expected " + acceptedText(entry));
+}
+
+std::optional<bool> parseBool(std::string_view text) {
+  const std::string lower = lowercase(text);
+  if (lower == "on" || lower == "true" || lower == "yes" || lower == "1") return true;
+  if (lower == "off" || lower == "false" || lower == "no" || lower == "0") return false;
+  return std::nullopt;
+}
+
+// from_chars takes no sign for unsigned types, no leading space and no "0x";
+// requiring it to consume all the text also rejects "2.5" and "3x".
+template <typename Number>
+std::optional<Number> parseNumber(std::string_view text) {
+  Number value{};
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  if constexpr (std::is_floating_point_v<Number>) {
+    if (!std::isfinite(value)) return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<TargetFunction> parseTarget(std::string_view text) {
+  const std::string lower = lowercase(text);
+  for (const TargetName& entry : kTargetNames) {
+    if (entry.name == lower) return entry.value;
+  }
+  return std::nullopt;
+}
+
+void applyToField(Settings& settings, const Entry& entry, std::string_view text) {
+  std::visit(
+      [&](const auto& member) {
+        using T = std::remove_cvref_t<decltype(member.of(settings))>;
+        std::optional<T> value;
+        if constexpr (std::is_same_v<T, bool>) {
+          value = parseBool(text);
+        } else if constexpr (std::is_same_v<T, TargetFunction>) {
+          value = parseTarget(text);
+        } else {
+          value = parseNumber<T>(text);
+          if (value && !entry.bounds.contains(static_cast<double>(*value))) value.reset();
+        }
+        if (!value) throwBadValue(entry, text);
+        member.of(settings) = *value;
+      },
+      entry.field);
+}
+
+std::string formatField(const Settings& settings, const Entry& entry) {
+  return std::visit(
+      [&](const auto& member) -> std::string {
+        const auto& value = member.of(settings);
+        using T = std::remove_cvref_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return value ? "on" : "off";
+        } else if constexpr (std::is_same_v<T, TargetFunction>) {
+          const std::string_view name = targetName(value);
+          // A value cast in code from an unknown number has no name; show the number so validate() can say which.
+          return name.empty() ? formatNumber(static_cast<std::uint32_t>(value)) : std::string(name);
+        } else {
+          return formatNumber(value);
+        }
+      },
+      entry.field);
+}
+
+bool fieldIsValid(const Settings& settings, const Entry& entry) {
+  return std::visit(
+      [&](const auto& member) {
+        const auto& value = member.of(settings);
+        using T = std::remove_cvref_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return true;
+        } else if constexpr (std::is_same_v<T, TargetFunction>) {
+          return !targetName(value).empty();
+        } else {
+          // NaN fails both comparisons of contains(), so it is refused here too.
+          return entry.bounds.contains(static_cast<double>(value));
+        }
+      },
+      entry.field);
+}
+
+std::size_t editDistance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> previous(b.size() + 1);
+  std::vector<std::size_t> current(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) previous[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    current[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t substitution = previous[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      current[j] = std::min({previous[j] + 1, current[j - 1] + 1, substitution});
+    }
+    std::swap(previous, current);
+  }
+  return previous[b.size()];
+}
+
+std::string_view lastSegment(std::string_view key) {
+  const std::size_t dot = key.rfind('.');
+  return dot == std::string_view::npos ? key : key.substr(dot + 1);
+}
+
+// Near misses of `key`: typos of the whole key, and the right field name
+// under a missing or wrong struct prefix ("spatial_radius", "restir.seed").
+std::vector<std::string_view> closestKeys(std::string_view key) {
+  const std::string_view field = lastSegment(key);
+  const std::size_t tolerance = std::max<std::size_t>(2, field.size() / 4);
+  std::vector<std::pair<std::size_t, std::string_view>> scored;
+  for (const Entry& entry : kEntries) {
+    std::size_t distance = editDistance(key, entry.key);
+    const std::string_view entryField = lastSegment(entry.key);
+    distance = std::min(distance, editDistance(field, entryField) + 1);
+    const bool fieldNameContainsTypedName = field.size() >= 4 && entryField.find(field) != std::string_view::npos;
+    if (fieldNameContainsTypedName) distance = std::min<std::size_t>(distance, 2);
+    if (distance <= tolerance) scored.emplace_back(distance, entry.key);
+  }
+  std::stable_sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  constexpr std::size_t kMaxSuggestions = 3;
+  std::vector<std::string_view> closest;
+  for (std::size_t i = 0; i < scored.size() && i < kMaxSuggestions; ++i) closest.push_back(scored[i].second);
+  return closest;
+}
+
+// Keys may be given with or without the "gi." that the command line writes,
+// so a JSON file may wrap everything in {"gi": {...}} or use "gi.seed".
+const Entry& findEntry(std::string_view key) {
+  const std::string_view relative = key.starts_with(kKeyPrefix) ? key.substr(kKeyPrefix.size()) : key;
+  for (const Entry& entry : kEntries) {
+    if (entry.key == relative) return entry;
+  }
+  std::string message = "unknown setting " + std::string(kKeyPrefix) + std::string(relative);
+  const std::vector<std::string_view> closest = closestKeys(relative);
+  if (closest.empty()) {
+    message += " (see bounce render --help for every gi.* setting)";
+  } else {
+    message += "; did you mean ";
+    for (std::size_t i = 0; i < closest.size(); ++i) {
+      if (i > 0) message += i + 1 == closest.size() ? " or " : ", ";
+      message += std::string(kKeyPrefix) + std::string(closest[i]);
+    }
+    message += "?";
+  }
+  throw std::invalid_argument(message);
+}
+
+template <typename T, typename Struct>
+const Entry& entryOf(T Struct::*member) {
+  for (const Entry& entry : kEntries) {
+    const auto* field = std::get_if<Member<T>>(&entry.field);
+    if (!field) continue;
+    if constexpr (std::is_same_v<Struct, DiffuseSettings>) {
+      if (field->diffuse == member) return entry;
+    } else {
+      if (field->top == member) return entry;
+    }
+  }
+  throw std::logic_error("gi settings: a field used by validate() has no entry in the settings table");
+}
+
+std::string userKey(const Entry& entry) { return std::string(kKeyPrefix) + std::string(entry.key); }
+
+// JSON values become the text applySetting takes, so a file and the command
+// line go through the same parsing and range checks.
+std::string jsonValueText(const nlohmann::json& value, const std::string& key) {
+  switch (value.type()) {
+    case nlohmann::json::value_t::boolean:
+      return value.get<bool>() ? "true" : "false";
+    case nlohmann::json::value_t::number_unsigned:
+      return std::to_string(value.get<std::uint64_t>());
+    case nlohmann::json::value_t::number_integer:
+      return std::to_string(value.get<std::int64_t>());
+    case nlohmann::json::value_t::number_float:
+      return formatNumber(value.get<double>());
+    case nlohmann::json::value_t::string:
+      return value.get<std::string>();
+    default:
+      throw std::invalid_argument(std::string(kKeyPrefix) + key + ": got a JSON " + std::string(value.type_name()) +
+                                  ", expected a number, a bool, a string or an object of settings");
+  }
+}
+
+// {"diffuse": {"spatial_radius": 24}} and {"diffuse.spatial_radius": 24} both give "diffuse.spatial_radius".
+void flattenJson(const nlohmann::json& object, const std::string& prefix,
+                 std::vector<std::pair<std::string, std::string>>& keyValues) {
+  for (const auto& [name, value] : object.items()) {
+    const std::string key = prefix.empty() ? name : prefix + "." + name;
+    if (value.is_object()) {
+      flattenJson(value, key, keyValues);
+    } else {
+      keyValues.emplace_back(key, jsonValueText(value, key));
+    }
+  }
+}
+
+std::string withoutJsonExceptionTag(const std::string& message) {
+  // nlohmann prefixes "[json.exception.parse_error.101] "; the rest says where and what.
+  if (message.starts_with("[json.exception.")) {
+    const std::size_t end = message.find("] ");
+    if (end != std::string::npos) return message.substr(end + 2);
+  }
+  return message;
+}
+
+}  // namespace
+
+const std::vector<SettingInfo>& settingKeys() {
+  static const std::vector<SettingInfo> keys = [] {
+    const Settings defaults;
+    std::vector<SettingInfo> infos;
+    infos.reserve(kEntries.size());
+    for (const Entry& entry : kEntries) {
+      infos.push_back(
+          {std::string(entry.key), typeText(entry), formatField(defaults, entry), std::string(entry.description)});
+    }
+    return infos;
+  }();
+  return keys;
+}
+
+void applySetting(Settings& settings, const std::string& key, const std::string& value) {
+  applyToField(settings, findEntry(key), value);
+}
+
+void applySettingsFile(Settings& settings, const std::filesystem::path& file) {
+  const std::string where = file.string() + ": ";
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) {
+    throw std::runtime_error(where + (std::filesystem::exists(file, error) ? "not a regular file" : "no such file"));
+  }
+  std::ifstream stream(file);
+  if (!stream) throw std::runtime_error(where + "cannot be opened for reading");
+
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(stream);
+  } catch (const nlohmann::json::exception& parseError) {
+    throw std::runtime_error(where + withoutJsonExceptionTag(parseError.what()));
+  }
+  if (!root.is_object()) {
+    throw std::runtime_error(where + "the top level is a JSON " + std::string(root.type_name()) +
+                             ", expected an object of settings such as {\"diffuse\": {\"spatial_radius\": 24}}");
+  }
+
+  // Applied to a copy so that a file refused half-way leaves no half of it behind.
+  Settings updated = settings;
+  try {
+    std::vector<std::pair<std::string, std::string>> keyValues;
+    flattenJson(root, "", keyValues);
+    // With the nested and the dotted form of one key in one file, which one
+    // wins would be up to the JSON library's member order; refuse it instead.
+    std::vector<const Entry*> seen;
+    for (const auto& [key, value] : keyValues) {
+      const Entry& entry = findEntry(key);
+      if (std::find(seen.begin(), seen.end(), &entry) != seen.end()) {
+        throw std::invalid_argument(userKey(entry) + " is given more than once");
+      }
+      seen.push_back(&entry);
+      applyToField(updated, entry, value);
+    }
+  } catch (const std::invalid_argument& invalid) {
+    throw std::runtime_error(where + invalid.what());
+  }
+  settings = updated;
+}
+
+std::string settingValue(const Settings& settings, const std::string& key) {
+  return formatField(settings, findEntry(key));
+}
+
+void validate(const Settings& settings) {
+  for (const Entry& entry : kEntries) {
+    if (!fieldIsValid(settings, entry)) throwBadValue(entry, formatField(settings, entry));
+  }
+  const DiffuseSettings& diffuse = settings.diffuse;
+  if (diffuse.enabled && diffuse.screenCandidates == 0 && diffuse.brightCandidates == 0 &&
+      diffuse.environmentCandidates == 0) {
+    // With no initial candidate every reservoir stays empty: the diffuse output would be black, silently.
+    throw std::invalid_argument(userKey(entryOf(&DiffuseSettings::screenCandidates)) + ", " +
+                                userKey(entryOf(&DiffuseSettings::brightCandidates)) + " and " +
+                                userKey(entryOf(&DiffuseSettings::environmentCandidates)) + " are all 0 while " +
+                                userKey(entryOf(&DiffuseSettings::enabled)) +
+                                " is on: at least one must be above 0 (or turn diffuse off)");
+  }
+}
+
+}  // namespace bounce::gi

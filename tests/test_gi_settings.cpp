@@ -1,0 +1,445 @@
+// Tests of src/gi/settings.cpp: the key table, parsing of every value type,
+// ranges, the JSON settings file, validate(), and that docs/gi-settings.md
+// lists every key as the code has it. CPU only.
+#include "bounce/gi_settings.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace bounce::gi {
+namespace {
+
+// The key each field must have, written out independently of the table in
+// settings.cpp, so a misspelt key, a key bound to the wrong field or a field
+// left out of the table fails here.
+struct ExpectedField {
+  std::string key;
+  std::function<double(const Settings&)> read;
+};
+
+std::vector<ExpectedField> expectedFields() {
+  return {
+      {"diffuse.enabled", [](const Settings& s) { return double(s.diffuse.enabled); }},
+      {"diffuse.screen_candidates", [](const Settings& s) { return double(s.diffuse.screenCandidates); }},
+      {"diffuse.bright_candidates", [](const Settings& s) { return double(s.diffuse.brightCandidates); }},
+      {"diffuse.environment_candidates", [](const Settings& s) { return double(s.diffuse.environmentCandidates); }},
+      {"diffuse.bright_pixels", [](const Settings& s) { return double(s.diffuse.brightPixels); }},
+      {"diffuse.environment_mip", [](const Settings& s) { return double(s.diffuse.environmentMip); }},
+      {"diffuse.target", [](const Settings& s) { return double(s.diffuse.target); }},
+      {"diffuse.temporal_max_m", [](const Settings& s) { return double(s.diffuse.temporalMaxM); }},
+      {"diffuse.temporal_depth_tolerance", [](const Settings& s) { return double(s.diffuse.temporalDepthTolerance); }},
+      {"diffuse.temporal_normal_tolerance_degrees",
+       [](const Settings& s) { return double(s.diffuse.temporalNormalToleranceDegrees); }},
+      {"diffuse.spatial_radius", [](const Settings& s) { return double(s.diffuse.spatialRadius); }},
+      {"diffuse.spatial_samples", [](const Settings& s) { return double(s.diffuse.spatialSamples); }},
+      {"diffuse.spatial2_radius", [](const Settings& s) { return double(s.diffuse.spatial2Radius); }},
+      {"diffuse.spatial2_samples", [](const Settings& s) { return double(s.diffuse.spatial2Samples); }},
+      {"diffuse.spatial_normal_tolerance_degrees",
+       [](const Settings& s) { return double(s.diffuse.spatialNormalToleranceDegrees); }},
+      {"diffuse.spatial_plane_tolerance", [](const Settings& s) { return double(s.diffuse.spatialPlaneTolerance); }},
+      {"diffuse.jacobian", [](const Settings& s) { return double(s.diffuse.jacobian); }},
+      {"diffuse.spatial_feedback", [](const Settings& s) { return double(s.diffuse.spatialFeedback); }},
+      {"diffuse.resolve_reservoirs", [](const Settings& s) { return double(s.diffuse.resolveReservoirs); }},
+      {"diffuse.visibility_steps", [](const Settings& s) { return double(s.diffuse.visibilitySteps); }},
+      {"diffuse.visibility_thickness", [](const Settings& s) { return double(s.diffuse.visibilityThickness); }},
+      {"diffuse.offscreen_environment_visibility",
+       [](const Settings& s) { return double(s.diffuse.offscreenEnvironmentVisibility); }},
+      {"diffuse.variance_clipping_gamma", [](const Settings& s) { return double(s.diffuse.varianceClippingGamma); }},
+      {"diffuse.temporal_filter_frames", [](const Settings& s) { return double(s.diffuse.temporalFilterFrames); }},
+      {"restir", [](const Settings& s) { return double(s.restir); }},
+      {"seed", [](const Settings& s) { return double(s.seed); }},
+  };
+}
+
+std::vector<std::string> allKeys() {
+  std::vector<std::string> keys;
+  for (const SettingInfo& info : settingKeys()) keys.push_back(info.key);
+  return keys;
+}
+
+// An accepted value other than the default: the other bool or enum value, or
+// the first of a few numbers that the key's range admits.
+std::string otherValidValue(const SettingInfo& info) {
+  if (info.type == "bool") return info.defaultValue == "on" ? "off" : "on";
+  if (info.type.starts_with("enum")) return info.defaultValue == "luminance" ? "color-length" : "luminance";
+  for (const char* candidate : {"1", "2", "0.5", "0"}) {
+    if (candidate == info.defaultValue) continue;
+    try {
+      Settings settings;
+      applySetting(settings, info.key, candidate);
+      return candidate;
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  ADD_FAILURE() << "no other valid value for " << info.key;
+  return info.defaultValue;
+}
+
+// The message of the std::invalid_argument that `call` throws; fails the test if it throws none.
+template <typename Call>
+std::string invalidArgumentMessage(Call call) {
+  try {
+    call();
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no std::invalid_argument thrown";
+  return {};
+}
+
+template <typename Call>
+std::string runtimeErrorMessage(Call call) {
+  try {
+    call();
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no std::runtime_error thrown";
+  return {};
+}
+
+void expectRefused(const std::string& key, const std::string& value, const std::string& acceptedHint) {
+  Settings settings;
+  const std::string before = settingValue(settings, key);
+  const std::string message = invalidArgumentMessage([&] { applySetting(settings, key, value); });
+  EXPECT_NE(message.find("gi." + key), std::string::npos) << message;
+  EXPECT_NE(message.find("\"" + value + "\""), std::string::npos) << message;
+  EXPECT_NE(message.find(acceptedHint), std::string::npos) << message;
+  EXPECT_EQ(settingValue(settings, key), before) << "a refused value must leave the field alone";
+}
+
+class TempFile {
+ public:
+  explicit TempFile(const std::string& contents) {
+    path_ = std::filesystem::temp_directory_path() /
+            ("bounce_gi_settings_" + std::to_string(counter_++) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".json");
+    std::ofstream(path_) << contents;
+  }
+  ~TempFile() { std::filesystem::remove(path_); }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  static inline int counter_ = 0;
+  std::filesystem::path path_;
+};
+
+TEST(GiSettings, DefaultsAreValid) { EXPECT_NO_THROW(validate(Settings{})); }
+
+TEST(GiSettings, KeysAreTheSnakeCaseFieldNamesInStructOrder) {
+  std::vector<std::string> expected;
+  for (const ExpectedField& field : expectedFields()) expected.push_back(field.key);
+  EXPECT_EQ(allKeys(), expected);
+}
+
+TEST(GiSettings, KeysAreUniqueAndDescribed) {
+  const std::vector<std::string> keys = allKeys();
+  EXPECT_EQ(std::set<std::string>(keys.begin(), keys.end()).size(), keys.size());
+  for (const SettingInfo& info : settingKeys()) {
+    EXPECT_FALSE(info.description.empty()) << info.key;
+    EXPECT_FALSE(info.type.empty()) << info.key;
+    EXPECT_EQ(info.defaultValue, settingValue(Settings{}, info.key)) << info.key;
+  }
+}
+
+TEST(GiSettings, DefaultValuesAreTheStructDefaults) {
+  std::map<std::string, std::string> defaults;
+  for (const SettingInfo& info : settingKeys()) defaults[info.key] = info.defaultValue;
+  EXPECT_EQ(defaults["diffuse.enabled"], "on");
+  EXPECT_EQ(defaults["diffuse.screen_candidates"], "6");
+  EXPECT_EQ(defaults["diffuse.target"], "luminance");
+  EXPECT_EQ(defaults["diffuse.temporal_depth_tolerance"], "0.05");
+  EXPECT_EQ(defaults["diffuse.spatial_radius"], "16");
+  EXPECT_EQ(defaults["restir"], "on");
+  EXPECT_EQ(defaults["seed"], "0");
+}
+
+TEST(GiSettings, TypesNameTheRange) {
+  std::map<std::string, std::string> types;
+  for (const SettingInfo& info : settingKeys()) types[info.key] = info.type;
+  EXPECT_EQ(types["diffuse.enabled"], "bool");
+  EXPECT_EQ(types["diffuse.screen_candidates"], "uint [0, 64]");
+  EXPECT_EQ(types["diffuse.temporal_normal_tolerance_degrees"], "float (0, 180)");
+  EXPECT_EQ(types["diffuse.visibility_thickness"], "float (0, 1]");
+  EXPECT_EQ(types["diffuse.target"], "enum: luminance|color-length");
+  EXPECT_EQ(types["seed"], "uint [0, 4294967295]");
+}
+
+TEST(GiSettings, EveryKeyRoundTripsThroughItsText) {
+  for (const SettingInfo& info : settingKeys()) {
+    for (const std::string& text : {info.defaultValue, otherValidValue(info)}) {
+      Settings settings;
+      applySetting(settings, info.key, text);
+      const std::string printed = settingValue(settings, info.key);
+      Settings reparsed;
+      applySetting(reparsed, info.key, printed);
+      EXPECT_EQ(settingValue(reparsed, info.key), printed) << info.key;
+    }
+  }
+}
+
+TEST(GiSettings, FloatsPrintWithEnoughDigitsToRoundTrip) {
+  Settings settings;
+  settings.diffuse.spatialPlaneTolerance = std::nextafter(0.1f, 1.0f);
+  Settings reparsed;
+  applySetting(reparsed, "diffuse.spatial_plane_tolerance", settingValue(settings, "diffuse.spatial_plane_tolerance"));
+  EXPECT_EQ(reparsed.diffuse.spatialPlaneTolerance, settings.diffuse.spatialPlaneTolerance);
+}
+
+TEST(GiSettings, EachKeySetsItsOwnFieldAndNoOther) {
+  const std::vector<ExpectedField> fields = expectedFields();
+  const Settings defaults;
+  for (const SettingInfo& info : settingKeys()) {
+    Settings settings;
+    applySetting(settings, info.key, otherValidValue(info));
+    for (const ExpectedField& field : fields) {
+      if (field.key == info.key) {
+        EXPECT_NE(field.read(settings), field.read(defaults)) << info.key << " did not change its field";
+      } else {
+        EXPECT_EQ(field.read(settings), field.read(defaults)) << info.key << " changed the field of " << field.key;
+      }
+    }
+    for (const std::string& other : allKeys()) {
+      if (other == info.key) continue;
+      EXPECT_EQ(settingValue(settings, other), settingValue(defaults, other))
+          << "setting " << info.key << " changed settingValue of " << other;
+    }
+  }
+}
+
+TEST(GiSettings, BoolsAcceptTheUsualWords) {
+  for (const char* yes : {"on", "true", "yes", "1", "ON", "True"}) {
+    Settings settings;
+    settings.restir = false;
+    applySetting(settings, "restir", yes);
+    EXPECT_TRUE(settings.restir) << yes;
+  }
+  for (const char* no : {"off", "false", "no", "0", "OFF"}) {
+    Settings settings;
+    applySetting(settings, "restir", no);
+    EXPECT_FALSE(settings.restir) << no;
+  }
+}
+
+TEST(GiSettings, ParsesEachType) {
+  Settings settings;
+  applySetting(settings, "diffuse.spatial_radius", "24.5");
+  EXPECT_EQ(settings.diffuse.spatialRadius, 24.5f);
+  applySetting(settings, "diffuse.spatial2_samples", "9");
+  EXPECT_EQ(settings.diffuse.spatial2Samples, 9u);
+  applySetting(settings, "diffuse.target", "color-length");
+  EXPECT_EQ(settings.diffuse.target, TargetFunction::ColorLength);
+  applySetting(settings, "seed", "4294967295");
+  EXPECT_EQ(settings.seed, 4294967295u);
+  applySetting(settings, "diffuse.jacobian", "off");
+  EXPECT_FALSE(settings.diffuse.jacobian);
+}
+
+TEST(GiSettings, AcceptsTheCommandLinePrefix) {
+  Settings settings;
+  applySetting(settings, "gi.diffuse.spatial_radius", "24");
+  EXPECT_EQ(settings.diffuse.spatialRadius, 24.0f);
+  EXPECT_EQ(settingValue(settings, "gi.diffuse.spatial_radius"), "24");
+}
+
+TEST(GiSettings, RefusesMalformedValuesOfEachType) {
+  for (const char* value : {"", "maybe", "2", "onn", " on"}) expectRefused("restir", value, "on, off");
+  for (const char* value : {"", "-1", "2.5", "abc", "4294967296", "99999999999999999999", "+3", "0x10", "3x"}) {
+    expectRefused("seed", value, "an integer in [0, 4294967295]");
+  }
+  for (const char* value : {"", "nan", "NaN", "inf", "-inf", "infinity", "abc", "3x", "1e39", "1,5", " 3"}) {
+    expectRefused("diffuse.spatial_radius", value, "a number in [0, 256]");
+  }
+  for (const char* value : {"", "color_length", "rgb", "0"}) {
+    expectRefused("diffuse.target", value, "luminance or color-length");
+  }
+}
+
+TEST(GiSettings, RefusesOutOfRangeValues) {
+  expectRefused("diffuse.screen_candidates", "65", "[0, 64]");
+  expectRefused("diffuse.bright_pixels", "0", "[1, 4096]");
+  expectRefused("diffuse.bright_pixels", "4097", "[1, 4096]");
+  expectRefused("diffuse.environment_mip", "16.5", "[0, 16]");
+  expectRefused("diffuse.temporal_max_m", "0", "[1, 1000]");
+  expectRefused("diffuse.temporal_depth_tolerance", "0", "(0, 1]");
+  expectRefused("diffuse.temporal_normal_tolerance_degrees", "180", "(0, 180)");
+  expectRefused("diffuse.spatial_normal_tolerance_degrees", "0", "(0, 180)");
+  expectRefused("diffuse.spatial_radius", "-1", "[0, 256]");
+  expectRefused("diffuse.spatial2_radius", "256.5", "[0, 256]");
+  expectRefused("diffuse.spatial_samples", "65", "[0, 64]");
+  expectRefused("diffuse.resolve_reservoirs", "5", "[1, 4]");
+  expectRefused("diffuse.resolve_reservoirs", "0", "[1, 4]");
+  expectRefused("diffuse.visibility_steps", "257", "[0, 256]");
+  expectRefused("diffuse.visibility_thickness", "1.01", "(0, 1]");
+  expectRefused("diffuse.offscreen_environment_visibility", "-0.1", "[0, 1]");
+  expectRefused("diffuse.variance_clipping_gamma", "0", "(0, 100]");
+  expectRefused("diffuse.temporal_filter_frames", "1025", "[1, 1024]");
+}
+
+TEST(GiSettings, AcceptsRangeEnds) {
+  Settings settings;
+  applySetting(settings, "diffuse.resolve_reservoirs", "1");
+  applySetting(settings, "diffuse.resolve_reservoirs", "4");
+  applySetting(settings, "diffuse.visibility_thickness", "1");
+  applySetting(settings, "diffuse.offscreen_environment_visibility", "0");
+  applySetting(settings, "diffuse.temporal_normal_tolerance_degrees", "179.9");
+  EXPECT_NO_THROW(validate(settings));
+}
+
+TEST(GiSettings, UnknownKeysSuggestTheClosest) {
+  Settings settings;
+  std::string message = invalidArgumentMessage([&] { applySetting(settings, "diffuse.spatial_radios", "3"); });
+  EXPECT_NE(message.find("gi.diffuse.spatial_radios"), std::string::npos) << message;
+  EXPECT_NE(message.find("did you mean gi.diffuse.spatial_radius"), std::string::npos) << message;
+
+  message = invalidArgumentMessage([&] { applySetting(settings, "spatial_radius", "3"); });
+  EXPECT_NE(message.find("gi.diffuse.spatial_radius"), std::string::npos) << message;
+
+  message = invalidArgumentMessage([&] { applySetting(settings, "completely.unrelated", "3"); });
+  EXPECT_NE(message.find("gi.completely.unrelated"), std::string::npos) << message;
+  EXPECT_NE(message.find("bounce render --help"), std::string::npos) << message;
+
+  message = invalidArgumentMessage([&] { (void)settingValue(settings, "diffuse"); });
+  EXPECT_NE(message.find("unknown setting gi.diffuse"), std::string::npos) << message;
+}
+
+TEST(GiSettings, ValidateCatchesBadFieldsSetInCode) {
+  Settings settings;
+  settings.diffuse.resolveReservoirs = 0;
+  std::string message = invalidArgumentMessage([&] { validate(settings); });
+  EXPECT_NE(message.find("gi.diffuse.resolve_reservoirs"), std::string::npos) << message;
+  EXPECT_NE(message.find("[1, 4]"), std::string::npos) << message;
+
+  settings = {};
+  settings.diffuse.visibilityThickness = std::numeric_limits<float>::quiet_NaN();
+  message = invalidArgumentMessage([&] { validate(settings); });
+  EXPECT_NE(message.find("gi.diffuse.visibility_thickness"), std::string::npos) << message;
+
+  settings = {};
+  settings.diffuse.target = static_cast<TargetFunction>(7);
+  message = invalidArgumentMessage([&] { validate(settings); });
+  EXPECT_NE(message.find("gi.diffuse.target"), std::string::npos) << message;
+  EXPECT_NE(message.find("\"7\""), std::string::npos) << message;
+}
+
+TEST(GiSettings, ValidateRefusesNoCandidatesOnlyWhileDiffuseIsOn) {
+  Settings settings;
+  settings.diffuse.screenCandidates = 0;
+  settings.diffuse.brightCandidates = 0;
+  settings.diffuse.environmentCandidates = 0;
+  const std::string message = invalidArgumentMessage([&] { validate(settings); });
+  EXPECT_NE(message.find("gi.diffuse.screen_candidates"), std::string::npos) << message;
+  EXPECT_NE(message.find("gi.diffuse.environment_candidates"), std::string::npos) << message;
+
+  settings.diffuse.enabled = false;
+  EXPECT_NO_THROW(validate(settings));
+
+  settings.diffuse.enabled = true;
+  settings.diffuse.environmentCandidates = 1;
+  EXPECT_NO_THROW(validate(settings));
+}
+
+TEST(GiSettings, JsonFileTakesNestedDottedAndWrappedForms) {
+  const TempFile file(R"({
+    "restir": false,
+    "seed": 7,
+    "diffuse": {"spatial_radius": 24, "jacobian": "off", "target": "color-length", "visibility_thickness": 0.25},
+    "diffuse.spatial2_samples": 3,
+    "gi": {"diffuse": {"temporal_max_m": "30"}},
+    "gi.diffuse.enabled": 1
+  })");
+  Settings settings;
+  applySettingsFile(settings, file.path());
+  EXPECT_FALSE(settings.restir);
+  EXPECT_EQ(settings.seed, 7u);
+  EXPECT_EQ(settings.diffuse.spatialRadius, 24.0f);
+  EXPECT_FALSE(settings.diffuse.jacobian);
+  EXPECT_EQ(settings.diffuse.target, TargetFunction::ColorLength);
+  EXPECT_EQ(settings.diffuse.visibilityThickness, 0.25f);
+  EXPECT_EQ(settings.diffuse.spatial2Samples, 3u);
+  EXPECT_EQ(settings.diffuse.temporalMaxM, 30u);
+  EXPECT_TRUE(settings.diffuse.enabled);
+  EXPECT_EQ(settings.diffuse.screenCandidates, Settings{}.diffuse.screenCandidates) << "keys not in the file stay";
+}
+
+TEST(GiSettings, JsonFloatsForIntegersAreTakenWhenWhole) {
+  const TempFile whole(R"({"diffuse": {"spatial_samples": 8.0}})");
+  Settings settings;
+  applySettingsFile(settings, whole.path());
+  EXPECT_EQ(settings.diffuse.spatialSamples, 8u);
+
+  const TempFile fraction(R"({"diffuse": {"spatial_samples": 8.5}})");
+  const std::string message = runtimeErrorMessage([&] { applySettingsFile(settings, fraction.path()); });
+  EXPECT_NE(message.find("gi.diffuse.spatial_samples"), std::string::npos) << message;
+}
+
+TEST(GiSettings, JsonErrorsNameTheFile) {
+  struct Case {
+    std::string contents;
+    std::string expectedInMessage;
+  };
+  const std::vector<Case> cases = {
+      {R"({"diffuse": {"spatial_radius": 24,}})", "line 1"},
+      {"{\n  \"restir\": false\n  \"seed\": 3\n}", "line 3"},
+      {R"([1, 2])", "array"},
+      {R"({"diffuse": {"spatial_radios": 24}})", "did you mean gi.diffuse.spatial_radius"},
+      {R"({"diffuse": {"spatial_radius": -4}})", "[0, 256]"},
+      {R"({"diffuse": {"spatial_radius": [24]}})", "gi.diffuse.spatial_radius: got a JSON array"},
+      {R"({"seed": null})", "gi.seed: got a JSON null"},
+      {R"({"restir": "sometimes"})", "\"sometimes\""},
+      {R"({"diffuse": {"seed": 1}})", "did you mean gi.seed"},
+      {R"({"diffuse": {"spatial_radius": 8}, "diffuse.spatial_radius": 9})", "more than once"},
+  };
+  for (const Case& testCase : cases) {
+    const TempFile file(testCase.contents);
+    Settings settings;
+    const std::string message = runtimeErrorMessage([&] { applySettingsFile(settings, file.path()); });
+    EXPECT_TRUE(message.starts_with(file.path().string() + ": ")) << message;
+    EXPECT_NE(message.find(testCase.expectedInMessage), std::string::npos) << message;
+    for (const SettingInfo& info : settingKeys()) {
+      EXPECT_EQ(settingValue(settings, info.key), info.defaultValue) << "a refused file changed " << info.key;
+    }
+  }
+
+  const std::filesystem::path missing = std::filesystem::temp_directory_path() / "bounce_no_such_settings.json";
+  Settings settings;
+  const std::string message = runtimeErrorMessage([&] { applySettingsFile(settings, missing); });
+  EXPECT_TRUE(message.starts_with(missing.string() + ": ")) << message;
+  EXPECT_NE(message.find("no such file"), std::string::npos) << message;
+}
+
+TEST(GiSettings, DocsListEveryKeyWithItsTypeAndDefault) {
+  std::ifstream docs(std::string(BOUNCE_SOURCE_DIR) + "/docs/gi-settings.md");
+  ASSERT_TRUE(docs) << "docs/gi-settings.md is missing";
+  std::map<std::string, std::string> rows;
+  for (std::string line; std::getline(docs, line);) {
+    if (!line.starts_with("| `--gi.")) continue;
+    const std::size_t keyEnd = line.find('`', 3);
+    // Markdown escapes the | of "enum: a|b" inside a table cell.
+    for (std::size_t bar = line.find("\\|"); bar != std::string::npos; bar = line.find("\\|", bar)) line.erase(bar, 1);
+    rows[line.substr(std::string("| `--gi.").size(), keyEnd - std::string("| `--gi.").size())] = line;
+  }
+  for (const SettingInfo& info : settingKeys()) {
+    ASSERT_TRUE(rows.contains(info.key)) << "docs/gi-settings.md has no row for --gi." << info.key;
+    EXPECT_NE(rows[info.key].find("` | " + info.type + " | " + info.defaultValue + " | "), std::string::npos)
+        << "docs/gi-settings.md has another type or default for " << info.key << ":\n"
+        << rows[info.key];
+    rows.erase(info.key);
+  }
+  for (const auto& [key, row] : rows) ADD_FAILURE() << "docs/gi-settings.md lists --gi." << key << ", not a setting";
+}
+
+}  // namespace
+}  // namespace bounce::gi
