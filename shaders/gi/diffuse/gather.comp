@@ -1,0 +1,172 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.diffuse.gather: one reservoir per half-resolution pixel, from three
+// kinds of candidates (seed 001, "Sample gathering" and "Sample weighting"):
+//   screen       uniformly random pixels of the previous composited frame:
+//                a surface that sent that radiance towards the camera, and
+//                (Lambert) towards us; the feedback that makes multiple bounces;
+//   bright       random picks among the brightest pixels of that frame;
+//   environment  uniform directions of the hemisphere, radiance from the
+//                prefiltered environment at mip `temporal.w`.
+// Visibility is not tested here (gi.diffuse.resolve does it).
+//
+// Weights are generalized RIS with pdfs per unit solid angle at the shaded
+// point x: a uniformly chosen pixel is a point y on last frame's surfaces
+// with area density 1 / (pixels * footprint(y)) (shared/screen_view.glsl),
+// which is dA cos(theta_y) / |x - y|^2 in solid angle. Screen and bright
+// candidates sample the same points, so they share the balance heuristic:
+// a pixel on the list of K bright pixels is pixels / K times likelier to be
+// one bright candidate than one screen candidate, and a pixel off the list
+// cannot be a bright candidate at all. Which pixels are listed is known
+// exactly: entry (i, j) of the last level holds the brightest pixel of the
+// tile (i, j) * 2^z. Environment candidates sample
+// directions to the sky, a domain of their own. Each candidate's weight is
+// p-hat / (sum over techniques of count * pdf); the reservoir's W is then
+// weightSum / p-hat(chosen), with M = 1.
+#include "gi/gi_common.glsl"
+#include "shared/equirect.glsl"
+#include "shared/reservoir.glsl"
+#include "shared/sampling.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
+layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
+layout(set = 0, binding = 3, rgba16f) readonly uniform image2D gPrev_Composite;
+layout(set = 0, binding = 4, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_Brightest;
+layout(set = 0, binding = 6) uniform sampler2D gIn_Environment;
+layout(set = 0, binding = 7, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
+layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
+
+const float kMaxFootprintStretch = 5.0f;
+
+// A candidate point on last frame's surfaces: the surface at `pixel`, the
+// radiance it sent, and its area density relative to one uniformly chosen
+// pixel (p-hat / (count * this * distance^2 / cos) is its weight).
+struct ScreenPoint {
+  bool valid;
+  vec3 position;
+  vec3 normal;
+  vec3 radiance;
+  float areaPdf;  // per unit area, for one uniformly random pixel
+};
+
+ScreenPoint screenPoint(ivec2 pixel) {
+  ScreenPoint point;
+  point.valid = false;
+  Surface surface = historySurfaceAt(pixel, imageLoad(gPrev_Surface, pixel).xy);
+  if (surface.viewZ <= 0.0f) return point;
+  ScreenView view = gIn_Frame.frame.previousView;
+  vec3 toSurface = normalize(surface.position - viewPosition(view));
+  vec3 forward = -vec3(view.viewToWorld[2].x, view.viewToWorld[2].y, view.viewToWorld[2].z);
+  // Seen at grazing angles a pixel covers a large area, rarely sampled and
+  // then weighted heavily; counting it as no more than kMaxFootprintStretch
+  // head-on pixels bounds those weights (light from surfaces the camera sees
+  // almost edge-on is slightly undercounted).
+  float footprint = pixelFootprintArea(view, surface.viewZ, dot(toSurface, forward),
+                                       max(abs(dot(surface.normal, toSurface)), 1.0f / kMaxFootprintStretch), fullSize());
+  point.valid = true;
+  point.position = surface.position;
+  point.normal = surface.normal;
+  point.radiance = imageLoad(gPrev_Composite, pixel).xyz;
+  point.areaPdf = 1.0f / (fullSize().x * fullSize().y * footprint);
+  return point;
+}
+
+// Area density to solid angle at x; 0 where the point cannot light x. The
+// distance is taken as at least minimumDistance: the inverse-square
+// singularity of area sampling would otherwise make points right next to x
+// (in creases) rare fireflies, which the feedback through the composite
+// would spread; light from the nearest millimetres is slightly undercounted.
+float toSolidAngle(float areaPdf, vec3 pointPosition, vec3 pointNormal, vec3 x, float minimumDistance) {
+  vec3 d = x - pointPosition;
+  float distance2 = dot(d, d);
+  float cosine = dot(pointNormal, d) * inversesqrt(max(distance2, 1e-20f));
+  return cosine > 0.0f ? areaPdf * max(distance2, minimumDistance * minimumDistance) / cosine : 0.0f;
+}
+
+void main() {
+  ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideHalf(halfPixel)) return;
+  ivec2 pixel = reservoirSurfacePixel(halfPixel);
+  Reservoir r = emptyReservoir();
+  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
+  if (viewZ <= 0.0f) {
+    uvec4 first, second;
+    packReservoir(r, first, second);
+    imageStore(gOut_Reservoir0, halfPixel, first);
+    imageStore(gOut_Reservoir1, halfPixel, second);
+    return;
+  }
+  Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
+  uint rng = giSeed(uvec2(halfPixel), kSaltGather);
+  uint target = targetFunction();
+  float screenCount = float(gIn_Frame.frame.candidates.x);
+  float brightCount = float(gIn_Frame.frame.candidates.y);
+  float environmentCount = float(gIn_Frame.frame.candidates.z);
+  ivec2 brightSize = ivec2(gIn_Frame.frame.brightLevel.xy);
+  uint brightLevel = gIn_Frame.frame.brightLevel.z;
+  // A bright entry is one of brightSize.x * brightSize.y; a screen pixel one of all of them.
+  float brightPerScreen = fullSize().x * fullSize().y / float(brightSize.x * brightSize.y);
+  // Points closer than this are the shaded surface itself (or a pixel away).
+  float minimumDistance = 1e-3f * viewZ;
+  // Below this distance the inverse-square law is clamped (toSolidAngle).
+  float nearField = 1e-2f * viewZ;
+
+  for (uint i = 0u; i < gIn_Frame.frame.candidates.x + gIn_Frame.frame.candidates.y; ++i) {
+    bool bright = i >= gIn_Frame.frame.candidates.x;
+    ivec2 source;
+    float ux = rngUniform(rng);
+    float uy = rngUniform(rng);
+    float choice = rngUniform(rng);
+    if (bright) {
+      vec4 entry = imageLoad(gIn_Brightest, min(ivec2(vec2(ux, uy) * vec2(brightSize)), brightSize - 1));
+      if (entry.w <= 0.0f) continue;
+      source = ivec2(entry.yz);
+    } else {
+      source = min(ivec2(vec2(ux, uy) * fullSize()), ivec2(fullSize()) - 1);
+    }
+    ScreenPoint point = screenPoint(source);
+    if (!point.valid || distance(point.position, x.position) < minimumDistance) continue;
+    Reservoir candidate = emptyReservoir();
+    candidate.position = point.position;
+    candidate.normal = point.normal;
+    candidate.radiance = point.radiance;
+    float pHat = targetPdf(candidate, x.position, x.normal, target);
+    float screenPdf = toSolidAngle(point.areaPdf, point.position, point.normal, x.position, nearField);
+    if (pHat <= 0.0f || screenPdf <= 0.0f) continue;
+    // Balance heuristic between the two point techniques.
+    bool listed = bright;
+    if (!bright && brightCount > 0.0f) {
+      vec4 entry = imageLoad(gIn_Brightest, min(source >> int(brightLevel), brightSize - 1));
+      listed = entry.w > 0.0f && ivec2(entry.yz) == source;
+    }
+    float techniques = screenCount * screenPdf + (listed ? brightCount * screenPdf * brightPerScreen : 0.0f);
+    reservoirStream(r, point.position, point.normal, point.radiance, 0u, pHat / techniques, 0.0f, choice);
+  }
+
+  vec3 tangent, bitangent;
+  buildOrthonormalBasis(x.normal, tangent, bitangent);
+  for (uint i = 0u; i < gIn_Frame.frame.candidates.z; ++i) {
+    float ux = rngUniform(rng);
+    float uy = rngUniform(rng);
+    float choice = rngUniform(rng);
+    vec3 local = sampleUniformHemisphere(vec2(ux, uy));
+    vec3 direction = tangent * local.x + bitangent * local.y + x.normal * local.z;
+    vec3 radiance = textureLod(gIn_Environment, equirectUv(direction), gIn_Frame.frame.temporal.w).xyz;
+    float pHat = targetBrightness(radiance, target) * local.z;
+    if (pHat <= 0.0f) continue;
+    reservoirStream(r, direction, x.normal, radiance, kReservoirEnvironment, pHat / (environmentCount * pdfUniformHemisphere()),
+                    0.0f, choice);
+  }
+
+  reservoirFinalize(r, targetPdf(r, x.position, x.normal, target), 1.0f);
+  // One frame's worth of candidates, even when none of them lit x: that
+  // too is evidence later merges must weigh.
+  r.M = 1.0f;
+  uvec4 first, second;
+  packReservoir(r, first, second);
+  imageStore(gOut_Reservoir0, halfPixel, first);
+  imageStore(gOut_Reservoir1, halfPixel, second);
+}

@@ -1,0 +1,116 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.diffuse.resolve: indirect diffuse at full resolution. Each pixel
+// evaluates the samples of up to four neighbouring half-resolution
+// reservoirs at its own surface: radiance * cos / pi * W, times the
+// reconnection Jacobian from the reservoir's surface to this one, times the
+// sample's visibility by a short screen-space march (the deferred
+// visibility test of seed 001), and averages them. Reservoirs of another
+// surface (depth or normal too different) are left out. Demodulated: the
+// result is what a white Lambert surface would reflect.
+#include "gi/gi_common.glsl"
+#include "shared/reservoir.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
+layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
+layout(set = 0, binding = 3, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 5, rgba16f) writeonly uniform image2D gOut_Diffuse;
+
+#include "gi/screen_trace.glsl"
+
+// How far environment samples are marched, in multiples of the pixel's viewZ.
+const float kEnvironmentMarchLength = 2.0f;
+
+// The reservoirs a pixel evaluates: where their surfaces are.
+struct Owner {
+  ivec2 halfPixel;
+  vec3 position;
+  vec3 normal;
+  bool exact;  // the owner is this pixel itself (no Jacobian)
+};
+
+// Whether `owner`'s reservoir could have handed sample r to x (its own
+// reservoir could hand over anything it holds).
+bool covers(Owner owner, Reservoir r, Surface x) {
+  return canHandOver(r, owner.position, owner.normal, x.position, kMaxResolveJacobian,
+                     gIn_Frame.frame.spatial.z > 0.5f && !owner.exact, targetFunction());
+}
+
+// One reservoir's sample evaluated at x: radiance * cos / pi * W * Jacobian * visibility.
+vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
+  vec3 direction = sampleDirection(r, x.position);
+  float cosine = dot(x.normal, direction);
+  if (cosine <= 0.0f || targetPdf(r, x.position, x.normal, 0u) <= 0.0f) return vec3(0.0f);
+  uint steps = uint(gIn_Frame.frame.resolveFilter.x);
+  float scale = 1.0f;
+  if (reservoirIsEnvironment(r)) {
+    float visibility = steps > 0u ? screenVisibility(x.position, x.position + direction * (kEnvironmentMarchLength * x.viewZ),
+                                                     steps, jitter)
+                                  : kVisible;
+    scale = visibility == kLeftScreen ? gIn_Frame.frame.spatial.w : visibility;
+  } else {
+    scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian,
+                          gIn_Frame.frame.spatial.z > 0.5f && !owner.exact);
+    if (scale <= 0.0f) return vec3(0.0f);
+    // A sample beyond the screen's edge cannot be tested: counted visible.
+    if (steps > 0u && screenVisibility(x.position, r.position, steps, jitter) == kOccluded) return vec3(0.0f);
+  }
+  return r.radiance * (cosine * kInvPi * r.W * scale);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideFull(pixel)) return;
+  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
+  if (viewZ <= 0.0f) {
+    imageStore(gOut_Diffuse, pixel, vec4(0.0f));
+    return;
+  }
+  Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
+  uint rng = giSeed(uvec2(pixel), kSaltResolve);
+  ivec2 base = pixel / 2;
+  // Nearest first: the reservoir of this pixel's own 2x2 block, then its neighbours towards this pixel.
+  ivec2 away = ivec2((pixel.x & 1) == 1 ? 1 : -1, (pixel.y & 1) == 1 ? 1 : -1);
+  ivec2 offsets[4] = ivec2[4](ivec2(0), ivec2(away.x, 0), ivec2(0, away.y), away);
+  Owner owners[4];
+  Reservoir reservoirs[4];
+  uint count = 0u;
+  for (uint k = 0u; k < gIn_Frame.frame.options.x; ++k) {
+    ivec2 halfPixel = base + offsets[k];
+    if (!insideHalf(halfPixel)) continue;
+    ivec2 ownerPixel = reservoirSurfacePixel(halfPixel);
+    float ownerViewZ = imageLoad(gIn_ViewZ, ownerPixel).x;
+    vec3 ownerNormal = normalize(imageLoad(gIn_NormalRoughness, ownerPixel).xyz);
+    if (!similarSurface(viewZ, x.normal, ownerViewZ, ownerNormal, 0.1f, 0.8f)) continue;
+    owners[count] = Owner(halfPixel, surfaceAt(gIn_Frame.frame.view, ownerPixel, ownerViewZ, ownerNormal).position,
+                          ownerNormal, ownerPixel == pixel);
+    reservoirs[count] = unpackReservoir(imageLoad(gIn_Reservoir0, halfPixel), imageLoad(gIn_Reservoir1, halfPixel));
+    ++count;
+  }
+  // A thin feature no reservoir shares: borrow the nearest reservoir's
+  // sample as if it were this surface's own.
+  if (count == 0u) {
+    owners[0] = Owner(base, x.position, x.normal, true);
+    reservoirs[0] = unpackReservoir(imageLoad(gIn_Reservoir0, base), imageLoad(gIn_Reservoir1, base));
+    count = 1u;
+  }
+  // Each reservoir's estimate weighted by 1 / (how many of the reservoirs
+  // could have handed over its sample): a uniform MIS over the reservoirs
+  // that cover it, so samples only some neighbours can reach (creases,
+  // corners) keep their full weight and none is counted twice.
+  vec3 sum = vec3(0.0f);
+  for (uint i = 0u; i < count; ++i) {
+    if (!reservoirHasSample(reservoirs[i])) {
+      rngUniform(rng);
+      continue;
+    }
+    float coverage = 0.0f;
+    for (uint j = 0u; j < count; ++j) coverage += covers(owners[j], reservoirs[i], x) ? 1.0f : 0.0f;
+    vec3 estimate = evaluate(x, owners[i], reservoirs[i], rngUniform(rng));
+    if (coverage > 0.0f) sum += estimate / coverage;
+  }
+  imageStore(gOut_Diffuse, pixel, vec4(sum, 1.0f));
+}

@@ -1,0 +1,104 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.diffuse.spatial_reuse: merges each pixel's reservoir with those of a
+// few neighbours picked in a disk around its surface point, in the surface's
+// tangent plane (so the disk follows the surface on screen). Neighbours on
+// another surface (normal or plane distance too different) are skipped.
+// A neighbour's sample is re-weighed by its p-hat here and, with the
+// Jacobian on, by how much larger a solid angle its sender covers from
+// here than from the neighbour (ReSTIR GI). The chosen sample's W is
+// normalised by the M of those reservoirs alone that could have produced it
+// (its sender faces them and lies above their tangent plane, and its
+// Jacobian from them is not rejected; Bitterli et al. 2020, Algorithm 6): dividing by every M would darken wherever neighbours
+// see less of the sky of this pixel (creases, corners). Run twice (radius
+// and count are push constants); the second pass's output is next frame's history.
+#include "gi/gi_common.glsl"
+#include "shared/reservoir.glsl"
+#include "shared/sampling.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
+layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
+layout(set = 0, binding = 3, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 5, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
+layout(set = 0, binding = 6, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
+
+layout(push_constant) uniform Params {
+  float radius;   // half-resolution pixels at the surface
+  uint samples;   // neighbours tried
+  uint passIndex; // decorrelates the two passes' random numbers
+} params;
+
+const uint kMaxNeighbours = 16u;  // more samples than this per pass are not taken
+
+void main() {
+  ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideHalf(halfPixel)) return;
+  uvec4 first = imageLoad(gIn_Reservoir0, halfPixel);
+  uvec4 second = imageLoad(gIn_Reservoir1, halfPixel);
+  ivec2 pixel = reservoirSurfacePixel(halfPixel);
+  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
+  if (viewZ > 0.0f && params.samples > 0u) {
+    Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
+    uint target = targetFunction();
+    uint rng = giSeed(uvec2(halfPixel), kSaltSpatial + 16u * params.passIndex);
+    Reservoir own = unpackReservoir(first, second);
+    Reservoir merged = emptyReservoir();
+    reservoirStream(merged, own.position, own.normal, own.radiance, own.flags,
+                    targetPdf(own, x.position, x.normal, target) * own.W * own.M, own.M, rngUniform(rng));
+    // The disk's radius in world units: half-resolution pixels are two full ones.
+    float pixelSize = 2.0f * gIn_Frame.frame.view.projection.y * viewZ / fullSize().y;
+    float worldRadius = params.radius * 2.0f * pixelSize;
+    vec3 tangent, bitangent;
+    buildOrthonormalBasis(x.normal, tangent, bitangent);
+    bool jacobian = gIn_Frame.frame.spatial.z > 0.5f;
+    // The surfaces and confidences of the neighbours merged, to normalise by later.
+    vec3 neighbourPositions[kMaxNeighbours];
+    vec3 neighbourNormals[kMaxNeighbours];
+    float neighbourM[kMaxNeighbours];
+    uint neighbours = 0u;
+    for (uint i = 0u; i < min(params.samples, kMaxNeighbours); ++i) {
+      float ux = rngUniform(rng);
+      float uy = rngUniform(rng);
+      float choice = rngUniform(rng);
+      vec2 disk = sampleConcentricDisk(vec2(ux, uy)) * worldRadius;
+      vec3 onPlane = x.position + tangent * disk.x + bitangent * disk.y;
+      vec3 projected = projectToScreen(gIn_Frame.frame.view, onPlane, fullSize());
+      if (projected.z <= 0.0f) continue;
+      ivec2 neighbourHalf = ivec2(floor(projected.xy * 0.5f));
+      if (!insideHalf(neighbourHalf) || neighbourHalf == halfPixel) continue;
+      ivec2 neighbourPixel = reservoirSurfacePixel(neighbourHalf);
+      float neighbourViewZ = imageLoad(gIn_ViewZ, neighbourPixel).x;
+      if (neighbourViewZ <= 0.0f) continue;
+      Surface neighbour = surfaceAt(gIn_Frame.frame.view, neighbourPixel, neighbourViewZ,
+                                    normalize(imageLoad(gIn_NormalRoughness, neighbourPixel).xyz));
+      if (dot(neighbour.normal, x.normal) < gIn_Frame.frame.spatial.x) continue;
+      if (abs(dot(x.normal, neighbour.position - x.position)) > gIn_Frame.frame.spatial.y * viewZ) continue;
+      Reservoir candidate = unpackReservoir(imageLoad(gIn_Reservoir0, neighbourHalf), imageLoad(gIn_Reservoir1, neighbourHalf));
+      float scale = reuseJacobian(candidate, neighbour.position, x.position, kMaxSpatialJacobian, jacobian);
+      reservoirStream(merged, candidate.position, candidate.normal, candidate.radiance, candidate.flags,
+                      targetPdf(candidate, x.position, x.normal, target) * candidate.W * candidate.M * scale,
+                      candidate.M, choice);
+      neighbourPositions[neighbours] = neighbour.position;
+      neighbourNormals[neighbours] = neighbour.normal;
+      neighbourM[neighbours] = candidate.M;
+      ++neighbours;
+    }
+    // Own M always counts: the chosen sample has p-hat > 0 here.
+    float confidence = own.M;
+    for (uint i = 0u; i < neighbours; ++i)
+      if (canHandOver(merged, neighbourPositions[i], neighbourNormals[i], x.position, kMaxSpatialJacobian, jacobian,
+                      target))
+        confidence += neighbourM[i];
+    reservoirFinalize(merged, targetPdf(merged, x.position, x.normal, target), confidence);
+    // The confidence handed on (to the next pass and the next frame) is every
+    // M merged, not Z: Z depends on the chosen sample (near creases it is
+    // small), and a confidence that does biases every later merge against
+    // such samples (tests/test_reservoir.cpp shows the darkening).
+    packReservoir(merged, first, second);
+  }
+  imageStore(gOut_Reservoir0, halfPixel, first);
+  imageStore(gOut_Reservoir1, halfPixel, second);
+}

@@ -1,0 +1,105 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.diffuse.temporal_filter: blends this frame's indirect diffuse with its
+// reprojected history. The history is read bilinearly at the motion
+// vector's end, each of the four taps only if it saw the same surface
+// (depth and normal). Its luminance is clipped to mean +- gamma * sigma of
+// the current 3x3 neighbourhood (variance clipping, Salvi 2016; gamma is
+// seed 001's variance_clipping_gamma_DIF), which keeps stale light from
+// lingering. Sigma is the larger of the neighbourhood's and the pixel's own
+// temporal deviation (luminance moments accumulated with the history, as
+// SVGF does): resolved ReSTIR is noisy, and a neighbourhood that happens to
+// be dark this frame must not clip away the light the history has
+// averaged, which would darken the picture frame after frame.
+// The blend weight is 1 / history length, the length capped at
+// gi.diffuse.temporal_filter_frames and reset to 1 where the history is lost
+// (disocclusion, camera cut). Alpha of the output holds the history length.
+#include "gi/gi_common.glsl"
+#include "shared/color.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+const int kClipRadius = 1;  // 3x3: a 5x5 neighbourhood measured no closer to the truth
+
+layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
+layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
+layout(set = 0, binding = 3, rg16f) readonly uniform image2D gIn_Motion;
+layout(set = 0, binding = 4, rgba16f) readonly uniform image2D gIn_Diffuse;
+layout(set = 0, binding = 5, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gPrev_Filtered;
+layout(set = 0, binding = 7, rg32f) readonly uniform image2D gPrev_Moments;
+layout(set = 0, binding = 8, rgba16f) writeonly uniform image2D gOut_Filtered;
+layout(set = 0, binding = 9, rg32f) writeonly uniform image2D gOut_Moments;
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideFull(pixel)) return;
+  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
+  if (viewZ <= 0.0f) {
+    imageStore(gOut_Filtered, pixel, vec4(0.0f));
+    imageStore(gOut_Moments, pixel, vec4(0.0f));
+    return;
+  }
+  vec3 current = imageLoad(gIn_Diffuse, pixel).xyz;
+  float currentLuminance = luminance(current);
+
+  // Mean and standard deviation of the 3x3 neighbourhood's luminance (surfaces only).
+  float sum = 0.0f, sumSquares = 0.0f, count = 0.0f;
+  for (int dy = -kClipRadius; dy <= kClipRadius; ++dy)
+    for (int dx = -kClipRadius; dx <= kClipRadius; ++dx) {
+      ivec2 q = pixel + ivec2(dx, dy);
+      if (!insideFull(q) || imageLoad(gIn_ViewZ, q).x <= 0.0f) continue;
+      float value = luminance(imageLoad(gIn_Diffuse, q).xyz);
+      sum += value;
+      sumSquares += value * value;
+      count += 1.0f;
+    }
+  float mean = sum / count;
+  float spatialSigma = sqrt(max(sumSquares / count - mean * mean, 0.0f));
+
+  float historyLength = 0.0f;
+  vec3 history = vec3(0.0f);
+  vec2 moments = vec2(0.0f);
+  if (historyUsable()) {
+    vec3 normal = normalize(imageLoad(gIn_NormalRoughness, pixel).xyz);
+    Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normal);
+    float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
+    vec2 previous = vec2(pixel) + imageLoad(gIn_Motion, pixel).xy;  // texel space: centre + motion - 0.5
+    ivec2 corner = ivec2(floor(previous));
+    vec2 f = previous - vec2(corner);
+    vec4 accumulated = vec4(0.0f);
+    vec2 accumulatedMoments = vec2(0.0f);
+    float weightSum = 0.0f;
+    for (int i = 0; i < 4; ++i) {
+      ivec2 tap = corner + ivec2(i & 1, i >> 1);
+      if (!insideFull(tap) || expectedViewZ <= 0.0f) continue;
+      float weight = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
+      Surface then = historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy);
+      if (weight <= 0.0f || !similarSurface(expectedViewZ, normal, then.viewZ, then.normal,
+                                            gIn_Frame.frame.temporal.x, gIn_Frame.frame.temporal.y))
+        continue;
+      accumulated += imageLoad(gPrev_Filtered, tap) * weight;
+      accumulatedMoments += imageLoad(gPrev_Moments, tap).xy * weight;
+      weightSum += weight;
+    }
+    if (weightSum > 0.05f) {
+      history = accumulated.xyz / weightSum;
+      moments = accumulatedMoments / weightSum;
+      historyLength = accumulated.w / weightSum;
+    }
+  }
+  float frames = min(historyLength + 1.0f, gIn_Frame.frame.resolveFilter.w);
+  float blend = 1.0f / frames;
+  moments = historyLength > 0.0f ? mix(moments, vec2(currentLuminance, currentLuminance * currentLuminance), blend)
+                                 : vec2(currentLuminance, currentLuminance * currentLuminance);
+  if (historyLength > 0.0f) {
+    float temporalSigma = sqrt(max(moments.y - moments.x * moments.x, 0.0f));
+    float reach = gIn_Frame.frame.resolveFilter.z * max(spatialSigma, temporalSigma);
+    float historyLuminance = luminance(history);
+    float clipped = clamp(historyLuminance, max(mean - reach, 0.0f), mean + reach);
+    history = historyLuminance > 0.0f ? history * (clipped / historyLuminance) : current;
+  }
+  vec3 filtered = mix(history, current, blend);
+  imageStore(gOut_Filtered, pixel, vec4(filtered, frames));
+  imageStore(gOut_Moments, pixel, vec4(moments, 0.0f, 0.0f));
+}

@@ -1,0 +1,62 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.diffuse.temporal_reuse: merges each pixel's fresh reservoir with the
+// one its surface had last frame (the output of last frame's second spatial
+// pass), found through the motion vector and accepted only if the surface
+// there is the same one (depth and normal). The history's sample is
+// re-weighed by its p-hat at this frame's surface; its M is capped so old
+// samples cannot crowd out new light. On a camera cut, the first frame, or
+// a disocclusion, the fresh reservoir passes through.
+#include "gi/gi_common.glsl"
+#include "shared/reservoir.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
+layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
+layout(set = 0, binding = 3, rg16f) readonly uniform image2D gIn_Motion;
+layout(set = 0, binding = 4, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 6, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 7, rgba32ui) readonly uniform uimage2D gPrev_Reservoir0;
+layout(set = 0, binding = 8, rgba32ui) readonly uniform uimage2D gPrev_Reservoir1;
+layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
+layout(set = 0, binding = 10, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
+
+void main() {
+  ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideHalf(halfPixel)) return;
+  uvec4 first = imageLoad(gIn_Reservoir0, halfPixel);
+  uvec4 second = imageLoad(gIn_Reservoir1, halfPixel);
+  ivec2 pixel = reservoirSurfacePixel(halfPixel);
+  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
+  if (viewZ > 0.0f && historyUsable()) {
+    Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
+    // Where this surface was last frame, and the reservoir that covered it.
+    vec2 previousPosition = vec2(pixel) + 0.5f + imageLoad(gIn_Motion, pixel).xy;
+    ivec2 previousHalf = ivec2(floor(previousPosition * 0.5f));
+    ivec2 previousPixel = reservoirSurfacePixel(previousHalf);
+    float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
+    if (insideHalf(previousHalf) && expectedViewZ > 0.0f) {
+      Surface previous = historySurfaceAt(previousPixel, imageLoad(gPrev_Surface, previousPixel).xy);
+      if (similarSurface(expectedViewZ, x.normal, previous.viewZ, previous.normal, gIn_Frame.frame.temporal.x,
+                         gIn_Frame.frame.temporal.y)) {
+        uint target = targetFunction();
+        uint rng = giSeed(uvec2(halfPixel), kSaltSpatial + 1u);
+        Reservoir fresh = unpackReservoir(first, second);
+        Reservoir history = unpackReservoir(imageLoad(gPrev_Reservoir0, previousHalf), imageLoad(gPrev_Reservoir1, previousHalf));
+        history.M = min(history.M, gIn_Frame.frame.temporal.z);
+        Reservoir merged = emptyReservoir();
+        reservoirStream(merged, fresh.position, fresh.normal, fresh.radiance, fresh.flags,
+                        targetPdf(fresh, x.position, x.normal, target) * fresh.W * fresh.M, fresh.M, rngUniform(rng));
+        reservoirStream(merged, history.position, history.normal, history.radiance, history.flags,
+                        targetPdf(history, x.position, x.normal, target) * history.W * history.M, history.M,
+                        rngUniform(rng));
+        reservoirFinalize(merged, targetPdf(merged, x.position, x.normal, target), merged.M);
+        packReservoir(merged, first, second);
+      }
+    }
+  }
+  imageStore(gOut_Reservoir0, halfPixel, first);
+  imageStore(gOut_Reservoir1, halfPixel, second);
+}

@@ -1,0 +1,61 @@
+// What every GI pass shares: the frame constants at binding 0 (gIn_Frame),
+// surfaces from the G-buffer and from the history, and randomness. A pass
+// declares its own images from binding 1 on.
+#ifndef BOUNCE_GI_COMMON_GLSL
+#define BOUNCE_GI_COMMON_GLSL
+
+#include "gi/gi_types.glsl"
+#include "shared/packing.glsl"
+#include "shared/rng.glsl"
+
+layout(set = 0, binding = 0, std140) uniform FrameBlock { GiFrameConstants frame; } gIn_Frame;
+
+// Stable per-pass salts for rngSeed, so no two passes draw the same numbers.
+const uint kSaltGather = 0x6761u;
+const uint kSaltSpatial = 0x7370u;
+const uint kSaltResolve = 0x7265u;
+
+vec2 fullSize() { return gIn_Frame.frame.size.xy; }
+vec2 halfSize() { return gIn_Frame.frame.halfSize.xy; }
+bool historyUsable() { return gIn_Frame.frame.frame.y == 0u; }
+uint targetFunction() { return gIn_Frame.frame.candidates.w; }
+
+bool insideFull(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(fullSize()))); }
+bool insideHalf(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(halfSize()))); }
+
+// The full-resolution pixel whose surface a half-resolution reservoir belongs to.
+ivec2 reservoirSurfacePixel(ivec2 halfPixel) { return halfPixel * 2; }
+
+// A surface of this frame or the previous one: where it is and which way it faces.
+struct Surface {
+  vec3 position;
+  vec3 normal;
+  float viewZ;  // 0: background, no surface
+};
+
+Surface surfaceAt(ScreenView view, ivec2 pixel, float viewZ, vec3 normal) {
+  Surface s;
+  s.viewZ = viewZ;
+  s.normal = normal;
+  s.position = viewZ > 0.0f ? reconstructPosition(view, vec2(pixel), viewZ, fullSize()) : vec3(0.0f);
+  return s;
+}
+
+// The history surface format (gi.store_history): rg32ui, x = viewZ bits, y = octahedral normal.
+Surface historySurfaceAt(ivec2 pixel, uvec2 packed) {
+  return surfaceAt(gIn_Frame.frame.previousView, pixel, uintBitsToFloat(packed.x), unpackNormalOct32(packed.y));
+}
+
+// Whether two surfaces are the same one seen twice: depths within a fraction
+// of the view depth and normals within an angle.
+bool similarSurface(float viewZ, vec3 normal, float otherViewZ, vec3 otherNormal, float depthTolerance,
+                    float cosNormalTolerance) {
+  return otherViewZ > 0.0f && abs(otherViewZ - viewZ) <= depthTolerance * viewZ &&
+         dot(normal, otherNormal) >= cosNormalTolerance;
+}
+
+uint giSeed(uvec2 pixel, uint salt) {
+  return rngSeed(pixel, gIn_Frame.frame.frame.x, gIn_Frame.frame.frame.z ^ salt);
+}
+
+#endif
