@@ -80,6 +80,12 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
       ->capture_default_str();
   command->add_option("--seed", options.seed, "Random seed: another seed gives independent noise")
       ->capture_default_str();
+  command
+      ->add_option("--lobes", options.lobes,
+                   "Material lobes the paths follow: all; diffuse (what a diffuse-only GI converges to, and a "
+                   "Lambert furnace); specular. Direct light always uses the whole material")
+      ->check(CLI::IsMember({"all", "diffuse", "specular"}))
+      ->capture_default_str();
   command->add_option("--out", options.out, "Output EXR; its siblings get the parts and the G-buffer")
       ->capture_default_str();
   command->add_option("--exposure", options.exposure, "Exposure multiplier of the PNG previews")
@@ -128,6 +134,9 @@ int runReference(const ReferenceCommandOptions& options) {
   render::ReferenceOptions referenceOptions;
   referenceOptions.maxBounces = options.maxBounces;
   referenceOptions.seed = options.seed;
+  referenceOptions.lobes = options.lobes == "diffuse"    ? shared::kLobeDiffuse
+                           : options.lobes == "specular" ? shared::kLobeSpecular
+                                                         : shared::kLobesAll;
   render::ReferenceRenderer reference(*context, renderer, scene, frameIndex, float(options.frame) / view.fps,
                                       referenceOptions);
   std::printf("scene: %s, %zu triangles, %zu emissive; frame %u at %ux%u; environment %s\n", scene.name.c_str(),
@@ -212,6 +221,7 @@ int runReference(const ReferenceCommandOptions& options) {
                          {"spp", spp},
                          {"seed", options.seed},
                          {"max_bounces", options.maxBounces},
+                         {"lobes", options.lobes},
                          {"interrupted", interrupted},
                          {"seconds", seconds},
                          {"gpu_spp_per_second", gpuSppPerSecond},

@@ -17,6 +17,7 @@
 #include "gpu/transfer.h"
 #include "io/image_io.h"
 #include "render/frame_renderer.h"
+#include "render/gi_inputs.h"
 #include "scene/builtin_scenes.h"
 #include "scene/camera_path.h"
 
@@ -46,9 +47,11 @@ void encodeVideo(const fs::path& framesDir, const fs::path& video, float fps) {
 
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
   CLI::App* command = app.add_subcommand(
-      "render", "Render a scene (built-in name or .gltf/.glb) along a camera path: G-buffer and direct light");
+      "render",
+      "Render a scene (built-in name or .gltf/.glb) along a camera path: G-buffer, direct light and the GI library");
   addGpuOptions(*command, options.gpu);
   addSceneOptions(*command, options.view);
+  addGiOptions(*command, options.gi);
   command->add_option("--frames", options.frames, "Frames to render along the camera path")
       ->check(CLI::Range(1u, 1000000u));
   command->add_option("--out", options.out, "Output directory (created if missing)");
@@ -59,7 +62,8 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
                    "Also write these images of the last frame as EXR + false-colour PNG to OUT/aov/: viewZ, "
                    "normal, geometric-normal, albedo, roughness, metallic, emissive, motion, ids, direct, all")
       ->delimiter(',');
-  command->add_flag("--hdr", options.hdr, "Write every final frame as linear EXR to OUT/frames/");
+  command->add_flag("--hdr", options.hdr,
+                    "Write every final frame as linear EXR to OUT/frames/ (with GI, its indirect diffuse too)");
   command->add_flag("--jitter", options.jitter, "Sub-pixel camera jitter (Halton 2,3) per frame");
   command->add_flag("--dump-stages", options.dumpStages,
                     "Write every pass's output (EXR + PNG) for the dump frames to OUT/stages/");
@@ -106,17 +110,50 @@ int runRender(const RenderOptions& options) {
   const fs::path framesDir = outDir / "frames";
   if (everyFrame) fs::create_directories(framesDir);
   std::vector<gpu::CapturedStage> captures;
+  const bool gi = giEnabled(options.gi);
+  std::unique_ptr<gi::GiContext> giContext;
+  if (gi) giContext = std::make_unique<gi::GiContext>(*context, shot.width, shot.height, giSettings(options.gi));
+  // What the frame is: the GI library's composite, or direct light alone.
+  const auto frameImage = [&]() -> gpu::Image& { return gi ? giContext->composite() : renderer.direct(); };
+  render::FrameView previous{};
+  const auto recordFrame = [&](gpu::Recorder& recorder, const render::FrameView& view) {
+    const std::uint64_t index = loop.frameIndex();
+    renderer.record(recorder, index, view);
+    if (gi) giContext->record(recorder, render::giFrameInputs(renderer, index, view, previous, options.jitter));
+    previous = view;
+  };
+  if (gi && options.gi.warmup > 0) {
+    // Light needs frames to bounce (each frame gathers the last one) and the
+    // histories to fill: render them at the first camera, unseen.
+    ProgressBar warming("gi warm-up", options.gi.warmup);
+    for (std::uint32_t i = 0; i < options.gi.warmup; ++i) {
+      recordFrame(loop.beginFrame(), {cameraFrames[0].pose, 0.0f, i == 0});
+      loop.endFrame();
+      warming.update(i + 1);
+    }
+    warming.finish();
+  }
+  // Dumps are numbered by output frame, whatever warm-up came before.
+  const std::uint64_t firstOutputIndex = loop.frameIndex() + (gi && options.gi.warmup > 0 ? 1 : 0);
+  const auto takeCaptures = [&] {
+    for (gpu::CapturedStage& c : loop.takeCaptures()) {
+      c.frame -= firstOutputIndex;
+      captures.push_back(std::move(c));
+    }
+  };
   ProgressBar progress("render", options.frames);
   for (std::uint32_t frame = 0; frame < options.frames; ++frame) {
     gpu::Recorder& recorder = loop.beginFrame(isDumpFrame(frame));
     const scene::CameraFrame& camera = cameraFrames[frame];
-    renderer.record(recorder, loop.frameIndex(), {camera.pose, float(frame) / shot.fps, camera.cut});
+    // The path's first frame is a cut, unless the warm-up already stood there.
+    const bool cut = camera.cut && !(frame == 0 && gi && options.gi.warmup > 0);
+    recordFrame(recorder, {camera.pose, float(frame) / shot.fps, cut});
     loop.endFrame();
-    for (gpu::CapturedStage& c : loop.takeCaptures()) captures.push_back(std::move(c));
+    takeCaptures();
     if (everyFrame) {
       // Each frame's image is read back before the next reuses it.
       loop.finish();
-      const io::ImageF image = gpu::readbackImage(*context, renderer.direct());
+      const io::ImageF image = gpu::readbackImage(*context, frameImage());
       char name[32];
       std::snprintf(name, sizeof name, "frame%04u", frame);
       if (options.frames > 1) {
@@ -124,15 +161,20 @@ int runRender(const RenderOptions& options) {
         io::writePng(framesDir / (std::string(name) + ".png"), view.image, view.encoding, options.exposure);
         if (animate) animation.push_back(io::toDisplay(view.image, view.encoding, options.exposure));
       }
-      if (options.hdr) io::writeExr(framesDir / (std::string(name) + ".exr"), image);
+      if (options.hdr) {
+        io::writeExr(framesDir / (std::string(name) + ".exr"), image);
+        if (gi)
+          io::writeExr(framesDir / (std::string(name) + ".indirect-diffuse.exr"),
+                       gpu::readbackImage(*context, giContext->indirectDiffuse()));
+      }
     }
     progress.update(frame + 1);
   }
   loop.finish();
   progress.finish();
-  for (gpu::CapturedStage& c : loop.takeCaptures()) captures.push_back(std::move(c));
+  takeCaptures();
 
-  const io::ImageF final = gpu::readbackImage(*context, renderer.direct());
+  const io::ImageF final = gpu::readbackImage(*context, frameImage());
   const gpu::VisualizedImage view = gpu::visualize(final, gpu::Visualize::Radiance);
   io::writePng(outDir / "render.png", view.image, view.encoding, options.exposure);
   io::writeExr(outDir / "render.exr", final);
@@ -150,11 +192,16 @@ int runRender(const RenderOptions& options) {
     encodeVideo(framesDir, outDir / "render.mp4", shot.fps);
   }
   if (!options.aovs.empty()) {
-    writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure);
+    std::vector<render::Aov> giAovs;
+    if (gi) giAovs.push_back({"indirect-diffuse", &giContext->indirectDiffuse()});
+    writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure, giAovs);
   }
   if (!captures.empty()) {
     auto files = gpu::writeStageDumps(outDir / "stages", captures, options.exposure);
     std::printf("wrote %zu stage images to %s\n", files.size(), (outDir / "stages").c_str());
+    for (const fs::path& sheet : writeValidationSheets(outDir / "stages", captures, options.exposure))
+      std::printf("wrote %s (validation: viewZ, normals, motion, history length, reprojection failures in red)\n",
+                  sheet.c_str());
   }
   std::printf("\nGPU time per pass (%s):\n%s", context->deviceInfo().name.c_str(), loop.timings().table().c_str());
   return validationExitCode(*context);

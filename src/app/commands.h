@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bounce/gi_settings.h"
 #include "gpu/context.h"
 #include "render/frame_renderer.h"
 #include "scene/scene.h"
@@ -49,6 +50,19 @@ void addSceneOptions(CLI::App& command, SceneOptions& options);
 // flags say; throws for contradictory flags.
 render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options);
 
+// The GI library on the command line: --gi diffuse|off, --gi-settings
+// FILE.json, and one --gi.KEY VALUE flag per key of gi::settingKeys().
+struct GiOptions {
+  std::string mode = "diffuse";  // "diffuse": the GI library composites the frame; "off": direct light only
+  std::string settingsFile;
+  std::vector<std::pair<std::string, std::string>> overrides;  // key, value, in command-line order
+  std::uint32_t warmup = 16;  // frames rendered (and thrown away) at the first camera before the first output frame
+};
+void addGiOptions(CLI::App& command, GiOptions& options);
+bool giEnabled(const GiOptions& options);
+// The settings: defaults, then the file, then the flags; validated.
+gi::Settings giSettings(const GiOptions& options);
+
 struct InfoOptions {
   GpuOptions gpu;
 };
@@ -58,6 +72,7 @@ int runInfo(const InfoOptions& options);
 struct RenderOptions {
   GpuOptions gpu;
   SceneOptions view;
+  GiOptions gi;
   std::uint32_t frames = 1;
   std::string out = "out";
   float exposure = 1.0f;
@@ -78,6 +93,7 @@ struct ReferenceCommandOptions {
   std::optional<double> targetRelMse;  // stop once the halves agree this well
   std::uint32_t maxBounces = 24;
   std::uint32_t seed = 0;
+  std::string lobes = "all";  // all, diffuse or specular: the material lobes paths follow
   std::string out = "reference.exr";
   float exposure = 1.0f;
   bool halves = false;

@@ -13,8 +13,9 @@ namespace bounce::app {
 namespace fs = std::filesystem;
 
 const std::set<std::string>& knownAovs() {
-  static const std::set<std::string> names = {"viewZ",  "normal", "geometric-normal", "albedo",    "emissive",
-                                              "motion", "ids",    "direct",           "roughness", "metallic"};
+  static const std::set<std::string> names = {"viewZ",     "normal",   "geometric-normal", "albedo",
+                                              "emissive",  "motion",   "ids",              "direct",
+                                              "roughness", "metallic", "indirect-diffuse"};
   return names;
 }
 
@@ -63,7 +64,7 @@ io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector
 }
 
 void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
-               const fs::path& dir, float exposure) {
+               const fs::path& dir, float exposure, const std::vector<render::Aov>& extra) {
   fs::create_directories(dir);
   const bool all = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
   const auto wants = [&](const std::string& name) {
@@ -80,7 +81,9 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
     cells.push_back(io::toDisplay(view.image, view.encoding, exposure));
     order += (order.empty() ? "" : ", ") + name;
   };
-  for (const render::Aov& aov : renderer.aovs()) {
+  std::vector<render::Aov> aovs = renderer.aovs();
+  aovs.insert(aovs.end(), extra.begin(), extra.end());
+  for (const render::Aov& aov : aovs) {
     // roughness and metallic live in the alpha channels of normal and albedo.
     const bool roughness = aov.name == "normal" && wants("roughness");
     const bool metallic = aov.name == "albedo" && wants("metallic");
@@ -105,5 +108,66 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
   }
 }
 
+
+namespace {
+
+// The captured image of `pass`'s `binding` in `frame`, or null.
+const gpu::CapturedStage* findCapture(const std::vector<gpu::CapturedStage>& captures, std::uint64_t frame,
+                                      const std::string& pass, const std::string& binding) {
+  for (const gpu::CapturedStage& c : captures)
+    if (c.frame == frame && c.pass == pass && c.binding == binding) return &c;
+  return nullptr;
+}
+
+io::ImageF capturedPixels(const gpu::CapturedStage& capture) {
+  return gpu::texelsToImage(capture.image, capture.texels->mapped());
+}
+
+io::ImageF displayOf(const io::ImageF& pixels, gpu::Visualize how, float exposure) {
+  const gpu::VisualizedImage view = gpu::visualize(pixels, how);
+  return io::toDisplay(view.image, view.encoding, exposure);
+}
+
+}  // namespace
+
+std::vector<fs::path> writeValidationSheets(const fs::path& dir, const std::vector<gpu::CapturedStage>& captures,
+                                            float exposure) {
+  std::vector<fs::path> written;
+  for (const gpu::CapturedStage& filter : captures) {
+    if (filter.pass != "gi.diffuse.temporal_filter" || filter.binding != "gOut_Filtered") continue;
+    const std::uint64_t frame = filter.frame;
+    const gpu::CapturedStage* viewZ = findCapture(captures, frame, "render.gbuffer", "gOut_ViewZ");
+    const gpu::CapturedStage* normal = findCapture(captures, frame, "render.gbuffer", "gOut_NormalRoughness");
+    const gpu::CapturedStage* motion = findCapture(captures, frame, "render.gbuffer", "gOut_Motion");
+    const gpu::CapturedStage* composite = findCapture(captures, frame, "gi.composite", "gOut_Composite");
+    if (!viewZ || !normal || !motion || !composite) continue;
+    const io::ImageF depth = capturedPixels(*viewZ);
+    const io::ImageF filtered = capturedPixels(filter);
+    io::ImageF history(filtered.width, filtered.height, {"frames"});
+    for (int y = 0; y < filtered.height; ++y)
+      for (int x = 0; x < filtered.width; ++x) history.at(x, y, 0) = filtered.at(x, y, 3);
+    io::ImageF failures = displayOf(capturedPixels(*composite), gpu::Visualize::Radiance, exposure);
+    for (int y = 0; y < failures.height; ++y)
+      for (int x = 0; x < failures.width; ++x)
+        if (depth.at(x, y, 0) > 0.0f && history.at(x, y, 0) <= 1.0f) {
+          failures.at(x, y, 0) = 1.0f;
+          failures.at(x, y, 1) = 0.0f;
+          failures.at(x, y, 2) = 0.0f;
+        }
+    const std::vector<io::ImageF> cells = {
+        displayOf(depth, gpu::Visualize::Range, exposure), displayOf(capturedPixels(*normal), gpu::Visualize::Signed, exposure),
+        displayOf(capturedPixels(*motion), gpu::Visualize::Motion, exposure),
+        displayOf(history, gpu::Visualize::Heat, exposure), failures};
+    char name[48];
+    std::snprintf(name, sizeof name, "frame%04llu.validation.png", static_cast<unsigned long long>(frame));
+    written.push_back(dir / name);
+    io::writePng(written.back(),
+                 labelledSheet(cells, {"viewZ", "normals", "motion vectors", "history length (frames)",
+                                       "reprojection failures (red)"},
+                               3),
+                 io::PngEncoding::Linear);
+  }
+  return written;
+}
 
 }  // namespace bounce::app

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gpu/context.h"
+#include "gpu/recorder.h"
 #include "io/image_io.h"
 #include "render/frame_renderer.h"
 
@@ -29,7 +30,17 @@ io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector
 // as EXR + false-colour PNG into `dir`, all of them side by side on
 // sheet.png, and, when both normals are written, normals.png: shading
 // normals (normal-mapped) beside geometric ones, where normal maps show.
+// `extra` are AOVs from elsewhere (the GI library's), written after the renderer's.
 void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
-               const std::filesystem::path& dir, float exposure);
+               const std::filesystem::path& dir, float exposure, const std::vector<render::Aov>& extra = {});
+
+// NRD-style validation sheets, one per captured frame that ran the GI
+// library: viewZ, normals, motion vectors, the temporal filter's history
+// length, and the frame with pixels whose history was lost this frame
+// (disocclusion, cut) in red. Returns the files written
+// (DIR/frameNNNN.validation.png).
+std::vector<std::filesystem::path> writeValidationSheets(const std::filesystem::path& dir,
+                                                         const std::vector<gpu::CapturedStage>& captures,
+                                                         float exposure);
 
 }  // namespace bounce::app

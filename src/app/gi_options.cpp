@@ -1,0 +1,41 @@
+#include <stdexcept>
+
+#include "app/commands.h"
+
+namespace bounce::app {
+
+void addGiOptions(CLI::App& command, GiOptions& options) {
+  command.add_option("--gi", options.mode, "Global illumination: diffuse (the GI library's indirect diffuse) or off")
+      ->check(CLI::IsMember({"diffuse", "off"}))
+      ->capture_default_str();
+  command.add_option("--gi-settings", options.settingsFile,
+                     "JSON file of GI settings (docs/gi-settings.md); --gi.KEY flags override it")
+      ->check(CLI::ExistingFile);
+  command.add_option("--gi-warmup", options.warmup,
+                     "Frames rendered at the first camera before the first output frame, so that light has "
+                     "bounced and histories have filled (GI only)")
+      ->check(CLI::Range(0u, 10000u))
+      ->capture_default_str();
+  // One flag per setting, in the table's order; their values are applied
+  // after the file, in the order they were given.
+  for (const gi::SettingInfo& setting : gi::settingKeys()) {
+    const std::string key = setting.key;
+    command
+        .add_option_function<std::string>(
+            "--gi." + key, [&options, key](const std::string& value) { options.overrides.emplace_back(key, value); },
+            setting.description + " [" + setting.type + ", default " + setting.defaultValue + "]")
+        ->group("GI settings (docs/gi-settings.md)");
+  }
+}
+
+bool giEnabled(const GiOptions& options) { return options.mode == "diffuse"; }
+
+gi::Settings giSettings(const GiOptions& options) {
+  gi::Settings settings;
+  if (!options.settingsFile.empty()) gi::applySettingsFile(settings, options.settingsFile);
+  for (const auto& [key, value] : options.overrides) gi::applySetting(settings, key, value);
+  gi::validate(settings);
+  return settings;
+}
+
+}  // namespace bounce::app
