@@ -55,10 +55,13 @@ struct DiffuseSettings {
   std::uint32_t resolveReservoirs = 4;  // neighbouring half-resolution reservoirs each pixel evaluates (1..4)
   std::uint32_t visibilitySteps = 12;   // ray-march steps from the pixel to each sample (0 = no visibility test)
   float visibilityThickness = 0.03f;    // surfaces are this fraction of their viewZ thick
-  // Environment samples whose screen-space march leaves the screen without
-  // meeting anything are weighted by this (1 = assumed visible, as the seed
-  // does; 0 = assumed occluded, right for closed rooms).
-  float offscreenEnvironmentVisibility = 1.0f;
+  // Environment samples count as visible where their screen-space march
+  // meets the sky (a background pixel, or the screen's edge where it shows
+  // sky). Those that leave the screen through a surface, or end over one,
+  // are weighted by this: 0 assumes the unseen world beyond is closed (rooms
+  // do not leak the sky through walls off screen), 1 assumes it is open (the
+  // seed's choice, which lights a closed room with the sky).
+  float offscreenEnvironmentVisibility = 0.0f;
 
   // --- temporal filter (full resolution)
   float varianceClippingGamma = 1.5f;   // history clipped to mean +- gamma * sigma of the 3x3 neighbourhood

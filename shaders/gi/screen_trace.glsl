@@ -31,4 +31,34 @@ float screenVisibility(vec3 from, vec3 to, uint steps, float jitter) {
   return kVisible;
 }
 
+// Whether a direction from `from` reaches the sky, as far as the screen can
+// tell. Screen space knows the sky only where it is shown (background
+// pixels), so the march goes far (points spaced more widely with distance)
+// and the sky counts as reached when the ray meets a background pixel, or
+// leaves the screen where the screen's edge shows sky. A ray that leaves
+// through a surface at the edge, or ends over one, most likely hits what is
+// beyond: it gets `offscreenVisibility` (gi.diffuse.offscreen_environment_visibility).
+// Without this, rooms leak the sky through their off-screen walls.
+float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float offscreenVisibility) {
+  const float kFarthest = 64.0f;  // in multiples of the pixel's viewZ
+  float thickness = gIn_Frame.frame.resolveFilter.y;
+  ivec2 size = ivec2(fullSize());
+  for (uint i = 0u; i < steps; ++i) {
+    float t = (float(i) + jitter) / float(steps);
+    float distance = viewZ * (0.02f + kFarthest * t * t);
+    vec3 projected = projectToScreen(gIn_Frame.frame.view, from + direction * distance, fullSize());
+    ivec2 texel = ivec2(floor(projected.xy));
+    if (projected.z <= 0.0f) return offscreenVisibility;
+    if (!insideFull(texel)) {
+      ivec2 edge = clamp(texel, ivec2(0), size - 1);
+      return imageLoad(gIn_ViewZ, edge).x <= 0.0f ? kVisible : offscreenVisibility;
+    }
+    float sceneViewZ = imageLoad(gIn_ViewZ, texel).x;
+    if (sceneViewZ <= 0.0f) return kVisible;
+    float behind = projected.z - sceneViewZ;
+    if (behind > 0.01f * sceneViewZ && behind < thickness * sceneViewZ) return kOccluded;
+  }
+  return offscreenVisibility;  // still over surfaces after the longest march
+}
+
 #endif

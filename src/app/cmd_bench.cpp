@@ -1,7 +1,7 @@
-// bounce bench: GPU timestamps of every pass of the frame renderer over many
-// frames of a scene at a given resolution, the BVH's ray throughput (primary,
-// shadow and incoherent rays), and the copy bandwidth the device reaches in
-// compute.
+// bounce bench: GPU timestamps of every pass of the frame renderer and the GI
+// library over many frames of a scene at a given resolution, the BVH's ray
+// throughput (primary, shadow and incoherent rays), and the copy bandwidth
+// the device reaches in compute.
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -12,6 +12,7 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "render/frame_renderer.h"
+#include "render/gi_inputs.h"
 #include "render/gpu_bvh.h"
 #include "scene/camera_path.h"
 
@@ -53,6 +54,10 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
   command->add_option("--rays", options.rays, "Incoherent rays per frame through render.bvh_trace_rays (0 = skip)")
       ->check(CLI::Range(0u, 1u << 26));
   command->add_option("--json", options.json, "Also write the results to this JSON file");
+  command->add_option("--sun-elevation", options.sunElevation, "Sun elevation above the horizon, degrees")
+      ->check(CLI::Range(-90.0f, 90.0f));
+  command->add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees");
+  addGiOptions(*command, options.gi);
   return command;
 }
 
@@ -67,7 +72,15 @@ int runBench(const BenchOptions& options) {
   rendererOptions.height = options.height;
   rendererOptions.environment.sun = scene.sun;
   rendererOptions.environment.hasSun = scene.hasSun;
+  if (options.sunElevation) {
+    rendererOptions.environment.sun.elevationDegrees = *options.sunElevation;
+    rendererOptions.environment.hasSun = true;
+  }
+  if (options.sunAzimuth) rendererOptions.environment.sun.azimuthDegrees = *options.sunAzimuth;
   render::FrameRenderer renderer(*context, scene, rendererOptions);
+  std::unique_ptr<gi::GiContext> gi;
+  if (giEnabled(options.gi))
+    gi = std::make_unique<gi::GiContext>(*context, options.width, options.height, giSettings(options.gi));
   std::printf("scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
   const scene::CameraPose camera = scene::defaultCameraPath(scene)->pose(0.0f);
 
@@ -94,7 +107,10 @@ int runBench(const BenchOptions& options) {
   std::uint64_t frameCounter = 0;
   const auto recordFrame = [&](gpu::FrameLoop& loop) {
     gpu::Recorder& recorder = loop.beginFrame();
-    renderer.record(recorder, frameCounter++, {camera, 0.0f, false});
+    const std::uint64_t index = frameCounter++;
+    const render::FrameView view{camera, 0.0f, index == 0};
+    renderer.record(recorder, index, view);
+    if (gi) gi->record(recorder, render::giFrameInputs(renderer, index, view, view, false));
     if (tracer) {
       tracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Closest);
       anyTracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Any);

@@ -69,14 +69,19 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
                     "Write every pass's output (EXR + PNG) for the dump frames to OUT/stages/");
   command->add_option("--dump-frames", options.dumpFrames, "Frames to dump with --dump-stages (default: the last)")
       ->delimiter(',');
+  command
+      ->add_option("--cut-frames", options.cutFrames,
+                   "Flag these frames as camera cuts (no history is reused), besides the camera path's own")
+      ->delimiter(',');
   return command;
 }
 
 int runRender(const RenderOptions& options) {
-  for (std::uint32_t f : options.dumpFrames)
-    if (f >= options.frames)
-      throw std::runtime_error("--dump-frames " + std::to_string(f) + " is past the last frame (" +
-                               std::to_string(options.frames - 1) + ")");
+  for (const auto& [flag, frames] : {std::pair{"--dump-frames", &options.dumpFrames}, {"--cut-frames", &options.cutFrames}})
+    for (std::uint32_t f : *frames)
+      if (f >= options.frames)
+        throw std::runtime_error(std::string(flag) + " " + std::to_string(f) + " is past the last frame (" +
+                                 std::to_string(options.frames - 1) + ")");
   for (const std::string& aov : options.aovs)
     if (aov != "all" && !knownAovs().count(aov))
       throw std::runtime_error("--aov: unknown image '" + aov + "' (known: " + knownAovList() + ", all)");
@@ -146,7 +151,8 @@ int runRender(const RenderOptions& options) {
     gpu::Recorder& recorder = loop.beginFrame(isDumpFrame(frame));
     const scene::CameraFrame& camera = cameraFrames[frame];
     // The path's first frame is a cut, unless the warm-up already stood there.
-    const bool cut = camera.cut && !(frame == 0 && gi && options.gi.warmup > 0);
+    const bool asked = std::find(options.cutFrames.begin(), options.cutFrames.end(), frame) != options.cutFrames.end();
+    const bool cut = asked || (camera.cut && !(frame == 0 && gi && options.gi.warmup > 0));
     recordFrame(recorder, {camera.pose, float(frame) / shot.fps, cut});
     loop.endFrame();
     takeCaptures();

@@ -81,6 +81,7 @@ struct RenderOptions {
   bool jitter = false;
   bool dumpStages = false;
   std::vector<std::uint32_t> dumpFrames;  // empty = the last frame
+  std::vector<std::uint32_t> cutFrames;   // frames flagged as camera cuts besides the path's own
 };
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options);
 int runRender(const RenderOptions& options);
@@ -112,6 +113,9 @@ struct BenchOptions {
   std::uint32_t copyMegabytes = 256;
   std::uint32_t rays = 1u << 20;  // incoherent rays per frame for render.bvh_trace_rays (0 = skip)
   std::string json;
+  std::optional<float> sunElevation;
+  std::optional<float> sunAzimuth;
+  GiOptions gi;
 };
 CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options);
 

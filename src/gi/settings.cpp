@@ -136,7 +136,9 @@ constexpr std::array kEntries{
     Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
           "resolve: surfaces are assumed this fraction of their viewZ thick"},
     Entry{"diffuse.offscreen_environment_visibility", inDiffuse(&DiffuseSettings::offscreenEnvironmentVisibility),
-          closed(0, 1), "weight of environment samples whose march leaves the screen (1: visible, 0: occluded)"},
+          closed(0, 1),
+          "weight of environment samples whose march leaves the screen through a surface, or ends over one (0: the "
+          "unseen world is closed, 1: open)"},
     Entry{"diffuse.variance_clipping_gamma", inDiffuse(&DiffuseSettings::varianceClippingGamma), aboveUpTo(0, 100),
           "temporal filter: history is clipped to mean +- gamma * sigma of the 3x3 neighbourhood"},
     Entry{"diffuse.temporal_filter_frames", inDiffuse(&DiffuseSettings::temporalFilterFrames), closed(1, 1024),

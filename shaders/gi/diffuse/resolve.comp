@@ -21,8 +21,6 @@ layout(set = 0, binding = 5, rgba16f) writeonly uniform image2D gOut_Diffuse;
 
 #include "gi/screen_trace.glsl"
 
-// How far environment samples are marched, in multiples of the pixel's viewZ.
-const float kEnvironmentMarchLength = 2.0f;
 
 // The reservoirs a pixel evaluates: where their surfaces are.
 struct Owner {
@@ -47,10 +45,8 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
   uint steps = uint(gIn_Frame.frame.resolveFilter.x);
   float scale = 1.0f;
   if (reservoirIsEnvironment(r)) {
-    float visibility = steps > 0u ? screenVisibility(x.position, x.position + direction * (kEnvironmentMarchLength * x.viewZ),
-                                                     steps, jitter)
-                                  : kVisible;
-    scale = visibility == kLeftScreen ? gIn_Frame.frame.spatial.w : visibility;
+    if (steps > 0u)
+      scale = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, gIn_Frame.frame.spatial.w);
   } else {
     scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian,
                           gIn_Frame.frame.spatial.z > 0.5f && !owner.exact);
