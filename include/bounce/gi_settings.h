@@ -65,7 +65,7 @@ struct DiffuseSettings {
 
   // --- temporal filter (full resolution)
   float varianceClippingGamma = 1.5f;   // history clipped to mean +- gamma * sigma of the 3x3 neighbourhood
-  std::uint32_t temporalFilterFrames = 32;  // the longest history the filter accumulates
+  std::uint32_t temporalFilterFrames = 64;  // the longest history the filter accumulates
 };
 
 struct Settings {

@@ -17,10 +17,12 @@ const float kLeftScreen = -1.0f;  // the march left the screen (or passed behind
 // offset by `jitter` in [0,1) to trade banding for noise).
 float screenVisibility(vec3 from, vec3 to, uint steps, float jitter) {
   float thickness = gIn_Frame.frame.resolveFilter.y;
+  vec3 start = toViewSpace(gIn_Frame.frame.view, from);
+  vec3 end = toViewSpace(gIn_Frame.frame.view, to);
   for (uint i = 0u; i < steps; ++i) {
     float t = (float(i) + jitter) / float(steps);
     t = mix(0.02f, 0.98f, t);  // keep off the two surfaces themselves
-    vec3 projected = projectToScreen(gIn_Frame.frame.view, mix(from, to, t), fullSize());
+    vec3 projected = projectViewPoint(gIn_Frame.frame.view, mix(start, end, t), fullSize());
     ivec2 texel = ivec2(floor(projected.xy));
     if (projected.z <= 0.0f || !insideFull(texel)) return kLeftScreen;
     float sceneViewZ = imageLoad(gIn_ViewZ, texel).x;
@@ -43,10 +45,12 @@ float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, 
   const float kFarthest = 64.0f;  // in multiples of the pixel's viewZ
   float thickness = gIn_Frame.frame.resolveFilter.y;
   ivec2 size = ivec2(fullSize());
+  vec3 start = toViewSpace(gIn_Frame.frame.view, from);
+  vec3 step = toViewSpace(gIn_Frame.frame.view, from + direction) - start;  // one unit along the ray
   for (uint i = 0u; i < steps; ++i) {
     float t = (float(i) + jitter) / float(steps);
     float distance = viewZ * (0.02f + kFarthest * t * t);
-    vec3 projected = projectToScreen(gIn_Frame.frame.view, from + direction * distance, fullSize());
+    vec3 projected = projectViewPoint(gIn_Frame.frame.view, start + step * distance, fullSize());
     ivec2 texel = ivec2(floor(projected.xy));
     if (projected.z <= 0.0f) return offscreenVisibility;
     if (!insideFull(texel)) {

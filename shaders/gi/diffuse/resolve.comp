@@ -71,8 +71,9 @@ void main() {
   // Nearest first: the reservoir of this pixel's own 2x2 block, then its neighbours towards this pixel.
   ivec2 away = ivec2((pixel.x & 1) == 1 ? 1 : -1, (pixel.y & 1) == 1 ? 1 : -1);
   ivec2 offsets[4] = ivec2[4](ivec2(0), ivec2(away.x, 0), ivec2(0, away.y), away);
+  // The surfaces of the reservoirs to evaluate; each reservoir itself is
+  // loaded only when its turn comes, so four of them never need registers at once.
   Owner owners[4];
-  Reservoir reservoirs[4];
   uint count = 0u;
   for (uint k = 0u; k < gIn_Frame.frame.options.x; ++k) {
     ivec2 halfPixel = base + offsets[k];
@@ -83,14 +84,12 @@ void main() {
     if (!similarSurface(viewZ, x.normal, ownerViewZ, ownerNormal, 0.1f, 0.8f)) continue;
     owners[count] = Owner(halfPixel, surfaceAt(gIn_Frame.frame.view, ownerPixel, ownerViewZ, ownerNormal).position,
                           ownerNormal, ownerPixel == pixel);
-    reservoirs[count] = unpackReservoir(imageLoad(gIn_Reservoir0, halfPixel), imageLoad(gIn_Reservoir1, halfPixel));
     ++count;
   }
   // A thin feature no reservoir shares: borrow the nearest reservoir's
   // sample as if it were this surface's own.
   if (count == 0u) {
     owners[0] = Owner(base, x.position, x.normal, true);
-    reservoirs[0] = unpackReservoir(imageLoad(gIn_Reservoir0, base), imageLoad(gIn_Reservoir1, base));
     count = 1u;
   }
   // Each reservoir's estimate weighted by 1 / (how many of the reservoirs
@@ -99,14 +98,13 @@ void main() {
   // corners) keep their full weight and none is counted twice.
   vec3 sum = vec3(0.0f);
   for (uint i = 0u; i < count; ++i) {
-    if (!reservoirHasSample(reservoirs[i])) {
-      rngUniform(rng);
-      continue;
-    }
+    float jitter = rngUniform(rng);
+    Reservoir r = unpackReservoir(imageLoad(gIn_Reservoir0, owners[i].halfPixel),
+                                  imageLoad(gIn_Reservoir1, owners[i].halfPixel));
+    if (!reservoirHasSample(r)) continue;
     float coverage = 0.0f;
-    for (uint j = 0u; j < count; ++j) coverage += covers(owners[j], reservoirs[i], x) ? 1.0f : 0.0f;
-    vec3 estimate = evaluate(x, owners[i], reservoirs[i], rngUniform(rng));
-    if (coverage > 0.0f) sum += estimate / coverage;
+    for (uint j = 0u; j < count; ++j) coverage += covers(owners[j], r, x) ? 1.0f : 0.0f;
+    if (coverage > 0.0f) sum += evaluate(x, owners[i], r, jitter) / coverage;
   }
   imageStore(gOut_Diffuse, pixel, vec4(sum, 1.0f));
 }
