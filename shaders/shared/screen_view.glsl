@@ -47,15 +47,26 @@ vec3 pixelRayDirection(ScreenView view, vec2 pixel, vec2 imageSize) {
   return normalize(reconstructPosition(view, pixel, 1.0f, imageSize) - viewPosition(view));
 }
 
-// Continuous pixel coordinates (without jitter) and viewZ of a world point;
-// z <= 0 means behind the camera.
-vec3 projectToScreen(ScreenView view, vec3 world, vec2 imageSize) {
+// A world point in view space (affine: points along a world segment are
+// the same mix of its ends in view space, so marches transform twice only).
+vec3 toViewSpace(ScreenView view, vec3 world) {
   vec4 local = view.worldToView * vec4(world, 1.0f);
+  return vec3(local.x, local.y, local.z);
+}
+
+// Continuous pixel coordinates (without jitter) and viewZ of a view-space
+// point; z <= 0 means behind the camera.
+vec3 projectViewPoint(ScreenView view, vec3 local, vec2 imageSize) {
   float viewZ = -local.z;
   if (viewZ <= 0.0f) return vec3(-1.0f, -1.0f, viewZ);
   float ndcX = local.x / (viewZ * view.projection.x);
   float ndcY = local.y / (viewZ * view.projection.y);
   return vec3((ndcX * 0.5f + 0.5f) * imageSize.x, (0.5f - ndcY * 0.5f) * imageSize.y, viewZ);
+}
+
+// The same for a world point.
+vec3 projectToScreen(ScreenView view, vec3 world, vec2 imageSize) {
+  return projectViewPoint(view, toViewSpace(view, world), imageSize);
 }
 
 // The world area one pixel covers on a surface at viewZ whose normal makes
