@@ -205,7 +205,8 @@ int runRender(const RenderOptions& options) {
   if (!captures.empty()) {
     auto files = gpu::writeStageDumps(outDir / "stages", captures, options.exposure);
     std::printf("wrote %zu stage images to %s\n", files.size(), (outDir / "stages").c_str());
-    for (const fs::path& sheet : writeValidationSheets(outDir / "stages", captures, options.exposure))
+    const float historyCap = giContext ? float(giContext->settings().diffuse.temporalFilterFrames) : 1.0f;
+    for (const fs::path& sheet : writeValidationSheets(outDir / "stages", captures, options.exposure, historyCap))
       std::printf("wrote %s (validation: viewZ, normals, motion, history length, reprojection failures in red)\n",
                   sheet.c_str());
   }

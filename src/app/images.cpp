@@ -5,6 +5,7 @@
 #include <map>
 
 #include "app/plot.h"
+#include "io/colormap.h"
 #include "gpu/stage_dump.h"
 #include "gpu/transfer.h"
 
@@ -128,10 +129,22 @@ io::ImageF displayOf(const io::ImageF& pixels, gpu::Visualize how, float exposur
   return io::toDisplay(view.image, view.encoding, exposure);
 }
 
+// History length in magma on 0..cap: fixed, so sheets of different frames
+// compare and a frame whose history was all reset shows black.
+io::ImageF historyHeat(const io::ImageF& history, float cap) {
+  io::ImageF out(history.width, history.height, {"R", "G", "B"});
+  for (int y = 0; y < history.height; ++y)
+    for (int x = 0; x < history.width; ++x) {
+      const std::array<std::uint8_t, 3> rgb = io::magma(std::clamp(history.at(x, y, 0) / cap, 0.0f, 1.0f));
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = float(rgb[c]) / 255.0f;
+    }
+  return io::toDisplay(out, io::PngEncoding::Linear, 1.0f);
+}
+
 }  // namespace
 
 std::vector<fs::path> writeValidationSheets(const fs::path& dir, const std::vector<gpu::CapturedStage>& captures,
-                                            float exposure) {
+                                            float exposure, float historyCap) {
   std::vector<fs::path> written;
   for (const gpu::CapturedStage& filter : captures) {
     if (filter.pass != "gi.diffuse.temporal_filter" || filter.binding != "gOut_Filtered") continue;
@@ -157,7 +170,7 @@ std::vector<fs::path> writeValidationSheets(const fs::path& dir, const std::vect
     const std::vector<io::ImageF> cells = {
         displayOf(depth, gpu::Visualize::Range, exposure), displayOf(capturedPixels(*normal), gpu::Visualize::Signed, exposure),
         displayOf(capturedPixels(*motion), gpu::Visualize::Motion, exposure),
-        displayOf(history, gpu::Visualize::Heat, exposure), failures};
+        historyHeat(history, historyCap), failures};
     char name[48];
     std::snprintf(name, sizeof name, "frame%04llu.validation.png", static_cast<unsigned long long>(frame));
     written.push_back(dir / name);
