@@ -443,3 +443,28 @@ TEST(GiSettings, DocsListEveryKeyWithItsTypeAndDefault) {
 
 }  // namespace
 }  // namespace bounce::gi
+
+// The library's promise to engines: it never sees a scene. Its sources,
+// public headers and shaders may include gpu/, io/, shared math and their
+// own files, never the renderer, the scene importer or the app.
+TEST(GiLayering, TheLibraryIncludesNoSceneRendererOrAppCode) {
+  namespace fs = std::filesystem;
+  const fs::path root(BOUNCE_SOURCE_DIR);
+  int scanned = 0;
+  for (const char* dir : {"src/gi", "include/bounce", "shaders/gi"}) {
+    ASSERT_TRUE(fs::is_directory(root / dir)) << dir;
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root / dir)) {
+      if (!entry.is_regular_file()) continue;
+      ++scanned;
+      std::ifstream file(entry.path());
+      std::string line;
+      for (int number = 1; std::getline(file, line); ++number) {
+        if (line.rfind("#include", 0) != 0) continue;
+        for (const char* forbidden : {"\"render/", "\"scene/", "\"app/", "\"metrics/"})
+          EXPECT_EQ(line.find(forbidden), std::string::npos)
+              << entry.path().string() << ":" << number << " includes a layer above gi/: " << line;
+      }
+    }
+  }
+  EXPECT_GT(scanned, 10);
+}
