@@ -138,6 +138,78 @@ TEST(Cli, BadScenesCamerasAndAovsAreOneClearLine) {
   fs::remove_all(out);
 }
 
+TEST(Cli, RenderWithGiSettingsDumpsEveryGiStageAndItsValidationSheet) {
+  const fs::path out = freshDirectory("gi");
+  const fs::path settings = freshDirectory("gi_settings_file").string() + ".json";
+  std::ofstream(settings) << R"({"diffuse": {"spatial_radius": 4, "visibility_steps": 6}})";
+  Result r = run("render cornell --validate --width 48 --height 32 --frames 2 --gi-warmup 2 --gi-settings " +
+                 settings.string() + " --gi.diffuse.spatial_samples 3 --dump-stages --aov indirect-diffuse --out " +
+                 out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("validation message"), std::string::npos) << r.output;
+  for (const char* pass : {"gi.store_history", "gi.diffuse.gather", "gi.diffuse.temporal_reuse",
+                           "gi.diffuse.spatial_reuse", "gi.diffuse.resolve", "gi.diffuse.temporal_filter",
+                           "gi.composite"})
+    EXPECT_NE(r.output.find(pass), std::string::npos) << "timing table lists " << pass << ": " << r.output;
+  for (const char* stem : {"frame0001.gi.diffuse.reservoir_view.spatial_reuse2.gOut_M",
+                           "frame0001.gi.diffuse.reservoir_view.gather.gOut_W", "frame0001.gi.diffuse.resolve.gOut_Diffuse",
+                           "frame0001.gi.diffuse.temporal_filter.gOut_Filtered", "frame0001.gi.composite.gOut_Composite"})
+    EXPECT_TRUE(fs::exists(out / "stages" / (std::string(stem) + ".png"))) << stem;
+  EXPECT_TRUE(fs::exists(out / "stages" / "frame0001.validation.png"));
+  EXPECT_TRUE(fs::exists(out / "aov" / "indirect-diffuse.exr"));
+  EXPECT_EQ(bounce::io::readImage(out / "aov" / "indirect-diffuse.exr").width, 48);
+  fs::remove_all(out);
+  fs::remove(settings);
+}
+
+TEST(Cli, GiOffAndTheNoReuseBaselineRecordOnlyTheirPasses) {
+  const fs::path out = freshDirectory("gi_off");
+  Result off = run("render cornell --width 32 --height 24 --gi off --out " + out.string());
+  ASSERT_EQ(off.exitCode, 0) << off.output;
+  EXPECT_EQ(off.output.find("gi."), std::string::npos) << "no GI pass runs: " << off.output;
+  Result baseline = run("render cornell --width 32 --height 24 --gi-warmup 1 --gi.restir off --out " + out.string());
+  ASSERT_EQ(baseline.exitCode, 0) << baseline.output;
+  EXPECT_NE(baseline.output.find("gi.diffuse.resolve"), std::string::npos) << baseline.output;
+  EXPECT_EQ(baseline.output.find("gi.diffuse.temporal_reuse"), std::string::npos) << baseline.output;
+  EXPECT_EQ(baseline.output.find("gi.diffuse.spatial_reuse"), std::string::npos) << baseline.output;
+  fs::remove_all(out);
+}
+
+TEST(Cli, BadGiSettingsAreOneLineNamingTheKeyOrFile) {
+  const fs::path out = freshDirectory("gi_bad");
+  fs::create_directories(out);
+  const fs::path malformed = out / "malformed.json";
+  std::ofstream(malformed) << R"({"diffuse": {"spatial_radius": }})";
+  const fs::path unknownKey = out / "unknown.json";
+  std::ofstream(unknownKey) << R"({"diffuse": {"spatial_radios": 3}})";
+  struct Case {
+    std::string arguments;
+    int exitCode;
+    std::string mentions;
+  };
+  const std::vector<Case> cases = {
+      {"--gi.diffuse.spatial_radios 3", 2, "did you mean gi.diffuse.spatial_radius"},
+      {"--gi.diffuse.spatial_radius 300", 1, "expected a number in [0, 256]"},
+      {"--gi.diffuse.jacobian maybe", 1, "gi.diffuse.jacobian"},
+      {"--gi sideways", 2, "--gi"},
+      {"--gi-settings " + (out / "missing.json").string(), 2, "missing.json"},
+      {"--gi-settings " + malformed.string(), 1, "malformed.json: parse error at line 1"},
+      {"--gi-settings " + unknownKey.string(), 1, "unknown.json"},
+      {"--gi.diffuse.screen_candidates 0 --gi.diffuse.bright_candidates 0 --gi.diffuse.environment_candidates 0", 1,
+       "all 0"},
+  };
+  for (const Case& c : cases) {
+    Result r = run("render cornell --width 16 --height 16 " + c.arguments + " --out " + (out / "render").string());
+    EXPECT_EQ(r.exitCode, c.exitCode) << c.arguments << ": " << r.output;
+    const std::size_t error = r.output.find("bounce: error:");
+    ASSERT_NE(error, std::string::npos) << c.arguments << ": " << r.output;
+    EXPECT_EQ(lineCount(r.output.substr(error)), 1u) << c.arguments << ": " << r.output;
+    EXPECT_NE(r.output.find(c.mentions), std::string::npos) << c.arguments << ": " << r.output;
+    EXPECT_FALSE(fs::exists(out / "render" / "render.png")) << c.arguments << " wrote an image anyway";
+  }
+  fs::remove_all(out);
+}
+
 // The frame count an APNG announces in its acTL chunk (0 if none).
 std::uint32_t apngFrameCount(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);

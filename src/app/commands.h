@@ -62,6 +62,10 @@ void addGiOptions(CLI::App& command, GiOptions& options);
 bool giEnabled(const GiOptions& options);
 // The settings: defaults, then the file, then the flags; validated.
 gi::Settings giSettings(const GiOptions& options);
+// The library's message for the first --gi.KEY flag in argv whose key is not
+// a setting (naming the closest keys), or "" when every one is known. CLI11
+// alone would only say the argument was not expected.
+std::string unknownGiSettingFlag(int argc, const char* const* argv);
 
 struct InfoOptions {
   GpuOptions gpu;

@@ -1,4 +1,7 @@
+#include <algorithm>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "app/commands.h"
 
@@ -36,6 +39,24 @@ gi::Settings giSettings(const GiOptions& options) {
   for (const auto& [key, value] : options.overrides) gi::applySetting(settings, key, value);
   gi::validate(settings);
   return settings;
+}
+
+std::string unknownGiSettingFlag(int argc, const char* const* argv) {
+  const std::string prefix = "--gi.";
+  for (int i = 1; i < argc; ++i) {
+    const std::string argument = argv[i];
+    if (argument.rfind(prefix, 0) != 0) continue;
+    const std::string key = argument.substr(prefix.size(), argument.find('=') - prefix.size());
+    const std::vector<gi::SettingInfo>& keys = gi::settingKeys();
+    if (std::any_of(keys.begin(), keys.end(), [&](const gi::SettingInfo& s) { return s.key == key; })) continue;
+    try {
+      gi::Settings scratch;
+      gi::applySetting(scratch, key, "0");
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+  return "";
 }
 
 }  // namespace bounce::app

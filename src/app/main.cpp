@@ -62,6 +62,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    const std::string unknownSetting = unknownGiSettingFlag(argc, argv);
+    if (!unknownSetting.empty()) {
+      std::fprintf(stderr, "bounce: error: %s (docs/gi-settings.md lists them)\n", unknownSetting.c_str());
+      return 2;
+    }
     std::fprintf(stderr, "bounce: error: %s (see bounce --help)\n", e.what());
     return 2;
   }
