@@ -52,24 +52,6 @@ scene::Scene planeAndSphere() {
   return s;
 }
 
-scene::CameraPose cameraAt(glm::vec3 position, glm::vec3 target) {
-  scene::CameraPose pose;
-  pose.position = position;
-  pose.target = target;
-  pose.fovYDegrees = 50.0f;
-  return pose;
-}
-
-FrameRendererOptions smallOptions(const scene::Scene& s) {
-  FrameRendererOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
-  options.environment.sun = s.sun;
-  options.environment.hasSun = s.hasSun;
-  options.environment.skyWidth = 32;
-  return options;
-}
-
 // The CPU twin of a G-buffer ray through a pixel centre.
 glm::vec3 rayThrough(const shared::GpuCamera& camera, int x, int y) {
   return shared::cameraRayDirection(camera, glm::vec2(float(x) + 0.5f, float(y) + 0.5f),
@@ -91,7 +73,7 @@ class FrameRendererTest : public testing::GpuTest {
   // Renders the given views in order (one FrameLoop frame each) and returns
   // the G-buffer and direct light of every frame.
   std::vector<Frame> render(const scene::Scene& s, const std::vector<FrameView>& views, bool jitter = false) {
-    FrameRendererOptions options = smallOptions(s);
+    FrameRendererOptions options = testing::smallRendererOptions(s, kWidth, kHeight);
     options.jitter = jitter;
     FrameRenderer renderer(context(), s, options);
     gpu::FrameLoop loop(context(), FrameRenderer::kFramesInFlight);
@@ -112,7 +94,7 @@ class FrameRendererTest : public testing::GpuTest {
 
 TEST_F(FrameRendererTest, PlaneAndSphereGiveExactViewZAndNormals) {
   const scene::Scene s = planeAndSphere();
-  const scene::CameraPose pose = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
+  const scene::CameraPose pose = testing::cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f}, 50.0f);
   const Frame frame = render(s, {{pose, 0.0f, true}})[0];
   const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
   int planePixels = 0, spherePixels = 0;
@@ -161,8 +143,8 @@ TEST_F(FrameRendererTest, PlaneAndSphereGiveExactViewZAndNormals) {
 TEST_F(FrameRendererTest, MotionVectorsReprojectToThePreviousPixel) {
   const scene::Scene s = planeAndSphere();
   // A small move and turn, as between two real frames (motion of a few pixels).
-  const scene::CameraPose first = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
-  const scene::CameraPose second = cameraAt({0.55f, 2.02f, 5.9f}, {0.03f, 0.8f, 0.0f});
+  const scene::CameraPose first = testing::cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f}, 50.0f);
+  const scene::CameraPose second = testing::cameraAt({0.55f, 2.02f, 5.9f}, {0.03f, 0.8f, 0.0f}, 50.0f);
   const std::vector<Frame> frames = render(s, {{first, 0.0f, true}, {second, 0.0f, false}});
   const shared::GpuCamera previous = gpuCamera(first, kWidth, kHeight);
   const shared::GpuCamera current = gpuCamera(second, kWidth, kHeight);
@@ -206,7 +188,7 @@ TEST_F(FrameRendererTest, AnimatedNodeMotionIsInTheMotionVectors) {
                             {0.0f, 1.0f},
                             {glm::vec4(kSphereCenter, 0.0f), glm::vec4(kSphereCenter + glm::vec3(1, 0, 0), 0.0f)}});
   s.animations.push_back(slide);
-  const scene::CameraPose pose = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
+  const scene::CameraPose pose = testing::cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f}, 50.0f);
   const float t0 = 0.25f, t1 = 0.3f;  // the sphere moves 0.05 m
   const std::vector<Frame> frames = render(s, {{pose, t0, true}, {pose, t1, false}});
   const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
@@ -233,7 +215,7 @@ TEST_F(FrameRendererTest, AnimatedNodeMotionIsInTheMotionVectors) {
 
 TEST_F(FrameRendererTest, SunLightsThePlaneByTheBrdfAndShadowsAreBlack) {
   const scene::Scene s = planeAndSphere();
-  const scene::CameraPose pose = cameraAt({0.5f, 3.0f, 6.0f}, {0.0f, 0.3f, 0.0f});
+  const scene::CameraPose pose = testing::cameraAt({0.5f, 3.0f, 6.0f}, {0.0f, 0.3f, 0.0f}, 50.0f);
   const Frame frame = render(s, {{pose, 0.0f, true}})[0];
   const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
   const glm::vec3 toSun = s.sun.direction();
@@ -286,7 +268,7 @@ TEST_F(FrameRendererTest, PointLightFallsOffWithTheInverseSquare) {
   lightNode.local.translation = {0.0f, 2.0f, 0.0f};
   s.nodes.push_back(lightNode);
   s.roots.push_back(2);
-  const scene::CameraPose pose = cameraAt({0.0f, 4.0f, 5.0f}, {0.0f, 0.0f, 0.0f});
+  const scene::CameraPose pose = testing::cameraAt({0.0f, 4.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, 50.0f);
   const Frame frame = render(s, {{pose, 0.0f, true}})[0];
   const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
   const glm::vec3 baseColor = storedBaseColor(s.materials[0].baseColorFactor);
@@ -326,7 +308,7 @@ TEST_F(FrameRendererTest, TooManyLightsAreRefusedNotDropped) {
     s.roots.push_back(int(s.nodes.size()) - 1);
   }
   try {
-    FrameRenderer renderer(context(), s, smallOptions(s));
+    FrameRenderer renderer(context(), s, testing::smallRendererOptions(s, kWidth, kHeight));
     ADD_FAILURE() << "expected an error";
   } catch (const gpu::GpuError& e) {
     EXPECT_NE(std::string(e.what()).find("257 punctual lights"), std::string::npos) << e.what();
@@ -343,8 +325,8 @@ namespace {
 // vectors must still describe only the surface's motion.
 TEST_F(FrameRendererTest, JitterStaysOutOfMotionVectorsAndCutsZeroThem) {
   const scene::Scene s = planeAndSphere();
-  const scene::CameraPose first = cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f});
-  const scene::CameraPose second = cameraAt({0.55f, 2.02f, 5.9f}, {0.03f, 0.8f, 0.0f});
+  const scene::CameraPose first = testing::cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f}, 50.0f);
+  const scene::CameraPose second = testing::cameraAt({0.55f, 2.02f, 5.9f}, {0.03f, 0.8f, 0.0f}, 50.0f);
   const std::vector<Frame> frames =
       render(s, {{first, 0.0f, true}, {second, 0.0f, false}, {first, 0.0f, true}}, /*jitter=*/true);
   const shared::GpuCamera previous = gpuCamera(first, kWidth, kHeight);

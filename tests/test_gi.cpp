@@ -101,14 +101,6 @@ const Emitter kWall{{-2.0f, 0.0f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}
 // Cornell's lamp (1.3 x 1.05, 17 times brighter), facing down at height 3.
 const Emitter kLamp{{-0.65f, 3.0f, -1.525f}, {1.3f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.05f}, {17.0f, 14.45f, 10.2f}};
 
-scene::CameraPose pose(glm::vec3 position, glm::vec3 target, float fovY) {
-  scene::CameraPose p;
-  p.position = position;
-  p.target = target;
-  p.fovYDegrees = fovY;
-  return p;
-}
-
 class GiTest : public testing::GpuTest {
  protected:
   struct Run {
@@ -123,13 +115,8 @@ class GiTest : public testing::GpuTest {
 
   Run start(const scene::Scene& s, const Settings& settings, std::uint32_t width, std::uint32_t height,
             bool jitter = false) {
-    render::FrameRendererOptions options;
-    options.width = width;
-    options.height = height;
+    render::FrameRendererOptions options = testing::smallRendererOptions(s, width, height);
     options.jitter = jitter;
-    options.environment.sun = s.sun;
-    options.environment.hasSun = s.hasSun;
-    options.environment.skyWidth = 32;
     Run run;
     run.scene = std::make_unique<scene::Scene>(s);
     run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene, options);
@@ -215,11 +202,11 @@ class GiTest : public testing::GpuTest {
 // gi.diffuse.gather, and the temporal filter's clipping, each take a few
 // per cent); a broken Jacobian, MIS weight or feedback loses a quarter or more.
 TEST_F(GiTest, FloorBeforeAnEmittingWallGetsTheWallsFormFactor) {
-  checkFloor(kWall, pose({0.0f, 2.5f, 3.0f}, {0.0f, 0.3f, -1.0f}, 60.0f), 0.12f);
+  checkFloor(kWall, testing::cameraAt({0.0f, 2.5f, 3.0f}, {0.0f, 0.3f, -1.0f}, 60.0f), 0.12f);
 }
 
 TEST_F(GiTest, FloorUnderASmallLampGetsTheLampsFormFactor) {
-  checkFloor(kLamp, pose({0.0f, 1.6f, 4.0f}, {0.0f, 1.2f, -1.0f}, 75.0f), 0.12f);
+  checkFloor(kLamp, testing::cameraAt({0.0f, 1.6f, 4.0f}, {0.0f, 1.2f, -1.0f}, 75.0f), 0.12f);
 }
 
 
@@ -256,13 +243,7 @@ io::ImageF referenceIndirectDiffuse(gpu::Context& context, const scene::Scene& s
   const fs::path file = dir / key;
   if (fs::exists(file)) return io::readImage(file);
 
-  render::FrameRendererOptions options;
-  options.width = width;
-  options.height = height;
-  options.environment.sun = s.sun;
-  options.environment.hasSun = s.hasSun;
-  options.environment.skyWidth = 32;
-  render::FrameRenderer renderer(context, s, options);
+  render::FrameRenderer renderer(context, s, testing::smallRendererOptions(s, width, height));
   gpu::FrameLoop loop(context, render::FrameRenderer::kFramesInFlight);
   renderer.record(loop.beginFrame(), loop.frameIndex(), {camera, 0.0f, true});
   loop.endFrame();

@@ -1,4 +1,5 @@
-// Meshes with known geometry for tests that need analytic answers.
+// Meshes with known geometry for tests that need analytic answers, and the
+// cameras and renderer options those tests look at them with.
 #pragma once
 
 #include <cmath>
@@ -6,6 +7,7 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include "render/frame_renderer.h"
 #include "scene/scene.h"
 
 namespace bounce::testing {
@@ -41,6 +43,30 @@ inline scene::Mesh sphereMesh(int segments, int rings) {
       mesh.indices.insert(mesh.indices.end(), {a, a + 1, b, a + 1, b + 1, b});
     }
   return mesh;
+}
+
+// A camera at `position` looking at `target`.
+inline scene::CameraPose cameraAt(glm::vec3 position, glm::vec3 target, float fovYDegrees) {
+  scene::CameraPose pose;
+  pose.position = position;
+  pose.target = target;
+  pose.fovYDegrees = fovYDegrees;
+  return pose;
+}
+
+// Options to render `s` at a test's small size: its sun, and a sky baked
+// 32 pixels wide (plenty for images this small, and quick on lavapipe);
+// `environment` carries any other environment setting (a map, intensity).
+inline render::FrameRendererOptions smallRendererOptions(const scene::Scene& s, std::uint32_t width,
+                                                         std::uint32_t height, render::EnvironmentDesc environment = {}) {
+  render::FrameRendererOptions options;
+  options.width = width;
+  options.height = height;
+  options.environment = environment;
+  options.environment.sun = s.sun;
+  options.environment.hasSun = s.hasSun;
+  options.environment.skyWidth = 32;
+  return options;
 }
 
 }  // namespace bounce::testing

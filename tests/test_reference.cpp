@@ -118,15 +118,8 @@ class ReferenceTest : public testing::GpuTest {
 
   Run start(const scene::Scene& s, const scene::CameraPose& camera, ReferenceOptions options,
             EnvironmentDesc environment = {}, std::uint32_t width = 16, std::uint32_t height = 16) {
-    FrameRendererOptions frameOptions;
-    frameOptions.width = width;
-    frameOptions.height = height;
-    environment.sun = s.sun;
-    environment.hasSun = s.hasSun;
-    environment.skyWidth = 32;
-    frameOptions.environment = environment;
     Run run;
-    run.frame = std::make_unique<FrameRenderer>(context(), s, frameOptions);
+    run.frame = std::make_unique<FrameRenderer>(context(), s, testing::smallRendererOptions(s, width, height, environment));
     run.loop = std::make_unique<gpu::FrameLoop>(context(), FrameRenderer::kFramesInFlight);
     run.frame->record(run.loop->beginFrame(), run.loop->frameIndex(), {camera, 0.0f, false});
     run.loop->endFrame();
@@ -154,16 +147,8 @@ class ReferenceTest : public testing::GpuTest {
   }
 };
 
-scene::CameraPose cameraAt(glm::vec3 position, glm::vec3 target, float fovYDegrees) {
-  scene::CameraPose pose;
-  pose.position = position;
-  pose.target = target;
-  pose.fovYDegrees = fovYDegrees;
-  return pose;
-}
-
 // From the furnace's centre, so every primary ray meets the sphere head on.
-scene::CameraPose furnaceCamera() { return cameraAt(glm::vec3(0.0f), glm::vec3(0.3f, -0.2f, -1.0f), 60.0f); }
+scene::CameraPose furnaceCamera() { return testing::cameraAt(glm::vec3(0.0f), glm::vec3(0.3f, -0.2f, -1.0f), 60.0f); }
 
 TEST_F(ReferenceTest, LambertFurnaceGlowsWithEmissionOverOneMinusAlbedo) {
   const glm::vec3 emission(1.0f, 0.5f, 0.25f);
@@ -199,7 +184,7 @@ TEST_F(ReferenceTest, MirrorFurnaceGlowsWithEmissionOverOneMinusReflectance) {
   expectNear(meanOf(images.radiance), emission / (1.0f - f0), 0.01f, "radiance");
 }
 
-scene::CameraPose lookingDownAtThePlane() { return cameraAt(glm::vec3(0.0f, 2.0f, 2.0f), glm::vec3(0.0f), 30.0f); }
+scene::CameraPose lookingDownAtThePlane() { return testing::cameraAt(glm::vec3(0.0f, 2.0f, 2.0f), glm::vec3(0.0f), 30.0f); }
 
 TEST_F(ReferenceTest, LambertPlaneUnderAUniformSkyReflectsAlbedoTimesSky) {
   const glm::vec3 sky(0.5f, 1.0f, 2.0f);

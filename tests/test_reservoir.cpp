@@ -14,6 +14,7 @@
 #include "shared/reservoir.glsl"
 #include "shared/rng.glsl"
 #include "shared/screen_view.glsl"
+#include "test_meshes.h"
 
 namespace bounce::shared {
 namespace {
@@ -206,10 +207,7 @@ TEST(Reservoir, TemporalAndSpatialReuseStayUnbiased) {
 // reconstructed from its viewZ lies on the renderer's ray through that pixel
 // (jitter included), and projects back to the pixel's centre.
 TEST(ScreenView, AgreesWithTheRenderersCamera) {
-  scene::CameraPose pose;
-  pose.position = vec3(1.0f, 2.0f, 5.0f);
-  pose.target = vec3(-0.5f, 0.7f, -1.0f);
-  pose.fovYDegrees = 55.0f;
+  const scene::CameraPose pose = testing::cameraAt(vec3(1.0f, 2.0f, 5.0f), vec3(-0.5f, 0.7f, -1.0f), 55.0f);
   const std::uint32_t width = 320, height = 180;
   const vec2 size(width, height), jitter(0.31f, -0.27f);
   const gi::Camera camera = render::giCamera(pose, width, height, jitter);

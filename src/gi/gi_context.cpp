@@ -9,6 +9,7 @@
 #include "bounce/gi.h"
 #include "gi/gi_types.glsl"
 #include "gi/passes.h"
+#include "gpu/format.h"
 #include "gpu/pass.h"
 
 namespace bounce::gi {
@@ -17,14 +18,7 @@ namespace {
 using shared::GiFrameConstants;
 using shared::ScreenView;
 
-constexpr VkFormat kR32f = VK_FORMAT_R32_SFLOAT;
-constexpr VkFormat kRg16f = VK_FORMAT_R16G16_SFLOAT;
-constexpr VkFormat kRgba8 = VK_FORMAT_R8G8B8A8_UNORM;
-constexpr VkFormat kRgba16f = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr VkFormat kRgba32f = VK_FORMAT_R32G32B32A32_SFLOAT;
-constexpr VkFormat kRg32f = VK_FORMAT_R32G32_SFLOAT;
-constexpr VkFormat kRg32ui = VK_FORMAT_R32G32_UINT;
-constexpr VkFormat kRgba32ui = VK_FORMAT_R32G32B32A32_UINT;
+using namespace gpu::formats;
 
 bool finite(const glm::mat4& m) {
   for (int c = 0; c < 4; ++c)

@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "gpu/format.h"
+
 namespace bounce::gi {
 namespace {
 
@@ -9,14 +11,7 @@ using gpu::Access;
 using gpu::ResourceDecl;
 using gpu::ResourceKind;
 
-constexpr VkFormat kR32f = VK_FORMAT_R32_SFLOAT;
-constexpr VkFormat kRg16f = VK_FORMAT_R16G16_SFLOAT;
-constexpr VkFormat kRgba8 = VK_FORMAT_R8G8B8A8_UNORM;
-constexpr VkFormat kRgba16f = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr VkFormat kRgba32f = VK_FORMAT_R32G32B32A32_SFLOAT;
-constexpr VkFormat kRg32f = VK_FORMAT_R32G32_SFLOAT;
-constexpr VkFormat kRg32ui = VK_FORMAT_R32G32_UINT;
-constexpr VkFormat kRgba32ui = VK_FORMAT_R32G32B32A32_UINT;
+using namespace gpu::formats;
 
 ResourceDecl frameConstants() {
   return {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "cameras, sizes, settings", ResourceKind::UniformBuffer};

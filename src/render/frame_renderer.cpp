@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "gpu/error.h"
+#include "gpu/format.h"
 #include "gpu/transfer.h"
 #include "render/bvh.h"
 #include "render/frame_types.glsl"
@@ -23,11 +24,7 @@ using shared::GpuInstance;
 using shared::GpuLight;
 using shared::GpuMaterial;
 
-constexpr VkFormat kR32f = VK_FORMAT_R32_SFLOAT;
-constexpr VkFormat kRgba16f = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr VkFormat kRgba8 = VK_FORMAT_R8G8B8A8_UNORM;
-constexpr VkFormat kRg16f = VK_FORMAT_R16G16_SFLOAT;
-constexpr VkFormat kR32ui = VK_FORMAT_R32_UINT;
+using namespace gpu::formats;
 
 }  // namespace
 

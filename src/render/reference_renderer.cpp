@@ -4,15 +4,13 @@
 #include <cmath>
 
 #include "gpu/error.h"
+#include "gpu/format.h"
 #include "gpu/transfer.h"
 
 namespace bounce::render {
 namespace {
 
-constexpr VkFormat kR32f = VK_FORMAT_R32_SFLOAT;
-constexpr VkFormat kRgba8 = VK_FORMAT_R8G8B8A8_UNORM;
-constexpr VkFormat kRgba16f = VK_FORMAT_R16G16B16A16_SFLOAT;
-constexpr VkFormat kRgba32f = VK_FORMAT_R32G32B32A32_SFLOAT;
+using namespace gpu::formats;
 // Paths per dispatch the automatic samplesPerDispatch aims for on a GPU.
 constexpr double kPathsPerDispatch = 1 << 20;
 
