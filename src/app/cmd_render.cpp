@@ -127,7 +127,8 @@ int runRender(const RenderOptions& options) {
     if (gi) giContext->record(recorder, render::giFrameInputs(renderer, index, view, previous, options.jitter));
     previous = view;
   };
-  if (gi && options.gi.warmup > 0) {
+  const bool warmUp = gi && options.gi.warmup > 0;
+  if (warmUp) {
     // Light needs frames to bounce (each frame gathers the last one) and the
     // histories to fill: render them at the first camera, unseen.
     ProgressBar warming("gi warm-up", options.gi.warmup);
@@ -139,7 +140,7 @@ int runRender(const RenderOptions& options) {
     warming.finish();
   }
   // Dumps are numbered by output frame, whatever warm-up came before.
-  const std::uint64_t firstOutputIndex = loop.frameIndex() + (gi && options.gi.warmup > 0 ? 1 : 0);
+  const std::uint64_t firstOutputIndex = loop.frameIndex() + (warmUp ? 1 : 0);
   const auto takeCaptures = [&] {
     for (gpu::CapturedStage& c : loop.takeCaptures()) {
       c.frame -= firstOutputIndex;
@@ -152,7 +153,7 @@ int runRender(const RenderOptions& options) {
     const scene::CameraFrame& camera = cameraFrames[frame];
     // The path's first frame is a cut, unless the warm-up already stood there.
     const bool asked = std::find(options.cutFrames.begin(), options.cutFrames.end(), frame) != options.cutFrames.end();
-    const bool cut = asked || (camera.cut && !(frame == 0 && gi && options.gi.warmup > 0));
+    const bool cut = asked || (camera.cut && !(frame == 0 && warmUp));
     recordFrame(recorder, {camera.pose, float(frame) / shot.fps, cut});
     loop.endFrame();
     takeCaptures();

@@ -71,6 +71,7 @@ struct GiContext::Impl {
   Settings settings;
   bool hasHistory = false;
   Camera lastCamera;
+  std::uint64_t lastFrame = 0;  // the index of the last frame recorded: its images are the current ones
 
   std::unique_ptr<gpu::Buffer> constants;
   gpu::HistoryImage surface, composite, filtered, moments, reservoir0, reservoir1;
@@ -143,7 +144,7 @@ struct GiContext::Impl {
                                     "; the context is " + std::to_string(width) + "x" + std::to_string(height));
       if (format != VK_FORMAT_UNDEFINED && image->format() != format)
         throw std::invalid_argument(std::string("gi: frame input ") + name + " '" + image->name() +
-                                    "' has the wrong format (docs/gi.md lists each input's)");
+                                    "' has the wrong format (include/bounce/gi.h lists each input's)");
     };
     check(frame.viewZ, "viewZ", kR32f);
     check(frame.normalRoughness, "normalRoughness", kRgba16f);
@@ -289,27 +290,22 @@ struct GiContext::Impl {
                          {"gOut_Reservoir0", temporalOut0},
                          {"gOut_Reservoir1", temporalOut1}});
       if (showReservoirs) viewReservoirs(recorder, frame, 1, temporalOut0, temporalOut1);
-      const SpatialReuseParams first{d.spatialRadius, d.spatialSamples, 0u};
-      recorder.dispatch(*spatialReuse, halfWidth, halfHeight,
-                        {{"gIn_Frame", *constants},
-                         {"gIn_ViewZ", *frame.viewZ},
-                         {"gIn_NormalRoughness", *frame.normalRoughness},
-                         {"gIn_Reservoir0", temporalOut0},
-                         {"gIn_Reservoir1", temporalOut1},
-                         {"gOut_Reservoir0", *spatial0},
-                         {"gOut_Reservoir1", *spatial1}},
-                        first);
+      // The two spatial passes are one shader with other parameters.
+      const auto spatialPass = [&](gpu::Image& in0, gpu::Image& in1, gpu::Image& out0, gpu::Image& out1,
+                                   const SpatialReuseParams& params) {
+        recorder.dispatch(*spatialReuse, halfWidth, halfHeight,
+                          {{"gIn_Frame", *constants},
+                           {"gIn_ViewZ", *frame.viewZ},
+                           {"gIn_NormalRoughness", *frame.normalRoughness},
+                           {"gIn_Reservoir0", in0},
+                           {"gIn_Reservoir1", in1},
+                           {"gOut_Reservoir0", out0},
+                           {"gOut_Reservoir1", out1}},
+                          params);
+      };
+      spatialPass(temporalOut0, temporalOut1, *spatial0, *spatial1, {d.spatialRadius, d.spatialSamples, 0u});
       if (showReservoirs) viewReservoirs(recorder, frame, 2, *spatial0, *spatial1);
-      const SpatialReuseParams second{d.spatial2Radius, d.spatial2Samples, 1u};
-      recorder.dispatch(*spatialReuse, halfWidth, halfHeight,
-                        {{"gIn_Frame", *constants},
-                         {"gIn_ViewZ", *frame.viewZ},
-                         {"gIn_NormalRoughness", *frame.normalRoughness},
-                         {"gIn_Reservoir0", *spatial0},
-                         {"gIn_Reservoir1", *spatial1},
-                         {"gOut_Reservoir0", spatialOut0},
-                         {"gOut_Reservoir1", spatialOut1}},
-                        second);
+      spatialPass(*spatial0, *spatial1, spatialOut0, spatialOut1, {d.spatial2Radius, d.spatial2Samples, 1u});
       final0 = &spatialOut0;
       final1 = &spatialOut1;
       if (showReservoirs) viewReservoirs(recorder, frame, 3, *final0, *final1);
@@ -334,8 +330,6 @@ struct GiContext::Impl {
                        {"gOut_Filtered", filtered.current(f)},
                        {"gOut_Moments", moments.current(f)}});
   }
-
-  std::uint64_t lastFrame = 0;
 };
 
 GiContext::GiContext(gpu::Context& device, std::uint32_t width, std::uint32_t height, const Settings& settings) {
