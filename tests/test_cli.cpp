@@ -147,13 +147,14 @@ TEST(Cli, RenderWithGiSettingsDumpsEveryGiStageAndItsValidationSheet) {
                  out.string());
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output.find("validation message"), std::string::npos) << r.output;
-  for (const char* pass : {"gi.store_history", "gi.diffuse.gather", "gi.diffuse.temporal_reuse",
-                           "gi.diffuse.spatial_reuse", "gi.diffuse.resolve", "gi.diffuse.temporal_filter",
-                           "gi.composite"})
+  for (const char* pass :
+       {"gi.store_history", "gi.diffuse.gather", "gi.diffuse.temporal_reuse", "gi.diffuse.spatial_reuse",
+        "gi.diffuse.resolve", "gi.diffuse.temporal_filter", "gi.composite"})
     EXPECT_NE(r.output.find(pass), std::string::npos) << "timing table lists " << pass << ": " << r.output;
-  for (const char* stem : {"frame0001.gi.diffuse.reservoir_view.spatial_reuse2.gOut_M",
-                           "frame0001.gi.diffuse.reservoir_view.gather.gOut_W", "frame0001.gi.diffuse.resolve.gOut_Diffuse",
-                           "frame0001.gi.diffuse.temporal_filter.gOut_Filtered", "frame0001.gi.composite.gOut_Composite"})
+  for (const char* stem :
+       {"frame0001.gi.diffuse.reservoir_view.spatial_reuse2.gOut_M",
+        "frame0001.gi.diffuse.reservoir_view.gather.gOut_W", "frame0001.gi.diffuse.resolve.gOut_Diffuse",
+        "frame0001.gi.diffuse.temporal_filter.gOut_Filtered", "frame0001.gi.composite.gOut_Composite"})
     EXPECT_TRUE(fs::exists(out / "stages" / (std::string(stem) + ".png"))) << stem;
   EXPECT_TRUE(fs::exists(out / "stages" / "frame0001.validation.png"));
   EXPECT_TRUE(fs::exists(out / "aov" / "indirect-diffuse.exr"));
@@ -256,13 +257,13 @@ namespace {
 
 TEST(Cli, ReferenceWritesTheFrameItsPartsAndItsGBuffer) {
   const fs::path dir = freshDirectory("reference");
-  Result r = run("reference cornell --width 24 --height 16 --spp 4 --halves --validate --out " +
-                 (dir / "ref.exr").string());
+  Result r =
+      run("reference cornell --width 24 --height 16 --spp 4 --halves --validate --out " + (dir / "ref.exr").string());
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  for (const char* name : {"ref.exr", "ref.png", "ref.direct.exr", "ref.indirect-diffuse.exr",
-                           "ref.indirect-specular.exr", "ref.indirect-diffuse.png", "ref.halfA.exr", "ref.halfB.exr",
-                           "ref.json", "ref.sheet.png", "ref.gbuffer/viewZ.exr", "ref.gbuffer/normal.exr", "ref.gbuffer/sheet.png",
-                           "ref.gbuffer/normals.png"})
+  for (const char* name :
+       {"ref.exr", "ref.png", "ref.direct.exr", "ref.indirect-diffuse.exr", "ref.indirect-specular.exr",
+        "ref.indirect-diffuse.png", "ref.halfA.exr", "ref.halfB.exr", "ref.json", "ref.sheet.png",
+        "ref.gbuffer/viewZ.exr", "ref.gbuffer/normal.exr", "ref.gbuffer/sheet.png", "ref.gbuffer/normals.png"})
     EXPECT_TRUE(fs::exists(dir / name)) << name << "\n" << r.output;
   const bounce::io::ImageF image = bounce::io::readImage(dir / "ref.exr");
   EXPECT_EQ(image.width, 24);
@@ -278,8 +279,8 @@ TEST(Cli, ReferenceWritesTheFrameItsPartsAndItsGBuffer) {
 TEST(Cli, ReferenceStopsAtTheTargetRelMse) {
   const fs::path dir = freshDirectory("reference_target");
   // A loose target is met at the first check (16 spp), long before --spp.
-  Result r = run("reference cornell --width 16 --height 12 --spp 4096 --target-relmse 10 --out " +
-                 (dir / "ref.exr").string());
+  Result r =
+      run("reference cornell --width 16 --height 12 --spp 4096 --target-relmse 10 --out " + (dir / "ref.exr").string());
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("reached --target-relmse 10 at 16 spp"), std::string::npos) << r.output;
   fs::remove_all(dir);
@@ -288,9 +289,9 @@ TEST(Cli, ReferenceStopsAtTheTargetRelMse) {
 TEST(Cli, ReferenceBadArgumentsAreOneClearLine) {
   const fs::path dir = freshDirectory("reference_bad");
   const std::vector<std::string> cases = {"reference cornell --spp 0",
-                                         "reference cornell --out " + (dir / "ref.png").string(),
-                                         "reference no-such-scene --out " + (dir / "ref.exr").string(),
-                                         "reference cornell --max-bounces 0", "reference cornell --target-relmse -1"};
+                                          "reference cornell --out " + (dir / "ref.png").string(),
+                                          "reference no-such-scene --out " + (dir / "ref.exr").string(),
+                                          "reference cornell --max-bounces 0", "reference cornell --target-relmse -1"};
   for (const std::string& arguments : cases) {
     Result r = run(arguments);
     EXPECT_NE(r.exitCode, 0) << arguments;

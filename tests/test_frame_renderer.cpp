@@ -12,10 +12,10 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
-#include "test_meshes.h"
 #include "render/frame_types.glsl"
 #include "shared/brdf.glsl"
 #include "shared/intersect.glsl"
+#include "test_meshes.h"
 
 namespace bounce::render {
 namespace {

@@ -209,7 +209,6 @@ TEST_F(GiTest, FloorUnderASmallLampGetsTheLampsFormFactor) {
   checkFloor(kLamp, testing::cameraAt({0.0f, 1.6f, 4.0f}, {0.0f, 1.2f, -1.0f}, 75.0f), 0.12f);
 }
 
-
 // --- cornell against the reference path tracer
 
 constexpr std::uint32_t kSmallWidth = 64, kSmallHeight = 48;
@@ -294,8 +293,8 @@ TEST_F(GiTest, ReusePaysAtTheFirstFrameWithoutHistory) {
     advance(run, cornellFront(), true);  // the cut
     errors[reuse] = relMse(truth, indirect(run));
   }
-  std::printf("first frame without history: relMSE %.4f with reuse, %.4f without (ratio %.3f)\n", errors[1],
-              errors[0], errors[1] / errors[0]);
+  std::printf("first frame without history: relMSE %.4f with reuse, %.4f without (ratio %.3f)\n", errors[1], errors[0],
+              errors[1] / errors[0]);
   EXPECT_LE(errors[1], errors[0] / 4.0);
 }
 

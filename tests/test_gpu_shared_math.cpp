@@ -85,7 +85,8 @@ TEST_F(SharedMathOnGpu, MatchesCpuOnThousandsOfRandomInputs) {
     }
     ASSERT_TRUE(closeEnough(gpu.normalHit.w, cpu.normalHit.w, 1e-4f, 1e-5f)) << "intersectSphere, input " << i;
     ASSERT_TRUE(closeEnough(gpu.display.w, cpu.display.w, 1e-4f, 1e-5f)) << "displayEncode, input " << i;
-    ASSERT_TRUE(closeEnough(gpu.material.x, cpu.material.x, 2e-3f, 1e-5f)) << "materialBrdfCosine, input " << i << ": " << gpu.material.x << " vs " << cpu.material.x;
+    ASSERT_TRUE(closeEnough(gpu.material.x, cpu.material.x, 2e-3f, 1e-5f))
+        << "materialBrdfCosine, input " << i << ": " << gpu.material.x << " vs " << cpu.material.x;
     ASSERT_TRUE(closeEnough(gpu.material.y, cpu.material.y, 2e-3f, 1e-5f)) << "pdfMaterial, input " << i;
     ASSERT_TRUE(closeEnough(gpu.material.z, cpu.material.z, 1e-4f, 1e-6f)) << "specularReflectance, input " << i;
     ASSERT_EQ(gpu.sampled.w, cpu.sampled.w) << "sampleMaterial's verdict, input " << i;

@@ -58,7 +58,8 @@ inline scene::CameraPose cameraAt(glm::vec3 position, glm::vec3 target, float fo
 // 32 pixels wide (plenty for images this small, and quick on lavapipe);
 // `environment` carries any other environment setting (a map, intensity).
 inline render::FrameRendererOptions smallRendererOptions(const scene::Scene& s, std::uint32_t width,
-                                                         std::uint32_t height, render::EnvironmentDesc environment = {}) {
+                                                         std::uint32_t height,
+                                                         render::EnvironmentDesc environment = {}) {
   render::FrameRendererOptions options;
   options.width = width;
   options.height = height;

@@ -78,8 +78,7 @@ double rmseAgainst(const io::ImageF& image, glm::vec3 expected) {
 }
 
 void expectNear(glm::vec3 actual, glm::vec3 expected, float relative, const char* what) {
-  for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(actual[c], expected[c], relative * expected[c]) << what << ", channel " << c;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(actual[c], expected[c], relative * expected[c]) << what << ", channel " << c;
 }
 
 // The specular lobe's directional albedo by Monte Carlo: the mean of
@@ -119,7 +118,8 @@ class ReferenceTest : public testing::GpuTest {
   Run start(const scene::Scene& s, const scene::CameraPose& camera, ReferenceOptions options,
             EnvironmentDesc environment = {}, std::uint32_t width = 16, std::uint32_t height = 16) {
     Run run;
-    run.frame = std::make_unique<FrameRenderer>(context(), s, testing::smallRendererOptions(s, width, height, environment));
+    run.frame =
+        std::make_unique<FrameRenderer>(context(), s, testing::smallRendererOptions(s, width, height, environment));
     run.loop = std::make_unique<gpu::FrameLoop>(context(), FrameRenderer::kFramesInFlight);
     run.frame->record(run.loop->beginFrame(), run.loop->frameIndex(), {camera, 0.0f, false});
     run.loop->endFrame();
@@ -184,7 +184,9 @@ TEST_F(ReferenceTest, MirrorFurnaceGlowsWithEmissionOverOneMinusReflectance) {
   expectNear(meanOf(images.radiance), emission / (1.0f - f0), 0.01f, "radiance");
 }
 
-scene::CameraPose lookingDownAtThePlane() { return testing::cameraAt(glm::vec3(0.0f, 2.0f, 2.0f), glm::vec3(0.0f), 30.0f); }
+scene::CameraPose lookingDownAtThePlane() {
+  return testing::cameraAt(glm::vec3(0.0f, 2.0f, 2.0f), glm::vec3(0.0f), 30.0f);
+}
 
 TEST_F(ReferenceTest, LambertPlaneUnderAUniformSkyReflectsAlbedoTimesSky) {
   const glm::vec3 sky(0.5f, 1.0f, 2.0f);
@@ -208,8 +210,7 @@ TEST_F(ReferenceTest, LambertPlaneUnderAUniformSkyReflectsAlbedoTimesSky) {
     // specularReflectance()'s fit.
     scene::Material glossy = lambert(glm::vec3(albedo));
     glossy.roughnessFactor = 0.5f;
-    Run run = start(oneMeshScene("plane", testing::planeMesh(50.0f), glossy), lookingDownAtThePlane(), {},
-                    environment);
+    Run run = start(oneMeshScene("plane", testing::planeMesh(50.0f), glossy), lookingDownAtThePlane(), {}, environment);
     run.addSamples(16);
     const ReferenceImages images = run.resolve();
     expectNear(meanOf(images.indirectDiffuse), sky, 0.01f, "demodulated diffuse");
@@ -230,8 +231,8 @@ TEST_F(ReferenceTest, BrightSkyPatchGivesTheCosineWeightedIntegralOfTheMap) {
   const glm::ivec4 patch(40, 6, 3, 2);  // texels x, y, width, height of the 64 x 32 map
   EnvironmentDesc environment;
   environment.map = writeEnvironment("patch", base, patch, patchRadiance);
-  Run run = start(oneMeshScene("plane", testing::planeMesh(50.0f), lambert(glm::vec3(0.5f))),
-                  lookingDownAtThePlane(), {}, environment);
+  Run run = start(oneMeshScene("plane", testing::planeMesh(50.0f), lambert(glm::vec3(0.5f))), lookingDownAtThePlane(),
+                  {}, environment);
   run.addSamples(64);
   const ReferenceImages images = run.resolve();
 
@@ -315,11 +316,13 @@ TEST_F(ReferenceTest, SingleSidedEmittersLightOnlyTheirFrontSide) {
   // A furnace whose shell faces outwards and is single-sided: seen and lit
   // from inside, it emits nothing, so everything inside is black.
   scene::Material material = lambert(glm::vec3(0.5f));
-  Run run = start([&] {
-    scene::Scene s = furnace(material, glm::vec3(1.0f));
-    s.materials[0].doubleSided = false;
-    return s;
-  }(), furnaceCamera(), {});
+  Run run = start(
+      [&] {
+        scene::Scene s = furnace(material, glm::vec3(1.0f));
+        s.materials[0].doubleSided = false;
+        return s;
+      }(),
+      furnaceCamera(), {});
   run.addSamples(4);
   const ReferenceImages images = run.resolve();
   EXPECT_EQ(meanOf(images.radiance), glm::vec3(0.0f));

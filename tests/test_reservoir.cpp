@@ -150,8 +150,8 @@ TEST(Reservoir, TemporalAndSpatialReuseStayUnbiased) {
         const float d2 = dot(d, d);
         const float pdf = (wallShare / wallArea) * d2 / (dot(wallNormal, d) / std::sqrt(d2));
         const float pHat = targetPdf(candidate, receivers[i], up, 0u);
-        reservoirStream(fresh, candidate.position, candidate.normal, candidate.radiance, 0u,
-                        pHat / (candidates * pdf), 0.0f, u2);
+        reservoirStream(fresh, candidate.position, candidate.normal, candidate.radiance, 0u, pHat / (candidates * pdf),
+                        0.0f, u2);
       }
       reservoirFinalize(fresh, targetPdf(fresh, receivers[i], up, 0u), 1.0f);
       fresh.M = 1.0f;

@@ -577,8 +577,8 @@ TEST(Material, SpecularReflectanceFitFollowsTheLobesAlbedo) {
       for (float cosThetaV : kViewCosines) {
         const glm::vec3 v = viewAt(cosThetaV, n);
         const DirectionGrid grid = reflectionGrid(n, v, ggxAlpha(roughness));
-        const double albedo =
-            integrate(grid, [&](glm::vec3 l) { return ggxSpecularCosine(n, v, l, glm::vec3(f0), ggxAlpha(roughness)).x; });
+        const double albedo = integrate(
+            grid, [&](glm::vec3 l) { return ggxSpecularCosine(n, v, l, glm::vec3(f0), ggxAlpha(roughness)).x; });
         const double fit = specularReflectance(glm::vec3(f0), cosThetaV, roughness).x;
         std::printf("[reflectance] F0 %.2f r %.2f cos %.2f: albedo %.4f fit %.4f\n", f0, roughness, cosThetaV, albedo,
                     fit);

@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
+#include <glm/glm.hpp>
 
 #include "bounce/gi_settings.h"
 #include "gpu/context.h"
@@ -49,15 +49,15 @@ struct Camera {
 // What the engine hands the library each frame: its images (all the
 // context's size, in these formats; docs/conventions.md) and cameras.
 struct FrameInputs {
-  gpu::Image* viewZ = nullptr;              // r32f: positive distance along the view axis; 0 = background
-  gpu::Image* normalRoughness = nullptr;    // rgba16f: world shading normal, perceptual roughness
-  gpu::Image* baseColorMetallic = nullptr;  // rgba8: linear base colour, metallic
-  gpu::Image* motion = nullptr;             // rg16f: pixels, previous position = current + motion
-  gpu::Image* direct = nullptr;             // rgba16f: direct light, linear HDR; background pixels show the sky
-  gpu::Image* emissive = nullptr;           // optional rgba16f: emission, added by the composite (leave null
-                                            // when `direct` already holds it)
-  gpu::Image* environment = nullptr;        // rgba16f equirect with a prefiltered mip chain (mip k = GGX
-                                            // roughness k / (levels - 1)); sampled
+  gpu::Image* viewZ = nullptr;                    // r32f: positive distance along the view axis; 0 = background
+  gpu::Image* normalRoughness = nullptr;          // rgba16f: world shading normal, perceptual roughness
+  gpu::Image* baseColorMetallic = nullptr;        // rgba8: linear base colour, metallic
+  gpu::Image* motion = nullptr;                   // rg16f: pixels, previous position = current + motion
+  gpu::Image* direct = nullptr;                   // rgba16f: direct light, linear HDR; background pixels show the sky
+  gpu::Image* emissive = nullptr;                 // optional rgba16f: emission, added by the composite (leave null
+                                                  // when `direct` already holds it)
+  gpu::Image* environment = nullptr;              // rgba16f equirect with a prefiltered mip chain (mip k = GGX
+                                                  // roughness k / (levels - 1)); sampled
   VkSampler environmentSampler = VK_NULL_HANDLE;  // repeats in u
   Camera camera;
   Camera previousCamera;  // ignored on a cut

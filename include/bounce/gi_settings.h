@@ -32,8 +32,8 @@ struct DiffuseSettings {
   TargetFunction target = TargetFunction::Luminance;
 
   // --- temporal reuse (half resolution)
-  std::uint32_t temporalMaxM = 20;        // history counts as at most this many frames of samples
-  float temporalDepthTolerance = 0.05f;   // reprojected depth may differ by this fraction of viewZ
+  std::uint32_t temporalMaxM = 20;       // history counts as at most this many frames of samples
+  float temporalDepthTolerance = 0.05f;  // reprojected depth may differ by this fraction of viewZ
   float temporalNormalToleranceDegrees = 25.0f;
 
   // --- spatial reuse (half resolution): two passes
@@ -64,7 +64,7 @@ struct DiffuseSettings {
   float offscreenEnvironmentVisibility = 0.0f;
 
   // --- temporal filter (full resolution)
-  float varianceClippingGamma = 1.5f;   // history clipped to mean +- gamma * sigma of the 3x3 neighbourhood
+  float varianceClippingGamma = 1.5f;       // history clipped to mean +- gamma * sigma of the 3x3 neighbourhood
   std::uint32_t temporalFilterFrames = 64;  // the longest history the filter accumulates
 };
 

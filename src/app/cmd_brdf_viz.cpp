@@ -133,7 +133,8 @@ void writeSweep(const BrdfVizOptions& options, const fs::path& path, const char*
 
 CLI::App* addBrdfVizCommand(CLI::App& app, BrdfVizOptions& options) {
   CLI::App* command = app.add_subcommand(
-      "brdf-viz", "Animated hemisphere plots of the material model (reflectance, pdf, samples; roughness and view sweeps) as APNG");
+      "brdf-viz",
+      "Animated hemisphere plots of the material model (reflectance, pdf, samples; roughness and view sweeps) as APNG");
   command->add_option("--out", options.out, "Output directory (created if missing)");
   command->add_option("--size", options.size, "Plot diameter in pixels")->check(CLI::Range(32u, 2048u));
   command->add_option("--frames", options.frames, "Frames per sweep")->check(CLI::Range(1u, 1000u));

@@ -71,9 +71,10 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
   command->add_option("--spp", options.spp, "Samples per pixel (each: one diffuse and one specular path)")
       ->check(CLI::Range(1u, 1u << 24))
       ->capture_default_str();
-  command->add_option("--target-relmse", options.targetRelMse,
-                      "Stop early once the relMSE between the two independent halves of the samples is below "
-                      "this (checked at every power of two spp from 16); --spp is then the most it takes")
+  command
+      ->add_option("--target-relmse", options.targetRelMse,
+                   "Stop early once the relMSE between the two independent halves of the samples is below "
+                   "this (checked at every power of two spp from 16); --spp is then the most it takes")
       ->check(CLI::PositiveNumber);
   command->add_option("--max-bounces", options.maxBounces, "Surfaces a path may bounce off after the primary hit")
       ->check(CLI::Range(1u, 1000u))
@@ -195,10 +196,10 @@ int runReference(const ReferenceCommandOptions& options) {
     return io::toDisplay(image, io::PngEncoding::Tonemapped, options.exposure);
   };
   io::writePng(sibling(out, ".sheet.png"),
-               labelledSheet({display(images.direct), display(images.indirectDiffuse),
-                              display(images.indirectSpecular), display(images.radiance)},
-                             {"direct light only", "indirect diffuse (demodulated)",
-                              "indirect specular (demodulated)", "reference: all light"},
+               labelledSheet({display(images.direct), display(images.indirectDiffuse), display(images.indirectSpecular),
+                              display(images.radiance)},
+                             {"direct light only", "indirect diffuse (demodulated)", "indirect specular (demodulated)",
+                              "reference: all light"},
                              2),
                io::PngEncoding::Linear);
   if (!captures.empty()) {

@@ -77,7 +77,8 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
 }
 
 int runRender(const RenderOptions& options) {
-  for (const auto& [flag, frames] : {std::pair{"--dump-frames", &options.dumpFrames}, {"--cut-frames", &options.cutFrames}})
+  for (const auto& [flag, frames] :
+       {std::pair{"--dump-frames", &options.dumpFrames}, {"--cut-frames", &options.cutFrames}})
     for (std::uint32_t f : *frames)
       if (f >= options.frames)
         throw std::runtime_error(std::string(flag) + " " + std::to_string(f) + " is past the last frame (" +
@@ -193,8 +194,8 @@ int runRender(const RenderOptions& options) {
       io::writeApng(outDir / "animation.png", animation, shot.fps);
       std::printf("wrote %s (animated PNG)\n", (outDir / "animation.png").c_str());
     } else {
-      std::printf("no animated PNG: %u frames of %ux%u is more than it keeps in memory\n", options.frames,
-                  shot.width, shot.height);
+      std::printf("no animated PNG: %u frames of %ux%u is more than it keeps in memory\n", options.frames, shot.width,
+                  shot.height);
     }
     encodeVideo(framesDir, outDir / "render.mp4", shot.fps);
   }

@@ -11,12 +11,14 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
   command.add_option("--gi", options.mode, "Global illumination: diffuse (the GI library's indirect diffuse) or off")
       ->check(CLI::IsMember({"diffuse", "off"}))
       ->capture_default_str();
-  command.add_option("--gi-settings", options.settingsFile,
-                     "JSON file of GI settings (docs/gi-settings.md); --gi.KEY flags override it")
+  command
+      .add_option("--gi-settings", options.settingsFile,
+                  "JSON file of GI settings (docs/gi-settings.md); --gi.KEY flags override it")
       ->check(CLI::ExistingFile);
-  command.add_option("--gi-warmup", options.warmup,
-                     "Frames rendered at the first camera before the first output frame, so that light has "
-                     "bounced and histories have filled (GI only)")
+  command
+      .add_option("--gi-warmup", options.warmup,
+                  "Frames rendered at the first camera before the first output frame, so that light has "
+                  "bounced and histories have filled (GI only)")
       ->check(CLI::Range(0u, 10000u))
       ->capture_default_str();
   // One flag per setting, in the table's order; their values are applied

@@ -5,18 +5,18 @@
 #include <map>
 
 #include "app/plot.h"
-#include "io/colormap.h"
 #include "gpu/stage_dump.h"
 #include "gpu/transfer.h"
+#include "io/colormap.h"
 
 namespace bounce::app {
 
 namespace fs = std::filesystem;
 
 const std::set<std::string>& knownAovs() {
-  static const std::set<std::string> names = {"viewZ",     "normal",   "geometric-normal", "albedo",
-                                              "emissive",  "motion",   "ids",              "direct",
-                                              "roughness", "metallic", "indirect-diffuse"};
+  static const std::set<std::string> names = {"viewZ",           "normal", "geometric-normal", "albedo",    "emissive",
+                                              "motion",          "ids",    "direct",           "roughness", "metallic",
+                                              "indirect-diffuse"};
   return names;
 }
 
@@ -59,7 +59,8 @@ io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector
     if (i < labels.size()) canvas.text(ox + 6, oy + 4, labels[i].substr(0, fits), glm::vec3(0.95f), scale);
     for (int y = 0; y < cellHeight; ++y)
       for (int x = 0; x < cellWidth; ++x)
-        canvas.set(ox + x, oy + kStrip + y, glm::vec3(cells[i].at(x, y, 0), cells[i].at(x, y, 1), cells[i].at(x, y, 2)));
+        canvas.set(ox + x, oy + kStrip + y,
+                   glm::vec3(cells[i].at(x, y, 0), cells[i].at(x, y, 1), cells[i].at(x, y, 2)));
   }
   return canvas.image();
 }
@@ -102,13 +103,11 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
   io::writePng(dir / "sheet.png", contactSheet(cells, 4, shrink), io::PngEncoding::Linear);
   std::printf("wrote AOVs to %s; sheet.png shows, left to right, top to bottom: %s\n", dir.c_str(), order.c_str());
   if (cellOf.count("normal") && cellOf.count("geometric-normal")) {
-    io::writePng(dir / "normals.png",
-                 contactSheet({cells[cellOf["normal"]], cells[cellOf["geometric-normal"]]}, 2, 1),
+    io::writePng(dir / "normals.png", contactSheet({cells[cellOf["normal"]], cells[cellOf["geometric-normal"]]}, 2, 1),
                  io::PngEncoding::Linear);
     std::printf("wrote %s: shading normals (left) beside geometric normals (right)\n", (dir / "normals.png").c_str());
   }
 }
-
 
 namespace {
 
@@ -167,18 +166,18 @@ std::vector<fs::path> writeValidationSheets(const fs::path& dir, const std::vect
           failures.at(x, y, 1) = 0.0f;
           failures.at(x, y, 2) = 0.0f;
         }
-    const std::vector<io::ImageF> cells = {
-        displayOf(depth, gpu::Visualize::Range, exposure), displayOf(capturedPixels(*normal), gpu::Visualize::Signed, exposure),
-        displayOf(capturedPixels(*motion), gpu::Visualize::Motion, exposure),
-        historyHeat(history, historyCap), failures};
+    const std::vector<io::ImageF> cells = {displayOf(depth, gpu::Visualize::Range, exposure),
+                                           displayOf(capturedPixels(*normal), gpu::Visualize::Signed, exposure),
+                                           displayOf(capturedPixels(*motion), gpu::Visualize::Motion, exposure),
+                                           historyHeat(history, historyCap), failures};
     char name[48];
     std::snprintf(name, sizeof name, "frame%04llu.validation.png", static_cast<unsigned long long>(frame));
     written.push_back(dir / name);
-    io::writePng(written.back(),
-                 labelledSheet(cells, {"viewZ", "normals", "motion vectors", "history length (frames)",
-                                       "reprojection failures (red)"},
-                               3),
-                 io::PngEncoding::Linear);
+    io::writePng(
+        written.back(),
+        labelledSheet(
+            cells, {"viewZ", "normals", "motion vectors", "history length (frames)", "reprojection failures (red)"}, 3),
+        io::PngEncoding::Linear);
   }
   return written;
 }

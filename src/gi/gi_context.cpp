@@ -167,8 +167,8 @@ struct GiContext::Impl {
                                    : c.view;
     c.size = glm::vec4(float(width), float(height), 1.0f / float(width), 1.0f / float(height));
     c.halfSize = glm::vec4(float(halfWidth), float(halfHeight), 1.0f / float(halfWidth), 1.0f / float(halfHeight));
-    c.frame = glm::uvec4(std::uint32_t(frame.frameIndex), usableHistory ? 0u : 1u, settings.seed,
-                         settings.restir ? 1u : 0u);
+    c.frame =
+        glm::uvec4(std::uint32_t(frame.frameIndex), usableHistory ? 0u : 1u, settings.seed, settings.restir ? 1u : 0u);
     // Without last frame's composite there is nothing on screen to gather from.
     c.candidates = glm::uvec4(hasHistory ? d.screenCandidates : 0u, hasHistory ? d.brightCandidates : 0u,
                               d.environmentCandidates, std::uint32_t(d.target));
@@ -190,13 +190,14 @@ struct GiContext::Impl {
                       gpu::Image& second) {
     static const char* const kAfter[] = {"gather", "temporal_reuse", "spatial_reuse1", "spatial_reuse2"};
     if (reservoirViews.empty()) {
-      for (const char* after : kAfter) reservoirViews.push_back(std::make_unique<gpu::ComputePass>(device, reservoirViewPass(after)));
-      viewEstimate = std::make_unique<gpu::Image>(
-          device, imageDesc("gi.diffuse.reservoir_estimate", halfWidth, halfHeight, kRgba16f, gpu::Visualize::Radiance));
-      viewM = std::make_unique<gpu::Image>(device,
-                                           imageDesc("gi.diffuse.reservoir_M", halfWidth, halfHeight, kR32f, gpu::Visualize::Heat));
-      viewW = std::make_unique<gpu::Image>(device,
-                                           imageDesc("gi.diffuse.reservoir_W", halfWidth, halfHeight, kR32f, gpu::Visualize::Heat));
+      for (const char* after : kAfter)
+        reservoirViews.push_back(std::make_unique<gpu::ComputePass>(device, reservoirViewPass(after)));
+      viewEstimate = std::make_unique<gpu::Image>(device, imageDesc("gi.diffuse.reservoir_estimate", halfWidth,
+                                                                    halfHeight, kRgba16f, gpu::Visualize::Radiance));
+      viewM = std::make_unique<gpu::Image>(
+          device, imageDesc("gi.diffuse.reservoir_M", halfWidth, halfHeight, kR32f, gpu::Visualize::Heat));
+      viewW = std::make_unique<gpu::Image>(
+          device, imageDesc("gi.diffuse.reservoir_W", halfWidth, halfHeight, kR32f, gpu::Visualize::Heat));
     }
     recorder.dispatch(*reservoirViews[which], halfWidth, halfHeight,
                       {{"gIn_Frame", *constants},
@@ -224,8 +225,10 @@ struct GiContext::Impl {
                        {"gOut_Surface", surface.current(f)}});
 
     const DiffuseSettings& d = settings.diffuse;
-    if (d.enabled) recordDiffuse(recorder, frame, showReservoirs);
-    else recorder.clearImage(filtered.current(f), {});  // no indirect diffuse: the composite is the direct light
+    if (d.enabled)
+      recordDiffuse(recorder, frame, showReservoirs);
+    else
+      recorder.clearImage(filtered.current(f), {});  // no indirect diffuse: the composite is the direct light
     recorder.dispatch(*compositor, width, height,
                       {{"gIn_Frame", *constants},
                        {"gIn_ViewZ", *frame.viewZ},

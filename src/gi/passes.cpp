@@ -44,7 +44,9 @@ std::vector<ResourceDecl> join(std::vector<ResourceDecl> a, const std::vector<Re
 
 gpu::PassDesc storeHistoryPass() {
   return pass("gi.store_history", "gi/store_history",
-              {frameConstants(), viewZ(), normalRoughness(),
+              {frameConstants(),
+               viewZ(),
+               normalRoughness(),
                {"gOut_Surface", Access::Write, kRg32ui, "this frame's viewZ and octahedral normal, for the next"}});
 }
 
@@ -64,7 +66,9 @@ gpu::PassDesc brightPixelsReducePass() {
 
 gpu::PassDesc gatherPass() {
   return pass("gi.diffuse.gather", "gi/diffuse/gather",
-              join({frameConstants(), viewZ(), normalRoughness(),
+              join({frameConstants(),
+                    viewZ(),
+                    normalRoughness(),
                     {"gPrev_Composite", Access::Read, kRgba16f, "radiance of screen candidates"},
                     previousSurface(),
                     {"gIn_Brightest", Access::Read, kRgba32f, "the bright-pixel pyramid's last level"},
@@ -75,8 +79,11 @@ gpu::PassDesc gatherPass() {
 
 gpu::PassDesc temporalReusePass() {
   return pass("gi.diffuse.temporal_reuse", "gi/diffuse/temporal_reuse",
-              join(join({frameConstants(), viewZ(), normalRoughness(),
-                         {"gIn_Motion", Access::Read, kRg16f, "pixels to last frame"}, previousSurface()},
+              join(join({frameConstants(),
+                         viewZ(),
+                         normalRoughness(),
+                         {"gIn_Motion", Access::Read, kRg16f, "pixels to last frame"},
+                         previousSurface()},
                         reservoirs("gIn", Access::Read, "fresh reservoirs")),
                    join(reservoirs("gPrev", Access::Read, "last frame's final reservoirs"),
                         reservoirs("gOut", Access::Write, "merged reservoirs"))));
@@ -98,7 +105,9 @@ gpu::PassDesc resolvePass() {
 
 gpu::PassDesc temporalFilterPass() {
   return pass("gi.diffuse.temporal_filter", "gi/diffuse/temporal_filter",
-              {frameConstants(), viewZ(), normalRoughness(),
+              {frameConstants(),
+               viewZ(),
+               normalRoughness(),
                {"gIn_Motion", Access::Read, kRg16f, "pixels to last frame"},
                {"gIn_Diffuse", Access::Read, kRgba16f, "this frame's resolve"},
                previousSurface(),
@@ -110,7 +119,8 @@ gpu::PassDesc temporalFilterPass() {
 
 gpu::PassDesc compositePass() {
   return pass("gi.composite", "gi/composite",
-              {frameConstants(), viewZ(),
+              {frameConstants(),
+               viewZ(),
                {"gIn_Direct", Access::Read, kRgba16f, "direct light (and emission), sky behind"},
                {"gIn_BaseColorMetallic", Access::Read, kRgba8, "remodulation of indirect diffuse"},
                {"gIn_Emissive", Access::Read, kRgba16f, "emission, when given apart"},

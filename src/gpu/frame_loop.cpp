@@ -62,9 +62,12 @@ void FrameLoop::collect(Slot& slot) {
     for (std::size_t i = 0; i < slot.timestamps.passes.size(); ++i) {
       const double ms = double(queryResults_[2 * i + 1] - queryResults_[2 * i]) * msPerTick;
       const std::string& pass = slot.timestamps.passes[i];
-      const auto same = std::find_if(frameTotals.begin(), frameTotals.end(), [&](const auto& t) { return *t.first == pass; });
-      if (same == frameTotals.end()) frameTotals.emplace_back(&pass, ms);
-      else same->second += ms;
+      const auto same =
+          std::find_if(frameTotals.begin(), frameTotals.end(), [&](const auto& t) { return *t.first == pass; });
+      if (same == frameTotals.end())
+        frameTotals.emplace_back(&pass, ms);
+      else
+        same->second += ms;
     }
     for (const auto& [pass, ms] : frameTotals) timings_.add(*pass, ms);
   }

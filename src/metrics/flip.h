@@ -95,5 +95,4 @@ HdrFlipResult hdrFlip(const RgbImage& reference, const RgbImage& test, float pix
 // tonemapAcesFitted (Hill's fit): HDR-FLIP's values depend on this curve.
 glm::vec3 flipToneMap(glm::vec3 exposedRadiance);
 
-
 }  // namespace bounce::metrics

@@ -87,7 +87,7 @@ ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame
   const bool cpuDevice = context.deviceInfo().type == "CPU";
   samplesPerDispatch_ = options.samplesPerDispatch > 0 ? options.samplesPerDispatch
                         : cpuDevice                    ? 1u
-                                : std::uint32_t(std::clamp(std::floor(kPathsPerDispatch / pixels), 1.0, 64.0));
+                                    : std::uint32_t(std::clamp(std::floor(kPathsPerDispatch / pixels), 1.0, 64.0));
 
   // Lights: the environment as the FrameRenderer built it, and every emissive
   // triangle where the scene is at `time`.
@@ -110,8 +110,8 @@ ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame
   emissivePower_ = float(emissive.totalPower);
   if (emissive.packed.empty()) emissive.packed.emplace_back(0u);
   emissiveTriangles_ =
-      std::make_unique<gpu::Buffer>(context, "reference.emissive_triangles", emissive.packed.size() * sizeof(glm::uvec4),
-                                    gpu::BufferUsage::DeviceLocal);
+      std::make_unique<gpu::Buffer>(context, "reference.emissive_triangles",
+                                    emissive.packed.size() * sizeof(glm::uvec4), gpu::BufferUsage::DeviceLocal);
   gpu::uploadBuffer(context, *emissiveTriangles_, emissive.packed.data(), emissive.packed.size() * sizeof(glm::uvec4));
 
   const auto image = [&](const std::string& name, gpu::Visualize visualize) {
@@ -141,9 +141,12 @@ ReferenceRenderer::~ReferenceRenderer() = default;
 std::uint64_t ReferenceRenderer::samplesPerPixel(ReferenceHalf half) const {
   // Even-numbered samples go to half A, odd ones to half B.
   switch (half) {
-    case ReferenceHalf::A: return (samples_ + 1) / 2;
-    case ReferenceHalf::B: return samples_ / 2;
-    case ReferenceHalf::Both: break;
+    case ReferenceHalf::A:
+      return (samples_ + 1) / 2;
+    case ReferenceHalf::B:
+      return samples_ / 2;
+    case ReferenceHalf::Both:
+      break;
   }
   return samples_;
 }
@@ -215,7 +218,8 @@ ReferenceImages ReferenceRenderer::resolve(gpu::FrameLoop& loop, ReferenceHalf h
   for (int h = 0; h < 2; ++h)
     for (gpu::Image* sum : {diffuseSum_[h].get(), specularSum_[h].get()}) {
       const io::ImageF values = gpu::readbackImage(context_, *sum);
-      for (std::size_t p = 3; p < values.pixels.size(); p += 4) images.droppedSamples += std::uint64_t(values.pixels[p]);
+      for (std::size_t p = 3; p < values.pixels.size(); p += 4)
+        images.droppedSamples += std::uint64_t(values.pixels[p]);
     }
   return images;
 }

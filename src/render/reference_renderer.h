@@ -51,10 +51,10 @@ struct ReferenceOptions {
 enum class ReferenceHalf { Both, A, B };
 
 struct ReferenceImages {
-  io::ImageF radiance;          // RGB
-  io::ImageF direct;            // RGB
-  io::ImageF indirectDiffuse;   // RGB, demodulated
-  io::ImageF indirectSpecular;  // RGB, demodulated
+  io::ImageF radiance;               // RGB
+  io::ImageF direct;                 // RGB
+  io::ImageF indirectDiffuse;        // RGB, demodulated
+  io::ImageF indirectSpecular;       // RGB, demodulated
   std::uint64_t droppedSamples = 0;  // non-finite path samples left out (should be 0)
 };
 
