@@ -65,6 +65,19 @@ io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector
   return canvas.image();
 }
 
+namespace {
+
+// The alpha channel of an image, alone: where the G-buffer and the filter
+// keep a scalar beside a colour (roughness, metallic, history length).
+io::ImageF alphaChannel(const io::ImageF& image, const std::string& name) {
+  io::ImageF channel(image.width, image.height, {name});
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) channel.at(x, y, 0) = image.at(x, y, 3);
+  return channel;
+}
+
+}  // namespace
+
 void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
                const fs::path& dir, float exposure, const std::vector<render::Aov>& extra) {
   fs::create_directories(dir);
@@ -93,10 +106,8 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
     const io::ImageF image = gpu::readbackImage(context, *aov.image);
     if (wants(aov.name)) write(aov.name, image, aov.image->desc().visualize);
     if (roughness || metallic) {
-      io::ImageF channel(image.width, image.height, {roughness ? "roughness" : "metallic"});
-      for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) channel.at(x, y, 0) = image.at(x, y, 3);
-      write(roughness ? "roughness" : "metallic", channel, gpu::Visualize::Raw);
+      const std::string name = roughness ? "roughness" : "metallic";
+      write(name, alphaChannel(image, name), gpu::Visualize::Raw);
     }
   }
   const int shrink = cells.front().width > 480 ? 2 : 1;
@@ -155,9 +166,7 @@ std::vector<fs::path> writeValidationSheets(const fs::path& dir, const std::vect
     if (!viewZ || !normal || !motion || !composite) continue;
     const io::ImageF depth = capturedPixels(*viewZ);
     const io::ImageF filtered = capturedPixels(filter);
-    io::ImageF history(filtered.width, filtered.height, {"frames"});
-    for (int y = 0; y < filtered.height; ++y)
-      for (int x = 0; x < filtered.width; ++x) history.at(x, y, 0) = filtered.at(x, y, 3);
+    const io::ImageF history = alphaChannel(filtered, "frames");
     io::ImageF failures = displayOf(capturedPixels(*composite), gpu::Visualize::Radiance, exposure);
     for (int y = 0; y < failures.height; ++y)
       for (int x = 0; x < failures.width; ++x)
