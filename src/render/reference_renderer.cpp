@@ -11,6 +11,7 @@ namespace bounce::render {
 namespace {
 
 using namespace gpu::formats;
+
 // Paths per dispatch the automatic samplesPerDispatch aims for on a GPU.
 constexpr double kPathsPerDispatch = 1 << 20;
 
