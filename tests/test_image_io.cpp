@@ -986,3 +986,12 @@ TEST_F(ImageIoTest, WritePngRejectsBadExposure) {
 
 }  // namespace
 }  // namespace bounce::io
+
+TEST(ImageF, FirstChannelsKeepsTheirValuesAndNames) {
+  bounce::io::ImageF rgba(2, 1, {"R", "G", "B", "A"});
+  for (std::size_t i = 0; i < rgba.pixels.size(); ++i) rgba.pixels[i] = float(i);
+  const bounce::io::ImageF rgb = bounce::io::firstChannels(rgba, 3);
+  EXPECT_EQ(rgb.channels, (std::vector<std::string>{"R", "G", "B"}));
+  EXPECT_EQ(rgb.pixels, (std::vector<float>{0, 1, 2, 4, 5, 6}));
+  EXPECT_EQ(bounce::io::firstChannels(rgb, 8).channelCount(), 3u) << "asking for more keeps what there is";
+}

@@ -11,34 +11,20 @@
 #include "shared/rng.glsl"
 
 namespace bounce::gpu {
-namespace {
-
-// The first `count` channels (dumps drop alpha: radiance images carry none).
-io::ImageF firstChannels(const io::ImageF& image, std::size_t count) {
-  count = std::min(count, image.channelCount());
-  std::vector<std::string> names(image.channels.begin(), image.channels.begin() + long(count));
-  io::ImageF out(image.width, image.height, names);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      for (std::size_t c = 0; c < count; ++c) out.at(x, y, int(c)) = image.at(x, y, int(c));
-  return out;
-}
-
-}  // namespace
 
 VisualizedImage visualize(const io::ImageF& image, Visualize how) {
   switch (how) {
     case Visualize::Radiance:
-      return {firstChannels(image, 3), io::PngEncoding::Tonemapped};
+      return {io::firstChannels(image, 3), io::PngEncoding::Tonemapped};
     case Visualize::Color:
-      return {firstChannels(image, 3), io::PngEncoding::Srgb};
+      return {io::firstChannels(image, 3), io::PngEncoding::Srgb};
     case Visualize::Signed: {
-      io::ImageF out = firstChannels(image, 3);
+      io::ImageF out = io::firstChannels(image, 3);
       for (float& v : out.pixels) v = v * 0.5f + 0.5f;
       return {out, io::PngEncoding::Linear};
     }
     case Visualize::Range: {
-      io::ImageF out = firstChannels(image, 1);
+      io::ImageF out = io::firstChannels(image, 1);
       float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
       for (float v : out.pixels)
         if (std::isfinite(v) && std::abs(v) < 1e30f) {
@@ -50,7 +36,7 @@ VisualizedImage visualize(const io::ImageF& image, Visualize how) {
       return {out, io::PngEncoding::Linear};
     }
     case Visualize::Raw:
-      return {firstChannels(image, 3), io::PngEncoding::Linear};
+      return {io::firstChannels(image, 3), io::PngEncoding::Linear};
     case Visualize::Motion: {
       io::ImageF out(image.width, image.height, {"R", "G", "B"});
       float largest = 0.0f;

@@ -573,6 +573,16 @@ void writeExr(const fs::path& path, const ImageF& image) {
   writeFileAtomically(path, encoded.data(), encoded.size());
 }
 
+ImageF firstChannels(const ImageF& image, std::size_t count) {
+  count = std::min(count, image.channelCount());
+  std::vector<std::string> names(image.channels.begin(), image.channels.begin() + long(count));
+  ImageF out(image.width, image.height, names);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (std::size_t c = 0; c < count; ++c) out.at(x, y, int(c)) = image.at(x, y, int(c));
+  return out;
+}
+
 ImageF toDisplay(const ImageF& image, PngEncoding encoding, float exposure) {
   ImageF display(image.width, image.height, {"R", "G", "B"});
   const std::size_t channelCount = image.channelCount();

@@ -69,6 +69,10 @@ Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& 
 // leaves a half file. Throws ImageIoError.
 void writeExr(const std::filesystem::path& path, const ImageF& image);
 
+// The first `count` channels of an image (all of them when it has fewer),
+// with their names: e.g. RGB without the alpha a GPU image carries.
+ImageF firstChannels(const ImageF& image, std::size_t count);
+
 // What writePng would show, as RGB display values in [0,1] (non-finite
 // pixels magenta), e.g. to lay several images out on one contact sheet.
 ImageF toDisplay(const ImageF& image, PngEncoding encoding, float exposure = 1.0f);

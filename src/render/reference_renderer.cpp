@@ -65,14 +65,6 @@ gpu::PassDesc resolveDesc() {
           .pushConstantSize = sizeof(shared::ReferenceResolveParams)};
 }
 
-io::ImageF rgbOf(const io::ImageF& image) {
-  io::ImageF rgb(image.width, image.height, {"R", "G", "B"});
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = image.at(x, y, c);
-  return rgb;
-}
-
 }  // namespace
 
 ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame, const scene::Scene& scene,
@@ -212,10 +204,10 @@ ReferenceImages ReferenceRenderer::resolve(gpu::FrameLoop& loop, ReferenceHalf h
   loop.finish();
 
   ReferenceImages images;
-  images.radiance = rgbOf(gpu::readbackImage(context_, *radiance_));
-  images.direct = rgbOf(gpu::readbackImage(context_, frame_.direct()));
-  images.indirectDiffuse = rgbOf(gpu::readbackImage(context_, *diffuse_));
-  images.indirectSpecular = rgbOf(gpu::readbackImage(context_, *specular_));
+  images.radiance = io::firstChannels(gpu::readbackImage(context_, *radiance_), 3);
+  images.direct = io::firstChannels(gpu::readbackImage(context_, frame_.direct()), 3);
+  images.indirectDiffuse = io::firstChannels(gpu::readbackImage(context_, *diffuse_), 3);
+  images.indirectSpecular = io::firstChannels(gpu::readbackImage(context_, *specular_), 3);
   for (int h = 0; h < 2; ++h)
     for (gpu::Image* sum : {diffuseSum_[h].get(), specularSum_[h].get()}) {
       const io::ImageF values = gpu::readbackImage(context_, *sum);
