@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/image_io.h"
+#include "process.h"
 
 namespace {
 
@@ -26,15 +27,13 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
+// Runs bounce with `arguments` split at spaces (no shell in between) and
+// `environment` ("NAME=value ...") added to this process's.
 Result run(const std::string& arguments, const std::string& environment = "") {
-  const std::string command = environment + " " + BOUNCE_BINARY + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string output;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), int(buffer.size()), pipe)) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  std::vector<std::string> argv = {BOUNCE_BINARY};
+  for (std::string& word : bounce::testing::splitWords(arguments)) argv.push_back(std::move(word));
+  const bounce::testing::ProcessResult r = bounce::testing::runProcess(argv, bounce::testing::splitWords(environment));
+  return {r.exitCode, r.output};
 }
 
 fs::path freshDirectory(const std::string& name) {
