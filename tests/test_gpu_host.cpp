@@ -83,5 +83,25 @@ TEST(Timing, MedianShareAndOrder) {
   EXPECT_NE(table.find("total"), std::string::npos);
 }
 
+TEST(Timing, MemoryIsBoundedOverLongRunsAndTheSummaryStaysTrue) {
+  gpu::TimingStats stats;
+  // A million frames of one pass: 1 ms mostly, with a 0.25 ms minimum and a
+  // 50 ms maximum once each, and every tenth frame 3 ms (the median stays 1).
+  constexpr std::size_t kFrames = 1000000;
+  for (std::size_t i = 0; i < kFrames; ++i)
+    stats.add("p", i == 10 ? 0.25 : i == 777777 ? 50.0 : i % 10 == 0 ? 3.0 : 1.0);
+  const auto rows = stats.summary();
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].samples, kFrames) << "the count is exact";
+  EXPECT_EQ(stats.keptSamples("p"), gpu::TimingStats::kMaxSamples) << "memory does not grow with the frame count";
+  EXPECT_DOUBLE_EQ(rows[0].minMs, 0.25) << "the extremes are exact however rare";
+  EXPECT_DOUBLE_EQ(rows[0].maxMs, 50.0);
+  EXPECT_DOUBLE_EQ(rows[0].medianMs, 1.0);
+  // A late change of speed reaches the kept sample: after a million more
+  // frames at 2 ms, about half the kept times are 2 ms, so the median moves.
+  for (std::size_t i = 0; i < 2 * kFrames; ++i) stats.add("p", 2.0);
+  EXPECT_DOUBLE_EQ(stats.summary()[0].medianMs, 2.0);
+}
+
 }  // namespace
 }  // namespace bounce::testing

@@ -373,6 +373,20 @@ std::uint32_t Context::findMemoryType(std::uint32_t typeBits, VkMemoryPropertyFl
   return *fallback;
 }
 
+VkDeviceSize Context::largestDeviceLocalHeap() const {
+  VkDeviceSize largest = 0;
+  for (std::uint32_t i = 0; i < memoryProperties_.memoryHeapCount; ++i)
+    if (memoryProperties_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      largest = std::max(largest, memoryProperties_.memoryHeaps[i].size);
+  return largest;
+}
+
+void Context::trackAllocation(std::uint32_t memoryType, std::int64_t bytes) {
+  const std::uint32_t heap = memoryProperties_.memoryTypes[memoryType].heapIndex;
+  if (memoryProperties_.memoryHeaps[heap].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+    deviceLocalBytes_ += VkDeviceSize(bytes);  // unsigned wrap-around makes a negative delta subtract
+}
+
 void Context::submitAndWait(const std::function<void(Recorder&)>& record) {
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   alloc.commandPool = setupPool_;

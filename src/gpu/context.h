@@ -2,6 +2,7 @@
 // validation layer's message log. One Context per process is the normal case.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -69,6 +70,14 @@ class Context {
   std::uint32_t findMemoryType(std::uint32_t typeBits, VkMemoryPropertyFlags required,
                                VkMemoryPropertyFlags preferred = 0) const;
 
+  // Device-local memory: the bytes this context's buffers and images hold
+  // now, and the size of the largest device-local heap (on lavapipe, a share
+  // of the machine's RAM), to refuse work that cannot fit before it starts.
+  VkDeviceSize deviceLocalBytesInUse() const { return deviceLocalBytes_; }
+  VkDeviceSize largestDeviceLocalHeap() const;
+  // Called by Buffer and Image for each allocation (bytes > 0) and its release (bytes < 0).
+  void trackAllocation(std::uint32_t memoryType, std::int64_t bytes);
+
   // Records work with `record` into a fresh command buffer, submits it and
   // waits. For uploads, readbacks and set-up; never for per-frame work.
   void submitAndWait(const std::function<void(Recorder&)>& record);
@@ -106,6 +115,7 @@ class Context {
   VkCommandPool setupPool_ = VK_NULL_HANDLE;
   VkSampler linearSampler_ = VK_NULL_HANDLE;
   VkSampler nearestSampler_ = VK_NULL_HANDLE;
+  std::atomic<VkDeviceSize> deviceLocalBytes_{0};
   mutable std::mutex messagesMutex_;
   std::vector<std::string> messages_;
 };

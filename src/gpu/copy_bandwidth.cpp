@@ -1,5 +1,7 @@
 #include "gpu/copy_bandwidth.h"
 
+#include <algorithm>
+
 #include "gpu/context.h"
 #include "gpu/error.h"
 
@@ -14,7 +16,9 @@ constexpr std::uint32_t kRowLength = 65536;  // vec4 per dispatch row
 
 }  // namespace
 
-CopyBandwidthProbe::CopyBandwidthProbe(Context& context, VkDeviceSize bytes) : bytes_(bytes / 16 * 16) {
+// Clamped to what one storage-buffer binding may span (128 MiB on lavapipe).
+CopyBandwidthProbe::CopyBandwidthProbe(Context& context, VkDeviceSize bytes)
+    : bytes_(std::min<VkDeviceSize>(bytes, context.properties().limits.maxStorageBufferRange) / 16 * 16) {
   if (bytes_ == 0) throw GpuError("copy bandwidth probe: size must be at least 16 bytes");
   source_ = std::make_unique<Buffer>(context, "copy_bandwidth.source", bytes_, BufferUsage::DeviceLocal);
   destination_ = std::make_unique<Buffer>(context, "copy_bandwidth.destination", bytes_, BufferUsage::DeviceLocal);

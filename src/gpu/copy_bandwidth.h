@@ -14,8 +14,11 @@ namespace bounce::gpu {
 class CopyBandwidthProbe {
  public:
   static constexpr const char* kPassName = "gpu.copy_bandwidth";
+  // Copies `bytes`, or as much as the device binds at once when that is less (see bytes()).
   CopyBandwidthProbe(Context& context, VkDeviceSize bytes);
   void record(Recorder& recorder);
+  // Bytes of each buffer.
+  VkDeviceSize bytes() const { return bytes_; }
   // Bytes read plus bytes written by one dispatch.
   VkDeviceSize bytesMoved() const { return 2 * bytes_; }
 

@@ -191,6 +191,14 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
       write.pImageInfo = &imageInfos_.back();
     } else {
       Buffer& buffer = *bind->buffer;
+      // A larger buffer would be bound anyway and read out of range on some
+      // devices (VUID-VkWriteDescriptorSet-descriptorType-00333/00332).
+      const bool uniform = decl.kind == ResourceKind::UniformBuffer;
+      const VkDeviceSize maxRange = uniform ? context_.properties().limits.maxUniformBufferRange
+                                            : context_.properties().limits.maxStorageBufferRange;
+      if (buffer.size() > maxRange)
+        throw fail("buffer '" + buffer.name() + "' (" + std::to_string(buffer.size()) + " bytes) for '" + decl.name +
+                   "' is larger than this device binds (" + std::to_string(maxRange) + " bytes)");
       require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kCompute, access, writes);
       bufferInfos_.push_back({buffer.handle(), 0, VK_WHOLE_SIZE});
       write.descriptorType = decl.kind == ResourceKind::UniformBuffer ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER

@@ -44,6 +44,9 @@ Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsag
     vkDestroyBuffer(device, buffer_, nullptr);
     check(result, ("allocating " + std::to_string(size) + " bytes for buffer '" + name_ + "'").c_str());
   }
+  allocated_ = alloc.allocationSize;
+  memoryType_ = alloc.memoryTypeIndex;
+  context.trackAllocation(memoryType_, std::int64_t(allocated_));
   check(vkBindBufferMemory(device, buffer_, memory_, 0), "vkBindBufferMemory");
   if (usage != BufferUsage::DeviceLocal)
     check(vkMapMemory(device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
@@ -54,6 +57,7 @@ Buffer::~Buffer() {
   VkDevice device = context_.device();
   vkDestroyBuffer(device, buffer_, nullptr);
   vkFreeMemory(device, memory_, nullptr);
+  context_.trackAllocation(memoryType_, -std::int64_t(allocated_));
 }
 
 Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_(desc) {
@@ -98,6 +102,9 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
     vkDestroyImage(device, image_, nullptr);
     check(result, ("allocating memory for image '" + desc.name + "'").c_str());
   }
+  allocated_ = alloc.allocationSize;
+  memoryType_ = alloc.memoryTypeIndex;
+  context.trackAllocation(memoryType_, std::int64_t(allocated_));
   check(vkBindImageMemory(device, image_, memory_, 0), "vkBindImageMemory");
 
   VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
@@ -123,6 +130,7 @@ Image::~Image() {
   vkDestroyImageView(device, view_, nullptr);
   vkDestroyImage(device, image_, nullptr);
   vkFreeMemory(device, memory_, nullptr);
+  context_.trackAllocation(memoryType_, -std::int64_t(allocated_));
 }
 
 VkImageView Image::mipView(std::uint32_t level) const {

@@ -64,6 +64,8 @@ class Buffer {
   VkDeviceSize size_ = 0;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize allocated_ = 0;
+  std::uint32_t memoryType_ = 0;
   void* mapped_ = nullptr;
   SyncState sync_;
 };
@@ -108,6 +110,8 @@ class Image {
   Context& context_;
   ImageDesc desc_;
   VkImage image_ = VK_NULL_HANDLE;
+  VkDeviceSize allocated_ = 0;
+  std::uint32_t memoryType_ = 0;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkImageView view_ = VK_NULL_HANDLE;
   std::vector<VkImageView> mipViews_;  // one per level when there are several

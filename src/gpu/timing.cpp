@@ -8,19 +8,38 @@ namespace bounce::gpu {
 void TimingStats::add(const std::string& pass, double milliseconds) {
   auto [it, inserted] = samples_.try_emplace(pass);
   if (inserted) order_.push_back(pass);
-  it->second.push_back(milliseconds);
+  PassSamples& s = it->second;
+  s.min = s.count == 0 ? milliseconds : std::min(s.min, milliseconds);
+  s.max = s.count == 0 ? milliseconds : std::max(s.max, milliseconds);
+  ++s.count;
+  if (s.kept.size() < kMaxSamples) {
+    s.kept.push_back(milliseconds);
+    return;
+  }
+  // Algorithm R: the count-th sample replaces a kept one with probability kMaxSamples / count.
+  s.random ^= s.random << 13;
+  s.random ^= s.random >> 7;
+  s.random ^= s.random << 17;
+  const std::uint64_t slot = s.random % s.count;
+  if (slot < kMaxSamples) s.kept[slot] = milliseconds;
 }
 
 std::vector<PassTiming> TimingStats::summary() const {
   std::vector<PassTiming> rows;
   for (const std::string& pass : order_) {
-    std::vector<double> values = samples_.at(pass);
+    const PassSamples& s = samples_.at(pass);
+    std::vector<double> values = s.kept;
     std::sort(values.begin(), values.end());
     const std::size_t n = values.size();
     const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-    rows.push_back({pass, median, values.front(), values.back(), n});
+    rows.push_back({pass, median, s.min, s.max, s.count});
   }
   return rows;
+}
+
+std::size_t TimingStats::keptSamples(const std::string& pass) const {
+  const auto found = samples_.find(pass);
+  return found == samples_.end() ? 0 : found->second.kept.size();
 }
 
 std::string TimingStats::table() const {

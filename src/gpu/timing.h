@@ -1,6 +1,8 @@
 // Per-pass GPU times collected over frames, and the summary table.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,18 +17,33 @@ struct PassTiming {
   std::size_t samples = 0;
 };
 
+// Memory stays bounded however long a program runs: each pass keeps its
+// exact count, minimum and maximum, and a uniform random sample of at most
+// kMaxSamples of its times (reservoir sampling), from which the median comes;
+// the median is exact up to kMaxSamples frames.
 class TimingStats {
  public:
+  static constexpr std::size_t kMaxSamples = 4096;
+
   void add(const std::string& pass, double milliseconds);
   // One row per pass, in the order passes first ran.
   std::vector<PassTiming> summary() const;
   // The text table: pass, median ms, min, max, share of the frame.
   std::string table() const;
   bool empty() const { return order_.empty(); }
+  // Times kept for `pass` (at most kMaxSamples), to show the bound holds.
+  std::size_t keptSamples(const std::string& pass) const;
 
  private:
+  struct PassSamples {
+    std::vector<double> kept;  // at most kMaxSamples
+    std::size_t count = 0;
+    double min = 0.0;
+    double max = 0.0;
+    std::uint64_t random = 0x9E3779B97F4A7C15ull;  // fixed seed: the same run keeps the same samples
+  };
   std::vector<std::string> order_;
-  std::map<std::string, std::vector<double>> samples_;
+  std::map<std::string, PassSamples> samples_;
 };
 
 }  // namespace bounce::gpu
