@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -767,11 +768,13 @@ TEST_F(ImageIoTest, HdrDecodesRgbeExactlyAndHonoursBottomUpRows) {
 
 TEST_F(ImageIoTest, HdrCorruptRunsAndHeadersAreRefused) {
   // A zero count never advances the scanline (the stb bug that made us write our own).
-  Bytes zeroCount = {2, 2, 0, 8, 0};
+  // Both files are padded to the 12 bytes the smallest 8-pixel scanline takes,
+  // so the run, not the size, is what is wrong with them.
+  Bytes zeroCount = {2, 2, 0, 8, 0, 0, 0, 0, 0, 0, 0, 0};
   writeBytes(file("zero.hdr"), radianceFile("-Y 1 +X 8", zeroCount));
   expectContains(errorOf([&] { readImage(file("zero.hdr")); }), "corrupt run-length scanline");
 
-  Bytes overrun = {2, 2, 0, 8, 128 + 9, 1};  // a run of 9 in a scanline of 8
+  Bytes overrun = {2, 2, 0, 8, 128 + 9, 1, 0, 0, 0, 0, 0, 0};  // a run of 9 in a scanline of 8
   writeBytes(file("overrun.hdr"), radianceFile("-Y 1 +X 8", overrun));
   expectContains(errorOf([&] { readImage(file("overrun.hdr")); }), "corrupt run-length scanline");
 
@@ -787,6 +790,39 @@ TEST_F(ImageIoTest, HdrCorruptRunsAndHeadersAreRefused) {
 
   writeBytes(file("noend.hdr"), Bytes{'#', '?', 'R', 'G', 'B', 'E', '\n', 'A'});
   expectContains(errorOf([&] { readImage(file("noend.hdr")); }), "header does not end");
+}
+
+// Peak resident memory of this process so far, in bytes.
+std::size_t peakResidentBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return std::size_t(usage.ru_maxrss) * 1024;
+}
+
+TEST_F(ImageIoTest, HdrDeclaringMorePixelsThanItsBytesHoldIsRefusedBeforeAllocating) {
+  // 68 bytes declaring 16000x8000 pixels: decoding it would allocate (and
+  // zero) 1.5 GB of floats before noticing the data ends.
+  const std::size_t peakBefore = peakResidentBytes();
+  writeBytes(file("liar.hdr"), radianceFile("-Y 8000 +X 16000", Bytes(20, 7)));
+  const std::string message = errorOf([&] { readImage(file("liar.hdr")); });
+  expectContains(message, "liar.hdr");
+  expectContains(message, "16000x8000");
+  expectContains(message, "the file has 20");
+  EXPECT_LT(peakResidentBytes() - peakBefore, std::size_t(256) << 20) << "pixels were allocated before the check";
+
+  // A declared size far beyond the pixel limit is refused as such (24 GiB of floats otherwise).
+  writeBytes(file("giant.hdr"), radianceFile("-Y 32768 +X 65536", Bytes(20, 7)));
+  expectContains(errorOf([&] { readImage(file("giant.hdr")); }), "more than 268435456 pixels");
+
+  // An honest file of the smallest size run-length encoding allows still reads:
+  // one row of 254 pixels, each component two runs of 127.
+  Bytes row = {2, 2, 0, 254};
+  for (int component = 0; component < 4; ++component)
+    for (int run = 0; run < 2; ++run) row.insert(row.end(), {128 + 127, std::uint8_t(component == 3 ? 128 : 64)});
+  writeBytes(file("smallest.hdr"), radianceFile("-Y 1 +X 254", row));
+  const ImageF smallest = readImage(file("smallest.hdr"));
+  EXPECT_EQ(smallest.width, 254);
+  EXPECT_FLOAT_EQ(smallest.at(253, 0, 0), 64.5f / 256.0f);
 }
 
 TEST_F(ImageIoTest, DecodeRgba8FromMemoryKeepsBytesAndRefusesTruncation) {

@@ -71,6 +71,9 @@ void checkReadSize(const fs::path& path, std::int64_t width, std::int64_t height
     fail(path, "image size " + sizeText(width, height) + " is larger than " + std::to_string(kMaxSide) +
                    " pixels a side (corrupt header?)");
   }
+  if (width * height > kMaxImagePixels)
+    fail(path,
+         "image size " + sizeText(width, height) + " is more than " + std::to_string(kMaxImagePixels) + " pixels");
 }
 
 // --- reading: file access and format detection
@@ -522,7 +525,7 @@ ImageF readImage(const fs::path& path, bool allowNonFinite) {
     if (format == FileFormat::Exr) {
       image = readExr(path);
     } else if (format == FileFormat::Hdr) {
-      image = decodeRadianceHdr(path, readFileBytes(path), int(kMaxSide));
+      image = decodeRadianceHdr(path, readFileBytes(path), int(kMaxSide), kMaxImagePixels);
     } else {
       image = readWithStb(path, format);
     }

@@ -43,12 +43,16 @@ enum class PngEncoding {
   Linear,      // values clamped to [0,1] and stored as they are (for masks, plots)
 };
 
+// The most pixels an image file may hold (16384 x 16384, 4 GiB as float
+// RGBA); a larger declared size is refused before anything is allocated.
+constexpr std::int64_t kMaxImagePixels = std::int64_t(1) << 28;
+
 // Reads an image; the format is chosen by the file's signature (not its
 // extension). PNG/JPEG are decoded from sRGB to linear; EXR/HDR are linear.
 // Channels come back as {"R","G","B"} or {"R","G","B","A"} (a single-channel
 // EXR keeps its own channel name). Throws ImageIoError for missing, unreadable,
 // truncated or unsupported files, zero or absurd sizes (more than 65536 pixels
-// a side), and, unless allowNonFinite, any NaN or Inf value (naming the first
+// a side or kMaxImagePixels in all), and, unless allowNonFinite, any NaN or Inf value (naming the first
 // bad pixel and the count).
 ImageF readImage(const std::filesystem::path& path, bool allowNonFinite = false);
 

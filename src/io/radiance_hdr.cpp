@@ -88,9 +88,12 @@ void readHeader(const fs::path& path, ByteCursor& cursor) {
   }
 }
 
+// New-style run-length encoding exists for these widths only.
+bool isRunLengthWidth(long width) { return width >= 8 && width <= 32767; }
+
 // Reads the scanline into rgbe (width * 4 bytes, pixel-interleaved).
 void readScanline(ByteCursor& cursor, int width, std::vector<unsigned char>& rgbe, const fs::path& path) {
-  const bool runLengthEncoded = width >= 8 && width <= 32767 && cursor.remaining() >= 4 && cursor.here()[0] == 2 &&
+  const bool runLengthEncoded = isRunLengthWidth(width) && cursor.remaining() >= 4 && cursor.here()[0] == 2 &&
                                 cursor.here()[1] == 2 && (cursor.here()[2] & 0x80) == 0;
   if (!runLengthEncoded) {
     if (std::size_t(width) * 4 > cursor.remaining()) cursor.truncated();
@@ -121,9 +124,18 @@ void readScanline(ByteCursor& cursor, int width, std::vector<unsigned char>& rgb
   }
 }
 
+// The fewest bytes a scanline of `width` pixels can take: new-style run
+// length encoding stores each of the 4 components in runs of at most 127
+// equal values (2 bytes each) after a 4-byte marker; other widths are flat.
+std::uint64_t smallestScanlineBytes(long width) {
+  if (isRunLengthWidth(width)) return 4 + 4 * 2 * ((std::uint64_t(width) + 126) / 127);
+  return 4 * std::uint64_t(width);
+}
+
 }  // namespace
 
-ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>& bytes, int maxSide) {
+ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>& bytes, int maxSide,
+                         std::int64_t maxPixels) {
   ByteCursor cursor(path, bytes);
   readHeader(path, cursor);
 
@@ -144,10 +156,16 @@ ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>&
   if (width <= 0 || height <= 0) {
     fail(path, "image has zero size (" + std::to_string(width) + "x" + std::to_string(height) + ")");
   }
-  if (width > maxSide || height > maxSide) {
-    fail(path, "image size " + std::to_string(width) + "x" + std::to_string(height) + " is larger than " +
-                   std::to_string(maxSide) + " pixels a side (corrupt header?)");
-  }
+  const std::string size = std::to_string(width) + "x" + std::to_string(height);
+  if (width > maxSide || height > maxSide)
+    fail(path,
+         "image size " + size + " is larger than " + std::to_string(maxSide) + " pixels a side (corrupt header?)");
+  if (std::int64_t(width) * std::int64_t(height) > maxPixels)
+    fail(path, "image size " + size + " is more than " + std::to_string(maxPixels) + " pixels");
+  const std::uint64_t needed = std::uint64_t(height) * smallestScanlineBytes(width);
+  if (needed > cursor.remaining())
+    fail(path, "truncated: the header declares " + size + " pixels, which take at least " + std::to_string(needed) +
+                   " bytes; the file has " + std::to_string(cursor.remaining()) + " after its header");
 
   ImageF image(int(width), int(height), {"R", "G", "B"});
   std::vector<unsigned char> rgbe(std::size_t(width) * 4);

@@ -4,6 +4,7 @@
 // with zeros instead of failing. Internal to bounce_io.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -14,7 +15,10 @@ namespace bounce::io {
 // Decodes a whole Radiance file (32-bit_rle_rgbe, flat or new-style run-length
 // scanlines, "-Y H +X W" or "+Y H +X W" orientation) into an RGB float image.
 // Every inconsistency (truncation, run past the scanline, zero count, size over
-// maxSide) throws ImageIoError naming the file.
-ImageF decodeRadianceHdr(const std::filesystem::path& path, const std::vector<unsigned char>& bytes, int maxSide);
+// maxSide or maxPixels) throws ImageIoError naming the file. The declared size
+// is checked against the bytes the file has before any pixel memory is
+// allocated, so a tiny file cannot make it allocate gigabytes.
+ImageF decodeRadianceHdr(const std::filesystem::path& path, const std::vector<unsigned char>& bytes, int maxSide,
+                         std::int64_t maxPixels);
 
 }  // namespace bounce::io
