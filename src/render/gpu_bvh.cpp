@@ -69,10 +69,16 @@ void GpuBvh::updateInstances(gpu::Recorder& recorder, std::uint32_t frameSlot) {
   Slot& slot = slots_[frameSlot];
   const std::size_t instanceBytes = bvh_.instances().size() * sizeof(BvhInstance);
   const std::size_t tlasBytes = bvh_.tlasNodes().size() * sizeof(BvhNode);
-  std::memcpy(slot.instances->mapped(), bvh_.instances().data(), instanceBytes);
-  std::memcpy(slot.tlasNodes->mapped(), bvh_.tlasNodes().data(), tlasBytes);
-  if (instanceBytes) recorder.copyBuffer(*slot.instances, *instances_, instanceBytes);
-  recorder.copyBuffer(*slot.tlasNodes, *tlasNodes_, tlasBytes);
+  // With nothing to trace the vectors are empty and their data() may be
+  // null, which memcpy must not be given even for zero bytes.
+  if (instanceBytes) {
+    std::memcpy(slot.instances->mapped(), bvh_.instances().data(), instanceBytes);
+    recorder.copyBuffer(*slot.instances, *instances_, instanceBytes);
+  }
+  if (tlasBytes) {
+    std::memcpy(slot.tlasNodes->mapped(), bvh_.tlasNodes().data(), tlasBytes);
+    recorder.copyBuffer(*slot.tlasNodes, *tlasNodes_, tlasBytes);
+  }
 }
 
 std::vector<gpu::ResourceDecl> GpuBvh::traceResources() {
