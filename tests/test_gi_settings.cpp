@@ -401,6 +401,18 @@ TEST(GiSettings, JsonErrorsNameTheFile) {
       {R"({"restir": "sometimes"})", "\"sometimes\""},
       {R"({"diffuse": {"seed": 1}})", "did you mean gi.seed"},
       {R"({"diffuse": {"spatial_radius": 8}, "diffuse.spatial_radius": 9})", "more than once"},
+      // JSON itself keeps the last of a repeated key silently.
+      {R"({"diffuse": {"spatial_radius": 8, "spatial_radius": 9}})",
+       "gi.diffuse.spatial_radius is given more than once"},
+      {R"({"gi": {"seed": 1, "seed": 1}})", "gi.seed is given more than once"},
+      // 30,000 levels overflowed the stack of the recursive flattening.
+      {std::string(30000, '[') + std::string(30000, ']'), "nested deeper than 64 levels"},
+      {[] {
+         std::string text;
+         for (int i = 0; i < 30000; ++i) text += "{\"a\":";
+         return text + "1" + std::string(30000, '}');
+       }(),
+       "nested deeper than 64 levels"},
   };
   for (const Case& testCase : cases) {
     const TempFile file(testCase.contents);

@@ -22,6 +22,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "util/edit_distance.h"
+
 namespace bounce::gi {
 namespace {
 
@@ -299,21 +301,6 @@ bool fieldIsValid(const Settings& settings, const Entry& entry) {
       entry.field);
 }
 
-std::size_t editDistance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> previous(b.size() + 1);
-  std::vector<std::size_t> current(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) previous[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    current[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t substitution = previous[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
-      current[j] = std::min({previous[j] + 1, current[j - 1] + 1, substitution});
-    }
-    std::swap(previous, current);
-  }
-  return previous[b.size()];
-}
-
 std::string_view lastSegment(std::string_view key) {
   const std::size_t dot = key.rfind('.');
   return dot == std::string_view::npos ? key : key.substr(dot + 1);
@@ -326,9 +313,9 @@ std::vector<std::string_view> closestKeys(std::string_view key) {
   const std::size_t tolerance = std::max<std::size_t>(2, field.size() / 4);
   std::vector<std::pair<std::size_t, std::string_view>> scored;
   for (const Entry& entry : kEntries) {
-    std::size_t distance = editDistance(key, entry.key);
+    std::size_t distance = util::editDistance(key, entry.key);
     const std::string_view entryField = lastSegment(entry.key);
-    distance = std::min(distance, editDistance(field, entryField) + 1);
+    distance = std::min(distance, util::editDistance(field, entryField) + 1);
     const bool fieldNameContainsTypedName = field.size() >= 4 && entryField.find(field) != std::string_view::npos;
     if (fieldNameContainsTypedName) distance = std::min<std::size_t>(distance, 2);
     if (distance <= tolerance) scored.emplace_back(distance, entry.key);
@@ -411,6 +398,47 @@ void flattenJson(const nlohmann::json& object, const std::string& prefix,
   }
 }
 
+// Far deeper than any settings file ({"gi": {"diffuse": {...}}} is three);
+// refused while parsing, before flattenJson's recursion could run out of
+// stack on a hostile file.
+constexpr int kMaxJsonDepth = 64;
+
+// Parses a settings file, refusing nesting deeper than kMaxJsonDepth and a
+// key written twice in one object (JSON keeps the last silently; a file
+// that sets a key twice is a mistake either way). Throws
+// std::invalid_argument for those, nlohmann's exceptions for bad JSON.
+nlohmann::json parseSettingsJson(std::istream& stream) {
+  struct OpenObject {
+    std::vector<std::string> keys;
+    std::string path;  // dotted path of the object, "" at the top
+  };
+  std::vector<OpenObject> open;
+  std::string lastKey;
+  const auto callback = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if (depth > kMaxJsonDepth)
+      throw std::invalid_argument("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    if (event == Event::object_start) {
+      const std::string parent = open.empty() ? "" : open.back().path;
+      open.push_back({{}, open.empty() ? "" : (parent.empty() ? lastKey : parent + "." + lastKey)});
+    } else if (event == Event::object_end) {
+      open.pop_back();
+    } else if (event == Event::key && !open.empty()) {
+      lastKey = parsed.get<std::string>();
+      std::vector<std::string>& keys = open.back().keys;
+      if (std::find(keys.begin(), keys.end(), lastKey) != keys.end()) {
+        const std::string& path = open.back().path;
+        const std::string key = path.empty() ? lastKey : path + "." + lastKey;
+        throw std::invalid_argument((key.starts_with(kKeyPrefix) ? key : std::string(kKeyPrefix) + key) +
+                                    " is given more than once");
+      }
+      keys.push_back(lastKey);
+    }
+    return true;
+  };
+  return nlohmann::json::parse(stream, callback);
+}
+
 std::string withoutJsonExceptionTag(const std::string& message) {
   // nlohmann prefixes "[json.exception.parse_error.101] "; the rest says where and what.
   if (message.starts_with("[json.exception.")) {
@@ -451,9 +479,11 @@ void applySettingsFile(Settings& settings, const std::filesystem::path& file) {
 
   nlohmann::json root;
   try {
-    root = nlohmann::json::parse(stream);
+    root = parseSettingsJson(stream);
   } catch (const nlohmann::json::exception& parseError) {
     throw std::runtime_error(where + withoutJsonExceptionTag(parseError.what()));
+  } catch (const std::invalid_argument& invalid) {
+    throw std::runtime_error(where + invalid.what());
   }
   if (!root.is_object()) {
     throw std::runtime_error(where + "the top level is a JSON " + std::string(root.type_name()) +
