@@ -442,13 +442,20 @@ std::unique_ptr<CameraPath> loadCameraKeyframes(const std::filesystem::path& fil
 
 std::vector<CameraFrame> sampleCameraPath(const CameraPath& path, int frameCount, float fps) {
   if (frameCount < 0) throw std::invalid_argument("sampleCameraPath: negative frame count");
+  return sampleCameraFrames(path, 0, std::uint32_t(frameCount), fps);
+}
+
+std::vector<CameraFrame> sampleCameraFrames(const CameraPath& path, std::uint32_t first, std::uint32_t count,
+                                            float fps) {
   if (!(fps > 0.0f) || !std::isfinite(fps)) throw std::invalid_argument("sampleCameraPath: fps must be positive");
-  std::vector<CameraFrame> frames(static_cast<std::size_t>(frameCount));
-  int previousSegment = 0;
-  for (int i = 0; i < frameCount; ++i) {
-    const float time = float(i) / fps;
+  const auto timeOf = [fps](std::uint64_t frame) { return float(frame) / fps; };
+  std::vector<CameraFrame> frames(count);
+  int previousSegment = first > 0 ? path.segment(timeOf(first - 1)) : 0;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const std::uint64_t frame = std::uint64_t(first) + i;
+    const float time = timeOf(frame);
     const int segment = path.segment(time);
-    frames[std::size_t(i)] = {path.pose(time), i == 0 || segment != previousSegment};
+    frames[i] = {path.pose(time), frame == 0 || segment != previousSegment};
     previousSegment = segment;
   }
   return frames;

@@ -27,6 +27,7 @@
 // scene's bounds at time 0.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -106,5 +107,12 @@ std::unique_ptr<CameraPath> loadCameraKeyframes(const std::filesystem::path& fil
 // previous frame's. Throws std::invalid_argument for frameCount < 0 or a fps
 // that is not a positive finite number.
 std::vector<CameraFrame> sampleCameraPath(const CameraPath& path, int frameCount, float fps);
+
+// Frames first .. first + count - 1 of the same render, flagged exactly as
+// sampleCameraPath flags them, without sampling the frames before `first`
+// (bounce reference renders one frame of a long path). Throws
+// std::invalid_argument for a fps that is not a positive finite number.
+std::vector<CameraFrame> sampleCameraFrames(const CameraPath& path, std::uint32_t first, std::uint32_t count,
+                                            float fps);
 
 }  // namespace bounce::scene
