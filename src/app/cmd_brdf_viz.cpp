@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/plot.h"
 #include "app/progress.h"
 #include "io/colormap.h"
@@ -138,15 +139,15 @@ CLI::App* addBrdfVizCommand(CLI::App& app, BrdfVizOptions& options) {
   command->add_option("--out", options.out, "Output directory (created if missing)");
   command->add_option("--size", options.size, "Plot diameter in pixels")->check(CLI::Range(32u, 2048u));
   command->add_option("--frames", options.frames, "Frames per sweep")->check(CLI::Range(1u, 1000u));
-  command->add_option("--fps", options.fps, "Playback frames per second")->check(CLI::Range(0.1f, 100.0f));
+  command->add_option("--fps", options.fps, "Playback frames per second")->check(finiteRange(0.1, 100.0));
   command->add_option("--base-color", options.baseColor, "Linear base colour r,g,b")
       ->delimiter(',')
       ->expected(3)
-      ->check(CLI::Range(0.0f, 1.0f));
-  command->add_option("--metallic", options.metallic, "Metallic in [0,1]")->check(CLI::Range(0.0f, 1.0f));
-  command->add_option("--roughness", options.roughness, "Roughness of the view sweep")->check(CLI::Range(0.0f, 1.0f));
+      ->check(finiteRange(0.0, 1.0));
+  command->add_option("--metallic", options.metallic, "Metallic in [0,1]")->check(finiteRange(0.0, 1.0));
+  command->add_option("--roughness", options.roughness, "Roughness of the view sweep")->check(finiteRange(0.0, 1.0));
   command->add_option("--view", options.viewDegrees, "View angle from the normal of the roughness sweep, degrees")
-      ->check(CLI::Range(0.0f, 89.0f));
+      ->check(finiteRange(0.0, 89.0));
   return command;
 }
 

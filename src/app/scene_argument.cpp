@@ -2,6 +2,7 @@
 #include <stdexcept>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "scene/builtin_scenes.h"
 #include "scene/gltf_import.h"
 
@@ -39,14 +40,16 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
       ->check(CLI::Range(1u, 16384u))
       ->capture_default_str();
   command.add_option("--fps", options.fps, "Frames per second of scene time (animation and camera)")
-      ->check(CLI::Range(0.001f, 10000.0f));
+      ->check(finiteRange(0.001, 10000.0));
   command.add_option("--env", options.env, "Equirectangular environment map (.exr/.hdr); default: procedural sky");
   command.add_option("--env-intensity", options.envIntensity, "Multiplier of the environment")
-      ->check(CLI::NonNegativeNumber);
-  command.add_option("--env-rotation", options.envRotation, "Rotation of the environment map about +Y, degrees");
+      ->check(finiteAtLeast(0.0));
+  command.add_option("--env-rotation", options.envRotation, "Rotation of the environment map about +Y, degrees")
+      ->check(finiteNumber());
   command.add_option("--sun-elevation", options.sunElevation, "Sun elevation above the horizon, degrees")
-      ->check(CLI::Range(-90.0f, 90.0f));
-  command.add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees");
+      ->check(finiteRange(-90.0, 90.0));
+  command.add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees")
+      ->check(finiteNumber());
   command.add_flag("--no-sun", options.noSun,
                    "No sunlight (e.g. when the --env map already shows its sun, which would then count twice)");
 }

@@ -1,0 +1,26 @@
+// Checks for numeric command-line options. CLI11's own Range lets NaN through
+// (every comparison with NaN is false, so "nan" is never out of range) and
+// prints an open bound as the largest double in full, 309 digits; these
+// refuse NaN and infinity and say the range in a few characters.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <limits>
+
+namespace bounce::app {
+
+// A finite number in [min, max]; a bound of +-infinity leaves that side open.
+CLI::Validator finiteRange(double min, double max);
+
+// A finite number >= min.
+inline CLI::Validator finiteAtLeast(double min) { return finiteRange(min, std::numeric_limits<double>::infinity()); }
+
+// Any finite number.
+inline CLI::Validator finiteNumber() {
+  return finiteRange(-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+}
+
+// A finite number > 0.
+CLI::Validator finitePositive();
+
+}  // namespace bounce::app
