@@ -27,25 +27,26 @@ struct ProcessResult {
   int exitCode = -1;      // the program's exit status; -1 when it did not exit normally
   int signal = 0;         // the signal that ended it, or 0
   bool timedOut = false;  // killed after the time limit
-  std::string output;     // stdout and stderr, interleaved as written
+  std::string output;     // stdout and stderr interleaved as written; stdout alone with separateStderr
+  std::string errors;     // stderr, with separateStderr
 };
 
 // Runs `argv` (argv[0] is the program's path) with `environment` entries
 // ("NAME=value") added to or replacing this process's environment.
-inline ProcessResult runProcess(const std::vector<std::string>& argv,
-                                const std::vector<std::string>& environment = {}, double timeoutSeconds = 120.0) {
+inline ProcessResult runProcess(const std::vector<std::string>& argv, const std::vector<std::string>& environment = {},
+                                double timeoutSeconds = 120.0, bool separateStderr = false) {
   ProcessResult result;
-  int pipeFds[2];
-  if (pipe(pipeFds) != 0) {
+  int pipeFds[2], errorFds[2] = {-1, -1};
+  if (pipe(pipeFds) != 0 || (separateStderr && pipe(errorFds) != 0)) {
     result.output = std::string("pipe: ") + std::strerror(errno);
     return result;
   }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDERR_FILENO);
-  posix_spawn_file_actions_addclose(&actions, pipeFds[0]);
-  posix_spawn_file_actions_addclose(&actions, pipeFds[1]);
+  posix_spawn_file_actions_adddup2(&actions, separateStderr ? errorFds[1] : pipeFds[1], STDERR_FILENO);
+  for (int fd : {pipeFds[0], pipeFds[1], errorFds[0], errorFds[1]})
+    if (fd >= 0) posix_spawn_file_actions_addclose(&actions, fd);
 
   std::vector<std::string> env;
   for (char** entry = environ; *entry; ++entry) {
@@ -67,15 +68,19 @@ inline ProcessResult runProcess(const std::vector<std::string>& argv,
       posix_spawn(&child, argv.at(0).c_str(), &actions, nullptr, argvPointers.data(), envPointers.data());
   posix_spawn_file_actions_destroy(&actions);
   close(pipeFds[1]);
+  if (errorFds[1] >= 0) close(errorFds[1]);
   if (spawnError != 0) {
     close(pipeFds[0]);
+    if (errorFds[0] >= 0) close(errorFds[0]);
     result.output = "cannot start " + argv[0] + ": " + std::strerror(spawnError);
     return result;
   }
 
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutSeconds);
   std::array<char, 4096> buffer;
-  while (true) {
+  std::vector<pollfd> open = {{pipeFds[0], POLLIN, 0}};
+  if (errorFds[0] >= 0) open.push_back({errorFds[0], POLLIN, 0});
+  while (!open.empty()) {
     const auto left =
         std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
     if (left <= 0) {
@@ -83,16 +88,25 @@ inline ProcessResult runProcess(const std::vector<std::string>& argv,
       kill(child, SIGKILL);
       break;
     }
-    pollfd fd{pipeFds[0], POLLIN, 0};
-    const int ready = poll(&fd, 1, int(std::min<long long>(left, 1000)));
-    if (ready < 0 && errno == EINTR) continue;
-    if (ready <= 0) continue;
-    const ssize_t count = read(pipeFds[0], buffer.data(), buffer.size());
-    if (count < 0 && errno == EINTR) continue;
-    if (count <= 0) break;
-    result.output.append(buffer.data(), std::size_t(count));
+    const int ready = poll(open.data(), nfds_t(open.size()), int(std::min<long long>(left, 1000)));
+    if (ready <= 0) continue;  // timeout slice or EINTR
+    for (std::size_t i = 0; i < open.size();) {
+      if (!(open[i].revents & (POLLIN | POLLHUP | POLLERR))) {
+        ++i;
+        continue;
+      }
+      const ssize_t count = read(open[i].fd, buffer.data(), buffer.size());
+      if (count < 0 && errno == EINTR) continue;
+      if (count <= 0) {
+        open.erase(open.begin() + long(i));
+        continue;
+      }
+      (open[i].fd == pipeFds[0] ? result.output : result.errors).append(buffer.data(), std::size_t(count));
+      ++i;
+    }
   }
   close(pipeFds[0]);
+  if (errorFds[0] >= 0) close(errorFds[0]);
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
   }

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "io/image_io.h"
 #include "process.h"
 
@@ -338,6 +340,220 @@ TEST(Cli, ReferenceKeepsWhatItAccumulatedOnCtrlC) {
   const std::string meta((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
   EXPECT_NE(meta.find("\"interrupted\": true"), std::string::npos) << meta;
   fs::remove_all(dir);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- hardening
+// Each test below failed on the code before it: a crash, a shell injection,
+// a late failure or a silent acceptance that a hostile but fair user found.
+
+namespace {
+
+// Runs bounce with exactly these arguments (spaces, quotes and all).
+bounce::testing::ProcessResult runArgs(std::vector<std::string> arguments, bool separateStderr = false,
+                                       const std::vector<std::string>& environment = {}) {
+  arguments.insert(arguments.begin(), BOUNCE_BINARY);
+  return bounce::testing::runProcess(arguments, environment, 120.0, separateStderr);
+}
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(CliHardening, ReferenceFrameOptionIsBoundedAndSamplesOnlyItsFrame) {
+  // 4294967295 wrapped frame + 1 to 0 and read past the camera frames;
+  // 2147483647 overflowed an int; 30000000 allocated 1.45 GB of poses.
+  for (const char* frame : {"4294967295", "2147483647", "30000000", "-1"}) {
+    const auto r = runArgs({"reference", "cornell", "--frame", frame});
+    EXPECT_EQ(r.exitCode, 2) << frame << ": " << r.output;
+    EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find("--frame"), std::string::npos) << r.output;
+  }
+  // The last frame allowed renders at once: only it and the one before are sampled.
+  const fs::path dir = freshDirectory("reference_far_frame");
+  const auto r = runArgs({"reference", "cornell", "--camera", "orbit", "--frame", "999999", "--width", "8", "--height",
+                          "8", "--spp", "1", "--out", (dir / "ref.exr").string()});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "ref.exr"));
+  fs::remove_all(dir);
+}
+
+TEST(CliHardening, FfmpegGetsTheOutputPathAsOneArgumentNeverThroughAShell) {
+  // A stand-in ffmpeg first on PATH records the arguments it was given.
+  const fs::path dir = freshDirectory("ffmpeg_injection");
+  const fs::path bin = dir / "bin";
+  fs::create_directories(bin);
+  const fs::path log = dir / "arguments.txt";
+  std::ofstream(bin / "ffmpeg") << "#!/bin/sh\nfor a in \"$@\"; do printf '%s\\n' \"$a\"; done > \"" << log.string()
+                                << "\"\n";
+  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  const std::string hostile = "x'; touch INJECTED; echo '";
+  const fs::path out = dir / hostile;
+  const auto r = runArgs({"render", "cornell", "--width", "16", "--height", "12", "--frames", "2", "--gi-warmup", "0",
+                          "--out", out.string()},
+                         false, {"PATH=" + bin.string() + ":/usr/bin:/bin"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_FALSE(fs::exists("INJECTED")) << "the output name ran as a command";
+  EXPECT_FALSE(fs::exists(dir / "INJECTED"));
+  const std::string arguments = readText(log);
+  EXPECT_NE(arguments.find("\n" + (out / "render.mp4").string() + "\n"), std::string::npos)
+      << "the video path is one argument, apostrophes and all:\n"
+      << arguments;
+  EXPECT_NE(arguments.find("\n" + (out / "frames" / "frame%04d.png").string() + "\n"), std::string::npos) << arguments;
+  fs::remove_all(dir);
+}
+
+TEST(CliHardening, UnwritableOutputIsFoundBeforeAnyRendering) {
+  // /proc refuses new files even to root, who ignores permission bits.
+  for (const char* out : {"/proc/self/fdinfo", "/proc/bounce-cannot-exist"}) {
+    const auto r = runArgs({"render", "cornell", "--frames", "200", "--out", out});
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find(std::string("--out ") + out), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("device:"), std::string::npos) << "checked before the GPU was opened: " << r.output;
+  }
+  const fs::path file = freshDirectory("out_is_file");
+  std::ofstream(file) << "not a folder";
+  const auto r = runArgs({"render", "cornell", "--out", file.string()});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.output.find("exists and is not a folder"), std::string::npos) << r.output;
+  EXPECT_EQ(readText(file), "not a folder") << "nothing the user gave is overwritten";
+  fs::remove(file);
+
+  const auto reference = runArgs({"reference", "cornell", "--out", "/proc/self/fdinfo/ref.exr"});
+  EXPECT_EQ(reference.exitCode, 1) << reference.output;
+  EXPECT_EQ(reference.output.find("device:"), std::string::npos) << reference.output;
+}
+
+TEST(CliHardening, NonFiniteNumbersAreRefusedWithAShortRange) {
+  for (const std::vector<std::string>& arguments :
+       std::vector<std::vector<std::string>>{{"render", "--exposure", "nan"},
+                                             {"render", "--fps", "nan"},
+                                             {"render", "--env-intensity", "inf"},
+                                             {"render", "--sun-elevation", "nan"},
+                                             {"render", "--sun-azimuth", "-inf"},
+                                             {"render", "--env-rotation", "nan"},
+                                             {"render", "--exposure", "-1"},
+                                             {"reference", "--target-relmse", "nan"},
+                                             {"compare", "a.exr", "b.exr", "--max-flip", "nan"},
+                                             {"compare", "a.exr", "b.exr", "--min-psnr", "nan"},
+                                             {"brdf-viz", "--roughness", "nan"}}) {
+    const auto r = runArgs(arguments);
+    EXPECT_EQ(r.exitCode, 2) << arguments[1] << " " << arguments[2] << ": " << r.output;
+    EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+    EXPECT_LT(r.output.size(), 200u) << "no 309-digit bound: " << r.output;
+  }
+}
+
+TEST(CliHardening, MistypedCommandsNameTheClosestAndVersionIsTheProjects) {
+  const auto r = runArgs({"rendr", "cornell"});
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.output.find("unknown command 'rendr'; did you mean 'render'?"), std::string::npos) << r.output;
+  const auto version = runArgs({"--version"});
+  EXPECT_EQ(version.exitCode, 0);
+  EXPECT_EQ(version.output, std::string("bounce ") + BOUNCE_VERSION + "\n");
+}
+
+TEST(CliHardening, CompareExitsOneForADifferenceAndTwoForTrouble) {
+  const fs::path dir = freshDirectory("compare_exit");
+  fs::create_directories(dir);
+  bounce::io::ImageF a(4, 4, {"R", "G", "B"}), b(4, 4, {"R", "G", "B"});
+  for (float& v : a.pixels) v = 0.5f;
+  for (float& v : b.pixels) v = 0.9f;
+  bounce::io::writeExr(dir / "a.exr", a);
+  bounce::io::writeExr(dir / "b.exr", b);
+  EXPECT_EQ(runArgs({"compare", (dir / "a.exr").string(), (dir / "a.exr").string(), "--max-relmse", "0"}).exitCode, 0);
+  EXPECT_EQ(runArgs({"compare", (dir / "a.exr").string(), (dir / "b.exr").string(), "--max-relmse", "0.01"}).exitCode,
+            1)
+      << "differs beyond the threshold";
+  const auto missing = runArgs({"compare", (dir / "a.exr").string(), (dir / "missing.exr").string()});
+  EXPECT_EQ(missing.exitCode, 2) << "a missing file is trouble, not a difference: " << missing.output;
+  EXPECT_NE(missing.output.find("missing.exr"), std::string::npos) << missing.output;
+  fs::remove_all(dir);
+}
+
+TEST(CliHardening, BenchJsonIsValidJsonInAFileOrOnStdoutAndBenchValidatesClean) {
+  const fs::path dir = freshDirectory("bench_json");
+  fs::create_directories(dir);
+  // A default bench copies 256 MiB buffers, twice what lavapipe binds at once.
+  const auto toFile = runArgs({"bench", "cornell", "--validate", "--width", "16", "--height", "16", "--frames", "2",
+                               "--warmup", "0", "--rays", "64", "--json", (dir / "bench.json").string()});
+  ASSERT_EQ(toFile.exitCode, 0) << toFile.output;
+  EXPECT_EQ(toFile.output.find("validation message"), std::string::npos) << toFile.output;
+  const nlohmann::json parsed = nlohmann::json::parse(readText(dir / "bench.json"));
+  EXPECT_EQ(parsed.at("scene"), "cornell");
+  EXPECT_GT(parsed.at("passes").size(), 2u);
+
+  const auto toStdout = runArgs({"bench", "cornell", "--width", "16", "--height", "16", "--frames", "2", "--warmup",
+                                 "0", "--rays", "0", "--copy-mb", "1", "--json", "-"},
+                                /*separateStderr=*/true);
+  ASSERT_EQ(toStdout.exitCode, 0) << toStdout.errors;
+  EXPECT_FALSE(fs::exists("-")) << "'-' means stdout, not a file named '-'";
+  EXPECT_EQ(nlohmann::json::parse(toStdout.output).at("width"), 16) << "stdout is the JSON alone: " << toStdout.output;
+  EXPECT_NE(toStdout.errors.find("GPU time per pass"), std::string::npos) << "the table goes to stderr";
+  fs::remove_all(dir);
+}
+
+TEST(CliHardening, ARenderRemovesTheFramesOfAnEarlierLongerRender) {
+  const fs::path out = freshDirectory("frames_mix");
+  const std::vector<std::string> common = {"render", "cornell",     "--width", "8",     "--height",
+                                           "8",      "--gi-warmup", "0",       "--out", out.string()};
+  auto longer = common;
+  longer.insert(longer.end(), {"--frames", "4"});
+  ASSERT_EQ(runArgs(longer).exitCode, 0);
+  std::ofstream(out / "frames" / "notes.txt") << "mine";
+  auto shorter = common;
+  shorter.insert(shorter.end(), {"--frames", "2"});
+  const auto r = runArgs(shorter);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("removed"), std::string::npos) << "says what it removed: " << r.output;
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(out / "frames")) left.push_back(entry.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"frame0000.png", "frame0001.png", "notes.txt"}))
+      << "only this render's frames, and what the user put there";
+  fs::remove_all(out);
+}
+
+TEST(CliHardening, GiSettingsIgnoredByGiOffAreWarnedAbout) {
+  const fs::path out = freshDirectory("gi_off_warn");
+  const auto r = runArgs({"render", "cornell", "--width", "8", "--height", "8", "--gi", "off", "--gi.seed", "3",
+                          "--gi.diffuse.spatial_radius", "4", "--out", out.string()});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  const std::size_t warning = r.output.find("warning: --gi off: ignoring ");
+  ASSERT_NE(warning, std::string::npos) << r.output;
+  const std::string line = r.output.substr(warning, r.output.find('\n', warning) - warning);
+  EXPECT_NE(line.find("--gi.seed"), std::string::npos) << line;
+  EXPECT_NE(line.find("--gi.diffuse.spatial_radius"), std::string::npos) << line;
+  fs::remove_all(out);
+}
+
+TEST(CliHardening, SettingsFilesTooDeepOrWithARepeatedKeyAreRefusedBeforeRendering) {
+  const fs::path dir = freshDirectory("settings_depth");
+  fs::create_directories(dir);
+  std::string deep;
+  for (int i = 0; i < 30000; ++i) deep += "{\"a\":";
+  deep += "1" + std::string(30000, '}');
+  std::ofstream(dir / "deep.json") << deep;
+  std::ofstream(dir / "twice.json") << R"({"diffuse": {"spatial_radius": 4, "spatial_radius": 5}})";
+  for (const auto& [file, says] : {std::pair{"deep.json", "JSON nested deeper than 64 levels"},
+                                   std::pair{"twice.json", "gi.diffuse.spatial_radius is given more than once"}}) {
+    const auto r = runArgs({"render", "cornell", "--gi-settings", (dir / file).string(), "--out", dir.string()});
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_EQ(r.signal, 0) << "crashed: " << r.output;
+    EXPECT_NE(r.output.find(says), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("device:"), std::string::npos) << "refused before the GPU was opened: " << r.output;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(CliHardening, AFrameLargerThanTheDeviceHeapIsRefusedUpFront) {
+  const auto r =
+      runArgs({"render", "cornell", "--width", "16384", "--height", "16384", "--out", freshDirectory("huge").string()});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("GiB of device memory"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("render.gbuffer"), std::string::npos) << "no frame was rendered: " << r.output;
 }
 
 }  // namespace

@@ -4,9 +4,14 @@
 // the device reaches in compute.
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "app/commands.h"
+#include "app/option_checks.h"
+#include "app/output_files.h"
 #include "app/progress.h"
 #include "gpu/copy_bandwidth.h"
 #include "gpu/frame_loop.h"
@@ -53,19 +58,28 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       ->check(CLI::Range(0u, 4096u));
   command->add_option("--rays", options.rays, "Incoherent rays per frame through render.bvh_trace_rays (0 = skip)")
       ->check(CLI::Range(0u, 1u << 26));
-  command->add_option("--json", options.json, "Also write the results to this JSON file");
+  command->add_option("--json", options.json,
+                      "Also write the results to this JSON file ('-': JSON on stdout, the table on stderr)");
   command->add_option("--sun-elevation", options.sunElevation, "Sun elevation above the horizon, degrees")
-      ->check(CLI::Range(-90.0f, 90.0f));
-  command->add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees");
-  addGiOptions(*command, options.gi);
+      ->check(finiteRange(-90.0, 90.0));
+  command->add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees")
+      ->check(finiteNumber());
+  addGiOptions(*command, options.gi, /*warmup=*/false);
   return command;
 }
 
 int runBench(const BenchOptions& options) {
+  // With the JSON on stdout, what people read goes to stderr.
+  const bool jsonToStdout = options.json == "-";
+  FILE* const report = jsonToStdout ? stderr : stdout;
+  if (!options.json.empty() && !jsonToStdout) checkWritableFile(options.json, "--json");
+  warnIgnoredGiOptions(options.gi);
+  const std::optional<gi::Settings> settings =
+      giEnabled(options.gi) ? std::optional(giSettings(options.gi)) : std::nullopt;
   const scene::Scene scene = loadSceneArgument(options.scene);
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   const gpu::DeviceInfo& device = context->deviceInfo();
-  std::printf("device: %s (%s), driver %s\n", device.name.c_str(), device.type.c_str(), device.driver.c_str());
+  std::fprintf(report, "device: %s (%s), driver %s\n", device.name.c_str(), device.type.c_str(), device.driver.c_str());
 
   render::FrameRendererOptions rendererOptions;
   rendererOptions.width = options.width;
@@ -79,9 +93,9 @@ int runBench(const BenchOptions& options) {
   if (options.sunAzimuth) rendererOptions.environment.sun.azimuthDegrees = *options.sunAzimuth;
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   std::unique_ptr<gi::GiContext> gi;
-  if (giEnabled(options.gi))
-    gi = std::make_unique<gi::GiContext>(*context, options.width, options.height, giSettings(options.gi));
-  std::printf("scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
+  if (settings) gi = std::make_unique<gi::GiContext>(*context, options.width, options.height, *settings);
+  checkDeviceMemoryFits(*context, options.width, options.height);
+  std::fprintf(report, "scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
   const scene::CameraPose camera = scene::defaultCameraPath(scene)->pose(0.0f);
 
   std::unique_ptr<gpu::CopyBandwidthProbe> copy;
@@ -133,8 +147,8 @@ int runBench(const BenchOptions& options) {
   loop.finish();
   progress.finish();
 
-  std::printf("\nGPU time per pass, %ux%u, %u frames (%s):\n%s", options.width, options.height, options.frames,
-              device.name.c_str(), loop.timings().table().c_str());
+  std::fprintf(report, "\nGPU time per pass, %ux%u, %u frames (%s):\n%s", options.width, options.height, options.frames,
+               device.name.c_str(), loop.timings().table().c_str());
   double bandwidth = 0.0, primaryRays = 0.0, incoherentClosest = 0.0, incoherentAny = 0.0;
   const double pixels = double(options.width) * double(options.height);
   for (const gpu::PassTiming& t : loop.timings().summary()) {
@@ -144,33 +158,39 @@ int runBench(const BenchOptions& options) {
     if (t.pass == "render.bvh_trace_rays") incoherentClosest = double(options.rays) / seconds;
     if (t.pass == "render.bvh_trace_rays_any") incoherentAny = double(options.rays) / seconds;
   }
-  std::printf("\nrays per second (median pass time): primary %.0f M (whole G-buffer pass, 1 ray per pixel)",
-              primaryRays / 1e6);
+  std::fprintf(report, "\nrays per second (median pass time): primary %.0f M (whole G-buffer pass, 1 ray per pixel)",
+               primaryRays / 1e6);
   if (tracer)
-    std::printf(", incoherent closest-hit %.0f M, incoherent any-hit %.0f M (%u random rays in the scene bounds)",
-                incoherentClosest / 1e6, incoherentAny / 1e6, options.rays);
-  std::printf("\n");
+    std::fprintf(report,
+                 ", incoherent closest-hit %.0f M, incoherent any-hit %.0f M (%u random rays in the scene bounds)",
+                 incoherentClosest / 1e6, incoherentAny / 1e6, options.rays);
+  std::fprintf(report, "\n");
   if (copy)
-    std::printf("copy bandwidth: %.1f GB/s (%u MiB read + %u MiB written per dispatch, median)\n", bandwidth,
-                options.copyMegabytes, options.copyMegabytes);
+    std::fprintf(
+        report, "copy bandwidth: %.1f GB/s (%.0f MiB read + %.0f MiB written per dispatch, median)%s\n", bandwidth,
+        double(copy->bytes()) / (1 << 20), double(copy->bytes()) / (1 << 20),
+        copy->bytes() < (VkDeviceSize(options.copyMegabytes) << 20) ? "; the device binds no more at once" : "");
 
   if (!options.json.empty()) {
-    std::ofstream json(options.json);
-    if (!json) throw std::runtime_error("cannot write " + options.json);
-    json << "{\n  \"device\": \"" << device.name << "\",\n  \"driver\": \"" << device.driver << "\",\n"
-         << "  \"scene\": \"" << scene.name << "\",\n  \"triangles\": " << renderer.triangleCount() << ",\n"
-         << "  \"width\": " << options.width << ",\n  \"height\": " << options.height << ",\n"
-         << "  \"frames\": " << options.frames << ",\n  \"copy_bandwidth_gbps\": " << bandwidth << ",\n"
-         << "  \"primary_rays_per_s\": " << primaryRays
-         << ",\n  \"incoherent_closest_rays_per_s\": " << incoherentClosest
-         << ",\n  \"incoherent_any_rays_per_s\": " << incoherentAny << ",\n"
-         << "  \"passes\": [\n";
-    auto rows = loop.timings().summary();
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      json << "    {\"name\": \"" << rows[i].pass << "\", \"median_ms\": " << rows[i].medianMs
-           << ", \"min_ms\": " << rows[i].minMs << ", \"max_ms\": " << rows[i].maxMs << "}"
-           << (i + 1 < rows.size() ? ",\n" : "\n");
-    json << "  ]\n}\n";
+    nlohmann::json passes = nlohmann::json::array();
+    for (const gpu::PassTiming& t : loop.timings().summary())
+      passes.push_back({{"name", t.pass}, {"median_ms", t.medianMs}, {"min_ms", t.minMs}, {"max_ms", t.maxMs}});
+    const nlohmann::json results = {{"device", device.name},
+                                    {"driver", device.driver},
+                                    {"scene", scene.name},
+                                    {"triangles", renderer.triangleCount()},
+                                    {"width", options.width},
+                                    {"height", options.height},
+                                    {"frames", options.frames},
+                                    {"copy_bandwidth_gbps", bandwidth},
+                                    {"primary_rays_per_s", primaryRays},
+                                    {"incoherent_closest_rays_per_s", incoherentClosest},
+                                    {"incoherent_any_rays_per_s", incoherentAny},
+                                    {"passes", passes}};
+    if (jsonToStdout)
+      std::cout << results.dump(2) << "\n" << std::flush;
+    else
+      writeTextFile(options.json, results.dump(2) + "\n");
   }
   return validationExitCode(*context);
 }

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
+#include "app/output_files.h"
 #include "io/colormap.h"
 #include "io/image_io.h"
 #include "metrics/flip.h"
@@ -94,14 +96,6 @@ std::string jsonString(const std::string& text) {
     }
   }
   return out + "\"";
-}
-
-void writeText(const fs::path& path, const std::string& text) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) fail(path, "cannot open for writing");
-  file << text;
-  file.close();
-  if (!file) fail(path, "write failed");
 }
 
 void checkMax(std::vector<std::string>& failures, const char* metric, double value, const std::optional<double>& limit,
@@ -194,12 +188,14 @@ int comparePair(const CompareOptions& options) {
       fail(options.errorMap, "--error-map writes a PNG; give a file name ending in .png");
     }
     refuseToOverwriteInputs(options.errorMap, "--error-map", inputs);
+    checkWritableFile(options.errorMap, "--error-map");
   }
   if (!options.json.empty()) {
     refuseToOverwriteInputs(options.json, "--json", inputs);
     if (!options.errorMap.empty() && sameFile(options.json, options.errorMap)) {
       fail(options.json, "--json and --error-map name the same file");
     }
+    checkWritableFile(options.json, "--json");
   }
 
   const io::ImageF reference = io::readImage(referencePath);
@@ -257,7 +253,7 @@ int comparePair(const CompareOptions& options) {
     std::printf("wrote %s\n", options.errorMap.c_str());
   }
   if (!options.json.empty()) {
-    writeText(options.json, pairJson(options, reference, test, comparison, failures.empty()));
+    writeTextFile(options.json, pairJson(options, reference, test, comparison, failures.empty()));
     std::printf("wrote %s\n", options.json.c_str());
   }
   std::fflush(stdout);
@@ -311,7 +307,10 @@ std::vector<fs::path> sequenceFrames(const CompareOptions& options) {
 
 int compareSequence(const CompareOptions& options) {
   const std::vector<fs::path> frames = sequenceFrames(options);
-  if (!options.json.empty()) refuseToOverwriteInputs(options.json, "--json", frames);
+  if (!options.json.empty()) {
+    refuseToOverwriteInputs(options.json, "--json", frames);
+    checkWritableFile(options.json, "--json");
+  }
 
   // One frame at a time, so that long sequences need two frames of memory.
   const io::ImageF first = io::readImage(frames[0]);
@@ -356,7 +355,7 @@ int compareSequence(const CompareOptions& options) {
     json << "],\n  \"mean_change\": " << jsonNumber(mean) << ",\n";
     json << "  \"max_change\": " << jsonNumber(*worst) << ",\n";
     json << "  \"passed\": " << (failures.empty() ? "true" : "false") << "\n}\n";
-    writeText(options.json, json.str());
+    writeTextFile(options.json, json.str());
     std::printf("wrote %s\n", options.json.c_str());
   }
   std::fflush(stdout);
@@ -387,20 +386,21 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
           ->add_option("--ppd", options.ppd,
                        "Pixels per degree of visual angle for FLIP (default 67.02: 0.7 m from a 0.7 m wide 4K "
                        "monitor, as the FLIP tool)")
-          ->check(CLI::Range(0.01f, 10000.0f)),
+          ->check(finiteRange(0.01, 10000.0)),
       command->add_option("--error-map", options.errorMap,
                           "Write the FLIP error map to this PNG (magma colour map); never over an input"),
       command->add_option("--max-relmse", options.maxRelMse, "Exit 1 if relMSE is above this")
-          ->check(CLI::NonNegativeNumber),
-      command->add_option("--max-rmse", options.maxRmse, "Exit 1 if RMSE is above this")->check(CLI::NonNegativeNumber),
-      command->add_option("--min-psnr", options.minPsnr, "Exit 1 if PSNR (dB, peak 1) is below this"),
+          ->check(finiteAtLeast(0.0)),
+      command->add_option("--max-rmse", options.maxRmse, "Exit 1 if RMSE is above this")->check(finiteAtLeast(0.0)),
+      command->add_option("--min-psnr", options.minPsnr, "Exit 1 if PSNR (dB, peak 1) is below this")
+          ->check(finiteNumber()),
       command->add_option("--max-flip", options.maxFlip, "Exit 1 if the mean FLIP is above this")
-          ->check(CLI::Range(0.0, 1.0))};
+          ->check(finiteRange(0.0, 1.0))};
   for (CLI::Option* option : pairOnly) sequence->excludes(option);
   command
       ->add_option("--max-temporal", options.maxTemporal,
                    "With --sequence: exit 1 if the mean relative frame-to-frame change is above this")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteAtLeast(0.0))
       ->needs(sequence);
   command->add_option("--json", options.json, "Also write every value to this JSON file; never over an input");
   // The image count depends on --sequence, so it is checked once parsing is

@@ -8,12 +8,13 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "app/images.h"
+#include "app/option_checks.h"
+#include "app/output_files.h"
 #include "app/progress.h"
 #include "gpu/frame_loop.h"
 #include "gpu/stage_dump.h"
@@ -67,6 +68,7 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
   addGpuOptions(*command, options.gpu);
   addSceneOptions(*command, options.view);
   command->add_option("--frame", options.frame, "Frame of the camera path to render (0 = the first)")
+      ->check(CLI::Range(0u, kMaxFrames - 1))
       ->capture_default_str();
   command->add_option("--spp", options.spp, "Samples per pixel (each: one diffuse and one specular path)")
       ->check(CLI::Range(1u, 1u << 24))
@@ -75,7 +77,7 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
       ->add_option("--target-relmse", options.targetRelMse,
                    "Stop early once the relMSE between the two independent halves of the samples is below "
                    "this (checked at every power of two spp from 16); --spp is then the most it takes")
-      ->check(CLI::PositiveNumber);
+      ->check(finitePositive());
   command->add_option("--max-bounces", options.maxBounces, "Surfaces a path may bounce off after the primary hit")
       ->check(CLI::Range(1u, 1000u))
       ->capture_default_str();
@@ -90,7 +92,7 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
   command->add_option("--out", options.out, "Output EXR; its siblings get the parts and the G-buffer")
       ->capture_default_str();
   command->add_option("--exposure", options.exposure, "Exposure multiplier of the PNG previews")
-      ->check(CLI::PositiveNumber);
+      ->check(finitePositive());
   command->add_flag("--halves", options.halves,
                     "Also write the two independent halves of the samples (OUT.halfA.exr, OUT.halfB.exr)");
   command->add_flag("--dump-stages", options.dumpStages,
@@ -101,7 +103,7 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
 int runReference(const ReferenceCommandOptions& options) {
   const fs::path out = options.out;
   if (out.extension() != ".exr") throw std::runtime_error("--out " + out.string() + ": must name an .exr file");
-  if (!out.parent_path().empty()) fs::create_directories(out.parent_path());
+  checkWritableFile(out, "--out");  // before the minutes of sampling, not after
   // Inputs are never overwritten: refuse an output that names one.
   for (const std::string& input : {options.view.env, options.view.scene, options.view.camera})
     if (!input.empty() && fs::exists(input) && fs::exists(out) && fs::equivalent(input, out))
@@ -111,7 +113,10 @@ int runReference(const ReferenceCommandOptions& options) {
   const scene::Scene scene = loadSceneArgument(view.scene);
   const std::unique_ptr<scene::CameraPath> path =
       view.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(view.camera, scene);
-  const std::vector<scene::CameraFrame> cameraFrames = scene::sampleCameraPath(*path, int(options.frame) + 1, view.fps);
+  // The frame before (for its motion vectors) and the frame itself.
+  const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
+  const std::vector<scene::CameraFrame> cameraFrames =
+      scene::sampleCameraFrames(*path, first, options.frame - first + 1, view.fps);
   const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, view);
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
@@ -119,12 +124,10 @@ int runReference(const ReferenceCommandOptions& options) {
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
 
-  // The frame before (for its motion vectors) and the frame itself.
-  const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
   std::vector<gpu::CapturedStage> captures;
   for (std::uint32_t frame = first; frame <= options.frame; ++frame) {
     gpu::Recorder& recorder = loop.beginFrame(options.dumpStages && frame == options.frame);
-    const scene::CameraFrame& camera = cameraFrames[frame];
+    const scene::CameraFrame& camera = cameraFrames[frame - first];
     renderer.record(recorder, loop.frameIndex(), {camera.pose, float(frame) / view.fps, camera.cut});
     loop.endFrame();
   }
@@ -140,6 +143,7 @@ int runReference(const ReferenceCommandOptions& options) {
                                                          : shared::kLobesAll;
   render::ReferenceRenderer reference(*context, renderer, scene, frameIndex, float(options.frame) / view.fps,
                                       referenceOptions);
+  checkDeviceMemoryFits(*context, view.width, view.height);
   std::printf("scene: %s, %zu triangles, %zu emissive; frame %u at %ux%u; environment %s\n", scene.name.c_str(),
               renderer.triangleCount(), reference.emissiveTriangleCount(), options.frame, view.width, view.height,
               reference.samplesEnvironment() ? "sampled as a light" : "black");
@@ -230,7 +234,7 @@ int runReference(const ReferenceCommandOptions& options) {
                          {"halves_relmse", halvesRelMse},
                          {"dropped_samples", images.droppedSamples},
                          {"device", context->deviceInfo().name}};
-  std::ofstream(sibling(out, ".json")) << meta.dump(2) << "\n";
+  writeTextFile(sibling(out, ".json"), meta.dump(2) + "\n");
 
   std::printf("wrote %s (+ .png), its parts %s, %s, %s, the G-buffer in %s and %s\n", out.c_str(),
               sibling(out, ".direct.exr").filename().c_str(), sibling(out, ".indirect-diffuse.exr").filename().c_str(),

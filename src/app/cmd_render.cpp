@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 
 #include "app/commands.h"
 #include "app/images.h"
+#include "app/option_checks.h"
+#include "app/output_files.h"
+#include "app/process.h"
 #include "app/progress.h"
 #include "gpu/frame_loop.h"
 #include "gpu/stage_dump.h"
@@ -32,12 +34,14 @@ namespace fs = std::filesystem;
 constexpr double kMaxAnimationPixels = 32.0e6;
 
 // Numbered PNGs into an MP4 when ffmpeg is installed; otherwise they stay.
+// ffmpeg gets its arguments as a list, never through a shell: an output
+// folder named "x'; rm -rf ~" is a file name, not a command.
 void encodeVideo(const fs::path& framesDir, const fs::path& video, float fps) {
-  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) return;
-  const std::string command = "ffmpeg -loglevel error -y -framerate " + std::to_string(fps) + " -i '" +
-                              (framesDir / "frame%04d.png").string() + "' -c:v libx264 -pix_fmt yuv420p -crf 18 '" +
-                              video.string() + "'";
-  if (std::system(command.c_str()) == 0)
+  const std::optional<int> status = runProgram(
+      {"ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps), "-i",
+       (framesDir / "frame%04d.png").string(), "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18", video.string()});
+  if (!status) return;  // no ffmpeg on this machine
+  if (*status == 0)
     std::printf("wrote %s\n", video.c_str());
   else
     std::printf("ffmpeg failed; frames stay as numbered PNGs in %s\n", framesDir.c_str());
@@ -53,10 +57,10 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
   addSceneOptions(*command, options.view);
   addGiOptions(*command, options.gi);
   command->add_option("--frames", options.frames, "Frames to render along the camera path")
-      ->check(CLI::Range(1u, 1000000u));
+      ->check(CLI::Range(1u, kMaxFrames));
   command->add_option("--out", options.out, "Output directory (created if missing)");
   command->add_option("--exposure", options.exposure, "Exposure multiplier before tonemapping for PNGs")
-      ->check(CLI::PositiveNumber);
+      ->check(finitePositive());
   command
       ->add_option("--aov", options.aovs,
                    "Also write these images of the last frame as EXR + false-colour PNG to OUT/aov/: viewZ, "
@@ -87,6 +91,13 @@ int runRender(const RenderOptions& options) {
     if (aov != "all" && !knownAovs().count(aov))
       throw std::runtime_error("--aov: unknown image '" + aov + "' (known: " + knownAovList() + ", all)");
 
+  const fs::path outDir = options.out;
+  // Before anything slow: a read-only or mistyped output folder fails now.
+  checkWritableDirectory(outDir, "--out");
+  warnIgnoredGiOptions(options.gi);
+  const bool gi = giEnabled(options.gi);
+  const gi::Settings settings = gi ? giSettings(options.gi) : gi::Settings{};
+
   const SceneOptions& shot = options.view;
   const scene::Scene scene = loadSceneArgument(shot.scene);
   const std::unique_ptr<scene::CameraPath> path =
@@ -95,8 +106,11 @@ int runRender(const RenderOptions& options) {
   render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
   rendererOptions.jitter = options.jitter;
 
-  const fs::path outDir = options.out;
-  fs::create_directories(outDir);
+  // What an earlier render left here would mix with this one's frames.
+  std::size_t removed = removeNumberedFrameFiles(outDir / "frames") + removeNumberedFrameFiles(outDir / "stages");
+  for (const char* single : {"animation.png", "render.mp4"}) removed += fs::remove(outDir / single) ? 1 : 0;
+  if (removed > 0) std::printf("removed %zu files of an earlier render from %s\n", removed, outDir.c_str());
+
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
   render::FrameRenderer renderer(*context, scene, rendererOptions);
@@ -116,9 +130,9 @@ int runRender(const RenderOptions& options) {
   const fs::path framesDir = outDir / "frames";
   if (everyFrame) fs::create_directories(framesDir);
   std::vector<gpu::CapturedStage> captures;
-  const bool gi = giEnabled(options.gi);
   std::unique_ptr<gi::GiContext> giContext;
-  if (gi) giContext = std::make_unique<gi::GiContext>(*context, shot.width, shot.height, giSettings(options.gi));
+  if (gi) giContext = std::make_unique<gi::GiContext>(*context, shot.width, shot.height, settings);
+  checkDeviceMemoryFits(*context, shot.width, shot.height);
   // What the frame is: the GI library's composite, or direct light alone.
   const auto frameImage = [&]() -> gpu::Image& { return gi ? giContext->composite() : renderer.direct(); };
   render::FrameView previous{};

@@ -16,6 +16,11 @@
 
 namespace bounce::app {
 
+// The most frames of a camera path a command renders or picks from: over
+// nine hours at 30 fps, and few enough that every frame's time is exact as a
+// float and every frame's pose fits in memory.
+constexpr std::uint32_t kMaxFrames = 1000000;
+
 struct GpuOptions {
   std::optional<int> device;
   bool validate = false;
@@ -25,6 +30,11 @@ std::unique_ptr<gpu::Context> openContext(const GpuOptions& options);
 // 0 when validation is off or silent; otherwise prints how many messages
 // there were and returns 1, so a validated run fails on any message.
 int validationExitCode(const gpu::Context& context);
+// Throws when the buffers and images made so far for a width x height frame
+// do not fit the device's largest device-local heap: Vulkan may still hand
+// out the memory (lavapipe does, lazily), and the frame would then crawl or
+// be killed by the system long after the command started.
+void checkDeviceMemoryFits(const gpu::Context& context, std::uint32_t width, std::uint32_t height);
 
 // A SCENE argument: a built-in name, a .gltf/.glb path, or empty for the
 // default built-in. A glTF directional light becomes the sun.
@@ -58,8 +68,11 @@ struct GiOptions {
   std::vector<std::pair<std::string, std::string>> overrides;  // key, value, in command-line order
   std::uint32_t warmup = 16;  // frames rendered (and thrown away) at the first camera before the first output frame
 };
-void addGiOptions(CLI::App& command, GiOptions& options);
+// `warmup`: whether the command offers --gi-warmup (bench has its own --warmup).
+void addGiOptions(CLI::App& command, GiOptions& options, bool warmup = true);
 bool giEnabled(const GiOptions& options);
+// With --gi off, warns (stderr) about the GI settings given, which nothing reads.
+void warnIgnoredGiOptions(const GiOptions& options);
 // The settings: defaults, then the file, then the flags; validated.
 gi::Settings giSettings(const GiOptions& options);
 // The library's message for the first --gi.KEY flag in argv whose key is not

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -7,7 +8,7 @@
 
 namespace bounce::app {
 
-void addGiOptions(CLI::App& command, GiOptions& options) {
+void addGiOptions(CLI::App& command, GiOptions& options, bool warmup) {
   command.add_option("--gi", options.mode, "Global illumination: diffuse (the GI library's indirect diffuse) or off")
       ->check(CLI::IsMember({"diffuse", "off"}))
       ->capture_default_str();
@@ -15,12 +16,13 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
       .add_option("--gi-settings", options.settingsFile,
                   "JSON file of GI settings (docs/gi-settings.md); --gi.KEY flags override it")
       ->check(CLI::ExistingFile);
-  command
-      .add_option("--gi-warmup", options.warmup,
-                  "Frames rendered at the first camera before the first output frame, so that light has "
-                  "bounced and histories have filled (GI only)")
-      ->check(CLI::Range(0u, 10000u))
-      ->capture_default_str();
+  if (warmup)
+    command
+        .add_option("--gi-warmup", options.warmup,
+                    "Frames rendered at the first camera before the first output frame, so that light has "
+                    "bounced and histories have filled (GI only)")
+        ->check(CLI::Range(0u, 10000u))
+        ->capture_default_str();
   // One flag per setting, in the table's order; their values are applied
   // after the file, in the order they were given.
   for (const gi::SettingInfo& setting : gi::settingKeys()) {
@@ -34,6 +36,14 @@ void addGiOptions(CLI::App& command, GiOptions& options) {
 }
 
 bool giEnabled(const GiOptions& options) { return options.mode == "diffuse"; }
+
+void warnIgnoredGiOptions(const GiOptions& options) {
+  if (giEnabled(options)) return;
+  std::string ignored;
+  if (!options.settingsFile.empty()) ignored = "--gi-settings " + options.settingsFile;
+  for (const auto& [key, value] : options.overrides) ignored += (ignored.empty() ? "--gi." : ", --gi.") + key;
+  if (!ignored.empty()) std::fprintf(stderr, "bounce: warning: --gi off: ignoring %s\n", ignored.c_str());
+}
 
 gi::Settings giSettings(const GiOptions& options) {
   gi::Settings settings;

@@ -1,8 +1,12 @@
 // bounce: the command-line renderer and tools.
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <stdexcept>
+#include <string>
 
 #include "app/commands.h"
+#include "util/edit_distance.h"
 
 namespace bounce::app {
 
@@ -11,7 +15,7 @@ void addGpuOptions(CLI::App& command, GpuOptions& options) {
       .add_option("--device", options.device,
                   "Vulkan device index from 'bounce info' (default: BOUNCE_DEVICE, else the best GPU, "
                   "else lavapipe)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1023));
   command.add_flag("--validate", options.validate,
                    "Enable the Khronos validation layer with synchronization validation; any message makes the "
                    "command fail");
@@ -31,6 +35,47 @@ int validationExitCode(const gpu::Context& context) {
   return 1;
 }
 
+void checkDeviceMemoryFits(const gpu::Context& context, std::uint32_t width, std::uint32_t height) {
+  const double inUse = double(context.deviceLocalBytesInUse());
+  const double heap = double(context.largestDeviceLocalHeap());
+  if (heap == 0.0 || inUse <= heap) return;
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  char message[256];
+  std::snprintf(message, sizeof message,
+                "a %ux%u frame needs %.1f GiB of device memory for its images and buffers; %s has %.1f GiB: "
+                "render smaller (--width, --height) or choose another --device",
+                width, height, inUse / kGiB, context.deviceInfo().name.c_str(), heap / kGiB);
+  throw std::runtime_error(message);
+}
+
+namespace {
+
+// CLI11 answers a mistyped command ("bounce rendr") with "A subcommand is
+// required"; this names the word and the closest command instead. Empty
+// when the first word is an option or a known command.
+std::string unknownCommandMessage(const CLI::App& app, int argc, const char* const* argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  const std::string word = argv[1];
+  std::string closest, names;
+  std::size_t closestDistance = word.size();
+  for (const CLI::App* command : app.get_subcommands({})) {
+    const std::string& name = command->get_name();
+    if (name == word) return "";
+    names += (names.empty() ? "" : ", ") + name;
+    const std::size_t distance = bounce::util::editDistance(word, name);
+    if (distance < closestDistance) {
+      closestDistance = distance;
+      closest = name;
+    }
+  }
+  std::string message = "unknown command '" + word + "'";
+  if (!closest.empty() && closestDistance <= std::max<std::size_t>(2, word.size() / 3))
+    message += "; did you mean '" + closest + "'?";
+  return message + " (commands: " + names + ")";
+}
+
+}  // namespace
+
 }  // namespace bounce::app
 
 int main(int argc, char** argv) {
@@ -39,7 +84,7 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   CLI::App app{"Bounce: real-time screen-space global illumination (Vulkan compute)", "bounce"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "bounce 0.1.0");
+  app.set_version_flag("--version", std::string("bounce ") + BOUNCE_VERSION);
   InfoOptions info;
   RenderOptions render;
   BenchOptions bench;
@@ -53,6 +98,10 @@ int main(int argc, char** argv) {
   CLI::App* compareCommand = addCompareCommand(app, compare);
   CLI::App* referenceCommand = addReferenceCommand(app, reference);
 
+  if (const std::string unknown = unknownCommandMessage(app, argc, argv); !unknown.empty()) {
+    std::fprintf(stderr, "bounce: error: %s\n", unknown.c_str());
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -80,7 +129,8 @@ int main(int argc, char** argv) {
     if (referenceCommand->parsed()) return runReference(reference);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
-    return 1;
+    // compare's 1 means "differs beyond a threshold"; trouble is 2, as for cmp and diff.
+    return compareCommand->parsed() ? 2 : 1;
   }
   return 2;
 }
