@@ -456,14 +456,14 @@ TEST_F(CompareCommand, OutputsNeverReplaceAnInput) {
   const std::string before = readFile(reference);
   const CommandResult map = runCompare(quoted(reference) + " " + quoted(kRepoPairs / "b_checker_shift1.png") +
                                        " --error-map " + quoted(reference));
-  EXPECT_EQ(map.exitCode, 1) << map.out << map.err;
+  EXPECT_EQ(map.exitCode, 2) << map.out << map.err;
   EXPECT_EQ(lineCount(map.err), 1u) << map.err;
   EXPECT_TRUE(contains(map.err, "refusing")) << map.err;
   EXPECT_TRUE(contains(map.err, reference.string())) << map.err;
   // The same file reached by another spelling is still refused.
   const CommandResult json = runCompare(quoted(reference) + " " + quoted(kRepoPairs / "b_checker_shift1.png") +
                                         " --json " + quoted(dir / "." / "reference.png"));
-  EXPECT_EQ(json.exitCode, 1) << json.out << json.err;
+  EXPECT_EQ(json.exitCode, 2) << json.out << json.err;
   EXPECT_EQ(readFile(reference), before) << "the input is untouched";
 }
 
@@ -471,7 +471,7 @@ TEST_F(CompareCommand, MismatchedOrBadImagesAreOneLineNamingTheFile) {
   const fs::path small = dir / "small.png";
   io::writePng(small, constantImage(64, 48, 0.5f), io::PngEncoding::Srgb);
   const CommandResult size = runCompare(quoted(kRepoPairs / "b_checker_ref.png") + " " + quoted(small));
-  EXPECT_EQ(size.exitCode, 1);
+  EXPECT_EQ(size.exitCode, 2);
   EXPECT_EQ(lineCount(size.err), 1u) << size.err;
   EXPECT_TRUE(contains(size.err, small.string())) << size.err;
   EXPECT_TRUE(contains(size.err, "64x48")) << size.err;
@@ -480,7 +480,7 @@ TEST_F(CompareCommand, MismatchedOrBadImagesAreOneLineNamingTheFile) {
   io::ImageF greyImage(128, 96, {"viewZ"});  // a "Y" EXR would be read as grey RGB
   io::writeExr(grey, greyImage);
   const CommandResult channels = runCompare(quoted(kRepoPairs / "b_checker_ref.png") + " " + quoted(grey));
-  EXPECT_EQ(channels.exitCode, 1);
+  EXPECT_EQ(channels.exitCode, 2);
   EXPECT_EQ(lineCount(channels.err), 1u) << channels.err;
   EXPECT_TRUE(contains(channels.err, grey.string()) && contains(channels.err, "channels")) << channels.err;
 
@@ -489,12 +489,12 @@ TEST_F(CompareCommand, MismatchedOrBadImagesAreOneLineNamingTheFile) {
   nanImage.at(3, 2, 1) = std::numeric_limits<float>::quiet_NaN();
   io::writeExr(nan, nanImage);
   const CommandResult nonFinite = runCompare(quoted(kRepoPairs / "e_sky_ref.exr") + " " + quoted(nan));
-  EXPECT_EQ(nonFinite.exitCode, 1);
+  EXPECT_EQ(nonFinite.exitCode, 2);
   EXPECT_EQ(lineCount(nonFinite.err), 1u) << nonFinite.err;
   EXPECT_TRUE(contains(nonFinite.err, nan.string()) && contains(nonFinite.err, "NaN")) << nonFinite.err;
 
   const CommandResult missing = runCompare(quoted(dir / "missing.png") + " " + quoted(small));
-  EXPECT_EQ(missing.exitCode, 1);
+  EXPECT_EQ(missing.exitCode, 2);
   EXPECT_TRUE(contains(missing.err, "missing.png")) << missing.err;
 }
 
@@ -539,12 +539,12 @@ TEST_F(CompareCommand, SequenceMeasuresTemporalStability) {
   EXPECT_EQ(files.exitCode, 0) << "identical frames: " << files.out << files.err;
 
   const CommandResult one = runCompare("--sequence " + quoted(frames / "frame0002.exr"));
-  EXPECT_EQ(one.exitCode, 1);
+  EXPECT_EQ(one.exitCode, 2);
   EXPECT_TRUE(contains(one.err, "frame0002.exr")) << one.err;
 
   io::writeExr(frames / "frame0004.exr", constantImage(8, 8, 0.5f));
   const CommandResult resized = runCompare("--sequence " + quoted(frames));
-  EXPECT_EQ(resized.exitCode, 1);
+  EXPECT_EQ(resized.exitCode, 2);
   EXPECT_EQ(lineCount(resized.err), 1u) << resized.err;
   EXPECT_TRUE(contains(resized.err, "frame0004.exr: is 8x8 but the first frame is 16x8")) << resized.err;
 }

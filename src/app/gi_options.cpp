@@ -49,7 +49,14 @@ gi::Settings giSettings(const GiOptions& options) {
   gi::Settings settings;
   if (!options.settingsFile.empty()) gi::applySettingsFile(settings, options.settingsFile);
   for (const auto& [key, value] : options.overrides) gi::applySetting(settings, key, value);
-  gi::validate(settings);
+  try {
+    gi::validate(settings);
+  } catch (const std::invalid_argument& invalid) {
+    // The keys at fault may come from the file, the flags or both: name the file.
+    if (options.settingsFile.empty()) throw;
+    throw std::invalid_argument(options.settingsFile + (options.overrides.empty() ? ": " : " with the --gi.* flags: ") +
+                                invalid.what());
+  }
   return settings;
 }
 

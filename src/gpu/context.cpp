@@ -224,10 +224,11 @@ Context::Context(const ContextOptions& options)
     if (devices.empty()) throw GpuError(std::string("no Vulkan device found. ") + kNoDeviceHelp);
     std::vector<DeviceInfo> infos;
     for (std::size_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], int(i)));
+    // One line, like every error: "0: NAME (TYPE); 1: ...".
     auto listing = [&] {
       std::string text;
       for (const DeviceInfo& d : infos)
-        text += "\n  " + std::to_string(d.index) + ": " + d.name + " (" + d.type + ")" +
+        text += std::string(text.empty() ? " " : "; ") + std::to_string(d.index) + ": " + d.name + " (" + d.type + ")" +
                 (d.suitable ? "" : " - unsuitable: " + d.unsuitableReason);
       return text;
     };
