@@ -90,6 +90,29 @@ std::vector<std::uint8_t> encodePng(int width, int height, const std::vector<std
   return png;
 }
 
+// A GLB container of this JSON text and binary chunk (none when empty).
+void writeGlbFile(const fs::path& path, std::string text, std::vector<std::uint8_t> bin) {
+  while (text.size() % 4 != 0) text += ' ';
+  while (bin.size() % 4 != 0) bin.push_back(0);
+  std::vector<std::uint8_t> file;
+  const auto u32 = [&](std::uint32_t value) {
+    for (int b = 0; b < 4; ++b) file.push_back(std::uint8_t(value >> (8 * b)));
+  };
+  const std::uint32_t length = 12 + 8 + std::uint32_t(text.size()) + (bin.empty() ? 0 : 8 + std::uint32_t(bin.size()));
+  file.insert(file.end(), {'g', 'l', 'T', 'F'});
+  u32(2);
+  u32(length);
+  u32(std::uint32_t(text.size()));
+  u32(0x4E4F534A);
+  file.insert(file.end(), text.begin(), text.end());
+  if (!bin.empty()) {
+    u32(std::uint32_t(bin.size()));
+    u32(0x004E4942);
+    file.insert(file.end(), bin.begin(), bin.end());
+  }
+  writeBytes(path, file.data(), file.size());
+}
+
 // Builds a glTF document and its one binary buffer, and writes it as .gltf
 // (buffer as a data URI or a .bin file) or as .glb.
 class GltfBuilder {
@@ -147,28 +170,7 @@ class GltfBuilder {
   fs::path writeGlb(const fs::path& path) {
     json doc = doc_;
     if (!bin_.empty()) doc["buffers"] = {{{"byteLength", bin_.size()}}};
-    std::string text = doc.dump();
-    while (text.size() % 4 != 0) text += ' ';
-    std::vector<std::uint8_t> bin = bin_;
-    while (bin.size() % 4 != 0) bin.push_back(0);
-    std::vector<std::uint8_t> file;
-    const auto u32 = [&](std::uint32_t value) {
-      for (int b = 0; b < 4; ++b) file.push_back(std::uint8_t(value >> (8 * b)));
-    };
-    const std::uint32_t length =
-        12 + 8 + std::uint32_t(text.size()) + (bin.empty() ? 0 : 8 + std::uint32_t(bin.size()));
-    file.insert(file.end(), {'g', 'l', 'T', 'F'});
-    u32(2);
-    u32(length);
-    u32(std::uint32_t(text.size()));
-    u32(0x4E4F534A);
-    file.insert(file.end(), text.begin(), text.end());
-    if (!bin.empty()) {
-      u32(std::uint32_t(bin.size()));
-      u32(0x004E4942);
-      file.insert(file.end(), bin.begin(), bin.end());
-    }
-    writeBytes(path, file.data(), file.size());
+    writeGlbFile(path, doc.dump(), bin_);
     return path;
   }
 
@@ -736,6 +738,40 @@ TEST(GltfImport, RefusesUnsupportedRequiredExtensions) {
 }
 
 // ------------------------------------------------------------------ malformed data
+
+// A glTF document `levels` containers deep in all (the document itself is
+// the first): nested arrays in the root's extras, or nested objects in a
+// node's extensions.
+std::string nestedExtras(int levels) {
+  const std::size_t arrays = std::size_t(levels - 1);
+  return R"({"asset": {"version": "2.0"}, "extras": )" + std::string(arrays, '[') + std::string(arrays, ']') + "}";
+}
+std::string nestedNodeExtensions(int levels) {
+  std::string objects;
+  for (int level = 4; level <= levels; ++level) objects += R"({"a": )";
+  objects += "0";
+  for (int level = 4; level <= levels; ++level) objects += "}";
+  return R"({"asset": {"version": "2.0"}, "nodes": [{"extensions": )" + objects + "}]}";
+}
+
+TEST(GltfImport, JsonNestedDeeperThan64LevelsIsRefusedWithoutRecursing) {
+  TempFolder folder;
+  // 15,000 levels in 30 KB overflowed the stack in tinygltf's recursive parser.
+  writeText(folder / "deep.gltf", nestedExtras(15000));
+  expectRefused(folder / "deep.gltf", "JSON nested deeper than 64 levels");
+  writeGlbFile(folder / "deep.glb", nestedNodeExtensions(15000), {});
+  expectRefused(folder / "deep.glb", "JSON nested deeper than 64 levels");
+
+  // The limit is exact: 64 levels load, 65 do not.
+  writeText(folder / "64.gltf", nestedExtras(64));
+  EXPECT_NO_THROW(load(folder / "64.gltf"));
+  writeGlbFile(folder / "64.glb", nestedNodeExtensions(64), {});
+  EXPECT_EQ(load(folder / "64.glb").scene.nodes.size(), 1u);
+  writeText(folder / "65.gltf", nestedExtras(65));
+  expectRefused(folder / "65.gltf", "JSON nested deeper than 64 levels");
+  writeGlbFile(folder / "65.glb", nestedNodeExtensions(65), {});
+  expectRefused(folder / "65.glb", "JSON nested deeper than 64 levels");
+}
 
 TEST(GltfImport, RefusesNanAndInfinitePositions) {
   TempFolder folder;

@@ -263,6 +263,25 @@ std::string schemaViolation(const json& object, std::span<const Property> proper
   return {};
 }
 
+// ---------------------------------------------------------------- nesting depth
+
+// tinygltf turns extras and extensions into its own values recursively, one
+// stack frame per level, so a small file nested thousands of levels deep
+// overflows the stack. No glTF needs more than a dozen levels; JSON nested
+// deeper than this is refused while it is parsed here, before tinygltf sees it.
+constexpr int kMaxJsonDepth = 64;
+
+struct JsonTooDeep {};
+
+// nlohmann's parser is iterative and reports each container's depth (the
+// number of containers around it) as it opens, so this stops at the first
+// container past the limit, without recursing and without building the rest.
+bool refuseDeepNesting(int depth, json::parse_event_t event, json&) {
+  const bool opens = event == json::parse_event_t::object_start || event == json::parse_event_t::array_start;
+  if (opens && depth >= kMaxJsonDepth) throw JsonTooDeep{};
+  return true;
+}
+
 // ---------------------------------------------------------------- file access
 
 // tinygltf file callbacks that only ever open absolute paths: tinygltf also
@@ -589,7 +608,9 @@ class Importer {
 
     json document;
     try {
-      document = json::parse(text.begin(), text.end());
+      document = json::parse(text.begin(), text.end(), refuseDeepNesting);
+    } catch (const JsonTooDeep&) {
+      fail("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     } catch (const json::exception& e) {
       fail(std::string("not valid JSON (") + e.what() + ")");
     }

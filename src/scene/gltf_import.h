@@ -12,8 +12,9 @@
 // KHR_lights_punctual lights; perspective cameras; node animations.
 //
 // What is refused, with a SceneError whose what() starts with the file path:
-// anything malformed (JSON, schema types, out-of-range indices or accessor
-// ranges, missing files, NaN or infinite geometry, cycles in the node graph)
+// anything malformed (JSON, JSON nested deeper than 64 levels, schema types,
+// out-of-range indices or accessor ranges, missing files, NaN or infinite
+// geometry, cycles in the node graph)
 // and files that require an extension this importer does not implement.
 // Everything else it cannot use (optional extensions, orthographic cameras,
 // skins, morph targets, vertex colours, ...) is reported through
