@@ -341,3 +341,53 @@ TEST(Cli, ReferenceKeepsWhatItAccumulatedOnCtrlC) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Scene input a hostile-but-fair user hands over (issue 10): where glTF files
+// may read from, scenes with nothing in them, cameras chosen by name.
+namespace {
+
+void writeFile(const fs::path& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
+// A glTF of one triangle (in z = 0, facing +Z) whose buffer is at `bufferUri`.
+std::string triangleGltf(const std::string& bufferUri) {
+  return R"({"asset": {"version": "2.0"},
+    "buffers": [{"uri": ")" +
+         bufferUri + R"(", "byteLength": 36}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "nodes": [{"mesh": 0}]})";
+}
+
+// The triangle's 36 bytes of positions.
+std::string trianglePositions() {
+  const float positions[9] = {-1, 0, 0, 1, 0, 0, 0, 1, 0};
+  return std::string(reinterpret_cast<const char*>(positions), sizeof positions);
+}
+
+TEST(CliSceneInput, BuffersOutsideTheGltfFolderNeedAllowOutsideAssets) {
+  const fs::path dir = freshDirectory("outside_assets");
+  fs::create_directories(dir / "scene");
+  writeFile(dir / "triangle.bin", trianglePositions());
+  const fs::path gltf = dir / "scene" / "triangle.gltf";
+  writeFile(gltf, triangleGltf("../triangle.bin"));
+  const std::vector<std::string> commands = {
+      "render " + gltf.string() + " --width 16 --height 12 --gi off --out " + (dir / "out").string(),
+      "reference " + gltf.string() + " --width 8 --height 6 --spp 1 --out " + (dir / "ref.exr").string(),
+      "bench " + gltf.string() + " --width 16 --height 12 --frames 1 --warmup 0 --copy-mb 0 --rays 0 --gi off"};
+  for (const std::string& command : commands) {
+    const Result refused = run(command);
+    EXPECT_EQ(refused.exitCode, 1) << command << ": " << refused.output;
+    EXPECT_EQ(lineCount(refused.output), 1u) << command << ": " << refused.output;
+    EXPECT_NE(refused.output.find(gltf.string() + ": the buffer or image file '../triangle.bin' lies outside the "
+                                                  "glTF file's folder"),
+              std::string::npos)
+        << command << ": " << refused.output;
+    const Result allowed = run(command + " --allow-outside-assets");
+    EXPECT_EQ(allowed.exitCode, 0) << command << ": " << allowed.output;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace

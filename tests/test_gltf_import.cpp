@@ -195,18 +195,17 @@ struct Loaded {
   std::vector<std::string> warnings;
 };
 
-Loaded load(const fs::path& path) {
+Loaded load(const fs::path& path, GltfImportOptions options = {}) {
   Loaded loaded;
-  GltfImportOptions options;
   options.warn = [&](const std::string& line) { loaded.warnings.push_back(line); };
   loaded.scene = loadGltf(path, options);
   return loaded;
 }
 
 // The SceneError message of loading `path` (which must fail).
-std::string loadError(const fs::path& path) {
+std::string loadError(const fs::path& path, const GltfImportOptions& options = {}) {
   try {
-    load(path);
+    load(path, options);
   } catch (const SceneError& error) {
     return error.what();
   }
@@ -214,8 +213,8 @@ std::string loadError(const fs::path& path) {
   return {};
 }
 
-void expectRefused(const fs::path& path, const std::string& reason) {
-  const std::string message = loadError(path);
+void expectRefused(const fs::path& path, const std::string& reason, const GltfImportOptions& options = {}) {
+  const std::string message = loadError(path, options);
   EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
   EXPECT_NE(message.find(reason), std::string::npos) << "expected '" << reason << "' in: " << message;
 }
@@ -735,6 +734,80 @@ TEST(GltfImport, RefusesUnsupportedRequiredExtensions) {
   gltf.doc()["extensionsUsed"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
   gltf.doc()["extensionsRequired"] = {"KHR_lights_punctual", "KHR_draco_mesh_compression"};
   expectRefused(gltf.writeGltf(folder / "required.gltf"), "KHR_draco_mesh_compression");
+}
+
+// ------------------------------------------------------------------ where files may come from
+
+TEST(GltfImport, BufferAndImageUrisMustStayInsideTheGltfFilesFolder) {
+  TempFolder folder;
+  const fs::path scene = folder / "scene";
+  fs::create_directories(scene / "sub");
+  GltfBuilder gltf;
+  gltf.addMeshNode(quadPrimitive(gltf));
+  gltf.writeGltf(scene / "quad.gltf", true);  // and scene/quad.bin
+  fs::copy_file(scene / "quad.bin", folder / "outside.bin");
+  std::ifstream in(scene / "quad.gltf");
+  const json original = json::parse(in);
+  // The quad with its buffer at `uri`, and optionally an image no material uses.
+  const auto withUri = [&](const std::string& uri, const std::string& imageUri = "") {
+    json doc = original;
+    doc["buffers"][0]["uri"] = uri;
+    if (!imageUri.empty()) doc["images"] = {{{"uri", imageUri}}};
+    writeText(scene / "uri.gltf", doc.dump());
+    return scene / "uri.gltf";
+  };
+  const std::string outside =
+      "lies outside the glTF file's folder; files there are read only with "
+      "--allow-outside-assets";
+
+  // Inside the folder, however it is spelt, loads.
+  fs::create_symlink("quad.bin", scene / "alias.bin");
+  fs::create_symlink("..", scene / "sub" / "up");
+  for (const char* uri : {"quad.bin", "./quad.bin", "sub/../quad.bin", "%71uad.bin", "alias.bin", "sub/up/quad.bin"})
+    EXPECT_EQ(load(withUri(uri)).scene.meshes.size(), 1u) << uri;
+
+  // Out of it, by any road, is refused, for images as for buffers.
+  fs::create_symlink("../outside.bin", scene / "relative-link.bin");
+  fs::create_symlink(folder / "outside.bin", scene / "absolute-link.bin");
+  const std::vector<std::string> escapes = {"../outside.bin",
+                                            "%2e%2e/outside.bin",
+                                            "%2E%2E%2Foutside.bin",
+                                            "sub/../../outside.bin",
+                                            "sub/up/../outside.bin",
+                                            (folder / "outside.bin").string(),
+                                            (scene / "quad.bin").string(),  // absolute, even when inside
+                                            "relative-link.bin",
+                                            "absolute-link.bin"};
+  for (const std::string& uri : escapes) {
+    SCOPED_TRACE(uri);
+    expectRefused(withUri(uri), outside);
+    expectRefused(withUri("quad.bin", uri), outside);
+  }
+  expectRefused(withUri("%2e%2e/outside.bin"), "the buffer or image file '../outside.bin' " + outside);
+  // A NUL would end the path early in the C library: refused, and shown as %00.
+  expectRefused(withUri("quad.bin%00.png"),
+                "the buffer or image file 'quad.bin%00.png' has a NUL byte (%00) in its URI");
+
+  // Whether the outside file exists changes nothing in the message, which
+  // holds none of its bytes.
+  const std::string secret(120, 'S');
+  writeText(folder / "secret.bin", secret);
+  fs::create_symlink("../secret.bin", scene / "secret-link.bin");
+  const std::vector<std::string> secretUris = {"../secret.bin", "secret-link.bin"};
+  std::vector<std::string> whenPresent;
+  for (const std::string& uri : secretUris) whenPresent.push_back(loadError(withUri(uri)));
+  fs::remove(folder / "secret.bin");
+  for (std::size_t i = 0; i < secretUris.size(); ++i) {
+    EXPECT_EQ(loadError(withUri(secretUris[i])), whenPresent[i]);
+    EXPECT_NE(whenPresent[i].find(outside), std::string::npos) << whenPresent[i];
+    EXPECT_EQ(whenPresent[i].find("SSSS"), std::string::npos) << whenPresent[i];
+  }
+
+  // allowOutsideAssets reads them; a NUL stays refused.
+  GltfImportOptions allowed;
+  allowed.allowOutsideAssets = true;
+  for (const std::string& uri : escapes) EXPECT_EQ(load(withUri(uri), allowed).scene.meshes.size(), 1u) << uri;
+  expectRefused(withUri("quad.bin%00.png"), "has a NUL byte", allowed);
 }
 
 // ------------------------------------------------------------------ malformed data

@@ -44,6 +44,7 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       app.add_subcommand("bench", "Time every pass with GPU timestamps; BVH rays per second; copy bandwidth");
   addGpuOptions(*command, options.gpu);
   command->add_option("scene", options.scene, "Built-in scene or .gltf/.glb file (default: the default built-in)");
+  addAllowOutsideAssetsFlag(*command, options.allowOutsideAssets);
   command->add_option("--width", options.width, "Image width in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--height", options.height, "Image height in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--frames", options.frames, "Timed frames")->check(CLI::Range(1u, 100000u));
@@ -62,7 +63,7 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
 }
 
 int runBench(const BenchOptions& options) {
-  const scene::Scene scene = loadSceneArgument(options.scene);
+  const scene::Scene scene = loadSceneArgument(options.scene, {.allowOutsideAssets = options.allowOutsideAssets});
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   const gpu::DeviceInfo& device = context->deviceInfo();
   std::printf("device: %s (%s), driver %s\n", device.name.c_str(), device.type.c_str(), device.driver.c_str());

@@ -7,7 +7,7 @@
 
 namespace bounce::app {
 
-scene::Scene loadSceneArgument(const std::string& argument) {
+scene::Scene loadSceneArgument(const std::string& argument, const scene::GltfImportOptions& importOptions) {
   if (argument.empty()) return scene::makeBuiltinScene(scene::defaultBuiltinScene());
   if (scene::isBuiltinScene(argument)) return scene::makeBuiltinScene(argument);
   const std::filesystem::path path(argument);
@@ -18,9 +18,15 @@ scene::Scene loadSceneArgument(const std::string& argument) {
     throw std::runtime_error("scene '" + argument + "' is neither a built-in scene (" + names +
                              ") nor a .gltf/.glb file");
   }
-  scene::Scene scene = scene::loadGltf(path);
+  scene::Scene scene = scene::loadGltf(path, importOptions);
   scene::adoptDirectionalLightAsSun(scene);
   return scene;
+}
+
+void addAllowOutsideAssetsFlag(CLI::App& command, bool& allowOutsideAssets) {
+  command.add_flag("--allow-outside-assets", allowOutsideAssets,
+                   "Let a glTF file's buffer and image URIs name files outside its folder (absolute paths, '..', "
+                   "symlinks leading out); refused by default, so a downloaded scene cannot read other files");
 }
 
 void addSceneOptions(CLI::App& command, SceneOptions& options) {
@@ -49,6 +55,7 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
   command.add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees");
   command.add_flag("--no-sun", options.noSun,
                    "No sunlight (e.g. when the --env map already shows its sun, which would then count twice)");
+  addAllowOutsideAssetsFlag(command, options.allowOutsideAssets);
 }
 
 render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options) {

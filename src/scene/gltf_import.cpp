@@ -284,14 +284,106 @@ bool refuseDeepNesting(int depth, json::parse_event_t event, json&) {
 
 // ---------------------------------------------------------------- file access
 
-// tinygltf file callbacks that only ever open absolute paths: tinygltf also
-// looks for missing files in the current directory, which would make a
-// broken scene load or not depending on where the program runs.
+// Buffer and image files come from the glTF file's folder only (unless the
+// user allows others): a scene from the internet must not make Bounce read
+// ../../etc/passwd into a buffer, or tell whether such a file exists.
+struct AssetFolder {
+  std::string baseDir;  // the folder as handed to tinygltf, which appends "/" and the decoded URI
+  fs::path folder;      // the same folder, with symlinks resolved
+  bool allowOutside = false;
+  std::string refusal;  // why the first refused URI was refused
+};
+
+// Symlinks followed while resolving one URI before it counts as a loop (Linux's limit).
+constexpr int kMaxSymlinksPerUri = 40;
+
+// The file a relative path names inside `folder`, with every symlink on the
+// way resolved (dangling ones too), or nothing when getting there leaves the
+// folder at any step: ".." above it, or a symlink pointing elsewhere. The
+// answer depends only on what lies inside the folder, never on what exists
+// outside it, so a refusal reveals nothing about other files.
+std::optional<fs::path> insideFolder(const fs::path& folder, const fs::path& relative) {
+  if (relative.has_root_path()) return std::nullopt;
+  std::vector<fs::path> pending(relative.begin(), relative.end());  // the next part last
+  std::reverse(pending.begin(), pending.end());
+  fs::path resolved = folder;
+  int symlinks = 0;
+  while (!pending.empty()) {
+    const fs::path part = std::move(pending.back());
+    pending.pop_back();
+    if (part.empty() || part == ".") continue;
+    if (part == "..") {
+      if (resolved == folder) return std::nullopt;
+      resolved = resolved.parent_path();
+      continue;
+    }
+    const fs::path next = resolved / part;
+    std::error_code error;
+    if (!fs::is_symlink(fs::symlink_status(next, error))) {
+      resolved = next;
+      continue;
+    }
+    fs::path target = fs::read_symlink(next, error);
+    if (error || ++symlinks > kMaxSymlinksPerUri) return std::nullopt;
+    if (target.has_root_path()) {
+      // An absolute target is followed only when it lies inside the folder as written.
+      const fs::path rest = target.lexically_normal().lexically_relative(folder);
+      if (rest.empty() || *rest.begin() == "..") return std::nullopt;
+      resolved = folder;
+      target = rest;
+    }
+    for (auto it = target.end(); it != target.begin();) pending.push_back(*--it);
+  }
+  return resolved;
+}
+
+// A URI for a message: control bytes (a decoded %00 among them) written as
+// %XX again, and at most a line's worth of it.
+std::string printableUri(const std::string& uri) {
+  constexpr std::size_t kMaxLength = 200;
+  std::string text;
+  for (const char c : uri.substr(0, kMaxLength)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) {
+      const char* hex = "0123456789ABCDEF";
+      text += {'%', hex[byte >> 4], hex[byte & 15]};
+    } else {
+      text += c;
+    }
+  }
+  return uri.size() > kMaxLength ? text + "..." : text;
+}
+
+// tinygltf's ExpandFilePath callback, through which every file it opens
+// passes: the path to open for base directory + "/" + decoded URI, or ""
+// (which tinygltf reports as a missing file) for a refused URI.
+std::string resolveAssetPath(const std::string& joined, void* userData) {
+  AssetFolder& assets = *static_cast<AssetFolder*>(userData);
+  const std::string prefix = assets.baseDir.ends_with('/') ? assets.baseDir : assets.baseDir + "/";
+  // tinygltf also tries each URI relative to the current directory, which
+  // would make a broken scene load or not depending on where the program runs.
+  if (!joined.starts_with(prefix)) return {};
+  const std::string uri = joined.substr(prefix.size());
+  const auto refuse = [&](const std::string& why) {
+    if (assets.refusal.empty()) assets.refusal = "the buffer or image file '" + printableUri(uri) + "' " + why;
+    return std::string();
+  };
+  // The C library would end the path at the NUL and open another file.
+  if (uri.find('\0') != std::string::npos) return refuse("has a NUL byte (%00) in its URI");
+  // Not normalised: "link/.." must mean what the file system makes of it.
+  if (assets.allowOutside) return (assets.folder / uri).string();
+  const std::optional<fs::path> inside = insideFolder(assets.folder, uri);
+  if (!inside)
+    return refuse("lies outside the glTF file's folder; files there are read only with --allow-outside-assets");
+  return inside->string();
+}
+
+// tinygltf file callbacks that only ever open the absolute paths
+// resolveAssetPath returns.
 bool absoluteFileExists(const std::string& path, void*) {
   std::error_code error;
   return fs::path(path).is_absolute() && fs::is_regular_file(path, error);
 }
-std::string keepFilePath(const std::string& path, void*) { return path; }
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   const std::streamoff size = file ? std::streamoff(file.tellg()) : -1;
@@ -621,23 +713,30 @@ class Importer {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&keepEncodedImage, nullptr);
-    loader.SetFsCallbacks({&absoluteFileExists, &keepFilePath, &readWholeFile, &refuseWrite, nullptr});
-    const std::string baseDir = fs::absolute(path_).parent_path().string();
-    std::string error;
+    const fs::path folder = fs::absolute(path_).parent_path();
+    std::error_code error;
+    AssetFolder assets{folder.string(), fs::weakly_canonical(folder, error), options_.allowOutsideAssets, {}};
+    if (error) fail("cannot resolve the folder of the file (" + error.message() + ")");
+    loader.SetFsCallbacks({&absoluteFileExists, &resolveAssetPath, &readWholeFile, &refuseWrite, &assets});
+    std::string loadError;
     // tinygltf's warnings only concern images it could not read; whether that
     // matters depends on whether a material uses the image, checked later.
     std::string ignoredWarnings;
     bool loaded = false;
     try {
-      loaded = binary ? loader.LoadBinaryFromMemory(&model_, &error, &ignoredWarnings, bytes.data(),
-                                                    unsigned(glbLength), baseDir)
-                      : loader.LoadASCIIFromString(&model_, &error, &ignoredWarnings, text.data(),
-                                                   unsigned(text.size()), baseDir);
+      loaded = binary ? loader.LoadBinaryFromMemory(&model_, &loadError, &ignoredWarnings, bytes.data(),
+                                                    unsigned(glbLength), assets.baseDir)
+                      : loader.LoadASCIIFromString(&model_, &loadError, &ignoredWarnings, text.data(),
+                                                   unsigned(text.size()), assets.baseDir);
     } catch (const std::exception& e) {
       // tinygltf's JSON library throws on some inputs the schema check lets through.
-      error = e.what();
+      loadError = e.what();
     }
-    if (!loaded) fail("cannot load glTF: " + (error.empty() ? std::string("tinygltf gave no reason") : oneLine(error)));
+    // A refused URI is an error even for an image no material uses, and
+    // tinygltf's own message would call the file missing.
+    if (!assets.refusal.empty()) fail(assets.refusal);
+    if (!loaded)
+      fail("cannot load glTF: " + (loadError.empty() ? std::string("tinygltf gave no reason") : oneLine(loadError)));
   }
 
   void checkExtensions(const json& document) {
