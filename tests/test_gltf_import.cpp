@@ -22,6 +22,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "scene/camera_path.h"
 #include "scene/tangents.h"
 
 namespace bounce::scene {
@@ -639,6 +640,27 @@ TEST(GltfImport, PerspectiveCamerasAreKeptOrthographicOnesSkipped) {
   ASSERT_EQ(loaded.warnings.size(), 1u);
   EXPECT_NE(loaded.warnings[0].find("orthographic"), std::string::npos);
   EXPECT_NE(loaded.warnings[0].find("plan"), std::string::npos);
+}
+
+// 100,000 nodes in one chain, each a step up from its parent, the quad and a
+// camera at its end (validation used to take minutes on such a file).
+TEST(GltfImport, AHundredThousandNodeChainLoadsWithItsLeafInPlace) {
+  constexpr int kNodes = 100000;
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.add("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}});
+  for (int i = 0; i + 1 < kNodes; ++i) gltf.add("nodes", {{"translation", {0, 1, 0}}, {"children", {i + 1}}});
+  gltf.addMeshNode(quadPrimitive(gltf), {{"translation", {0, 1, 0}}, {"camera", 0}});
+  gltf.doc()["scenes"] = {{{"nodes", {0}}}};
+  const Scene scene = load(gltf.writeGltf(folder / "chain.gltf")).scene;
+
+  ASSERT_EQ(scene.nodes.size(), std::size_t(kNodes));
+  validate(scene);
+  // Sums of whole numbers below 2^24 are exact in float.
+  const std::vector<Instance> instances = instancesAt(scene, 0.0f);
+  ASSERT_EQ(instances.size(), 1u);
+  EXPECT_EQ(worldPoint(instances[0], {1, 1, 0}), glm::vec3(1, kNodes + 1, 0));
+  EXPECT_EQ(makeCameraPath("gltf", scene)->pose(0.0f).position, glm::vec3(0, kNodes, 0));
 }
 
 TEST(GltfImport, NodeAnimationsMoveInstancesOverTime) {
