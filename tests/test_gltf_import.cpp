@@ -663,6 +663,31 @@ TEST(GltfImport, AHundredThousandNodeChainLoadsWithItsLeafInPlace) {
   EXPECT_EQ(makeCameraPath("gltf", scene)->pose(0.0f).position, glm::vec3(0, kNodes, 0));
 }
 
+// 100,000 nodes side by side, every one a root of the scene and every one
+// warned about: neither the roots nor the warnings may be collected by
+// searching what was collected before (that took 9 s on this file, growing
+// with the square of its size).
+TEST(GltfImport, AHundredThousandRootsAndWarningsLoadInLinearTime) {
+  constexpr int kNodes = 100000;
+  TempFolder folder;
+  GltfBuilder gltf;
+  json roots = json::array();
+  for (int i = 0; i < kNodes; ++i) {
+    gltf.add("nodes", {{"translation", {i, 0, 0}}, {"weights", {0.5}}});
+    roots.push_back(i);
+  }
+  roots.push_back(0);  // listed twice, displayed once
+  gltf.doc()["scenes"] = {{{"nodes", roots}}};
+  const Loaded loaded = load(gltf.writeGltf(folder / "wide.gltf"));
+
+  ASSERT_EQ(loaded.scene.roots.size(), std::size_t(kNodes));
+  EXPECT_EQ(loaded.scene.roots.back(), kNodes - 1);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("morph targets are ignored: node 0, node 1,"), std::string::npos);
+  EXPECT_NE(loaded.warnings[0].find("and " + std::to_string(kNodes - 8) + " more"), std::string::npos)
+      << loaded.warnings[0];
+}
+
 TEST(GltfImport, NodeAnimationsMoveInstancesOverTime) {
   TempFolder folder;
   GltfBuilder gltf;

@@ -24,6 +24,7 @@
 #include <span>
 #include <string_view>
 #include <thread>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -629,10 +630,9 @@ class Importer {
 
   // Collects one warning line per kind of problem, naming what it concerns.
   void warn(const std::string& kind, const std::string& subject) {
-    auto found = std::find_if(warnings_.begin(), warnings_.end(), [&](const auto& w) { return w.first == kind; });
-    if (found == warnings_.end()) found = warnings_.insert(warnings_.end(), {kind, {}});
-    if (std::find(found->second.begin(), found->second.end(), subject) == found->second.end())
-      found->second.push_back(subject);
+    auto found = std::find_if(warnings_.begin(), warnings_.end(), [&](const Warning& w) { return w.kind == kind; });
+    if (found == warnings_.end()) found = warnings_.insert(warnings_.end(), {kind, {}, {}});
+    if (found->named.insert(subject).second) found->subjects.push_back(subject);
   }
 
   void emitWarnings() const {
@@ -648,7 +648,7 @@ class Importer {
       for (std::size_t i = 0; i < ignoredExtensions_.size(); ++i) line += (i ? ", " : "") + ignoredExtensions_[i];
       emit(line);
     }
-    for (const auto& [kind, subjects] : warnings_) {
+    for (const auto& [kind, subjects, named] : warnings_) {
       std::string line = path_.string() + ": " + kind + ": ";
       for (std::size_t i = 0; i < subjects.size() && i < kNamedSubjects; ++i) line += (i ? ", " : "") + subjects[i];
       if (subjects.size() > kNamedSubjects)
@@ -909,19 +909,15 @@ class Importer {
     const auto key = std::make_pair(image, srgb);
     if (const auto found = textureIndex_.find(key); found != textureIndex_.end()) return found->second;
 
-    auto job =
-        std::find_if(decodeJobs_.begin(), decodeJobs_.end(), [&](const DecodeJob& j) { return j.image == image; });
-    if (job == decodeJobs_.end()) {
-      job = decodeJobs_.insert(decodeJobs_.end(), DecodeJob{});
-      job->image = image;
-      job->name = imageName(image);
-    }
+    const auto [jobIndex, isNew] = decodeJobOfImage_.try_emplace(image, decodeJobs_.size());
+    if (isNew) decodeJobs_.push_back({.image = image, .name = imageName(image)});
+    DecodeJob& job = decodeJobs_[jobIndex->second];
     const int textureIndex = int(scene_.textures.size());
     Texture texture;
-    texture.name = job->name;
+    texture.name = job.name;
     texture.srgb = srgb;
     scene_.textures.push_back(std::move(texture));
-    job->textures.push_back(textureIndex);
+    job.textures.push_back(textureIndex);
     textureIndex_[key] = textureIndex;
     return textureIndex;
   }
@@ -1448,10 +1444,12 @@ class Importer {
         if (scene_.nodes[i].parent < 0) scene_.roots.push_back(int(i));
       return;
     }
+    std::vector<bool> listed(scene_.nodes.size(), false);
     for (int node : model_.scenes[std::size_t(chosen)].nodes) {
       if (node < 0 || std::size_t(node) >= scene_.nodes.size())
         fail("scene " + std::to_string(chosen) + ": node " + std::to_string(node) + " does not exist");
-      if (std::find(scene_.roots.begin(), scene_.roots.end(), node) == scene_.roots.end()) scene_.roots.push_back(node);
+      if (!listed[std::size_t(node)]) scene_.roots.push_back(node);
+      listed[std::size_t(node)] = true;
     }
   }
 
@@ -1460,11 +1458,17 @@ class Importer {
   tinygltf::Model model_;
   Scene scene_;
   std::vector<std::string> ignoredExtensions_;
-  std::vector<std::pair<std::string, std::vector<std::string>>> warnings_;  // kind, subjects; in order of appearance
+  struct Warning {
+    std::string kind;
+    std::vector<std::string> subjects;      // in order of appearance
+    std::unordered_set<std::string> named;  // the same, to find repeats at once on large scenes
+  };
+  std::vector<Warning> warnings_;                     // in order of appearance
   std::vector<std::vector<int>> meshPrimitives_;      // glTF mesh -> Scene::meshes (one per triangle primitive)
   std::vector<int> cameraIndex_;                      // glTF camera -> Scene::cameras, -1 if skipped
   std::map<std::pair<int, bool>, int> textureIndex_;  // (glTF image, sRGB) -> Scene::textures
   std::vector<DecodeJob> decodeJobs_;                 // one per image that materials use
+  std::map<int, std::size_t> decodeJobOfImage_;       // glTF image -> decodeJobs_
 };
 
 }  // namespace
