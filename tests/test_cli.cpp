@@ -390,4 +390,28 @@ TEST(CliSceneInput, BuffersOutsideTheGltfFolderNeedAllowOutsideAssets) {
   fs::remove_all(dir);
 }
 
+// A valid glTF with nothing to draw renders the sky, in every command.
+TEST(CliSceneInput, AGltfWithNothingInItRendersTheSky) {
+  const fs::path dir = freshDirectory("empty_gltf");
+  fs::create_directories(dir);
+  const fs::path gltf = dir / "empty.gltf";
+  writeFile(gltf, R"({"asset": {"version": "2.0"}})");
+  const Result render = run("render " + gltf.string() + " --width 32 --height 24 --out " + (dir / "out").string());
+  ASSERT_EQ(render.exitCode, 0) << render.output;
+  // readImage refuses NaN and infinity.
+  const bounce::io::ImageF image = bounce::io::readImage(dir / "out" / "render.exr");
+  EXPECT_EQ(image.width, 32);
+  double sum = 0.0;
+  for (float value : image.pixels) sum += value;
+  EXPECT_GT(sum, 0.0) << "the sky is lit";
+
+  for (const std::string& command :
+       {"reference " + gltf.string() + " --width 8 --height 6 --spp 2 --out " + (dir / "ref.exr").string(),
+        "bench " + gltf.string() + " --validate --width 16 --height 12 --frames 1 --warmup 0 --copy-mb 0 --rays 64"}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.exitCode, 0) << command << ": " << r.output;
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -92,6 +92,25 @@ class FrameRendererTest : public testing::GpuTest {
   }
 };
 
+// A valid glTF may hold no mesh and no material ({"asset": {"version": "2.0"}}):
+// every buffer the passes bind still exists, and the frame is the sky.
+TEST_F(FrameRendererTest, ASceneWithNothingInItShowsTheSky) {
+  scene::Scene empty;
+  empty.name = "empty";
+  const Frame frame =
+      render(empty, {{testing::cameraAt({0.0f, 1.0f, 5.0f}, {0.0f, 1.5f, 0.0f}, 60.0f), 0.0f, true}})[0];
+  double sum = 0.0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      ASSERT_EQ(frame.viewZ.at(x, y, 0), 0.0f) << x << "," << y << " is background";
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(frame.direct.at(x, y, c)) && frame.direct.at(x, y, c) >= 0.0f) << x << "," << y;
+        sum += frame.direct.at(x, y, c);
+      }
+    }
+  EXPECT_GT(sum, 0.0) << "the sky is lit";
+}
+
 TEST_F(FrameRendererTest, PlaneAndSphereGiveExactViewZAndNormals) {
   const scene::Scene s = planeAndSphere();
   const scene::CameraPose pose = testing::cameraAt({0.5f, 2.0f, 6.0f}, {0.0f, 0.8f, 0.0f}, 50.0f);

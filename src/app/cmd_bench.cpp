@@ -22,7 +22,9 @@ namespace {
 // Rays from random points inside the scene's bounds in random directions:
 // the incoherent case (GI bounces), unlike primary rays.
 std::vector<render::BvhRay> randomRays(const scene::Scene& scene, std::uint32_t count) {
-  const scene::Bounds bounds = scene::worldBounds(scene, 0.0f);
+  const scene::Bounds sceneBounds = scene::worldBounds(scene, 0.0f);
+  // A scene with nothing in it has no bounds (they are inverted and infinite): its rays start around the origin.
+  const scene::Bounds bounds = sceneBounds.empty() ? scene::Bounds{glm::vec3(-1.0f), glm::vec3(1.0f)} : sceneBounds;
   std::mt19937 random(1234);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::normal_distribution<float> gauss;

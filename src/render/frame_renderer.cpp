@@ -222,6 +222,8 @@ FrameRenderer::~FrameRenderer() = default;
 void FrameRenderer::uploadStatic() {
   std::vector<GpuMaterial> materials;
   for (const scene::Material& m : scene_.materials) materials.push_back(packMaterial(m));
+  // A buffer may not be empty; a scene without materials has nothing that reads one.
+  if (materials.empty()) materials.push_back(packMaterial(scene::Material{}));
   materials_ = std::make_unique<gpu::Buffer>(context_, "scene.materials", materials.size() * sizeof(GpuMaterial),
                                              gpu::BufferUsage::DeviceLocal);
   gpu::uploadBuffer(context_, *materials_, materials.data(), materials.size() * sizeof(GpuMaterial));
