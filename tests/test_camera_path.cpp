@@ -123,6 +123,35 @@ TEST(CameraPath, WithoutASuggestedCameraStaticFramesTheWholeScene) {
   EXPECT_GT(glm::length(pose.position - bounds.center()), glm::length(bounds.extent()));
 }
 
+// Framing in floats overflowed for bounds whose size squared passes float's
+// range (1e30 here) and gave an infinite camera without a word; now such
+// bounds are framed, and bounds no float camera can frame are refused.
+TEST(CameraPath, HugeBoundsAreFramedOrRefusedNamingTheScene) {
+  const auto sceneAt = [](const glm::vec3& offset, float size) {
+    Scene scene = triangleScene();
+    scene.name = "huge";
+    for (glm::vec3& p : scene.meshes[0].positions) p = offset + p * size;
+    return scene;
+  };
+  const Scene huge = sceneAt(glm::vec3(0.0f), 1e30f);
+  const CameraPose pose = makeCameraPath("static", huge)->pose(0.0f);
+  const Bounds bounds = worldBounds(huge, 0.0f);
+  ASSERT_TRUE(std::isfinite(pose.position.x) && std::isfinite(pose.position.y) && std::isfinite(pose.position.z));
+  const glm::dvec3 extent = glm::dvec3(bounds.max) - glm::dvec3(bounds.min);
+  const double expected = 1.1 * 0.5 * glm::length(extent) / std::sin(glm::radians(22.5));
+  EXPECT_NEAR(glm::length(glm::dvec3(pose.position) - glm::dvec3(pose.target)) / expected, 1.0, 1e-5);
+
+  for (const Scene& unframeable : {sceneAt(glm::vec3(0.0f), 1e38f), sceneAt(glm::vec3(1e30f), 1.0f)}) {
+    try {
+      makeCameraPath("static", unframeable);
+      ADD_FAILURE() << "expected SceneError";
+    } catch (const SceneError& error) {
+      EXPECT_EQ(std::string(error.what()).rfind("scene 'huge': its bounds, (", 0), 0u) << error.what();
+      EXPECT_NE(std::string(error.what()).find("too large"), std::string::npos) << error.what();
+    }
+  }
+}
+
 TEST(CameraPath, OrbitCirclesAtConstantDistanceAndHeightAndLoops) {
   for (const char* name : {"cornell", "sun-room"}) {
     SCOPED_TRACE(name);

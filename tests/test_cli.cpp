@@ -349,20 +349,22 @@ namespace {
 
 void writeFile(const fs::path& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
 
-// A glTF of one triangle (in z = 0, facing +Z) whose buffer is at `bufferUri`.
-std::string triangleGltf(const std::string& bufferUri) {
+// A glTF of one triangle (in z = 0, facing +Z) whose buffer is at
+// `bufferUri`, held by the node `node` (JSON).
+std::string triangleGltf(const std::string& bufferUri, const std::string& node = R"({"mesh": 0})") {
   return R"({"asset": {"version": "2.0"},
     "buffers": [{"uri": ")" +
          bufferUri + R"(", "byteLength": 36}],
     "bufferViews": [{"buffer": 0, "byteLength": 36}],
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
-    "nodes": [{"mesh": 0}]})";
+    "nodes": [)" +
+         node + "]}";
 }
 
-// The triangle's 36 bytes of positions.
-std::string trianglePositions() {
-  const float positions[9] = {-1, 0, 0, 1, 0, 0, 0, 1, 0};
+// The triangle's 36 bytes of positions, `scale` metres wide.
+std::string trianglePositions(float scale = 1.0f) {
+  const float positions[9] = {-scale, 0, 0, scale, 0, 0, 0, scale, 0};
   return std::string(reinterpret_cast<const char*>(positions), sizeof positions);
 }
 
@@ -386,6 +388,36 @@ TEST(CliSceneInput, BuffersOutsideTheGltfFolderNeedAllowOutsideAssets) {
         << command << ": " << refused.output;
     const Result allowed = run(command + " --allow-outside-assets");
     EXPECT_EQ(allowed.exitCode, 0) << command << ": " << allowed.output;
+  }
+  fs::remove_all(dir);
+}
+
+// Scenes too large for 32-bit floats get a one-line error naming what failed
+// and its values, not the same message for every cause.
+TEST(CliSceneInput, ScenesTooLargeForFloatsSayWhatFailed) {
+  const fs::path dir = freshDirectory("huge_scenes");
+  fs::create_directories(dir);
+  writeFile(dir / "unit.bin", trianglePositions());
+  writeFile(dir / "huge.bin", trianglePositions(1e30f));
+  writeFile(dir / "huge_positions.gltf", triangleGltf("huge.bin"));
+  writeFile(dir / "huge_scale.gltf", triangleGltf("unit.bin", R"({"mesh": 0, "scale": [1e19, 1e19, 1e19]})"));
+  writeFile(dir / "half_turn_lens.gltf",
+            R"({"asset": {"version": "2.0"}, "nodes": [{"camera": 0}],
+                "cameras": [{"type": "perspective", "perspective": {"yfov": 3.14159265, "znear": 0.1}}]})");
+  const std::pair<const char*, const char*> cases[] = {
+      {"huge_positions.gltf",
+       "bounce: error: camera: position (0, 1.56165e+30, 3.0333e+30) is more than 1e+18 from "
+       "the origin along an axis"},
+      {"huge_scale.gltf", "bounce: error: camera: position (0, 1.56165e+19, 3.0333e+19) is more than 1e+18"},
+      {"half_turn_lens.gltf", "camera 0: yfov 3.14159265 must be between 0 and pi (exclusive, as a 32-bit float)"}};
+  for (const auto& [file, message] : cases) {
+    const Result r =
+        run("render " + (dir / file).string() + " --width 16 --height 12 --gi off --out " + (dir / "out").string());
+    EXPECT_EQ(r.exitCode, 1) << file << ": " << r.output;
+    const std::size_t error = r.output.find("bounce: error:");
+    ASSERT_NE(error, std::string::npos) << file << ": " << r.output;
+    EXPECT_EQ(lineCount(r.output.substr(error)), 1u) << file << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << file << ": " << r.output;
   }
   fs::remove_all(dir);
 }

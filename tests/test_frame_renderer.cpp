@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "gpu/error.h"
 #include "gpu/frame_loop.h"
@@ -91,6 +92,41 @@ class FrameRendererTest : public testing::GpuTest {
     return frames;
   }
 };
+
+// Each pose that cannot make an image is refused with the condition that
+// failed and its values (a glTF with 1e30 positions, or 1e19 node scales,
+// used to get one message listing every condition at once).
+TEST(CheckCamera, NamesTheConditionThatFailedAndItsValues) {
+  const auto messageOf = [](const scene::CameraPose& pose) -> std::string {
+    try {
+      checkCamera(pose);
+    } catch (const gpu::GpuError& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  scene::CameraPose pose = testing::cameraAt({3e19f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 45.0f);
+  EXPECT_EQ(messageOf(pose),
+            "camera: position (3e+19, 0, 0) is more than 1e+18 from the origin along an axis; the renderer's 32-bit "
+            "floats cannot square distances that large");
+  pose.position = {1e17f, 5.0f, 0.0f};
+  EXPECT_EQ(messageOf(pose), "accepted");
+  pose.target = {0.0f, nan, 0.0f};
+  EXPECT_NE(messageOf(pose).find("camera: target (0, "), std::string::npos) << messageOf(pose);
+  EXPECT_NE(messageOf(pose).find(", 0) is not finite"), std::string::npos) << messageOf(pose);
+  pose = testing::cameraAt({1.0f, 2.0f, 3.0f}, {1.0f, 2.0f, 3.0f}, 45.0f);
+  EXPECT_EQ(messageOf(pose), "camera: position (1, 2, 3) and target (1, 2, 3) are the same point");
+  pose = testing::cameraAt({0.0f, 0.0f, 0.0f}, {0.0f, 5.0f, 0.0f}, 45.0f);
+  pose.up = {0.0f, 2.0f, 0.0f};
+  EXPECT_EQ(messageOf(pose), "camera: up vector (0, 2, 0) is parallel to the view direction (0, 1, 0)");
+  pose.up = glm::vec3(0.0f);
+  EXPECT_EQ(messageOf(pose), "camera: up vector (0, 0, 0) is zero");
+  pose = testing::cameraAt({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, 180.0f);
+  EXPECT_EQ(messageOf(pose), "camera: vertical field of view 180 degrees is outside (0, 180)");
+  pose.fovYDegrees = 179.99998f;
+  EXPECT_EQ(messageOf(pose), "accepted");
+}
 
 // A valid glTF may hold no mesh and no material ({"asset": {"version": "2.0"}}):
 // every buffer the passes bind still exists, and the frame is the sky.

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -686,6 +687,19 @@ TEST(GltfImport, AHundredThousandRootsAndWarningsLoadInLinearTime) {
   EXPECT_NE(loaded.warnings[0].find("morph targets are ignored: node 0, node 1,"), std::string::npos);
   EXPECT_NE(loaded.warnings[0].find("and " + std::to_string(kNodes - 8) + " more"), std::string::npos)
       << loaded.warnings[0];
+}
+
+// 3.14159265 is below pi, but as the float the camera keeps it is pi: 180
+// degrees, which the renderer then refused with a message about everything.
+TEST(GltfImport, CameraYfovIsCheckedAsTheFloatItBecomes) {
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.add("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 3.14159265}, {"znear", 0.1}}}});
+  gltf.add("nodes", {{"camera", 0}});
+  expectRefused(gltf.writeGltf(folder / "wide.gltf"),
+                "camera 0: yfov 3.14159265 must be between 0 and pi (exclusive, as a 32-bit float)");
+  gltf.doc()["cameras"][0]["perspective"]["yfov"] = 3.1415925;
+  EXPECT_LT(load(gltf.writeGltf(folder / "almost.gltf")).scene.cameras.at(0).yfov, glm::pi<float>());
 }
 
 TEST(GltfImport, NodeAnimationsMoveInstancesOverTime) {

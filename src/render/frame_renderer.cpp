@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <string>
+#include <utility>
 
 #include <glm/gtc/matrix_inverse.hpp>
 
@@ -40,20 +43,47 @@ GpuCamera gpuCamera(const scene::CameraPose& pose, std::uint32_t width, std::uin
 
 namespace {
 
-// Camera poses that cannot make an image are refused before they make NaN.
-void checkCamera(const scene::CameraPose& pose) {
-  const glm::vec3 forward = pose.target - pose.position;
-  const bool finite = std::isfinite(glm::dot(pose.position, pose.position)) &&
-                      std::isfinite(glm::dot(pose.target, pose.target)) && std::isfinite(pose.fovYDegrees);
-  if (!finite || glm::dot(forward, forward) < 1e-12f ||
-      glm::length(glm::cross(glm::normalize(forward), pose.up)) < 1e-6f ||
-      !(pose.fovYDegrees > 0.0f && pose.fovYDegrees < 180.0f))
-    throw gpu::GpuError(
-        "camera: position and target must differ, the up vector must not be parallel to the view, "
-        "and the field of view must be in (0, 180) degrees");
+// The renderer squares distances (dot products of offsets) in 32-bit floats,
+// which overflow beyond about 1.8e19; a camera this far from the origin on
+// any axis keeps that well out of reach.
+constexpr float kMaxCameraCoordinate = 1e18f;
+
+std::string text(float value, int digits = 6) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, double(value));
+  return buffer;
+}
+std::string text(const glm::vec3& v) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%g, %g, %g)", double(v.x), double(v.y), double(v.z));
+  return buffer;
 }
 
 }  // namespace
+
+// Camera poses that cannot make an image are refused before they make NaN,
+// naming the condition that failed and the values that failed it.
+void checkCamera(const scene::CameraPose& pose) {
+  const auto refuse = [](const std::string& problem) { throw gpu::GpuError("camera: " + problem); };
+  const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const std::pair<const char*, glm::vec3> points[] = {{"position", pose.position}, {"target", pose.target}};
+  for (const auto& [name, point] : points) {
+    if (!finite(point)) refuse(std::string(name) + " " + text(point) + " is not finite");
+    const glm::vec3 distance = glm::abs(point);
+    if (std::max({distance.x, distance.y, distance.z}) > kMaxCameraCoordinate)
+      refuse(std::string(name) + " " + text(point) + " is more than " + text(kMaxCameraCoordinate) +
+             " from the origin along an axis; the renderer's 32-bit floats cannot square distances that large");
+  }
+  if (!finite(pose.up)) refuse("up vector " + text(pose.up) + " is not finite");
+  if (!(pose.fovYDegrees > 0.0f && pose.fovYDegrees < 180.0f))
+    refuse("vertical field of view " + text(pose.fovYDegrees, 9) + " degrees is outside (0, 180)");
+  const glm::vec3 forward = pose.target - pose.position;
+  if (!(glm::length(forward) >= 1e-6f))
+    refuse("position " + text(pose.position) + " and target " + text(pose.target) + " are the same point");
+  if (!(glm::length(pose.up) >= 1e-6f)) refuse("up vector " + text(pose.up) + " is zero");
+  if (glm::length(glm::cross(glm::normalize(forward), glm::normalize(pose.up))) < 1e-6f)
+    refuse("up vector " + text(pose.up) + " is parallel to the view direction " + text(glm::normalize(forward)));
+}
 
 glm::vec2 jitterOffset(std::uint64_t frameIndex) {
   const auto halton = [](std::uint32_t index, std::uint32_t base) {

@@ -32,6 +32,14 @@ class TextureAtlas;
 // The camera of a pose as the passes see it (render/frame_types.glsl).
 shared::GpuCamera gpuCamera(const scene::CameraPose& pose, std::uint32_t width, std::uint32_t height);
 
+// Throws gpu::GpuError "camera: <the condition that failed, with its values>"
+// for a pose that cannot make an image: a position or target that is not
+// finite or lies more than 1e18 from the origin along an axis, position and
+// target at the same point, an up vector that is zero, not finite or
+// parallel to the view, a vertical field of view outside (0, 180) degrees.
+// FrameRenderer::record checks every frame's camera with it.
+void checkCamera(const scene::CameraPose& pose);
+
 // The sub-pixel offset (pixels, in [-0.5, 0.5)) of frame `frameIndex`'s rays
 // when jitter is on: Halton (2, 3), 16 frames long.
 glm::vec2 jitterOffset(std::uint64_t frameIndex);

@@ -23,20 +23,40 @@ constexpr float kOrbitSeconds = 8.0f;
 constexpr float kDollySeconds = 8.0f;
 constexpr float kFlySeconds = 16.0f;
 
-// A pose that shows the whole of `bounds` from the front (+Z) and a little
-// above, for scenes that suggest no camera.
-CameraPose framingPose(const Bounds& bounds) {
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+std::string vectorText(const glm::vec3& v) { return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")"; }
+
+// A pose that shows the whole of the scene's `bounds` from the front (+Z) and
+// a little above, for scenes that suggest no camera. Worked out in double,
+// since the bounds' size may overflow a float when squared; refused when the
+// pose cannot be held in floats: bounds near float's range give infinity,
+// and bounds far from the origin for their size a position that rounds onto
+// the target.
+CameraPose framingPose(const Scene& scene, const Bounds& bounds) {
   CameraPose pose;
   if (bounds.empty()) return pose;
-  const float radius = std::max(0.5f * glm::length(bounds.extent()), 0.1f);
-  const float distance = 1.1f * radius / std::sin(glm::radians(pose.fovYDegrees) / 2);
-  pose.target = bounds.center();
-  pose.position = pose.target + glm::normalize(glm::vec3(0.0f, 0.35f, 1.0f)) * distance;
+  const glm::dvec3 min(bounds.min), max(bounds.max);
+  const double radius = std::max(0.5 * glm::length(max - min), 0.1);
+  const double distance = 1.1 * radius / std::sin(glm::radians(double(pose.fovYDegrees)) / 2);
+  const glm::dvec3 target = 0.5 * (min + max);
+  pose.target = glm::vec3(target);
+  pose.position = glm::vec3(target + glm::normalize(glm::dvec3(0.0, 0.35, 1.0)) * distance);
+  const double kept = glm::length(glm::dvec3(pose.position) - glm::dvec3(pose.target));
+  if (!(std::abs(kept - distance) <= 0.01 * distance))
+    throw SceneError("scene '" + scene.name + "': its bounds, " + vectorText(bounds.min) + " to " +
+                     vectorText(bounds.max) +
+                     ", are too large (or too far from the origin for their size) to frame with a camera in 32-bit "
+                     "floats; give a camera (--camera FILE.json)");
   return pose;
 }
 
 CameraPose startingPose(const Scene& scene, const Bounds& bounds) {
-  return scene.suggestedCamera ? *scene.suggestedCamera : framingPose(bounds);
+  return scene.suggestedCamera ? *scene.suggestedCamera : framingPose(scene, bounds);
 }
 
 // Seconds into the current repetition of a path `period` seconds long.
@@ -233,12 +253,6 @@ struct Keyframe {
   float fovY = 45.0f;
   bool cut = false;
 };
-
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
 
 class KeyframeParser {
  public:

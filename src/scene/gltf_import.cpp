@@ -15,6 +15,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -427,6 +428,13 @@ std::string percentDecoded(const std::string& uri) {
     }
   }
   return decoded;
+}
+
+// A number from the file for a message, with the digits that tell it from its neighbours.
+std::string numberText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", value);
+  return text;
 }
 
 // tinygltf's messages end lines with '\n'; a SceneError is one line.
@@ -1204,7 +1212,9 @@ class Importer {
       if (camera.type != "perspective") fail(what + ": unknown camera type '" + camera.type + "'");
       const double yfov = camera.perspective.yfov;
       const double znear = camera.perspective.znear;
-      if (!(yfov > 0.0 && yfov < glm::pi<double>())) fail(what + ": yfov must be between 0 and pi");
+      // Checked as the float it is kept as: 3.14159265 is below pi, but its float is not.
+      if (!(yfov > 0.0 && float(yfov) < glm::pi<float>()))
+        fail(what + ": yfov " + numberText(yfov) + " must be between 0 and pi (exclusive, as a 32-bit float)");
       if (!(znear > 0.0)) fail(what + ": znear must be positive");
       cameraIndex_[i] = int(scene_.cameras.size());
       scene_.cameras.push_back({camera.name, float(yfov), toFloat(znear, what + ": znear")});
