@@ -128,6 +128,51 @@ TEST(CheckCamera, NamesTheConditionThatFailedAndItsValues) {
   EXPECT_EQ(messageOf(pose), "accepted");
 }
 
+// A floor 20 m wide made of a mesh a picometre wide scaled up 1e13 times
+// (a float determinant overflows there; it used to vanish from the BVH
+// without a word) is drawn, normals and all; a flattened node that truly
+// cannot be drawn is named in one warning, however many frames there are.
+TEST_F(FrameRendererTest, NodesScaledFarFromOneAreDrawnAndUndrawableOnesWarnedAboutOnce) {
+  scene::Scene s;
+  s.name = "scales";
+  s.materials.resize(1);
+  s.meshes = {testing::planeMesh(1e-12f)};
+  scene::Node floor;
+  floor.name = "floor";
+  floor.meshes = {0};
+  floor.local.scale = glm::vec3(1e13f);
+  scene::Node flat = floor;
+  flat.name = "flat";
+  flat.local.scale = {1.0f, 0.0f, 1.0f};
+  s.nodes = {floor, flat};
+  s.roots = {0, 1};
+  std::vector<std::string> warnings;
+  FrameRendererOptions options = testing::smallRendererOptions(s, kWidth, kHeight);
+  options.warn = [&](const std::string& line) { warnings.push_back(line); };
+  FrameRenderer renderer(context(), s, options);
+  gpu::FrameLoop loop(context(), FrameRenderer::kFramesInFlight);
+  const scene::CameraPose pose = testing::cameraAt({0.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, 50.0f);
+  for (int frame = 0; frame < 2; ++frame) {
+    renderer.record(loop.beginFrame(), loop.frameIndex(), {pose, 0.0f, frame == 0});
+    loop.endFrame();
+  }
+  loop.finish();
+
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("scene 'scales': 1 mesh instance(s) cannot be drawn", 0), 0u) << warnings[0];
+  EXPECT_NE(warnings[0].find(": node 1 'flat'"), std::string::npos) << warnings[0];
+  EXPECT_EQ(warnings[0].find("floor"), std::string::npos) << warnings[0];
+  // The middle of the image sees the floor where the analytic plane y = 0 is.
+  const io::ImageF viewZ = gpu::readbackImage(context(), renderer.viewZ());
+  const io::ImageF normal = gpu::readbackImage(context(), renderer.normalRoughness());
+  const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
+  const int x = int(kWidth) / 2, y = int(kHeight) / 2;
+  const glm::vec3 d = rayThrough(camera, x, y);
+  const glm::vec3 hit = pose.position + d * shared::intersectPlane(pose.position, d, glm::vec3(0, 1, 0), 0.0f, 0.0f);
+  EXPECT_NEAR(viewZ.at(x, y, 0), glm::dot(hit - pose.position, glm::vec3(camera.forward)), 1e-3f);
+  EXPECT_NEAR(normal.at(x, y, 1), 1.0f, 1e-3f) << "the floor faces up";
+}
+
 // A valid glTF may hold no mesh and no material ({"asset": {"version": "2.0"}}):
 // every buffer the passes bind still exists, and the frame is the sky.
 TEST_F(FrameRendererTest, ASceneWithNothingInItShowsTheSky) {

@@ -4,10 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <utility>
-
-#include <glm/gtc/matrix_inverse.hpp>
 
 #include "gpu/error.h"
 #include "gpu/format.h"
@@ -100,6 +99,20 @@ namespace {
 
 void rows3x4(const glm::mat4& m, glm::vec4 out[3]) {
   for (int r = 0; r < 3; ++r) out[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+}
+
+// The inverse transpose that carries normals to world space, scaled to a
+// largest entry of 1: shaders normalise what it gives, and at scales far
+// from 1 the plain inverse transpose would overflow or underflow there.
+// Identity for an instance the BVH cannot take (it is never hit).
+glm::mat3 normalMatrix(const glm::mat4& objectToWorld) {
+  const std::optional<glm::mat4> worldToObject = instanceWorldToObject(objectToWorld);
+  if (!worldToObject) return glm::mat3(1.0f);
+  const glm::dmat3 inverseTranspose = glm::transpose(glm::dmat3(glm::dmat4(*worldToObject)));
+  double largest = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) largest = std::max(largest, std::abs(inverseTranspose[c][r]));
+  return glm::mat3(inverseTranspose / largest);
 }
 
 GpuMaterial packMaterial(const scene::Material& m) {
@@ -211,6 +224,7 @@ FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, c
 
   bvh_ = std::make_unique<SceneBvh>(scene);
   bvh_->setInstances(instances);
+  warnAboutUntraceableInstances(instances);
   gpuBvh_ = std::make_unique<GpuBvh>(context, *bvh_, kFramesInFlight);
   atlas_ = std::make_unique<TextureAtlas>(context, scene.textures, options.maxTextureSize);
   EnvironmentDesc environment = options.environment;
@@ -263,6 +277,26 @@ void FrameRenderer::uploadStatic() {
   gpu::uploadBuffer(context_, *vertexAttributes_, attributes.data(), attributes.size() * sizeof(glm::uvec4));
 }
 
+void FrameRenderer::warnAboutUntraceableInstances(std::span<const scene::Instance> instances) {
+  const std::vector<std::size_t>& untraceable = bvh_->untraceableInstances();
+  if (warnedAboutUntraceable_ || untraceable.empty()) return;
+  warnedAboutUntraceable_ = true;
+  constexpr std::size_t kNamedNodes = 8;
+  std::string line = "scene '" + scene_.name + "': " + std::to_string(untraceable.size()) +
+                     " mesh instance(s) cannot be drawn: their node transforms have no inverse in 32-bit floats "
+                     "(a scale of 0, or one whose inverse is beyond float's range): ";
+  for (std::size_t k = 0; k < untraceable.size() && k < kNamedNodes; ++k) {
+    const int node = instances[untraceable[k]].node;
+    const std::string& name = scene_.nodes[std::size_t(node)].name;
+    line += (k ? ", node " : "node ") + std::to_string(node) + (name.empty() ? "" : " '" + name + "'");
+  }
+  if (untraceable.size() > kNamedNodes) line += " and " + std::to_string(untraceable.size() - kNamedNodes) + " more";
+  if (options_.warn)
+    options_.warn(line);
+  else
+    std::fprintf(stderr, "bounce: warning: %s\n", line.c_str());
+}
+
 std::vector<Aov> FrameRenderer::aovs() {
   return {{"viewZ", viewZ_.get()},
           {"normal", normalRoughness_.get()},
@@ -288,7 +322,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
     GpuInstance g{};
     rows3x4(current, g.objectToWorld);
     rows3x4(continuous ? previousTransforms_[i] : current, g.previousObjectToWorld);
-    rows3x4(glm::mat4(glm::inverseTranspose(glm::mat3(current))), g.normalToWorld);
+    rows3x4(glm::mat4(normalMatrix(current)), g.normalToWorld);
     g.ids = glm::uvec4(std::uint32_t(i), 0u, 0u, 0u);
     gpuInstances[i] = g;
   }
@@ -331,6 +365,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
                       std::max<std::size_t>(1, instances.size()) * sizeof(GpuInstance));
   recorder.copyBuffer(*slot.lightsStaging, *lights_, kMaxLights * sizeof(GpuLight));
   bvh_->setInstances(instances);
+  warnAboutUntraceableInstances(instances);
   gpuBvh_->updateInstances(recorder, std::uint32_t(frameIndex % kFramesInFlight));
   environment_->record(recorder);
 

@@ -11,7 +11,9 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,6 +52,9 @@ struct FrameRendererOptions {
   bool jitter = false;  // sub-pixel camera jitter (Halton 2,3), kept out of motion vectors
   std::uint32_t maxTextureSize = 2048;
   EnvironmentDesc environment;
+  // Receives each warning, one line without a newline (once per renderer:
+  // mesh instances that cannot be drawn). Empty: "bounce: warning: <line>" on stderr.
+  std::function<void(const std::string&)> warn;
 };
 
 // One frame's view: where the camera is, when it is (animation time), and
@@ -108,6 +113,9 @@ class FrameRenderer {
     std::unique_ptr<gpu::Buffer> lightsStaging;
   };
   void uploadStatic();
+  // Once per renderer: which instances the BVH could not take (their node
+  // transforms have no inverse in floats), so they are not silently missing.
+  void warnAboutUntraceableInstances(std::span<const scene::Instance> instances);
 
   gpu::Context& context_;
   const scene::Scene& scene_;
@@ -127,6 +135,7 @@ class FrameRenderer {
   bool hasPrevious_ = false;
   scene::CameraPose previousCamera_;
   std::vector<glm::mat4> previousTransforms_;
+  bool warnedAboutUntraceable_ = false;
 };
 
 }  // namespace bounce::render
