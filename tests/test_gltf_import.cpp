@@ -580,6 +580,27 @@ TEST(GltfImport, RefusesMissingAndUndecodableTextureFiles) {
   expectRefused(gltf.writeGltf(folder / "bad_texture.gltf"), "'bricks_missing.png' is not a PNG or JPEG");
 }
 
+// A texture of 20000 x 20000 pixels is refused from its header, naming both
+// sizes (it used to be called truncated or corrupt).
+TEST(GltfImport, TexturesOverTheSizeLimitAreRefusedWithBothSizes) {
+  TempFolder folder;
+  // Signature and an IHDR chunk (CRCs left 0) are all the header there is.
+  std::vector<std::uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+  for (const std::uint32_t side : {20000u, 20000u})
+    for (int shift = 24; shift >= 0; shift -= 8) png.push_back(std::uint8_t(side >> shift));
+  png.insert(png.end(), {8, 6, 0, 0, 0, 0, 0, 0, 0});
+  GltfBuilder gltf;
+  gltf.add("images", {{"uri", "data:image/png;base64," + base64(png)}});
+  gltf.add("textures", {{"source", 0}});
+  gltf.add("materials", {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  json primitive = quadPrimitive(gltf);
+  primitive["material"] = 0;
+  gltf.addMeshNode(primitive);
+  expectRefused(gltf.writeGltf(folder / "huge_texture.gltf"),
+                "texture image 'image 0 of huge_texture.gltf': image size 20000x20000 is over the limit of 16384 "
+                "pixels a side");
+}
+
 // ------------------------------------------------------------------ lights, cameras, animation
 
 TEST(GltfImport, PunctualLightsShineDownTheirNodesMinusZ) {

@@ -1033,11 +1033,7 @@ class Importer {
       return;
     }
     try {
-      io::Rgba8Image image = io::decodeRgba8(std::span(bytes.data, bytes.size), what);
-      if (image.width > kMaxTextureSide || image.height > kMaxTextureSide) {
-        job.error = what + " has an unsupported size";
-        return;
-      }
+      io::Rgba8Image image = io::decodeRgba8(std::span(bytes.data, bytes.size), what, kMaxTextureSide);
       job.width = image.width;
       job.height = image.height;
       job.rgba8 = std::move(image.rgba8);
