@@ -462,8 +462,24 @@ TEST(GltfImport, SparseAccessorsReplaceTheListedElements) {
   expectNear(mesh.positions[3], {0, 2, 0});
 
   const std::vector<std::uint16_t> outOfRange = {1, 4};
+  const json valid = positions["sparse"];
   positions["sparse"]["indices"]["bufferView"] = gltf.addBufferView(outOfRange.data(), 4);
   expectRefused(gltf.writeGltf(folder / "sparse_bad.gltf"), "sparse index 4");
+
+  // tinygltf keeps these in an int: larger ones were wrapped to negative
+  // numbers in messages, or cut to a wrong offset that then loaded.
+  struct TooLarge {
+    const char* pointer;
+    std::uint64_t value;
+    const char* message;
+  };
+  for (const TooLarge& c : {TooLarge{"/count", 3000000000u, "accessors[0].sparse.count is 3000000000, over 2147483647"},
+                            {"/indices/byteOffset", 4294967296u, "sparse.indices.byteOffset is 4294967296, over"},
+                            {"/values/byteOffset", 2147483648u, "sparse.values.byteOffset is 2147483648, over"}}) {
+    positions["sparse"] = valid;
+    positions["sparse"][json::json_pointer(c.pointer)] = c.value;
+    expectRefused(gltf.writeGltf(folder / "sparse_huge.gltf"), c.message);
+  }
 }
 
 // ------------------------------------------------------------------ materials and textures

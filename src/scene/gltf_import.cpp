@@ -45,8 +45,9 @@ using nlohmann::json;
 // ---------------------------------------------------------------- JSON schema
 
 // The JSON type a glTF property must have. Index: a non-negative integer that
-// fits an int (an index into an array, an enum); Size: any non-negative
-// integer (byte lengths and offsets, counts).
+// fits an int (an index into an array, an enum, or a count or offset that
+// tinygltf keeps in an int, as it does those of sparse accessors); Size: any
+// non-negative integer (byte lengths and offsets, counts).
 enum class Kind {
   Index,
   Size,
@@ -86,9 +87,9 @@ constexpr Property kMaterial[] = {{"pbrMetallicRoughness", Kind::Object, false, 
                                   {"alphaCutoff", Kind::Number},
                                   {"doubleSided", Kind::Bool}};
 constexpr Property kSparseIndices[] = {
-    {"bufferView", Kind::Index, true}, {"byteOffset", Kind::Size}, {"componentType", Kind::Index, true}};
-constexpr Property kSparseValues[] = {{"bufferView", Kind::Index, true}, {"byteOffset", Kind::Size}};
-constexpr Property kSparse[] = {{"count", Kind::Size, true},
+    {"bufferView", Kind::Index, true}, {"byteOffset", Kind::Index}, {"componentType", Kind::Index, true}};
+constexpr Property kSparseValues[] = {{"bufferView", Kind::Index, true}, {"byteOffset", Kind::Index}};
+constexpr Property kSparse[] = {{"count", Kind::Index, true},
                                 {"indices", Kind::Object, true, kSparseIndices},
                                 {"values", Kind::Object, true, kSparseValues}};
 constexpr Property kAccessor[] = {
@@ -234,6 +235,10 @@ std::string kindViolation(const json& value, const Property& property, const std
       ok = value.is_object() && std::all_of(value.begin(), value.end(), [](const json& v) { return isIndex(v); });
       break;
   }
+  // tinygltf would wrap a larger index or count around, or cut it short.
+  if (property.kind == Kind::Index && isSize(value) && !ok)
+    return where + " is " + value.dump() + ", over " + std::to_string(std::numeric_limits<int>::max()) +
+           ", the most this importer reads there";
   if (!ok) return where + " must be " + describe(property.kind);
   if (property.kind == Kind::Object) return schemaViolation(value, property.members, where);
   if (property.kind == Kind::ObjectArray)
