@@ -657,6 +657,68 @@ TEST(GltfImport, PunctualLightsShineDownTheirNodesMinusZ) {
   expectRefused(gltf.writeGltf(folder / "bad_spot.gltf"), "cone angles");
 }
 
+// Values of the wrong JSON type that tinygltf silently replaces by their
+// defaults: each is named in a warning, and the rest is still read.
+TEST(GltfImport, LightAndMaterialValuesThatFallBackToDefaultsAreNamed) {
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.doc()["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+  gltf.doc()["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "point"}, {"name", "lamp"}, {"intensity", "bright"}, {"color", "red"}, {"range", "far"}},
+      {{"type", "spot"}, {"spot", {{"innerConeAngle", "narrow"}, {"outerConeAngle", "wide"}}}}};
+  for (int light = 0; light < 2; ++light)
+    gltf.add("nodes", {{"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+  const std::vector<std::uint8_t> png = encodePng(1, 1, {10, 20, 30, 255});
+  gltf.add("images", {{"uri", "data:image/png;base64," + base64(png)}});
+  gltf.add("textures", {{"source", 0}});
+  // Three numbers: tinygltf dropped the whole block, texture and metallic factor too.
+  gltf.add("materials",
+           {{"name", "rgb"},
+            {"pbrMetallicRoughness",
+             {{"baseColorFactor", {0.5, 0.5, 0.5}}, {"metallicFactor", 0.25}, {"baseColorTexture", {{"index", 0}}}}}});
+  gltf.add("materials", {{"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", "strong"}}}}}});
+  for (int material = 0; material < 2; ++material) {
+    json primitive = quadPrimitive(gltf);
+    primitive["material"] = material;
+    gltf.addMeshNode(primitive);
+  }
+  const fs::path path = gltf.writeGltf(folder / "defaults.gltf");
+  const Loaded loaded = load(path);
+
+  const std::vector<std::string> expected = {
+      "light color must be an array of 3 numbers; using (1, 1, 1): light 0 'lamp'",
+      "light intensity must be a number; using 1: light 0 'lamp'",
+      "light range must be a number; using none (the light reaches everywhere): light 0 'lamp'",
+      "spot light innerConeAngle must be a number; using 0: light 1",
+      "spot light outerConeAngle must be a number; using pi/4: light 1",
+      "pbrMetallicRoughness.baseColorFactor must have 4 numbers; using (1, 1, 1, 1): material 0 'rgb'",
+      "KHR_materials_emissive_strength emissiveStrength must be a number; using 1: material 1"};
+  ASSERT_EQ(loaded.warnings.size(), expected.size());
+  for (const std::string& warning : expected)
+    EXPECT_NE(std::find(loaded.warnings.begin(), loaded.warnings.end(), path.string() + ": " + warning),
+              loaded.warnings.end())
+        << warning;
+  const Scene& scene = loaded.scene;
+  EXPECT_EQ(scene.lights[0].intensity, 1.0f);
+  EXPECT_EQ(scene.lights[0].color, glm::vec3(1.0f));
+  EXPECT_EQ(scene.materials[0].baseColorFactor, glm::vec4(1.0f));
+  EXPECT_FLOAT_EQ(scene.materials[0].metallicFactor, 0.25f);
+  ASSERT_GE(scene.materials[0].baseColorTexture, 0);
+  EXPECT_EQ(scene.textures[std::size_t(scene.materials[0].baseColorTexture)].rgba8,
+            (std::vector<std::uint8_t>{10, 20, 30, 255}));
+  EXPECT_EQ(scene.materials[1].emissiveStrength, 1.0f);
+
+  // Where no default exists, the light is refused by name.
+  json& lights = gltf.doc()["extensions"]["KHR_lights_punctual"]["lights"];
+  lights[0]["type"] = 5;
+  expectRefused(gltf.writeGltf(folder / "typeless.gltf"), "light 0 'lamp': type must be a string");
+  lights[0]["type"] = "spot";
+  expectRefused(gltf.writeGltf(folder / "spotless.gltf"), "light 0 'lamp': a spot light needs a \"spot\" object");
+  lights = "lamp";
+  expectRefused(gltf.writeGltf(folder / "lightless.gltf"),
+                "extensions.KHR_lights_punctual.lights must be an array of objects");
+}
+
 TEST(GltfImport, PerspectiveCamerasAreKeptOrthographicOnesSkipped) {
   TempFolder folder;
   GltfBuilder gltf;

@@ -435,6 +435,11 @@ std::string percentDecoded(const std::string& uri) {
   return decoded;
 }
 
+// How messages name the i-th object of a kind: "light 0 'lamp'", or "light 0" when it has no name.
+std::string named(const char* kind, std::size_t index, const std::string& name) {
+  return kind + (" " + std::to_string(index)) + (name.empty() ? "" : " '" + name + "'");
+}
+
 // A number from the file for a message, with the digits that tell it from its neighbours.
 std::string numberText(double value) {
   char text[32];
@@ -723,6 +728,7 @@ class Importer {
     if (const std::string violation = schemaViolation(document, kRoot, ""); !violation.empty())
       fail("invalid glTF: " + violation);
     checkExtensions(document);
+    checkLightValues(document);
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&keepEncodedImage, nullptr);
@@ -750,6 +756,77 @@ class Importer {
     if (!assets.refusal.empty()) fail(assets.refusal);
     if (!loaded)
       fail("cannot load glTF: " + (loadError.empty() ? std::string("tinygltf gave no reason") : oneLine(loadError)));
+    restoreDroppedPbrBlocks(document);
+  }
+
+  // tinygltf replaces a KHR_lights_punctual value of the wrong JSON type by
+  // its default without a word (and a light without a type string by an
+  // error naming no light). The file's values are checked here first: each
+  // one that falls back to its default is named in a warning; a light with
+  // no type to fall back on is refused.
+  void checkLightValues(const json& document) {
+    const auto extensions = document.find("extensions");
+    if (extensions == document.end()) return;
+    const auto punctual = extensions->find("KHR_lights_punctual");
+    if (punctual == extensions->end()) return;
+    const auto lights = punctual->find("lights");
+    if (lights == punctual->end()) return;
+    if (!lights->is_array() ||
+        !std::all_of(lights->begin(), lights->end(), [](const json& l) { return l.is_object(); }))
+      fail("extensions.KHR_lights_punctual.lights must be an array of objects");
+    for (std::size_t i = 0; i < lights->size(); ++i) {
+      const json& light = (*lights)[i];
+      const auto name = light.find("name");
+      const std::string what =
+          named("light", i, name != light.end() && name->is_string() ? name->get<std::string>() : "");
+      const auto type = light.find("type");
+      if (type == light.end() || !type->is_string())
+        fail(what + ": type must be a string (directional, point or spot)");
+      // Present but not a number: tinygltf uses the default.
+      const auto warnUnlessNumber = [&](const json& object, const char* key, const std::string& kind) {
+        if (const auto found = object.find(key); found != object.end() && !found->is_number()) warn(kind, what);
+      };
+      if (const auto color = light.find("color");
+          color != light.end() && !(color->is_array() && std::all_of(color->begin(), color->end(),
+                                                                     [](const json& c) { return c.is_number(); })))
+        warn("light color must be an array of 3 numbers; using (1, 1, 1)", what);
+      warnUnlessNumber(light, "intensity", "light intensity must be a number; using 1");
+      warnUnlessNumber(light, "range", "light range must be a number; using none (the light reaches everywhere)");
+      if (*type != "spot") continue;
+      const auto spot = light.find("spot");
+      if (spot == light.end() || !spot->is_object()) fail(what + ": a spot light needs a \"spot\" object");
+      warnUnlessNumber(*spot, "innerConeAngle", "spot light innerConeAngle must be a number; using 0");
+      warnUnlessNumber(*spot, "outerConeAngle", "spot light outerConeAngle must be a number; using pi/4");
+    }
+  }
+
+  // tinygltf drops a whole pbrMetallicRoughness whose baseColorFactor does
+  // not have 4 numbers, textures and factors with it, and says nothing. The
+  // rest of the block is read here instead, with the default base colour,
+  // and the fallback is named in a warning.
+  void restoreDroppedPbrBlocks(const json& document) {
+    const auto materials = document.find("materials");
+    if (materials == document.end()) return;
+    for (std::size_t i = 0; i < materials->size() && i < model_.materials.size(); ++i) {
+      const json& material = (*materials)[i];
+      const auto pbr = material.find("pbrMetallicRoughness");
+      if (pbr == material.end()) continue;
+      const auto factor = pbr->find("baseColorFactor");
+      if (factor == pbr->end() || factor->size() == 4) continue;
+      warn("pbrMetallicRoughness.baseColorFactor must have 4 numbers; using (1, 1, 1, 1)",
+           named("material", i, model_.materials[i].name));
+      tinygltf::PbrMetallicRoughness& restored = model_.materials[i].pbrMetallicRoughness;
+      restored.metallicFactor = pbr->value("metallicFactor", 1.0);
+      restored.roughnessFactor = pbr->value("roughnessFactor", 1.0);
+      const auto textureInfo = [&](const char* key, tinygltf::TextureInfo& info) {
+        if (const auto found = pbr->find(key); found != pbr->end()) {
+          info.index = found->value("index", -1);
+          info.texCoord = found->value("texCoord", 0);
+        }
+      };
+      textureInfo("baseColorTexture", restored.baseColorTexture);
+      textureInfo("metallicRoughnessTexture", restored.metallicRoughnessTexture);
+    }
   }
 
   void checkExtensions(const json& document) {
@@ -945,7 +1022,7 @@ class Importer {
   void convertMaterials() {
     for (std::size_t i = 0; i < model_.materials.size(); ++i) {
       const tinygltf::Material& source = model_.materials[i];
-      const std::string what = "material " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string what = named("material", i, source.name);
       const auto vector = [&](const std::vector<double>& values, std::size_t size, const char* property) {
         if (values.size() != size) fail(what + ": " + property + " must have " + std::to_string(size) + " numbers");
         glm::vec4 result(0.0f);
@@ -976,9 +1053,13 @@ class Importer {
       if (const auto found = source.extensions.find("KHR_materials_emissive_strength");
           found != source.extensions.end() && found->second.Has("emissiveStrength")) {
         const tinygltf::Value& strength = found->second.Get("emissiveStrength");
-        if (!strength.IsNumber() || !(strength.GetNumberAsDouble() >= 0.0))
-          fail(what + ": KHR_materials_emissive_strength needs a non-negative emissiveStrength");
-        material.emissiveStrength = toFloat(strength.GetNumberAsDouble(), what + ": emissiveStrength");
+        if (!strength.IsNumber()) {
+          warn("KHR_materials_emissive_strength emissiveStrength must be a number; using 1", what);
+        } else {
+          if (!(strength.GetNumberAsDouble() >= 0.0))
+            fail(what + ": KHR_materials_emissive_strength needs a non-negative emissiveStrength");
+          material.emissiveStrength = toFloat(strength.GetNumberAsDouble(), what + ": emissiveStrength");
+        }
       }
       material.baseColorTexture = textureFor(pbr.baseColorTexture.index, true, pbr.baseColorTexture.texCoord, what);
       material.metallicRoughnessTexture =
@@ -1054,7 +1135,7 @@ class Importer {
     meshPrimitives_.resize(model_.meshes.size());
     for (std::size_t m = 0; m < model_.meshes.size(); ++m) {
       const tinygltf::Mesh& source = model_.meshes[m];
-      const std::string meshName = "mesh " + std::to_string(m) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string meshName = named("mesh", m, source.name);
       const bool morphed = !source.weights.empty() || std::any_of(source.primitives.begin(), source.primitives.end(),
                                                                   [](const auto& p) { return !p.targets.empty(); });
       if (morphed) warn("morph targets are ignored", meshName);
@@ -1205,7 +1286,7 @@ class Importer {
     cameraIndex_.assign(model_.cameras.size(), -1);
     for (std::size_t i = 0; i < model_.cameras.size(); ++i) {
       const tinygltf::Camera& camera = model_.cameras[i];
-      const std::string what = "camera " + std::to_string(i) + (camera.name.empty() ? "" : " '" + camera.name + "'");
+      const std::string what = named("camera", i, camera.name);
       if (camera.type == "orthographic") {
         warn("orthographic cameras are skipped", what);
         continue;
@@ -1225,7 +1306,7 @@ class Importer {
   void convertLights() {
     for (std::size_t i = 0; i < model_.lights.size(); ++i) {
       const tinygltf::Light& source = model_.lights[i];
-      const std::string what = "light " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string what = named("light", i, source.name);
       Light light;
       light.name = source.name;
       if (source.type == "directional")
@@ -1265,7 +1346,7 @@ class Importer {
     scene_.nodes.resize(model_.nodes.size());
     for (std::size_t i = 0; i < model_.nodes.size(); ++i) {
       const tinygltf::Node& source = model_.nodes[i];
-      const std::string what = "node " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string what = named("node", i, source.name);
       Node& node = scene_.nodes[i];
       node.name = source.name;
       node.local = localTransform(source, what);
