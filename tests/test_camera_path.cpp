@@ -515,6 +515,54 @@ TEST(CameraPath, AnimatedGltfCameraMovesAndCutsWhereItsAnimationLoops) {
   EXPECT_EQ(cuts, (std::vector<int>{0, 4, 8}));  // t = 0, 2, 4: the animation jumps back to z = 0
 }
 
+// Three cameras whose depth-first order (front, side, top) is not their
+// node order: "gltf:N" counts depth-first, "gltf:NAME" matches a node's or a
+// camera's name.
+TEST(CameraPath, GltfCamerasArePickedByNumberOrName) {
+  Scene scene = triangleScene();
+  scene.cameras = {{"side", 0.5f, 0.1f}, {"front", 0.6f, 0.1f}, {"top", 0.7f, 0.1f}};
+  const auto cameraNode = [](const char* name, int camera, int parent, glm::vec3 at) {
+    Node node;
+    node.name = name;
+    node.camera = camera;
+    node.parent = parent;
+    node.local.translation = at;
+    return node;
+  };
+  Node rig;
+  rig.name = "rig";
+  rig.children = {3, 2};
+  scene.nodes.push_back(rig);                                        // 1
+  scene.nodes.push_back(cameraNode("side", 0, 1, {5, 0, 0}));        // 2
+  scene.nodes.push_back(cameraNode("front node", 1, 1, {0, 0, 5}));  // 3
+  scene.nodes.push_back(cameraNode("", 2, -1, {0, 5, 0}));           // 4
+  scene.roots = {0, 1, 4};
+  validate(scene);
+  const auto position = [&](const std::string& spec) { return makeCameraPath(spec, scene)->pose(0.0f).position; };
+  EXPECT_EQ(position("gltf"), glm::vec3(0, 0, 5));
+  EXPECT_EQ(position("gltf:0"), glm::vec3(0, 0, 5));
+  EXPECT_EQ(position("gltf:1"), glm::vec3(5, 0, 0));
+  EXPECT_EQ(position("gltf:2"), glm::vec3(0, 5, 0));
+  EXPECT_EQ(position("gltf:top"), glm::vec3(0, 5, 0));         // the camera's name
+  EXPECT_EQ(position("gltf:front node"), glm::vec3(0, 0, 5));  // the node's name
+  EXPECT_NEAR(makeCameraPath("gltf:side", scene)->pose(0.0f).fovYDegrees, glm::degrees(0.5f), 1e-4f);
+
+  const std::string cameras = "its cameras, by number and name: 0 'front' (node 'front node'), 1 'side', 2 'top'";
+  for (const auto& [spec, problem] :
+       {std::pair{"gltf:3", "has no glTF camera number 3"},
+        {"gltf:lens", "has no glTF camera named 'lens'"},
+        {"gltf:", "has no glTF camera named ''"},
+        {"gltf:99999999999999999999999", "has no glTF camera number 99999999999999999999999"}}) {
+    try {
+      makeCameraPath(spec, scene);
+      ADD_FAILURE() << spec << ": expected SceneError";
+    } catch (const SceneError& error) {
+      EXPECT_EQ(std::string(error.what()),
+                "scene 'triangle' " + std::string(problem) + " (camera path '" + spec + "'); " + cameras);
+    }
+  }
+}
+
 TEST(CameraPath, GltfWithoutACameraNamesTheScene) {
   const Scene scene = makeBuiltinScene("pillars");
   try {

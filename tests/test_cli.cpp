@@ -422,6 +422,29 @@ TEST(CliSceneInput, ScenesTooLargeForFloatsSayWhatFailed) {
   fs::remove_all(dir);
 }
 
+// --camera gltf:N and gltf:NAME choose among a file's cameras; one that does
+// not exist is a one-line error listing those that do.
+TEST(CliSceneInput, GltfCamerasAreChosenByNumberOrName) {
+  const fs::path dir = freshDirectory("gltf_cameras");
+  fs::create_directories(dir);
+  const fs::path gltf = dir / "cameras.gltf";
+  writeFile(gltf, R"({"asset": {"version": "2.0"},
+      "cameras": [{"type": "perspective", "name": "wide", "perspective": {"yfov": 1.2, "znear": 0.1}},
+                  {"type": "perspective", "name": "tele", "perspective": {"yfov": 0.3, "znear": 0.1}}],
+      "nodes": [{"camera": 0, "name": "left"}, {"camera": 1, "translation": [0, 1, 0]}]})");
+  const std::string render = "render " + gltf.string() + " --width 16 --height 12 --gi off --out ";
+  for (const char* camera : {"gltf:1", "gltf:tele", "gltf:left"}) {
+    const Result r = run(render + (dir / "out").string() + " --camera " + camera);
+    EXPECT_EQ(r.exitCode, 0) << camera << ": " << r.output;
+  }
+  const Result missing = run(render + (dir / "out").string() + " --camera gltf:2");
+  EXPECT_EQ(missing.exitCode, 1) << missing.output;
+  EXPECT_EQ(missing.output,
+            "bounce: error: scene 'cameras.gltf' has no glTF camera number 2 (camera path 'gltf:2'); "
+            "its cameras, by number and name: 0 'wide' (node 'left'), 1 'tele'\n");
+  fs::remove_all(dir);
+}
+
 // A valid glTF with nothing to draw renders the sky, in every command.
 TEST(CliSceneInput, AGltfWithNothingInItRendersTheSky) {
   const fs::path dir = freshDirectory("empty_gltf");

@@ -1319,6 +1319,13 @@ TEST(GltfImportRealScenes, BreakfastRoomUsesFallbacksAndWarnsOnce) {
   ASSERT_EQ(scene.cameras.size(), 3u);
   EXPECT_EQ(scene.cameras[0].name, "CameraMain");
   EXPECT_EQ(std::count_if(scene.nodes.begin(), scene.nodes.end(), [](const Node& n) { return n.camera >= 0; }), 3);
+  // Each of the three cameras can be chosen, by number or by name.
+  const auto position = [&](const std::string& spec) { return makeCameraPath(spec, scene)->pose(0.0f).position; };
+  EXPECT_EQ(position("gltf"), position("gltf:CameraMain"));
+  EXPECT_EQ(position("gltf:1"), position("gltf:CameraTableTop"));
+  EXPECT_EQ(position("gltf:2"), position("gltf:CameraTopDown"));
+  EXPECT_GT(glm::length(position("gltf:0") - position("gltf:1")), 0.1f);
+  EXPECT_GT(glm::length(position("gltf:1") - position("gltf:2")), 0.1f);
   EXPECT_EQ(scene.textures.size(), 3u);
   for (const Texture& texture : scene.textures) EXPECT_EQ(texture.name.find(".dds"), std::string::npos);
   expectWellFormed(scene);

@@ -36,8 +36,9 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
       "scene", options.scene,
       "Built-in scene (" + names + "; default " + scene::defaultBuiltinScene() + ") or a .gltf/.glb file");
   command.add_option("--camera", options.camera,
-                     "Camera path: orbit, dolly, fly, static, gltf, or a JSON keyframe file (default: the scene's "
-                     "first glTF camera, else its suggested view)");
+                     "Camera path: orbit, dolly, fly, static, gltf (the first glTF camera), gltf:N (the N-th, from 0), "
+                     "gltf:NAME (by node or camera name), or a JSON keyframe file (default: the scene's first glTF "
+                     "camera, else its suggested view)");
   command.add_option("--width", options.width, "Image width in pixels")
       ->check(CLI::Range(1u, 16384u))
       ->capture_default_str();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -230,17 +231,56 @@ class GltfCameraPath final : public CameraPath {
   float fovY_ = 45.0f;
 };
 
-// The first node with a camera, depth-first from the roots in order; -1 if none.
-int firstCameraNode(const Scene& scene) {
+// The nodes with a camera, depth-first from the roots in order: the order
+// "gltf:N" counts in.
+std::vector<int> cameraNodes(const Scene& scene) {
+  std::vector<int> cameras;
   std::vector<int> stack(scene.roots.rbegin(), scene.roots.rend());
   while (!stack.empty()) {
     const int index = stack.back();
     stack.pop_back();
     const Node& node = scene.nodes[std::size_t(index)];
-    if (node.camera >= 0) return index;
+    if (node.camera >= 0) cameras.push_back(index);
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) stack.push_back(*child);
   }
-  return -1;
+  return cameras;
+}
+
+// "1 'CameraTableTop'", with its node's name when that differs: how the
+// error for a camera that does not exist lists those that do.
+std::string cameraLabel(const Scene& scene, std::size_t number, int node) {
+  const std::string& nodeName = scene.nodes[std::size_t(node)].name;
+  const std::string& cameraName = scene.cameras[std::size_t(scene.nodes[std::size_t(node)].camera)].name;
+  std::string label = std::to_string(number);
+  if (!cameraName.empty()) label += " '" + cameraName + "'";
+  if (!nodeName.empty() && nodeName != cameraName) label += " (node '" + nodeName + "')";
+  return label;
+}
+
+// The camera node a "gltf", "gltf:N" or "gltf:NAME" spec chooses.
+int chosenCameraNode(const Scene& scene, std::string_view spec) {
+  const std::vector<int> nodes = cameraNodes(scene);
+  if (nodes.empty())
+    throw SceneError("scene '" + scene.name + "' has no glTF camera (camera path '" + std::string(spec) + "')");
+  if (spec == "gltf") return nodes.front();
+  const std::string_view wanted = spec.substr(std::string_view("gltf:").size());
+  const bool byNumber =
+      !wanted.empty() && std::all_of(wanted.begin(), wanted.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (byNumber) {
+    std::size_t number = 0;
+    const auto [end, error] = std::from_chars(wanted.data(), wanted.data() + wanted.size(), number);
+    if (error == std::errc() && end == wanted.data() + wanted.size() && number < nodes.size()) return nodes[number];
+  } else if (!wanted.empty()) {
+    for (int node : nodes)
+      if (scene.nodes[std::size_t(node)].name == wanted ||
+          scene.cameras[std::size_t(scene.nodes[std::size_t(node)].camera)].name == wanted)
+        return node;
+  }
+  std::string cameras;
+  for (std::size_t k = 0; k < nodes.size(); ++k) cameras += (k ? ", " : "") + cameraLabel(scene, k, nodes[k]);
+  throw SceneError("scene '" + scene.name + "' has no glTF camera " +
+                   (byNumber ? "number " + std::string(wanted) : "named '" + std::string(wanted) + "'") +
+                   " (camera path '" + std::string(spec) + "'); its cameras, by number and name: " + cameras);
 }
 
 // ---- JSON keyframes
@@ -420,25 +460,22 @@ std::unique_ptr<CameraPath> makeCameraPath(std::string_view spec, const Scene& s
     const Bounds b = bounds();
     return std::make_unique<FlyPath>(startingPose(scene, b), b);
   }
-  if (spec == "gltf") {
-    const int node = firstCameraNode(scene);
-    if (node < 0) throw SceneError("scene '" + scene.name + "' has no glTF camera (camera path 'gltf')");
-    return std::make_unique<GltfCameraPath>(scene, node);
-  }
+  if (spec == "gltf" || spec.starts_with("gltf:"))
+    return std::make_unique<GltfCameraPath>(scene, chosenCameraNode(scene, spec));
   const std::filesystem::path file{std::string(spec)};
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) {
     std::string presets;
     for (const std::string& preset : cameraPathPresets()) presets += (presets.empty() ? "" : ", ") + preset;
     throw SceneError("camera path '" + std::string(spec) + "' is neither a preset (" + presets +
-                     ") nor an existing JSON keyframe file");
+                     ", gltf:N, gltf:NAME) nor an existing JSON keyframe file");
   }
   return loadCameraKeyframes(file);
 }
 
 std::unique_ptr<CameraPath> defaultCameraPath(const Scene& scene) {
-  const int node = firstCameraNode(scene);
-  if (node >= 0) return std::make_unique<GltfCameraPath>(scene, node);
+  const std::vector<int> cameras = cameraNodes(scene);
+  if (!cameras.empty()) return std::make_unique<GltfCameraPath>(scene, cameras.front());
   return std::make_unique<StaticPath>(startingPose(scene, worldBounds(scene, 0.0f)));
 }
 
