@@ -377,8 +377,9 @@ std::string resolveAssetPath(const std::string& joined, void* userData) {
   };
   // The C library would end the path at the NUL and open another file.
   if (uri.find('\0') != std::string::npos) return refuse("has a NUL byte (%00) in its URI");
-  // Not normalised: "link/.." must mean what the file system makes of it.
-  if (assets.allowOutside) return (assets.folder / uri).string();
+  // As tinygltf joined it (not normalised: "link/.." must mean what the file
+  // system makes of it), except that an absolute URI stays absolute.
+  if (assets.allowOutside) return fs::path(uri).is_absolute() ? uri : joined;
   const std::optional<fs::path> inside = insideFolder(assets.folder, uri);
   if (!inside)
     return refuse("lies outside the glTF file's folder; files there are read only with --allow-outside-assets");
