@@ -467,6 +467,38 @@ TEST(SceneBvh, KnownHitOnAScaledInstance) {
   EXPECT_EQ(bvh.traceClosest({3.0f, 1.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 1e30f).t, kNoHit);
 }
 
+// A float determinant overflows at a scale of 1e13 and underflows at 1e-13;
+// such instances used to be left out as if singular. Only transforms with no
+// inverse in floats are left out now, and they are listed.
+TEST(SceneBvh, InstancesScaledFarFromOneAreTracedAndOnlyUninvertibleOnesLeftOut) {
+  scene::Scene s;
+  s.materials.resize(1);
+  scene::Mesh triangle;
+  triangle.positions = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  triangle.indices = {0, 1, 2};
+  s.meshes.push_back(triangle);
+  SceneBvh bvh(s);
+  const std::vector<scene::Instance> instances = {
+      {0, 0, placement({100.0f, 0.0f, -10.0f}, 0.0f, {0, 1, 0}, glm::vec3(1e15f))},  // 1e15 m wide
+      {0, 1, placement({0.0f, 0.0f, -20.0f}, 0.0f, {0, 1, 0}, glm::vec3(1e-15f))},   // a femtometre wide
+      {0, 2, placement({0.0f, 0.0f, -30.0f}, 0.0f, {0, 1, 0}, {1.0f, 0.0f, 1.0f})},  // flattened: singular
+      {0, 3, placement({0.0f, 0.0f, -40.0f}, 0.0f, {0, 1, 0}, glm::vec3(1e-39f))},   // inverse beyond float
+  };
+  bvh.setInstances(instances);
+  EXPECT_EQ(bvh.instances().size(), 2u);
+  EXPECT_EQ(bvh.untraceableInstances(), (std::vector<std::size_t>{2, 3}));
+  const BvhHit big = bvh.traceClosest({101.0f, 1.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 1e30f);
+  EXPECT_EQ(big.instance, 0u);
+  EXPECT_NEAR(big.t, 10.0f, 1e-4f);
+  const BvhHit small = bvh.traceClosest({2e-16f, 2e-16f, 0.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 1e30f);
+  EXPECT_EQ(small.instance, 1u);
+  EXPECT_NEAR(small.t, 20.0f, 1e-4f);
+  EXPECT_NEAR(small.barycentrics.x, 0.2f, 1e-4f);
+
+  bvh.setInstances(std::span(instances).first(2));
+  EXPECT_TRUE(bvh.untraceableInstances().empty()) << "each call lists its own";
+}
+
 TEST(SceneBvh, EmptySceneHasAnEmptyRootThatNoRayEnters) {
   scene::Scene s;
   s.materials.resize(1);

@@ -123,6 +123,35 @@ TEST(CameraPath, WithoutASuggestedCameraStaticFramesTheWholeScene) {
   EXPECT_GT(glm::length(pose.position - bounds.center()), glm::length(bounds.extent()));
 }
 
+// Framing in floats overflowed for bounds whose size squared passes float's
+// range (1e30 here) and gave an infinite camera without a word; now such
+// bounds are framed, and bounds no float camera can frame are refused.
+TEST(CameraPath, HugeBoundsAreFramedOrRefusedNamingTheScene) {
+  const auto sceneAt = [](const glm::vec3& offset, float size) {
+    Scene scene = triangleScene();
+    scene.name = "huge";
+    for (glm::vec3& p : scene.meshes[0].positions) p = offset + p * size;
+    return scene;
+  };
+  const Scene huge = sceneAt(glm::vec3(0.0f), 1e30f);
+  const CameraPose pose = makeCameraPath("static", huge)->pose(0.0f);
+  const Bounds bounds = worldBounds(huge, 0.0f);
+  ASSERT_TRUE(std::isfinite(pose.position.x) && std::isfinite(pose.position.y) && std::isfinite(pose.position.z));
+  const glm::dvec3 extent = glm::dvec3(bounds.max) - glm::dvec3(bounds.min);
+  const double expected = 1.1 * 0.5 * glm::length(extent) / std::sin(glm::radians(22.5));
+  EXPECT_NEAR(glm::length(glm::dvec3(pose.position) - glm::dvec3(pose.target)) / expected, 1.0, 1e-5);
+
+  for (const Scene& unframeable : {sceneAt(glm::vec3(0.0f), 1e38f), sceneAt(glm::vec3(1e30f), 1.0f)}) {
+    try {
+      makeCameraPath("static", unframeable);
+      ADD_FAILURE() << "expected SceneError";
+    } catch (const SceneError& error) {
+      EXPECT_EQ(std::string(error.what()).rfind("scene 'huge': its bounds, (", 0), 0u) << error.what();
+      EXPECT_NE(std::string(error.what()).find("too large"), std::string::npos) << error.what();
+    }
+  }
+}
+
 TEST(CameraPath, OrbitCirclesAtConstantDistanceAndHeightAndLoops) {
   for (const char* name : {"cornell", "sun-room"}) {
     SCOPED_TRACE(name);
@@ -484,6 +513,54 @@ TEST(CameraPath, AnimatedGltfCameraMovesAndCutsWhereItsAnimationLoops) {
   for (std::size_t i = 0; i < frames.size(); ++i)
     if (frames[i].cut) cuts.push_back(int(i));
   EXPECT_EQ(cuts, (std::vector<int>{0, 4, 8}));  // t = 0, 2, 4: the animation jumps back to z = 0
+}
+
+// Three cameras whose depth-first order (front, side, top) is not their
+// node order: "gltf:N" counts depth-first, "gltf:NAME" matches a node's or a
+// camera's name.
+TEST(CameraPath, GltfCamerasArePickedByNumberOrName) {
+  Scene scene = triangleScene();
+  scene.cameras = {{"side", 0.5f, 0.1f}, {"front", 0.6f, 0.1f}, {"top", 0.7f, 0.1f}};
+  const auto cameraNode = [](const char* name, int camera, int parent, glm::vec3 at) {
+    Node node;
+    node.name = name;
+    node.camera = camera;
+    node.parent = parent;
+    node.local.translation = at;
+    return node;
+  };
+  Node rig;
+  rig.name = "rig";
+  rig.children = {3, 2};
+  scene.nodes.push_back(rig);                                        // 1
+  scene.nodes.push_back(cameraNode("side", 0, 1, {5, 0, 0}));        // 2
+  scene.nodes.push_back(cameraNode("front node", 1, 1, {0, 0, 5}));  // 3
+  scene.nodes.push_back(cameraNode("", 2, -1, {0, 5, 0}));           // 4
+  scene.roots = {0, 1, 4};
+  validate(scene);
+  const auto position = [&](const std::string& spec) { return makeCameraPath(spec, scene)->pose(0.0f).position; };
+  EXPECT_EQ(position("gltf"), glm::vec3(0, 0, 5));
+  EXPECT_EQ(position("gltf:0"), glm::vec3(0, 0, 5));
+  EXPECT_EQ(position("gltf:1"), glm::vec3(5, 0, 0));
+  EXPECT_EQ(position("gltf:2"), glm::vec3(0, 5, 0));
+  EXPECT_EQ(position("gltf:top"), glm::vec3(0, 5, 0));         // the camera's name
+  EXPECT_EQ(position("gltf:front node"), glm::vec3(0, 0, 5));  // the node's name
+  EXPECT_NEAR(makeCameraPath("gltf:side", scene)->pose(0.0f).fovYDegrees, glm::degrees(0.5f), 1e-4f);
+
+  const std::string cameras = "its cameras, by number and name: 0 'front' (node 'front node'), 1 'side', 2 'top'";
+  for (const auto& [spec, problem] :
+       {std::pair{"gltf:3", "has no glTF camera number 3"},
+        {"gltf:lens", "has no glTF camera named 'lens'"},
+        {"gltf:", "has no glTF camera named ''"},
+        {"gltf:99999999999999999999999", "has no glTF camera number 99999999999999999999999"}}) {
+    try {
+      makeCameraPath(spec, scene);
+      ADD_FAILURE() << spec << ": expected SceneError";
+    } catch (const SceneError& error) {
+      EXPECT_EQ(std::string(error.what()),
+                "scene 'triangle' " + std::string(problem) + " (camera path '" + spec + "'); " + cameras);
+    }
+  }
 }
 
 TEST(CameraPath, GltfWithoutACameraNamesTheScene) {

@@ -557,3 +557,132 @@ TEST(CliHardening, AFrameLargerThanTheDeviceHeapIsRefusedUpFront) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Scene input a hostile-but-fair user hands over (issue 10): where glTF files
+// may read from, scenes with nothing in them, cameras chosen by name.
+namespace {
+
+void writeFile(const fs::path& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
+// A glTF of one triangle (in z = 0, facing +Z) whose buffer is at
+// `bufferUri`, held by the node `node` (JSON).
+std::string triangleGltf(const std::string& bufferUri, const std::string& node = R"({"mesh": 0})") {
+  return R"({"asset": {"version": "2.0"},
+    "buffers": [{"uri": ")" +
+         bufferUri + R"(", "byteLength": 36}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "nodes": [)" +
+         node + "]}";
+}
+
+// The triangle's 36 bytes of positions, `scale` metres wide.
+std::string trianglePositions(float scale = 1.0f) {
+  const float positions[9] = {-scale, 0, 0, scale, 0, 0, 0, scale, 0};
+  return std::string(reinterpret_cast<const char*>(positions), sizeof positions);
+}
+
+TEST(CliSceneInput, BuffersOutsideTheGltfFolderNeedAllowOutsideAssets) {
+  const fs::path dir = freshDirectory("outside_assets");
+  fs::create_directories(dir / "scene");
+  writeFile(dir / "triangle.bin", trianglePositions());
+  const fs::path gltf = dir / "scene" / "triangle.gltf";
+  writeFile(gltf, triangleGltf("../triangle.bin"));
+  const std::vector<std::string> commands = {
+      "render " + gltf.string() + " --width 16 --height 12 --gi off --out " + (dir / "out").string(),
+      "reference " + gltf.string() + " --width 8 --height 6 --spp 1 --out " + (dir / "ref.exr").string(),
+      "bench " + gltf.string() + " --width 16 --height 12 --frames 1 --warmup 0 --copy-mb 0 --rays 0 --gi off"};
+  for (const std::string& command : commands) {
+    const Result refused = run(command);
+    EXPECT_EQ(refused.exitCode, 1) << command << ": " << refused.output;
+    EXPECT_EQ(lineCount(refused.output), 1u) << command << ": " << refused.output;
+    EXPECT_NE(refused.output.find(gltf.string() + ": the buffer or image file '../triangle.bin' lies outside the "
+                                                  "glTF file's folder"),
+              std::string::npos)
+        << command << ": " << refused.output;
+    const Result allowed = run(command + " --allow-outside-assets");
+    EXPECT_EQ(allowed.exitCode, 0) << command << ": " << allowed.output;
+  }
+  fs::remove_all(dir);
+}
+
+// Scenes too large for 32-bit floats get a one-line error naming what failed
+// and its values, not the same message for every cause.
+TEST(CliSceneInput, ScenesTooLargeForFloatsSayWhatFailed) {
+  const fs::path dir = freshDirectory("huge_scenes");
+  fs::create_directories(dir);
+  writeFile(dir / "unit.bin", trianglePositions());
+  writeFile(dir / "huge.bin", trianglePositions(1e30f));
+  writeFile(dir / "huge_positions.gltf", triangleGltf("huge.bin"));
+  writeFile(dir / "huge_scale.gltf", triangleGltf("unit.bin", R"({"mesh": 0, "scale": [1e19, 1e19, 1e19]})"));
+  writeFile(dir / "half_turn_lens.gltf",
+            R"({"asset": {"version": "2.0"}, "nodes": [{"camera": 0}],
+                "cameras": [{"type": "perspective", "perspective": {"yfov": 3.14159265, "znear": 0.1}}]})");
+  const std::pair<const char*, const char*> cases[] = {
+      {"huge_positions.gltf",
+       "bounce: error: camera: position (0, 1.56165e+30, 3.0333e+30) is more than 1e+18 from "
+       "the origin along an axis"},
+      {"huge_scale.gltf", "bounce: error: camera: position (0, 1.56165e+19, 3.0333e+19) is more than 1e+18"},
+      {"half_turn_lens.gltf", "camera 0: yfov 3.14159265 must be between 0 and pi (exclusive, as a 32-bit float)"}};
+  for (const auto& [file, message] : cases) {
+    const Result r =
+        run("render " + (dir / file).string() + " --width 16 --height 12 --gi off --out " + (dir / "out").string());
+    EXPECT_EQ(r.exitCode, 1) << file << ": " << r.output;
+    const std::size_t error = r.output.find("bounce: error:");
+    ASSERT_NE(error, std::string::npos) << file << ": " << r.output;
+    EXPECT_EQ(lineCount(r.output.substr(error)), 1u) << file << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << file << ": " << r.output;
+  }
+  fs::remove_all(dir);
+}
+
+// --camera gltf:N and gltf:NAME choose among a file's cameras; one that does
+// not exist is a one-line error listing those that do.
+TEST(CliSceneInput, GltfCamerasAreChosenByNumberOrName) {
+  const fs::path dir = freshDirectory("gltf_cameras");
+  fs::create_directories(dir);
+  const fs::path gltf = dir / "cameras.gltf";
+  writeFile(gltf, R"({"asset": {"version": "2.0"},
+      "cameras": [{"type": "perspective", "name": "wide", "perspective": {"yfov": 1.2, "znear": 0.1}},
+                  {"type": "perspective", "name": "tele", "perspective": {"yfov": 0.3, "znear": 0.1}}],
+      "nodes": [{"camera": 0, "name": "left"}, {"camera": 1, "translation": [0, 1, 0]}]})");
+  const std::string render = "render " + gltf.string() + " --width 16 --height 12 --gi off --out ";
+  for (const char* camera : {"gltf:1", "gltf:tele", "gltf:left"}) {
+    const Result r = run(render + (dir / "out").string() + " --camera " + camera);
+    EXPECT_EQ(r.exitCode, 0) << camera << ": " << r.output;
+  }
+  const Result missing = run(render + (dir / "out").string() + " --camera gltf:2");
+  EXPECT_EQ(missing.exitCode, 1) << missing.output;
+  EXPECT_EQ(missing.output,
+            "bounce: error: scene 'cameras.gltf' has no glTF camera number 2 (camera path 'gltf:2'); "
+            "its cameras, by number and name: 0 'wide' (node 'left'), 1 'tele'\n");
+  fs::remove_all(dir);
+}
+
+// A valid glTF with nothing to draw renders the sky, in every command.
+TEST(CliSceneInput, AGltfWithNothingInItRendersTheSky) {
+  const fs::path dir = freshDirectory("empty_gltf");
+  fs::create_directories(dir);
+  const fs::path gltf = dir / "empty.gltf";
+  writeFile(gltf, R"({"asset": {"version": "2.0"}})");
+  const Result render = run("render " + gltf.string() + " --width 32 --height 24 --out " + (dir / "out").string());
+  ASSERT_EQ(render.exitCode, 0) << render.output;
+  // readImage refuses NaN and infinity.
+  const bounce::io::ImageF image = bounce::io::readImage(dir / "out" / "render.exr");
+  EXPECT_EQ(image.width, 32);
+  double sum = 0.0;
+  for (float value : image.pixels) sum += value;
+  EXPECT_GT(sum, 0.0) << "the sky is lit";
+
+  for (const std::string& command :
+       {"reference " + gltf.string() + " --width 8 --height 6 --spp 2 --out " + (dir / "ref.exr").string(),
+        "bench " + gltf.string() + " --validate --width 16 --height 12 --frames 1 --warmup 0 --copy-mb 0 --rays 64"}) {
+    const Result r = run(command);
+    EXPECT_EQ(r.exitCode, 0) << command << ": " << r.output;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace

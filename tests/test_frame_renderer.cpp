@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "gpu/error.h"
 #include "gpu/frame_loop.h"
@@ -91,6 +92,105 @@ class FrameRendererTest : public testing::GpuTest {
     return frames;
   }
 };
+
+// Each pose that cannot make an image is refused with the condition that
+// failed and its values (a glTF with 1e30 positions, or 1e19 node scales,
+// used to get one message listing every condition at once).
+TEST(CheckCamera, NamesTheConditionThatFailedAndItsValues) {
+  const auto messageOf = [](const scene::CameraPose& pose) -> std::string {
+    try {
+      checkCamera(pose);
+    } catch (const gpu::GpuError& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  scene::CameraPose pose = testing::cameraAt({3e19f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 45.0f);
+  EXPECT_EQ(messageOf(pose),
+            "camera: position (3e+19, 0, 0) is more than 1e+18 from the origin along an axis; the renderer's 32-bit "
+            "floats cannot square distances that large");
+  pose.position = {1e17f, 5.0f, 0.0f};
+  EXPECT_EQ(messageOf(pose), "accepted");
+  pose.target = {0.0f, nan, 0.0f};
+  EXPECT_NE(messageOf(pose).find("camera: target (0, "), std::string::npos) << messageOf(pose);
+  EXPECT_NE(messageOf(pose).find(", 0) is not finite"), std::string::npos) << messageOf(pose);
+  pose = testing::cameraAt({1.0f, 2.0f, 3.0f}, {1.0f, 2.0f, 3.0f}, 45.0f);
+  EXPECT_EQ(messageOf(pose), "camera: position (1, 2, 3) and target (1, 2, 3) are the same point");
+  pose = testing::cameraAt({0.0f, 0.0f, 0.0f}, {0.0f, 5.0f, 0.0f}, 45.0f);
+  pose.up = {0.0f, 2.0f, 0.0f};
+  EXPECT_EQ(messageOf(pose), "camera: up vector (0, 2, 0) is parallel to the view direction (0, 1, 0)");
+  pose.up = glm::vec3(0.0f);
+  EXPECT_EQ(messageOf(pose), "camera: up vector (0, 0, 0) is zero");
+  pose = testing::cameraAt({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, 180.0f);
+  EXPECT_EQ(messageOf(pose), "camera: vertical field of view 180 degrees is outside (0, 180)");
+  pose.fovYDegrees = 179.99998f;
+  EXPECT_EQ(messageOf(pose), "accepted");
+}
+
+// A floor 20 m wide made of a mesh a picometre wide scaled up 1e13 times
+// (a float determinant overflows there; it used to vanish from the BVH
+// without a word) is drawn, normals and all; a flattened node that truly
+// cannot be drawn is named in one warning, however many frames there are.
+TEST_F(FrameRendererTest, NodesScaledFarFromOneAreDrawnAndUndrawableOnesWarnedAboutOnce) {
+  scene::Scene s;
+  s.name = "scales";
+  s.materials.resize(1);
+  s.meshes = {testing::planeMesh(1e-12f)};
+  scene::Node floor;
+  floor.name = "floor";
+  floor.meshes = {0};
+  floor.local.scale = glm::vec3(1e13f);
+  scene::Node flat = floor;
+  flat.name = "flat";
+  flat.local.scale = {1.0f, 0.0f, 1.0f};
+  s.nodes = {floor, flat};
+  s.roots = {0, 1};
+  std::vector<std::string> warnings;
+  FrameRendererOptions options = testing::smallRendererOptions(s, kWidth, kHeight);
+  options.warn = [&](const std::string& line) { warnings.push_back(line); };
+  FrameRenderer renderer(context(), s, options);
+  gpu::FrameLoop loop(context(), FrameRenderer::kFramesInFlight);
+  const scene::CameraPose pose = testing::cameraAt({0.0f, 2.0f, 6.0f}, {0.0f, 0.0f, 0.0f}, 50.0f);
+  for (int frame = 0; frame < 2; ++frame) {
+    renderer.record(loop.beginFrame(), loop.frameIndex(), {pose, 0.0f, frame == 0});
+    loop.endFrame();
+  }
+  loop.finish();
+
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("scene 'scales': 1 mesh instance(s) cannot be drawn", 0), 0u) << warnings[0];
+  EXPECT_NE(warnings[0].find(": node 1 'flat'"), std::string::npos) << warnings[0];
+  EXPECT_EQ(warnings[0].find("floor"), std::string::npos) << warnings[0];
+  // The middle of the image sees the floor where the analytic plane y = 0 is.
+  const io::ImageF viewZ = gpu::readbackImage(context(), renderer.viewZ());
+  const io::ImageF normal = gpu::readbackImage(context(), renderer.normalRoughness());
+  const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
+  const int x = int(kWidth) / 2, y = int(kHeight) / 2;
+  const glm::vec3 d = rayThrough(camera, x, y);
+  const glm::vec3 hit = pose.position + d * shared::intersectPlane(pose.position, d, glm::vec3(0, 1, 0), 0.0f, 0.0f);
+  EXPECT_NEAR(viewZ.at(x, y, 0), glm::dot(hit - pose.position, glm::vec3(camera.forward)), 1e-3f);
+  EXPECT_NEAR(normal.at(x, y, 1), 1.0f, 1e-3f) << "the floor faces up";
+}
+
+// A valid glTF may hold no mesh and no material ({"asset": {"version": "2.0"}}):
+// every buffer the passes bind still exists, and the frame is the sky.
+TEST_F(FrameRendererTest, ASceneWithNothingInItShowsTheSky) {
+  scene::Scene empty;
+  empty.name = "empty";
+  const Frame frame =
+      render(empty, {{testing::cameraAt({0.0f, 1.0f, 5.0f}, {0.0f, 1.5f, 0.0f}, 60.0f), 0.0f, true}})[0];
+  double sum = 0.0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      ASSERT_EQ(frame.viewZ.at(x, y, 0), 0.0f) << x << "," << y << " is background";
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(frame.direct.at(x, y, c)) && frame.direct.at(x, y, c) >= 0.0f) << x << "," << y;
+        sum += frame.direct.at(x, y, c);
+      }
+    }
+  EXPECT_GT(sum, 0.0) << "the sky is lit";
+}
 
 TEST_F(FrameRendererTest, PlaneAndSphereGiveExactViewZAndNormals) {
   const scene::Scene s = planeAndSphere();

@@ -19,9 +19,11 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "scene/camera_path.h"
 #include "scene/tangents.h"
 
 namespace bounce::scene {
@@ -90,6 +92,29 @@ std::vector<std::uint8_t> encodePng(int width, int height, const std::vector<std
   return png;
 }
 
+// A GLB container of this JSON text and binary chunk (none when empty).
+void writeGlbFile(const fs::path& path, std::string text, std::vector<std::uint8_t> bin) {
+  while (text.size() % 4 != 0) text += ' ';
+  while (bin.size() % 4 != 0) bin.push_back(0);
+  std::vector<std::uint8_t> file;
+  const auto u32 = [&](std::uint32_t value) {
+    for (int b = 0; b < 4; ++b) file.push_back(std::uint8_t(value >> (8 * b)));
+  };
+  const std::uint32_t length = 12 + 8 + std::uint32_t(text.size()) + (bin.empty() ? 0 : 8 + std::uint32_t(bin.size()));
+  file.insert(file.end(), {'g', 'l', 'T', 'F'});
+  u32(2);
+  u32(length);
+  u32(std::uint32_t(text.size()));
+  u32(0x4E4F534A);
+  file.insert(file.end(), text.begin(), text.end());
+  if (!bin.empty()) {
+    u32(std::uint32_t(bin.size()));
+    u32(0x004E4942);
+    file.insert(file.end(), bin.begin(), bin.end());
+  }
+  writeBytes(path, file.data(), file.size());
+}
+
 // Builds a glTF document and its one binary buffer, and writes it as .gltf
 // (buffer as a data URI or a .bin file) or as .glb.
 class GltfBuilder {
@@ -147,28 +172,7 @@ class GltfBuilder {
   fs::path writeGlb(const fs::path& path) {
     json doc = doc_;
     if (!bin_.empty()) doc["buffers"] = {{{"byteLength", bin_.size()}}};
-    std::string text = doc.dump();
-    while (text.size() % 4 != 0) text += ' ';
-    std::vector<std::uint8_t> bin = bin_;
-    while (bin.size() % 4 != 0) bin.push_back(0);
-    std::vector<std::uint8_t> file;
-    const auto u32 = [&](std::uint32_t value) {
-      for (int b = 0; b < 4; ++b) file.push_back(std::uint8_t(value >> (8 * b)));
-    };
-    const std::uint32_t length =
-        12 + 8 + std::uint32_t(text.size()) + (bin.empty() ? 0 : 8 + std::uint32_t(bin.size()));
-    file.insert(file.end(), {'g', 'l', 'T', 'F'});
-    u32(2);
-    u32(length);
-    u32(std::uint32_t(text.size()));
-    u32(0x4E4F534A);
-    file.insert(file.end(), text.begin(), text.end());
-    if (!bin.empty()) {
-      u32(std::uint32_t(bin.size()));
-      u32(0x004E4942);
-      file.insert(file.end(), bin.begin(), bin.end());
-    }
-    writeBytes(path, file.data(), file.size());
+    writeGlbFile(path, doc.dump(), bin_);
     return path;
   }
 
@@ -193,18 +197,17 @@ struct Loaded {
   std::vector<std::string> warnings;
 };
 
-Loaded load(const fs::path& path) {
+Loaded load(const fs::path& path, GltfImportOptions options = {}) {
   Loaded loaded;
-  GltfImportOptions options;
   options.warn = [&](const std::string& line) { loaded.warnings.push_back(line); };
   loaded.scene = loadGltf(path, options);
   return loaded;
 }
 
 // The SceneError message of loading `path` (which must fail).
-std::string loadError(const fs::path& path) {
+std::string loadError(const fs::path& path, const GltfImportOptions& options = {}) {
   try {
-    load(path);
+    load(path, options);
   } catch (const SceneError& error) {
     return error.what();
   }
@@ -212,8 +215,8 @@ std::string loadError(const fs::path& path) {
   return {};
 }
 
-void expectRefused(const fs::path& path, const std::string& reason) {
-  const std::string message = loadError(path);
+void expectRefused(const fs::path& path, const std::string& reason, const GltfImportOptions& options = {}) {
+  const std::string message = loadError(path, options);
   EXPECT_EQ(message.rfind(path.string() + ": ", 0), 0u) << message;
   EXPECT_NE(message.find(reason), std::string::npos) << "expected '" << reason << "' in: " << message;
 }
@@ -459,8 +462,24 @@ TEST(GltfImport, SparseAccessorsReplaceTheListedElements) {
   expectNear(mesh.positions[3], {0, 2, 0});
 
   const std::vector<std::uint16_t> outOfRange = {1, 4};
+  const json valid = positions["sparse"];
   positions["sparse"]["indices"]["bufferView"] = gltf.addBufferView(outOfRange.data(), 4);
   expectRefused(gltf.writeGltf(folder / "sparse_bad.gltf"), "sparse index 4");
+
+  // tinygltf keeps these in an int: larger ones were wrapped to negative
+  // numbers in messages, or cut to a wrong offset that then loaded.
+  struct TooLarge {
+    const char* pointer;
+    std::uint64_t value;
+    const char* message;
+  };
+  for (const TooLarge& c : {TooLarge{"/count", 3000000000u, "accessors[0].sparse.count is 3000000000, over 2147483647"},
+                            {"/indices/byteOffset", 4294967296u, "sparse.indices.byteOffset is 4294967296, over"},
+                            {"/values/byteOffset", 2147483648u, "sparse.values.byteOffset is 2147483648, over"}}) {
+    positions["sparse"] = valid;
+    positions["sparse"][json::json_pointer(c.pointer)] = c.value;
+    expectRefused(gltf.writeGltf(folder / "sparse_huge.gltf"), c.message);
+  }
 }
 
 // ------------------------------------------------------------------ materials and textures
@@ -577,6 +596,27 @@ TEST(GltfImport, RefusesMissingAndUndecodableTextureFiles) {
   expectRefused(gltf.writeGltf(folder / "bad_texture.gltf"), "'bricks_missing.png' is not a PNG or JPEG");
 }
 
+// A texture of 20000 x 20000 pixels is refused from its header, naming both
+// sizes (it used to be called truncated or corrupt).
+TEST(GltfImport, TexturesOverTheSizeLimitAreRefusedWithBothSizes) {
+  TempFolder folder;
+  // Signature and an IHDR chunk (CRCs left 0) are all the header there is.
+  std::vector<std::uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+  for (const std::uint32_t side : {20000u, 20000u})
+    for (int shift = 24; shift >= 0; shift -= 8) png.push_back(std::uint8_t(side >> shift));
+  png.insert(png.end(), {8, 6, 0, 0, 0, 0, 0, 0, 0});
+  GltfBuilder gltf;
+  gltf.add("images", {{"uri", "data:image/png;base64," + base64(png)}});
+  gltf.add("textures", {{"source", 0}});
+  gltf.add("materials", {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  json primitive = quadPrimitive(gltf);
+  primitive["material"] = 0;
+  gltf.addMeshNode(primitive);
+  expectRefused(gltf.writeGltf(folder / "huge_texture.gltf"),
+                "texture image 'image 0 of huge_texture.gltf': image size 20000x20000 is over the limit of 16384 "
+                "pixels a side");
+}
+
 // ------------------------------------------------------------------ lights, cameras, animation
 
 TEST(GltfImport, PunctualLightsShineDownTheirNodesMinusZ) {
@@ -617,6 +657,68 @@ TEST(GltfImport, PunctualLightsShineDownTheirNodesMinusZ) {
   expectRefused(gltf.writeGltf(folder / "bad_spot.gltf"), "cone angles");
 }
 
+// Values of the wrong JSON type that tinygltf silently replaces by their
+// defaults: each is named in a warning, and the rest is still read.
+TEST(GltfImport, LightAndMaterialValuesThatFallBackToDefaultsAreNamed) {
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.doc()["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+  gltf.doc()["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "point"}, {"name", "lamp"}, {"intensity", "bright"}, {"color", "red"}, {"range", "far"}},
+      {{"type", "spot"}, {"spot", {{"innerConeAngle", "narrow"}, {"outerConeAngle", "wide"}}}}};
+  for (int light = 0; light < 2; ++light)
+    gltf.add("nodes", {{"extensions", {{"KHR_lights_punctual", {{"light", light}}}}}});
+  const std::vector<std::uint8_t> png = encodePng(1, 1, {10, 20, 30, 255});
+  gltf.add("images", {{"uri", "data:image/png;base64," + base64(png)}});
+  gltf.add("textures", {{"source", 0}});
+  // Three numbers: tinygltf dropped the whole block, texture and metallic factor too.
+  gltf.add("materials",
+           {{"name", "rgb"},
+            {"pbrMetallicRoughness",
+             {{"baseColorFactor", {0.5, 0.5, 0.5}}, {"metallicFactor", 0.25}, {"baseColorTexture", {{"index", 0}}}}}});
+  gltf.add("materials", {{"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", "strong"}}}}}});
+  for (int material = 0; material < 2; ++material) {
+    json primitive = quadPrimitive(gltf);
+    primitive["material"] = material;
+    gltf.addMeshNode(primitive);
+  }
+  const fs::path path = gltf.writeGltf(folder / "defaults.gltf");
+  const Loaded loaded = load(path);
+
+  const std::vector<std::string> expected = {
+      "light color must be an array of 3 numbers; using (1, 1, 1): light 0 'lamp'",
+      "light intensity must be a number; using 1: light 0 'lamp'",
+      "light range must be a number; using none (the light reaches everywhere): light 0 'lamp'",
+      "spot light innerConeAngle must be a number; using 0: light 1",
+      "spot light outerConeAngle must be a number; using pi/4: light 1",
+      "pbrMetallicRoughness.baseColorFactor must have 4 numbers; using (1, 1, 1, 1): material 0 'rgb'",
+      "KHR_materials_emissive_strength emissiveStrength must be a number; using 1: material 1"};
+  ASSERT_EQ(loaded.warnings.size(), expected.size());
+  for (const std::string& warning : expected)
+    EXPECT_NE(std::find(loaded.warnings.begin(), loaded.warnings.end(), path.string() + ": " + warning),
+              loaded.warnings.end())
+        << warning;
+  const Scene& scene = loaded.scene;
+  EXPECT_EQ(scene.lights[0].intensity, 1.0f);
+  EXPECT_EQ(scene.lights[0].color, glm::vec3(1.0f));
+  EXPECT_EQ(scene.materials[0].baseColorFactor, glm::vec4(1.0f));
+  EXPECT_FLOAT_EQ(scene.materials[0].metallicFactor, 0.25f);
+  ASSERT_GE(scene.materials[0].baseColorTexture, 0);
+  EXPECT_EQ(scene.textures[std::size_t(scene.materials[0].baseColorTexture)].rgba8,
+            (std::vector<std::uint8_t>{10, 20, 30, 255}));
+  EXPECT_EQ(scene.materials[1].emissiveStrength, 1.0f);
+
+  // Where no default exists, the light is refused by name.
+  json& lights = gltf.doc()["extensions"]["KHR_lights_punctual"]["lights"];
+  lights[0]["type"] = 5;
+  expectRefused(gltf.writeGltf(folder / "typeless.gltf"), "light 0 'lamp': type must be a string");
+  lights[0]["type"] = "spot";
+  expectRefused(gltf.writeGltf(folder / "spotless.gltf"), "light 0 'lamp': a spot light needs a \"spot\" object");
+  lights = "lamp";
+  expectRefused(gltf.writeGltf(folder / "lightless.gltf"),
+                "extensions.KHR_lights_punctual.lights must be an array of objects");
+}
+
 TEST(GltfImport, PerspectiveCamerasAreKeptOrthographicOnesSkipped) {
   TempFolder folder;
   GltfBuilder gltf;
@@ -638,6 +740,65 @@ TEST(GltfImport, PerspectiveCamerasAreKeptOrthographicOnesSkipped) {
   ASSERT_EQ(loaded.warnings.size(), 1u);
   EXPECT_NE(loaded.warnings[0].find("orthographic"), std::string::npos);
   EXPECT_NE(loaded.warnings[0].find("plan"), std::string::npos);
+}
+
+// 100,000 nodes in one chain, each a step up from its parent, the quad and a
+// camera at its end (validation used to take minutes on such a file).
+TEST(GltfImport, AHundredThousandNodeChainLoadsWithItsLeafInPlace) {
+  constexpr int kNodes = 100000;
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.add("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}});
+  for (int i = 0; i + 1 < kNodes; ++i) gltf.add("nodes", {{"translation", {0, 1, 0}}, {"children", {i + 1}}});
+  gltf.addMeshNode(quadPrimitive(gltf), {{"translation", {0, 1, 0}}, {"camera", 0}});
+  gltf.doc()["scenes"] = {{{"nodes", {0}}}};
+  const Scene scene = load(gltf.writeGltf(folder / "chain.gltf")).scene;
+
+  ASSERT_EQ(scene.nodes.size(), std::size_t(kNodes));
+  validate(scene);
+  // Sums of whole numbers below 2^24 are exact in float.
+  const std::vector<Instance> instances = instancesAt(scene, 0.0f);
+  ASSERT_EQ(instances.size(), 1u);
+  EXPECT_EQ(worldPoint(instances[0], {1, 1, 0}), glm::vec3(1, kNodes + 1, 0));
+  EXPECT_EQ(makeCameraPath("gltf", scene)->pose(0.0f).position, glm::vec3(0, kNodes, 0));
+}
+
+// 100,000 nodes side by side, every one a root of the scene and every one
+// warned about: neither the roots nor the warnings may be collected by
+// searching what was collected before (that took 9 s on this file, growing
+// with the square of its size).
+TEST(GltfImport, AHundredThousandRootsAndWarningsLoadInLinearTime) {
+  constexpr int kNodes = 100000;
+  TempFolder folder;
+  GltfBuilder gltf;
+  json roots = json::array();
+  for (int i = 0; i < kNodes; ++i) {
+    gltf.add("nodes", {{"translation", {i, 0, 0}}, {"weights", {0.5}}});
+    roots.push_back(i);
+  }
+  roots.push_back(0);  // listed twice, displayed once
+  gltf.doc()["scenes"] = {{{"nodes", roots}}};
+  const Loaded loaded = load(gltf.writeGltf(folder / "wide.gltf"));
+
+  ASSERT_EQ(loaded.scene.roots.size(), std::size_t(kNodes));
+  EXPECT_EQ(loaded.scene.roots.back(), kNodes - 1);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("morph targets are ignored: node 0, node 1,"), std::string::npos);
+  EXPECT_NE(loaded.warnings[0].find("and " + std::to_string(kNodes - 8) + " more"), std::string::npos)
+      << loaded.warnings[0];
+}
+
+// 3.14159265 is below pi, but as the float the camera keeps it is pi: 180
+// degrees, which the renderer then refused with a message about everything.
+TEST(GltfImport, CameraYfovIsCheckedAsTheFloatItBecomes) {
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.add("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 3.14159265}, {"znear", 0.1}}}});
+  gltf.add("nodes", {{"camera", 0}});
+  expectRefused(gltf.writeGltf(folder / "wide.gltf"),
+                "camera 0: yfov 3.14159265 must be between 0 and pi (exclusive, as a 32-bit float)");
+  gltf.doc()["cameras"][0]["perspective"]["yfov"] = 3.1415925;
+  EXPECT_LT(load(gltf.writeGltf(folder / "almost.gltf")).scene.cameras.at(0).yfov, glm::pi<float>());
 }
 
 TEST(GltfImport, NodeAnimationsMoveInstancesOverTime) {
@@ -735,7 +896,115 @@ TEST(GltfImport, RefusesUnsupportedRequiredExtensions) {
   expectRefused(gltf.writeGltf(folder / "required.gltf"), "KHR_draco_mesh_compression");
 }
 
+// ------------------------------------------------------------------ where files may come from
+
+TEST(GltfImport, BufferAndImageUrisMustStayInsideTheGltfFilesFolder) {
+  TempFolder folder;
+  const fs::path scene = folder / "scene";
+  fs::create_directories(scene / "sub");
+  GltfBuilder gltf;
+  gltf.addMeshNode(quadPrimitive(gltf));
+  gltf.writeGltf(scene / "quad.gltf", true);  // and scene/quad.bin
+  fs::copy_file(scene / "quad.bin", folder / "outside.bin");
+  std::ifstream in(scene / "quad.gltf");
+  const json original = json::parse(in);
+  // The quad with its buffer at `uri`, and optionally an image no material uses.
+  const auto withUri = [&](const std::string& uri, const std::string& imageUri = "") {
+    json doc = original;
+    doc["buffers"][0]["uri"] = uri;
+    if (!imageUri.empty()) doc["images"] = {{{"uri", imageUri}}};
+    writeText(scene / "uri.gltf", doc.dump());
+    return scene / "uri.gltf";
+  };
+  const std::string outside =
+      "lies outside the glTF file's folder; files there are read only with "
+      "--allow-outside-assets";
+
+  // Inside the folder, however it is spelt, loads.
+  fs::create_symlink("quad.bin", scene / "alias.bin");
+  fs::create_symlink("..", scene / "sub" / "up");
+  for (const char* uri : {"quad.bin", "./quad.bin", "sub/../quad.bin", "%71uad.bin", "alias.bin", "sub/up/quad.bin"})
+    EXPECT_EQ(load(withUri(uri)).scene.meshes.size(), 1u) << uri;
+
+  // Out of it, by any road, is refused, for images as for buffers.
+  fs::create_symlink("../outside.bin", scene / "relative-link.bin");
+  fs::create_symlink(folder / "outside.bin", scene / "absolute-link.bin");
+  const std::vector<std::string> escapes = {"../outside.bin",
+                                            "%2e%2e/outside.bin",
+                                            "%2E%2E%2Foutside.bin",
+                                            "sub/../../outside.bin",
+                                            "sub/up/../outside.bin",
+                                            (folder / "outside.bin").string(),
+                                            (scene / "quad.bin").string(),  // absolute, even when inside
+                                            "relative-link.bin",
+                                            "absolute-link.bin"};
+  for (const std::string& uri : escapes) {
+    SCOPED_TRACE(uri);
+    expectRefused(withUri(uri), outside);
+    expectRefused(withUri("quad.bin", uri), outside);
+  }
+  expectRefused(withUri("%2e%2e/outside.bin"), "the buffer or image file '../outside.bin' " + outside);
+  // A NUL would end the path early in the C library: refused, and shown as %00.
+  expectRefused(withUri("quad.bin%00.png"),
+                "the buffer or image file 'quad.bin%00.png' has a NUL byte (%00) in its URI");
+
+  // Whether the outside file exists changes nothing in the message, which
+  // holds none of its bytes.
+  const std::string secret(120, 'S');
+  writeText(folder / "secret.bin", secret);
+  fs::create_symlink("../secret.bin", scene / "secret-link.bin");
+  const std::vector<std::string> secretUris = {"../secret.bin", "secret-link.bin"};
+  std::vector<std::string> whenPresent;
+  for (const std::string& uri : secretUris) whenPresent.push_back(loadError(withUri(uri)));
+  fs::remove(folder / "secret.bin");
+  for (std::size_t i = 0; i < secretUris.size(); ++i) {
+    EXPECT_EQ(loadError(withUri(secretUris[i])), whenPresent[i]);
+    EXPECT_NE(whenPresent[i].find(outside), std::string::npos) << whenPresent[i];
+    EXPECT_EQ(whenPresent[i].find("SSSS"), std::string::npos) << whenPresent[i];
+  }
+
+  // allowOutsideAssets reads them; a NUL stays refused.
+  GltfImportOptions allowed;
+  allowed.allowOutsideAssets = true;
+  for (const std::string& uri : escapes) EXPECT_EQ(load(withUri(uri), allowed).scene.meshes.size(), 1u) << uri;
+  expectRefused(withUri("quad.bin%00.png"), "has a NUL byte", allowed);
+}
+
 // ------------------------------------------------------------------ malformed data
+
+// A glTF document `levels` containers deep in all (the document itself is
+// the first): nested arrays in the root's extras, or nested objects in a
+// node's extensions.
+std::string nestedExtras(int levels) {
+  const std::size_t arrays = std::size_t(levels - 1);
+  return R"({"asset": {"version": "2.0"}, "extras": )" + std::string(arrays, '[') + std::string(arrays, ']') + "}";
+}
+std::string nestedNodeExtensions(int levels) {
+  std::string objects;
+  for (int level = 4; level <= levels; ++level) objects += R"({"a": )";
+  objects += "0";
+  for (int level = 4; level <= levels; ++level) objects += "}";
+  return R"({"asset": {"version": "2.0"}, "nodes": [{"extensions": )" + objects + "}]}";
+}
+
+TEST(GltfImport, JsonNestedDeeperThan64LevelsIsRefusedWithoutRecursing) {
+  TempFolder folder;
+  // 15,000 levels in 30 KB overflowed the stack in tinygltf's recursive parser.
+  writeText(folder / "deep.gltf", nestedExtras(15000));
+  expectRefused(folder / "deep.gltf", "JSON nested deeper than 64 levels");
+  writeGlbFile(folder / "deep.glb", nestedNodeExtensions(15000), {});
+  expectRefused(folder / "deep.glb", "JSON nested deeper than 64 levels");
+
+  // The limit is exact: 64 levels load, 65 do not.
+  writeText(folder / "64.gltf", nestedExtras(64));
+  EXPECT_NO_THROW(load(folder / "64.gltf"));
+  writeGlbFile(folder / "64.glb", nestedNodeExtensions(64), {});
+  EXPECT_EQ(load(folder / "64.glb").scene.nodes.size(), 1u);
+  writeText(folder / "65.gltf", nestedExtras(65));
+  expectRefused(folder / "65.gltf", "JSON nested deeper than 64 levels");
+  writeGlbFile(folder / "65.glb", nestedNodeExtensions(65), {});
+  expectRefused(folder / "65.glb", "JSON nested deeper than 64 levels");
+}
 
 TEST(GltfImport, RefusesNanAndInfinitePositions) {
   TempFolder folder;
@@ -1050,6 +1319,13 @@ TEST(GltfImportRealScenes, BreakfastRoomUsesFallbacksAndWarnsOnce) {
   ASSERT_EQ(scene.cameras.size(), 3u);
   EXPECT_EQ(scene.cameras[0].name, "CameraMain");
   EXPECT_EQ(std::count_if(scene.nodes.begin(), scene.nodes.end(), [](const Node& n) { return n.camera >= 0; }), 3);
+  // Each of the three cameras can be chosen, by number or by name.
+  const auto position = [&](const std::string& spec) { return makeCameraPath(spec, scene)->pose(0.0f).position; };
+  EXPECT_EQ(position("gltf"), position("gltf:CameraMain"));
+  EXPECT_EQ(position("gltf:1"), position("gltf:CameraTableTop"));
+  EXPECT_EQ(position("gltf:2"), position("gltf:CameraTopDown"));
+  EXPECT_GT(glm::length(position("gltf:0") - position("gltf:1")), 0.1f);
+  EXPECT_GT(glm::length(position("gltf:1") - position("gltf:2")), 0.1f);
   EXPECT_EQ(scene.textures.size(), 3u);
   for (const Texture& texture : scene.textures) EXPECT_EQ(texture.name.find(".dds"), std::string::npos);
   expectWellFormed(scene);

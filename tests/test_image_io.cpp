@@ -830,13 +830,45 @@ TEST_F(ImageIoTest, DecodeRgba8FromMemoryKeepsBytesAndRefusesTruncation) {
   const Bytes pixels = {10, 20, 30, 40, 50, 60, 70, 80};
   ASSERT_TRUE(stbi_write_png(path.c_str(), 2, 1, 4, pixels.data(), 8));
   const Bytes encoded = readBytes(path);
-  const Rgba8Image image = decodeRgba8(encoded, "texture.png");
+  const Rgba8Image image = decodeRgba8(encoded, "texture.png", 16);
   EXPECT_EQ(image.width, 2);
   EXPECT_EQ(image.height, 1);
   EXPECT_EQ(image.rgba8, std::vector<std::uint8_t>(pixels.begin(), pixels.end())) << "no sRGB decoding";
   const Bytes cut(encoded.begin(), encoded.end() - 12);
-  expectContains(errorOf([&] { decodeRgba8(cut, "inside scene.glb"); }), "inside scene.glb");
-  expectContains(errorOf([&] { decodeRgba8(Bytes{'G', 'I', 'F'}, "x"); }), "not a PNG or JPEG");
+  expectContains(errorOf([&] { decodeRgba8(cut, "inside scene.glb", 16); }), "inside scene.glb");
+  expectContains(errorOf([&] { decodeRgba8(Bytes{'G', 'I', 'F'}, "x", 16); }), "not a PNG or JPEG");
+}
+
+// A PNG of just its header, claiming width x height RGBA pixels.
+Bytes pngHeaderOnly(std::uint32_t width, std::uint32_t height) {
+  Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  Bytes header;
+  putBigEndian32(header, width);
+  putBigEndian32(header, height);
+  header.insert(header.end(), {8, 6, 0, 0, 0});
+  pngChunk(png, "IHDR", header);
+  pngChunk(png, "IEND", {});
+  return png;
+}
+
+// A 20000 x 20000 texture would be 1.6 GB of pixels: it is refused from its
+// header with both sizes, not decoded first and then called corrupt.
+TEST_F(ImageIoTest, DecodeRgba8RefusesImagesOverItsLimitFromTheHeader) {
+  EXPECT_EQ(errorOf([&] { decodeRgba8(pngHeaderOnly(20000, 20000), "huge.png", 16384); }),
+            "huge.png: image size 20000x20000 is over the limit of 16384 pixels a side");
+  EXPECT_EQ(errorOf([&] { decodeRgba8(pngHeaderOnly(3, 20000), "tall.png", 16384); }),
+            "tall.png: image size 3x20000 is over the limit of 16384 pixels a side");
+  // At the limit an image decodes.
+  const fs::path path = file("wide.png");
+  const Bytes pixels(4 * 4, 200);
+  ASSERT_TRUE(stbi_write_png(path.c_str(), 4, 1, 4, pixels.data(), 16));
+  EXPECT_EQ(decodeRgba8(readBytes(path), "wide.png", 4).width, 4);
+  EXPECT_NE(errorOf([&] { decodeRgba8(readBytes(path), "wide.png", 3); }).find("4x1 is over the limit of 3"),
+            std::string::npos);
+  const fs::path jpeg = file("wide.jpg");
+  ASSERT_TRUE(stbi_write_jpg(jpeg.c_str(), 4, 1, 4, pixels.data(), 90));
+  EXPECT_EQ(errorOf([&] { decodeRgba8(readBytes(jpeg), "wide.jpg", 3); }),
+            "wide.jpg: image size 4x1 is over the limit of 3 pixels a side");
 }
 
 // ============================================================== APNG
@@ -924,7 +956,7 @@ TEST_F(ImageIoTest, ApngHoldsEveryFrameInOrderWithValidChunks) {
     png.insert(png.end(), header.begin(), header.end());
     png.insert(png.end(), data.begin(), data.end());
     png.insert(png.end(), end.begin(), end.end());
-    const Rgba8Image decoded = decodeRgba8(png, "frame " + std::to_string(f));
+    const Rgba8Image decoded = decodeRgba8(png, "frame " + std::to_string(f), 1024);
     EXPECT_EQ(int(decoded.rgba8[0]), int(std::lround(frames[f].at(0, 0, 0) * 255.0f))) << f;
     EXPECT_EQ(int(decoded.rgba8[2]), int(std::lround(frames[f].at(0, 0, 2) * 255.0f))) << f;
     EXPECT_EQ(int(decoded.rgba8[4 * 4 + 1]), 255) << "x = 4 is full green";

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -59,12 +61,21 @@ TEST(Scene, ChildTransformsComposeParentFirst) {
 TEST(Scene, LinearStepAndRotationChannelsInterpolate) {
   Scene scene = twoNodeScene();
   Animation animation;
-  animation.channels.push_back({0, AnimatedProperty::Translation, Interpolation::Linear, {0.0f, 2.0f},
+  animation.channels.push_back({0,
+                                AnimatedProperty::Translation,
+                                Interpolation::Linear,
+                                {0.0f, 2.0f},
                                 {glm::vec4(0, 0, 0, 0), glm::vec4(4, 0, 0, 0)}});
-  animation.channels.push_back({1, AnimatedProperty::Scale, Interpolation::Step, {0.0f, 1.0f, 2.0f},
+  animation.channels.push_back({1,
+                                AnimatedProperty::Scale,
+                                Interpolation::Step,
+                                {0.0f, 1.0f, 2.0f},
                                 {glm::vec4(1), glm::vec4(3), glm::vec4(5)}});
   const glm::quat turn = glm::angleAxis(glm::radians(120.0f), glm::vec3(0, 0, 1));
-  animation.channels.push_back({1, AnimatedProperty::Rotation, Interpolation::Linear, {0.0f, 2.0f},
+  animation.channels.push_back({1,
+                                AnimatedProperty::Rotation,
+                                Interpolation::Linear,
+                                {0.0f, 2.0f},
                                 {glm::vec4(0, 0, 0, 1), glm::vec4(turn.x, turn.y, turn.z, turn.w)}});
   scene.animations.push_back(animation);
   validate(scene);
@@ -84,7 +95,10 @@ TEST(Scene, CubicSplineUsesTangents) {
   // p0 = 0, p1 = 0, out-tangent of key 0 = 1, in-tangent of key 1 = 0: the
   // Hermite curve at t = 0.5 over dt = 1 is (t^3 - 2t^2 + t) * 1 = 0.125.
   Animation animation;
-  animation.channels.push_back({0, AnimatedProperty::Translation, Interpolation::CubicSpline, {0.0f, 1.0f},
+  animation.channels.push_back({0,
+                                AnimatedProperty::Translation,
+                                Interpolation::CubicSpline,
+                                {0.0f, 1.0f},
                                 {glm::vec4(0), glm::vec4(0), glm::vec4(1, 0, 0, 0),  //
                                  glm::vec4(0), glm::vec4(0), glm::vec4(0)}});
   scene.animations.push_back(animation);
@@ -120,6 +134,57 @@ TEST(Scene, ValidateNamesTheProblem) {
   Scene badMaterial = twoNodeScene();
   badMaterial.meshes[0].material = 3;
   EXPECT_EQ(messageOf(badMaterial), "test: mesh 0: material index 3 out of range");
+
+  Scene listedTwice = twoNodeScene();
+  listedTwice.nodes[0].children = {1, 1};
+  EXPECT_EQ(messageOf(listedTwice), "test: node 0: lists child 1 twice");
+
+  Scene disowned = twoNodeScene();
+  disowned.nodes[0].children = {};
+  EXPECT_EQ(messageOf(disowned), "test: node 1: its parent 0 does not list it as a child");
+
+  // Node 1 -> 2 -> 3 -> 1 is a cycle, node 4 hangs below it: the cycle is named.
+  Scene loop = twoNodeScene();
+  loop.nodes.resize(5);
+  loop.nodes[0].children = {};
+  for (const auto& [parent, child] : {std::pair{1, 2}, {2, 3}, {3, 1}, {3, 4}}) {
+    loop.nodes[std::size_t(parent)].children.push_back(child);
+    loop.nodes[std::size_t(child)].parent = parent;
+  }
+  EXPECT_EQ(messageOf(loop), "test: node 1 is part of a cycle in the node graph");
+}
+
+// A chain of a million nodes, each a step up from its parent, with the
+// triangle at its end: validation and everything else that walks the
+// hierarchy must be linear in the node count (validate() used to climb every
+// node's parent chain, which on this chain takes hours).
+TEST(Scene, AMillionNodeChainIsValidatedAndPlacedInLinearTime) {
+  constexpr int kNodes = 1000000;
+  Scene chain;
+  chain.name = "chain";
+  chain.materials.push_back({});
+  chain.meshes.push_back(triangleMesh());
+  chain.nodes.resize(kNodes);
+  for (int i = 0; i < kNodes; ++i) {
+    Node& node = chain.nodes[std::size_t(i)];
+    node.local.translation = {0, 1, 0};
+    node.parent = i - 1;
+    if (i + 1 < kNodes) node.children = {i + 1};
+  }
+  chain.nodes.back().meshes = {0};
+  chain.roots = {0};
+  validate(chain);
+  // Sums of whole numbers below 2^24 are exact in float.
+  const std::vector<Instance> instances = instancesAt(chain, 0.0f);
+  ASSERT_EQ(instances.size(), 1u);
+  EXPECT_EQ(glm::vec3(instances[0].objectToWorld[3]), glm::vec3(0, kNodes, 0));
+  EXPECT_EQ(worldBounds(chain, 0.0f).max, glm::vec3(1, kNodes + 1, 0));
+
+  // Closed into a ring, it is refused just as quickly.
+  chain.nodes.front().parent = kNodes - 1;
+  chain.nodes.back().children = {0};
+  chain.roots = {};
+  EXPECT_THROW(validate(chain), SceneError);
 }
 
 TEST(Scene, SunDirectionFollowsElevationAndAzimuth) {

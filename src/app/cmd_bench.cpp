@@ -27,7 +27,9 @@ namespace {
 // Rays from random points inside the scene's bounds in random directions:
 // the incoherent case (GI bounces), unlike primary rays.
 std::vector<render::BvhRay> randomRays(const scene::Scene& scene, std::uint32_t count) {
-  const scene::Bounds bounds = scene::worldBounds(scene, 0.0f);
+  const scene::Bounds sceneBounds = scene::worldBounds(scene, 0.0f);
+  // A scene with nothing in it has no bounds (they are inverted and infinite): its rays start around the origin.
+  const scene::Bounds bounds = sceneBounds.empty() ? scene::Bounds{glm::vec3(-1.0f), glm::vec3(1.0f)} : sceneBounds;
   std::mt19937 random(1234);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::normal_distribution<float> gauss;
@@ -49,6 +51,7 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       app.add_subcommand("bench", "Time every pass with GPU timestamps; BVH rays per second; copy bandwidth");
   addGpuOptions(*command, options.gpu);
   command->add_option("scene", options.scene, "Built-in scene or .gltf/.glb file (default: the default built-in)");
+  addAllowOutsideAssetsFlag(*command, options.allowOutsideAssets);
   command->add_option("--width", options.width, "Image width in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--height", options.height, "Image height in pixels")->check(CLI::Range(1u, 16384u));
   command->add_option("--frames", options.frames, "Timed frames")->check(CLI::Range(1u, 100000u));
@@ -76,7 +79,7 @@ int runBench(const BenchOptions& options) {
   warnIgnoredGiOptions(options.gi);
   const std::optional<gi::Settings> settings =
       giEnabled(options.gi) ? std::optional(giSettings(options.gi)) : std::nullopt;
-  const scene::Scene scene = loadSceneArgument(options.scene);
+  const scene::Scene scene = loadSceneArgument(options.scene, {.allowOutsideAssets = options.allowOutsideAssets});
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   const gpu::DeviceInfo& device = context->deviceInfo();
   std::fprintf(report, "device: %s (%s), driver %s\n", device.name.c_str(), device.type.c_str(), device.driver.c_str());

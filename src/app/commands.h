@@ -12,6 +12,7 @@
 #include "bounce/gi_settings.h"
 #include "gpu/context.h"
 #include "render/frame_renderer.h"
+#include "scene/gltf_import.h"
 #include "scene/scene.h"
 
 namespace bounce::app {
@@ -38,7 +39,9 @@ void checkDeviceMemoryFits(const gpu::Context& context, std::uint32_t width, std
 
 // A SCENE argument: a built-in name, a .gltf/.glb path, or empty for the
 // default built-in. A glTF directional light becomes the sun.
-scene::Scene loadSceneArgument(const std::string& argument);
+scene::Scene loadSceneArgument(const std::string& argument, const scene::GltfImportOptions& importOptions);
+// --allow-outside-assets, for every command that takes a SCENE argument.
+void addAllowOutsideAssetsFlag(CLI::App& command, bool& allowOutsideAssets);
 
 // What a rendering command renders: the scene, the camera path, the image
 // size and the lighting (sky or map, sun). Shared by render and reference.
@@ -54,6 +57,7 @@ struct SceneOptions {
   std::optional<float> sunElevation;
   std::optional<float> sunAzimuth;
   bool noSun = false;
+  bool allowOutsideAssets = false;  // glTF buffers and images may come from outside the file's folder
 };
 void addSceneOptions(CLI::App& command, SceneOptions& options);
 // The renderer options (size, environment, sun) for a loaded scene as the
@@ -123,6 +127,7 @@ int runReference(const ReferenceCommandOptions& options);
 struct BenchOptions {
   GpuOptions gpu;
   std::string scene;  // as for render
+  bool allowOutsideAssets = false;
   std::uint32_t width = 1920;
   std::uint32_t height = 1080;
   std::uint32_t frames = 200;

@@ -8,7 +8,7 @@
 
 namespace bounce::app {
 
-scene::Scene loadSceneArgument(const std::string& argument) {
+scene::Scene loadSceneArgument(const std::string& argument, const scene::GltfImportOptions& importOptions) {
   if (argument.empty()) return scene::makeBuiltinScene(scene::defaultBuiltinScene());
   if (scene::isBuiltinScene(argument)) return scene::makeBuiltinScene(argument);
   const std::filesystem::path path(argument);
@@ -19,9 +19,15 @@ scene::Scene loadSceneArgument(const std::string& argument) {
     throw std::runtime_error("scene '" + argument + "' is neither a built-in scene (" + names +
                              ") nor a .gltf/.glb file");
   }
-  scene::Scene scene = scene::loadGltf(path);
+  scene::Scene scene = scene::loadGltf(path, importOptions);
   scene::adoptDirectionalLightAsSun(scene);
   return scene;
+}
+
+void addAllowOutsideAssetsFlag(CLI::App& command, bool& allowOutsideAssets) {
+  command.add_flag("--allow-outside-assets", allowOutsideAssets,
+                   "Let a glTF file's buffer and image URIs name files outside its folder (absolute paths, '..', "
+                   "symlinks leading out); refused by default, so a downloaded scene cannot read other files");
 }
 
 void addSceneOptions(CLI::App& command, SceneOptions& options) {
@@ -31,8 +37,9 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
       "scene", options.scene,
       "Built-in scene (" + names + "; default " + scene::defaultBuiltinScene() + ") or a .gltf/.glb file");
   command.add_option("--camera", options.camera,
-                     "Camera path: orbit, dolly, fly, static, gltf, or a JSON keyframe file (default: the scene's "
-                     "first glTF camera, else its suggested view)");
+                     "Camera path: orbit, dolly, fly, static, gltf (the first glTF camera), gltf:N (the N-th, from 0), "
+                     "gltf:NAME (by node or camera name), or a JSON keyframe file (default: the scene's first glTF "
+                     "camera, else its suggested view)");
   command.add_option("--width", options.width, "Image width in pixels")
       ->check(CLI::Range(1u, 16384u))
       ->capture_default_str();
@@ -52,6 +59,7 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
       ->check(finiteNumber());
   command.add_flag("--no-sun", options.noSun,
                    "No sunlight (e.g. when the --env map already shows its sun, which would then count twice)");
+  addAllowOutsideAssetsFlag(command, options.allowOutsideAssets);
 }
 
 render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options) {

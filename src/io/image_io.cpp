@@ -491,18 +491,33 @@ ImageF::ImageF(int w, int h, std::vector<std::string> channelNames)
   pixels.assign(std::size_t(w) * std::size_t(h) * channels.size(), 0.0f);
 }
 
-Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name) {
+Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name, int maxSide) {
   const fs::path path(name);
   const bool png = bytes.size() >= 4 && std::memcmp(bytes.data(), "\x89PNG", 4) == 0;
   const bool jpeg = bytes.size() >= 3 && std::memcmp(bytes.data(), "\xff\xd8\xff", 3) == 0;
   if (!png && !jpeg) fail(path, "not a PNG or JPEG image");
   if (bytes.size() > std::size_t(INT32_MAX)) fail(path, "file too large for the PNG/JPEG decoder");
+  const auto refuseOverLimit = [&](std::int64_t width, std::int64_t height) {
+    if (width > maxSide || height > maxSide)
+      fail(path, "image size " + sizeText(width, height) + " is over the limit of " + std::to_string(maxSide) +
+                     " pixels a side");
+  };
+  // stb calls the header of a PNG with more than 2^30 bytes of pixels
+  // corrupt, so a PNG's size is read from its IHDR chunk (always the first) here.
+  if (png && bytes.size() >= 24 && std::memcmp(bytes.data() + 12, "IHDR", 4) == 0) {
+    const auto bigEndian32 = [&](std::size_t at) {
+      return std::int64_t(bytes[at]) << 24 | std::int64_t(bytes[at + 1]) << 16 | std::int64_t(bytes[at + 2]) << 8 |
+             std::int64_t(bytes[at + 3]);
+    };
+    refuseOverLimit(bigEndian32(16), bigEndian32(20));
+  }
   int width = 0, height = 0, components = 0;
   {
     StbMemoryReader reader(bytes);
     const int ok = stbi_info_from_callbacks(&StbMemoryReader::callbacks(), &reader, &width, &height, &components);
     if (reader.readPastEnd() || !ok) fail(path, "truncated or corrupt header");
   }
+  refuseOverLimit(width, height);
   checkReadSize(path, width, height);
   auto pixels = callStb<stbi_uc>(path, bytes, [&](const stbi_io_callbacks* io, void* user) {
     return stbi_load_from_callbacks(io, user, &width, &height, &components, 4);

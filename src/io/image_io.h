@@ -64,9 +64,11 @@ struct Rgba8Image {
 };
 
 // Decodes a PNG or JPEG held in memory (e.g. inside a .glb) to RGBA8, with the
-// same refusal of truncated or corrupt data as readImage. `name` is used in
-// the error message.
-Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name);
+// same refusal of truncated or corrupt data as readImage. An image wider or
+// taller than maxSide pixels is refused from its header, before a pixel is
+// decoded ("image size 20000x20000 is over the limit of 16384 pixels a
+// side"). `name` is used in the error message.
+Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name, int maxSide);
 
 // Writes float32 channels with their names (ZIP compression). The file is
 // written beside the target and renamed into place, so a failed write never

@@ -229,6 +229,16 @@ BvhHit noHit() { return {kNoHit, kBvhInvalidIndex, kBvhInvalidIndex, glm::vec2(0
 
 }  // namespace
 
+std::optional<glm::mat4> instanceWorldToObject(const glm::mat4& objectToWorld) {
+  if (!finiteMatrix(objectToWorld)) return std::nullopt;
+  const glm::dmat4 transform(objectToWorld);
+  const double determinant = glm::determinant(glm::dmat3(transform));
+  if (determinant == 0.0 || !std::isfinite(determinant)) return std::nullopt;
+  const glm::mat4 inverse(glm::affineInverse(transform));
+  if (!finiteMatrix(inverse)) return std::nullopt;
+  return inverse;
+}
+
 Bvh buildBvh(std::span<const Aabb> itemBounds, const BvhBuildOptions& options) {
   if (options.maxLeafSize == 0 || options.binCount < 2)
     throw std::invalid_argument("BVH build: maxLeafSize must be at least 1 and binCount at least 2");
@@ -298,6 +308,7 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
 
 void SceneBvh::setInstances(std::span<const scene::Instance> instances) {
   instanceCount_ = instances.size();
+  untraceable_.clear();
   std::vector<BvhInstance> records;
   std::vector<Aabb> bounds;
   for (std::size_t i = 0; i < instances.size(); ++i) {
@@ -308,10 +319,13 @@ void SceneBvh::setInstances(std::span<const scene::Instance> instances) {
     const std::uint32_t root = blasRoots_[std::size_t(instance.mesh)];
     if (root == kBvhInvalidIndex) continue;
     const glm::mat4& objectToWorld = instance.objectToWorld;
-    const float determinant = glm::determinant(glm::mat3(objectToWorld));
-    if (!finiteMatrix(objectToWorld) || determinant == 0.0f || !std::isfinite(determinant)) continue;
+    const std::optional<glm::mat4> worldToObject = instanceWorldToObject(objectToWorld);
+    if (!worldToObject) {
+      untraceable_.push_back(i);
+      continue;
+    }
     BvhInstance record{};
-    rows3x4(glm::affineInverse(objectToWorld), record.worldToObject);
+    rows3x4(*worldToObject, record.worldToObject);
     rows3x4(objectToWorld, record.objectToWorld);
     record.info = glm::uvec4(root, std::uint32_t(instance.mesh), std::uint32_t(i), 0u);
     records.push_back(record);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -73,6 +74,13 @@ struct Bvh {
 // (maxLeafSize 0, binCount below 2, more items than maxLeafSize * 2^maxDepth).
 Bvh buildBvh(std::span<const Aabb> itemBounds, const BvhBuildOptions& options = {});
 
+// The inverse of an instance's affine object-to-world transform, worked out
+// in double: a float determinant overflows for scales from about 1e13 and
+// underflows below about 1e-13, though their inverses fit a float well.
+// Nothing when the transform is not finite, is singular (a scale of 0), or
+// has an inverse beyond float's range: such an instance cannot be traced.
+std::optional<glm::mat4> instanceWorldToObject(const glm::mat4& objectToWorld);
+
 // Decides whether a hit on an alpha-masked triangle counts (the CPU twin of
 // BVH_ALPHA_TEST in bvh_trace.glsl). Empty: every triangle is opaque.
 using BvhAlphaTest = std::function<bool(std::uint32_t instance, std::uint32_t triangle, glm::vec2 barycentrics)>;
@@ -85,10 +93,13 @@ class SceneBvh {
   explicit SceneBvh(const scene::Scene& scene);
 
   // Rebuilds the TLAS over these instances (call whenever they move). An
-  // instance whose mesh has no triangles, or whose transform is singular or
-  // not finite, is left out of the TLAS (it cannot be hit). Throws
-  // scene::SceneError for a mesh index out of range.
+  // instance whose mesh has no triangles, or whose transform has no
+  // instanceWorldToObject, is left out of the TLAS (it cannot be hit).
+  // Throws scene::SceneError for a mesh index out of range.
   void setInstances(std::span<const scene::Instance> instances);
+  // Which of the last setInstances call's instances were left out for their
+  // transform (indices into that call's span), for a warning.
+  const std::vector<std::size_t>& untraceableInstances() const { return untraceable_; }
 
   // --- The arrays uploaded to the GPU (render/bvh_trace.glsl) ---
   // Every mesh's BLAS, concatenated: interior leftFirst and leaf leftFirst are global indices.
@@ -148,6 +159,7 @@ class SceneBvh {
   std::vector<std::uint32_t> sourceTriangle_;
   std::vector<BvhInstance> instances_;
   std::vector<BvhNode> tlasNodes_;
+  std::vector<std::size_t> untraceable_;
   std::size_t instanceCount_ = 0;
   std::uint32_t blasDepth_ = 0;
   std::uint32_t tlasDepth_ = 0;

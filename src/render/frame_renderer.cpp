@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
-
-#include <glm/gtc/matrix_inverse.hpp>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "gpu/error.h"
 #include "gpu/format.h"
@@ -40,20 +42,47 @@ GpuCamera gpuCamera(const scene::CameraPose& pose, std::uint32_t width, std::uin
 
 namespace {
 
-// Camera poses that cannot make an image are refused before they make NaN.
-void checkCamera(const scene::CameraPose& pose) {
-  const glm::vec3 forward = pose.target - pose.position;
-  const bool finite = std::isfinite(glm::dot(pose.position, pose.position)) &&
-                      std::isfinite(glm::dot(pose.target, pose.target)) && std::isfinite(pose.fovYDegrees);
-  if (!finite || glm::dot(forward, forward) < 1e-12f ||
-      glm::length(glm::cross(glm::normalize(forward), pose.up)) < 1e-6f ||
-      !(pose.fovYDegrees > 0.0f && pose.fovYDegrees < 180.0f))
-    throw gpu::GpuError(
-        "camera: position and target must differ, the up vector must not be parallel to the view, "
-        "and the field of view must be in (0, 180) degrees");
+// The renderer squares distances (dot products of offsets) in 32-bit floats,
+// which overflow beyond about 1.8e19; a camera this far from the origin on
+// any axis keeps that well out of reach.
+constexpr float kMaxCameraCoordinate = 1e18f;
+
+std::string text(float value, int digits = 6) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, double(value));
+  return buffer;
+}
+std::string text(const glm::vec3& v) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%g, %g, %g)", double(v.x), double(v.y), double(v.z));
+  return buffer;
 }
 
 }  // namespace
+
+// Camera poses that cannot make an image are refused before they make NaN,
+// naming the condition that failed and the values that failed it.
+void checkCamera(const scene::CameraPose& pose) {
+  const auto refuse = [](const std::string& problem) { throw gpu::GpuError("camera: " + problem); };
+  const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const std::pair<const char*, glm::vec3> points[] = {{"position", pose.position}, {"target", pose.target}};
+  for (const auto& [name, point] : points) {
+    if (!finite(point)) refuse(std::string(name) + " " + text(point) + " is not finite");
+    const glm::vec3 distance = glm::abs(point);
+    if (std::max({distance.x, distance.y, distance.z}) > kMaxCameraCoordinate)
+      refuse(std::string(name) + " " + text(point) + " is more than " + text(kMaxCameraCoordinate) +
+             " from the origin along an axis; the renderer's 32-bit floats cannot square distances that large");
+  }
+  if (!finite(pose.up)) refuse("up vector " + text(pose.up) + " is not finite");
+  if (!(pose.fovYDegrees > 0.0f && pose.fovYDegrees < 180.0f))
+    refuse("vertical field of view " + text(pose.fovYDegrees, 9) + " degrees is outside (0, 180)");
+  const glm::vec3 forward = pose.target - pose.position;
+  if (!(glm::length(forward) >= 1e-6f))
+    refuse("position " + text(pose.position) + " and target " + text(pose.target) + " are the same point");
+  if (!(glm::length(pose.up) >= 1e-6f)) refuse("up vector " + text(pose.up) + " is zero");
+  if (glm::length(glm::cross(glm::normalize(forward), glm::normalize(pose.up))) < 1e-6f)
+    refuse("up vector " + text(pose.up) + " is parallel to the view direction " + text(glm::normalize(forward)));
+}
 
 glm::vec2 jitterOffset(std::uint64_t frameIndex) {
   const auto halton = [](std::uint32_t index, std::uint32_t base) {
@@ -70,6 +99,20 @@ namespace {
 
 void rows3x4(const glm::mat4& m, glm::vec4 out[3]) {
   for (int r = 0; r < 3; ++r) out[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+}
+
+// The inverse transpose that carries normals to world space, scaled to a
+// largest entry of 1: shaders normalise what it gives, and at scales far
+// from 1 the plain inverse transpose would overflow or underflow there.
+// Identity for an instance the BVH cannot take (it is never hit).
+glm::mat3 normalMatrix(const glm::mat4& objectToWorld) {
+  const std::optional<glm::mat4> worldToObject = instanceWorldToObject(objectToWorld);
+  if (!worldToObject) return glm::mat3(1.0f);
+  const glm::dmat3 inverseTranspose = glm::transpose(glm::dmat3(glm::dmat4(*worldToObject)));
+  double largest = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) largest = std::max(largest, std::abs(inverseTranspose[c][r]));
+  return glm::mat3(inverseTranspose / largest);
 }
 
 GpuMaterial packMaterial(const scene::Material& m) {
@@ -181,6 +224,7 @@ FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, c
 
   bvh_ = std::make_unique<SceneBvh>(scene);
   bvh_->setInstances(instances);
+  warnAboutUntraceableInstances(instances);
   gpuBvh_ = std::make_unique<GpuBvh>(context, *bvh_, kFramesInFlight);
   atlas_ = std::make_unique<TextureAtlas>(context, scene.textures, options.maxTextureSize);
   EnvironmentDesc environment = options.environment;
@@ -222,6 +266,8 @@ FrameRenderer::~FrameRenderer() = default;
 void FrameRenderer::uploadStatic() {
   std::vector<GpuMaterial> materials;
   for (const scene::Material& m : scene_.materials) materials.push_back(packMaterial(m));
+  // A buffer may not be empty; a scene without materials has nothing that reads one.
+  if (materials.empty()) materials.push_back(packMaterial(scene::Material{}));
   materials_ = std::make_unique<gpu::Buffer>(context_, "scene.materials", materials.size() * sizeof(GpuMaterial),
                                              gpu::BufferUsage::DeviceLocal);
   gpu::uploadBuffer(context_, *materials_, materials.data(), materials.size() * sizeof(GpuMaterial));
@@ -229,6 +275,26 @@ void FrameRenderer::uploadStatic() {
   vertexAttributes_ = std::make_unique<gpu::Buffer>(
       context_, "scene.vertex_attributes", attributes.size() * sizeof(glm::uvec4), gpu::BufferUsage::DeviceLocal);
   gpu::uploadBuffer(context_, *vertexAttributes_, attributes.data(), attributes.size() * sizeof(glm::uvec4));
+}
+
+void FrameRenderer::warnAboutUntraceableInstances(std::span<const scene::Instance> instances) {
+  const std::vector<std::size_t>& untraceable = bvh_->untraceableInstances();
+  if (warnedAboutUntraceable_ || untraceable.empty()) return;
+  warnedAboutUntraceable_ = true;
+  constexpr std::size_t kNamedNodes = 8;
+  std::string line = "scene '" + scene_.name + "': " + std::to_string(untraceable.size()) +
+                     " mesh instance(s) cannot be drawn: their node transforms have no inverse in 32-bit floats "
+                     "(a scale of 0, or one whose inverse is beyond float's range): ";
+  for (std::size_t k = 0; k < untraceable.size() && k < kNamedNodes; ++k) {
+    const int node = instances[untraceable[k]].node;
+    const std::string& name = scene_.nodes[std::size_t(node)].name;
+    line += (k ? ", node " : "node ") + std::to_string(node) + (name.empty() ? "" : " '" + name + "'");
+  }
+  if (untraceable.size() > kNamedNodes) line += " and " + std::to_string(untraceable.size() - kNamedNodes) + " more";
+  if (options_.warn)
+    options_.warn(line);
+  else
+    std::fprintf(stderr, "bounce: warning: %s\n", line.c_str());
 }
 
 std::vector<Aov> FrameRenderer::aovs() {
@@ -256,7 +322,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
     GpuInstance g{};
     rows3x4(current, g.objectToWorld);
     rows3x4(continuous ? previousTransforms_[i] : current, g.previousObjectToWorld);
-    rows3x4(glm::mat4(glm::inverseTranspose(glm::mat3(current))), g.normalToWorld);
+    rows3x4(glm::mat4(normalMatrix(current)), g.normalToWorld);
     g.ids = glm::uvec4(std::uint32_t(i), 0u, 0u, 0u);
     gpuInstances[i] = g;
   }
@@ -299,6 +365,7 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
                       std::max<std::size_t>(1, instances.size()) * sizeof(GpuInstance));
   recorder.copyBuffer(*slot.lightsStaging, *lights_, kMaxLights * sizeof(GpuLight));
   bvh_->setInstances(instances);
+  warnAboutUntraceableInstances(instances);
   gpuBvh_->updateInstances(recorder, std::uint32_t(frameIndex % kFramesInFlight));
   environment_->record(recorder);
 

@@ -11,7 +11,9 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,14 @@ class TextureAtlas;
 // The camera of a pose as the passes see it (render/frame_types.glsl).
 shared::GpuCamera gpuCamera(const scene::CameraPose& pose, std::uint32_t width, std::uint32_t height);
 
+// Throws gpu::GpuError "camera: <the condition that failed, with its values>"
+// for a pose that cannot make an image: a position or target that is not
+// finite or lies more than 1e18 from the origin along an axis, position and
+// target at the same point, an up vector that is zero, not finite or
+// parallel to the view, a vertical field of view outside (0, 180) degrees.
+// FrameRenderer::record checks every frame's camera with it.
+void checkCamera(const scene::CameraPose& pose);
+
 // The sub-pixel offset (pixels, in [-0.5, 0.5)) of frame `frameIndex`'s rays
 // when jitter is on: Halton (2, 3), 16 frames long.
 glm::vec2 jitterOffset(std::uint64_t frameIndex);
@@ -42,6 +52,9 @@ struct FrameRendererOptions {
   bool jitter = false;  // sub-pixel camera jitter (Halton 2,3), kept out of motion vectors
   std::uint32_t maxTextureSize = 2048;
   EnvironmentDesc environment;
+  // Receives each warning, one line without a newline (once per renderer:
+  // mesh instances that cannot be drawn). Empty: "bounce: warning: <line>" on stderr.
+  std::function<void(const std::string&)> warn;
 };
 
 // One frame's view: where the camera is, when it is (animation time), and
@@ -100,6 +113,9 @@ class FrameRenderer {
     std::unique_ptr<gpu::Buffer> lightsStaging;
   };
   void uploadStatic();
+  // Once per renderer: which instances the BVH could not take (their node
+  // transforms have no inverse in floats), so they are not silently missing.
+  void warnAboutUntraceableInstances(std::span<const scene::Instance> instances);
 
   gpu::Context& context_;
   const scene::Scene& scene_;
@@ -119,6 +135,7 @@ class FrameRenderer {
   bool hasPrevious_ = false;
   scene::CameraPose previousCamera_;
   std::vector<glm::mat4> previousTransforms_;
+  bool warnedAboutUntraceable_ = false;
 };
 
 }  // namespace bounce::render

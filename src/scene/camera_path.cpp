@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -23,20 +24,40 @@ constexpr float kOrbitSeconds = 8.0f;
 constexpr float kDollySeconds = 8.0f;
 constexpr float kFlySeconds = 16.0f;
 
-// A pose that shows the whole of `bounds` from the front (+Z) and a little
-// above, for scenes that suggest no camera.
-CameraPose framingPose(const Bounds& bounds) {
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+std::string vectorText(const glm::vec3& v) { return "(" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + ")"; }
+
+// A pose that shows the whole of the scene's `bounds` from the front (+Z) and
+// a little above, for scenes that suggest no camera. Worked out in double,
+// since the bounds' size may overflow a float when squared; refused when the
+// pose cannot be held in floats: bounds near float's range give infinity,
+// and bounds far from the origin for their size a position that rounds onto
+// the target.
+CameraPose framingPose(const Scene& scene, const Bounds& bounds) {
   CameraPose pose;
   if (bounds.empty()) return pose;
-  const float radius = std::max(0.5f * glm::length(bounds.extent()), 0.1f);
-  const float distance = 1.1f * radius / std::sin(glm::radians(pose.fovYDegrees) / 2);
-  pose.target = bounds.center();
-  pose.position = pose.target + glm::normalize(glm::vec3(0.0f, 0.35f, 1.0f)) * distance;
+  const glm::dvec3 min(bounds.min), max(bounds.max);
+  const double radius = std::max(0.5 * glm::length(max - min), 0.1);
+  const double distance = 1.1 * radius / std::sin(glm::radians(double(pose.fovYDegrees)) / 2);
+  const glm::dvec3 target = 0.5 * (min + max);
+  pose.target = glm::vec3(target);
+  pose.position = glm::vec3(target + glm::normalize(glm::dvec3(0.0, 0.35, 1.0)) * distance);
+  const double kept = glm::length(glm::dvec3(pose.position) - glm::dvec3(pose.target));
+  if (!(std::abs(kept - distance) <= 0.01 * distance))
+    throw SceneError("scene '" + scene.name + "': its bounds, " + vectorText(bounds.min) + " to " +
+                     vectorText(bounds.max) +
+                     ", are too large (or too far from the origin for their size) to frame with a camera in 32-bit "
+                     "floats; give a camera (--camera FILE.json)");
   return pose;
 }
 
 CameraPose startingPose(const Scene& scene, const Bounds& bounds) {
-  return scene.suggestedCamera ? *scene.suggestedCamera : framingPose(bounds);
+  return scene.suggestedCamera ? *scene.suggestedCamera : framingPose(scene, bounds);
 }
 
 // Seconds into the current repetition of a path `period` seconds long.
@@ -210,17 +231,56 @@ class GltfCameraPath final : public CameraPath {
   float fovY_ = 45.0f;
 };
 
-// The first node with a camera, depth-first from the roots in order; -1 if none.
-int firstCameraNode(const Scene& scene) {
+// The nodes with a camera, depth-first from the roots in order: the order
+// "gltf:N" counts in.
+std::vector<int> cameraNodes(const Scene& scene) {
+  std::vector<int> cameras;
   std::vector<int> stack(scene.roots.rbegin(), scene.roots.rend());
   while (!stack.empty()) {
     const int index = stack.back();
     stack.pop_back();
     const Node& node = scene.nodes[std::size_t(index)];
-    if (node.camera >= 0) return index;
+    if (node.camera >= 0) cameras.push_back(index);
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) stack.push_back(*child);
   }
-  return -1;
+  return cameras;
+}
+
+// "1 'CameraTableTop'", with its node's name when that differs: how the
+// error for a camera that does not exist lists those that do.
+std::string cameraLabel(const Scene& scene, std::size_t number, int node) {
+  const std::string& nodeName = scene.nodes[std::size_t(node)].name;
+  const std::string& cameraName = scene.cameras[std::size_t(scene.nodes[std::size_t(node)].camera)].name;
+  std::string label = std::to_string(number);
+  if (!cameraName.empty()) label += " '" + cameraName + "'";
+  if (!nodeName.empty() && nodeName != cameraName) label += " (node '" + nodeName + "')";
+  return label;
+}
+
+// The camera node a "gltf", "gltf:N" or "gltf:NAME" spec chooses.
+int chosenCameraNode(const Scene& scene, std::string_view spec) {
+  const std::vector<int> nodes = cameraNodes(scene);
+  if (nodes.empty())
+    throw SceneError("scene '" + scene.name + "' has no glTF camera (camera path '" + std::string(spec) + "')");
+  if (spec == "gltf") return nodes.front();
+  const std::string_view wanted = spec.substr(std::string_view("gltf:").size());
+  const bool byNumber =
+      !wanted.empty() && std::all_of(wanted.begin(), wanted.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (byNumber) {
+    std::size_t number = 0;
+    const auto [end, error] = std::from_chars(wanted.data(), wanted.data() + wanted.size(), number);
+    if (error == std::errc() && end == wanted.data() + wanted.size() && number < nodes.size()) return nodes[number];
+  } else if (!wanted.empty()) {
+    for (int node : nodes)
+      if (scene.nodes[std::size_t(node)].name == wanted ||
+          scene.cameras[std::size_t(scene.nodes[std::size_t(node)].camera)].name == wanted)
+        return node;
+  }
+  std::string cameras;
+  for (std::size_t k = 0; k < nodes.size(); ++k) cameras += (k ? ", " : "") + cameraLabel(scene, k, nodes[k]);
+  throw SceneError("scene '" + scene.name + "' has no glTF camera " +
+                   (byNumber ? "number " + std::string(wanted) : "named '" + std::string(wanted) + "'") +
+                   " (camera path '" + std::string(spec) + "'); its cameras, by number and name: " + cameras);
 }
 
 // ---- JSON keyframes
@@ -233,12 +293,6 @@ struct Keyframe {
   float fovY = 45.0f;
   bool cut = false;
 };
-
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
 
 class KeyframeParser {
  public:
@@ -406,25 +460,22 @@ std::unique_ptr<CameraPath> makeCameraPath(std::string_view spec, const Scene& s
     const Bounds b = bounds();
     return std::make_unique<FlyPath>(startingPose(scene, b), b);
   }
-  if (spec == "gltf") {
-    const int node = firstCameraNode(scene);
-    if (node < 0) throw SceneError("scene '" + scene.name + "' has no glTF camera (camera path 'gltf')");
-    return std::make_unique<GltfCameraPath>(scene, node);
-  }
+  if (spec == "gltf" || spec.starts_with("gltf:"))
+    return std::make_unique<GltfCameraPath>(scene, chosenCameraNode(scene, spec));
   const std::filesystem::path file{std::string(spec)};
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) {
     std::string presets;
     for (const std::string& preset : cameraPathPresets()) presets += (presets.empty() ? "" : ", ") + preset;
     throw SceneError("camera path '" + std::string(spec) + "' is neither a preset (" + presets +
-                     ") nor an existing JSON keyframe file");
+                     ", gltf:N, gltf:NAME) nor an existing JSON keyframe file");
   }
   return loadCameraKeyframes(file);
 }
 
 std::unique_ptr<CameraPath> defaultCameraPath(const Scene& scene) {
-  const int node = firstCameraNode(scene);
-  if (node >= 0) return std::make_unique<GltfCameraPath>(scene, node);
+  const std::vector<int> cameras = cameraNodes(scene);
+  if (!cameras.empty()) return std::make_unique<GltfCameraPath>(scene, cameras.front());
   return std::make_unique<StaticPath>(startingPose(scene, worldBounds(scene, 0.0f)));
 }
 

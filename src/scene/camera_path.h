@@ -21,6 +21,8 @@
 //   gltf    the first camera of the displayed glTF scene (depth-first from
 //           the roots): its node's world transform at each time (animated
 //           when its node or an ancestor is) and its vertical field of view.
+//   gltf:N  the N-th camera (from 0) in that same depth-first order.
+//   gltf:NAME  the first camera whose node or glTF camera is called NAME.
 //   anything else: a JSON keyframe file (see parseCameraKeyframes).
 //
 // Presets start from the suggested camera and derive their size from the
@@ -63,13 +65,15 @@ class CameraPath {
   virtual float duration() const = 0;
 };
 
-// The preset names makeCameraPath accepts: orbit, dolly, fly, static, gltf.
+// The preset names makeCameraPath accepts: orbit, dolly, fly, static, gltf
+// (and gltf:N, gltf:NAME for a camera other than a glTF file's first).
 std::vector<std::string> cameraPathPresets();
 
 // A preset by name, else the JSON keyframe file `spec` names. Throws
-// SceneError for "gltf" on a scene without a camera, for a spec that is
-// neither a preset nor an existing file (listing the presets), and for any
-// problem in the file.
+// SceneError for "gltf" on a scene without a camera, for "gltf:N" or
+// "gltf:NAME" naming no camera (listing the scene's cameras by number and
+// name), for a spec that is neither a preset nor an existing file (listing
+// the presets), and for any problem in the file.
 std::unique_ptr<CameraPath> makeCameraPath(std::string_view spec, const Scene& scene);
 
 // What `bounce render` uses when the user names no path: the scene's first

@@ -15,6 +15,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -24,6 +25,7 @@
 #include <span>
 #include <string_view>
 #include <thread>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -43,8 +45,9 @@ using nlohmann::json;
 // ---------------------------------------------------------------- JSON schema
 
 // The JSON type a glTF property must have. Index: a non-negative integer that
-// fits an int (an index into an array, an enum); Size: any non-negative
-// integer (byte lengths and offsets, counts).
+// fits an int (an index into an array, an enum, or a count or offset that
+// tinygltf keeps in an int, as it does those of sparse accessors); Size: any
+// non-negative integer (byte lengths and offsets, counts).
 enum class Kind {
   Index,
   Size,
@@ -84,9 +87,9 @@ constexpr Property kMaterial[] = {{"pbrMetallicRoughness", Kind::Object, false, 
                                   {"alphaCutoff", Kind::Number},
                                   {"doubleSided", Kind::Bool}};
 constexpr Property kSparseIndices[] = {
-    {"bufferView", Kind::Index, true}, {"byteOffset", Kind::Size}, {"componentType", Kind::Index, true}};
-constexpr Property kSparseValues[] = {{"bufferView", Kind::Index, true}, {"byteOffset", Kind::Size}};
-constexpr Property kSparse[] = {{"count", Kind::Size, true},
+    {"bufferView", Kind::Index, true}, {"byteOffset", Kind::Index}, {"componentType", Kind::Index, true}};
+constexpr Property kSparseValues[] = {{"bufferView", Kind::Index, true}, {"byteOffset", Kind::Index}};
+constexpr Property kSparse[] = {{"count", Kind::Index, true},
                                 {"indices", Kind::Object, true, kSparseIndices},
                                 {"values", Kind::Object, true, kSparseValues}};
 constexpr Property kAccessor[] = {
@@ -232,6 +235,10 @@ std::string kindViolation(const json& value, const Property& property, const std
       ok = value.is_object() && std::all_of(value.begin(), value.end(), [](const json& v) { return isIndex(v); });
       break;
   }
+  // tinygltf would wrap a larger index or count around, or cut it short.
+  if (property.kind == Kind::Index && isSize(value) && !ok)
+    return where + " is " + value.dump() + ", over " + std::to_string(std::numeric_limits<int>::max()) +
+           ", the most this importer reads there";
   if (!ok) return where + " must be " + describe(property.kind);
   if (property.kind == Kind::Object) return schemaViolation(value, property.members, where);
   if (property.kind == Kind::ObjectArray)
@@ -263,16 +270,128 @@ std::string schemaViolation(const json& object, std::span<const Property> proper
   return {};
 }
 
+// ---------------------------------------------------------------- nesting depth
+
+// tinygltf turns extras and extensions into its own values recursively, one
+// stack frame per level, so a small file nested thousands of levels deep
+// overflows the stack. No glTF needs more than a dozen levels; JSON nested
+// deeper than this is refused while it is parsed here, before tinygltf sees it.
+constexpr int kMaxJsonDepth = 64;
+
+struct JsonTooDeep {};
+
+// nlohmann's parser is iterative and reports each container's depth (the
+// number of containers around it) as it opens, so this stops at the first
+// container past the limit, without recursing and without building the rest.
+bool refuseDeepNesting(int depth, json::parse_event_t event, json&) {
+  const bool opens = event == json::parse_event_t::object_start || event == json::parse_event_t::array_start;
+  if (opens && depth >= kMaxJsonDepth) throw JsonTooDeep{};
+  return true;
+}
+
 // ---------------------------------------------------------------- file access
 
-// tinygltf file callbacks that only ever open absolute paths: tinygltf also
-// looks for missing files in the current directory, which would make a
-// broken scene load or not depending on where the program runs.
+// Buffer and image files come from the glTF file's folder only (unless the
+// user allows others): a scene from the internet must not make Bounce read
+// ../../etc/passwd into a buffer, or tell whether such a file exists.
+struct AssetFolder {
+  std::string baseDir;  // the folder as handed to tinygltf, which appends "/" and the decoded URI
+  fs::path folder;      // the same folder, with symlinks resolved
+  bool allowOutside = false;
+  std::string refusal;  // why the first refused URI was refused
+};
+
+// Symlinks followed while resolving one URI before it counts as a loop (Linux's limit).
+constexpr int kMaxSymlinksPerUri = 40;
+
+// The file a relative path names inside `folder`, with every symlink on the
+// way resolved (dangling ones too), or nothing when getting there leaves the
+// folder at any step: ".." above it, or a symlink pointing elsewhere. The
+// answer depends only on what lies inside the folder, never on what exists
+// outside it, so a refusal reveals nothing about other files.
+std::optional<fs::path> insideFolder(const fs::path& folder, const fs::path& relative) {
+  if (relative.has_root_path()) return std::nullopt;
+  std::vector<fs::path> pending(relative.begin(), relative.end());  // the next part last
+  std::reverse(pending.begin(), pending.end());
+  fs::path resolved = folder;
+  int symlinks = 0;
+  while (!pending.empty()) {
+    const fs::path part = std::move(pending.back());
+    pending.pop_back();
+    if (part.empty() || part == ".") continue;
+    if (part == "..") {
+      if (resolved == folder) return std::nullopt;
+      resolved = resolved.parent_path();
+      continue;
+    }
+    const fs::path next = resolved / part;
+    std::error_code error;
+    if (!fs::is_symlink(fs::symlink_status(next, error))) {
+      resolved = next;
+      continue;
+    }
+    fs::path target = fs::read_symlink(next, error);
+    if (error || ++symlinks > kMaxSymlinksPerUri) return std::nullopt;
+    if (target.has_root_path()) {
+      // An absolute target is followed only when it lies inside the folder as written.
+      const fs::path rest = target.lexically_normal().lexically_relative(folder);
+      if (rest.empty() || *rest.begin() == "..") return std::nullopt;
+      resolved = folder;
+      target = rest;
+    }
+    for (auto it = target.end(); it != target.begin();) pending.push_back(*--it);
+  }
+  return resolved;
+}
+
+// A URI for a message: control bytes (a decoded %00 among them) written as
+// %XX again, and at most a line's worth of it.
+std::string printableUri(const std::string& uri) {
+  constexpr std::size_t kMaxLength = 200;
+  std::string text;
+  for (const char c : uri.substr(0, kMaxLength)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) {
+      const char* hex = "0123456789ABCDEF";
+      text += {'%', hex[byte >> 4], hex[byte & 15]};
+    } else {
+      text += c;
+    }
+  }
+  return uri.size() > kMaxLength ? text + "..." : text;
+}
+
+// tinygltf's ExpandFilePath callback, through which every file it opens
+// passes: the path to open for base directory + "/" + decoded URI, or ""
+// (which tinygltf reports as a missing file) for a refused URI.
+std::string resolveAssetPath(const std::string& joined, void* userData) {
+  AssetFolder& assets = *static_cast<AssetFolder*>(userData);
+  const std::string prefix = assets.baseDir.ends_with('/') ? assets.baseDir : assets.baseDir + "/";
+  // tinygltf also tries each URI relative to the current directory, which
+  // would make a broken scene load or not depending on where the program runs.
+  if (!joined.starts_with(prefix)) return {};
+  const std::string uri = joined.substr(prefix.size());
+  const auto refuse = [&](const std::string& why) {
+    if (assets.refusal.empty()) assets.refusal = "the buffer or image file '" + printableUri(uri) + "' " + why;
+    return std::string();
+  };
+  // The C library would end the path at the NUL and open another file.
+  if (uri.find('\0') != std::string::npos) return refuse("has a NUL byte (%00) in its URI");
+  // As tinygltf joined it (not normalised: "link/.." must mean what the file
+  // system makes of it), except that an absolute URI stays absolute.
+  if (assets.allowOutside) return fs::path(uri).is_absolute() ? uri : joined;
+  const std::optional<fs::path> inside = insideFolder(assets.folder, uri);
+  if (!inside)
+    return refuse("lies outside the glTF file's folder; files there are read only with --allow-outside-assets");
+  return inside->string();
+}
+
+// tinygltf file callbacks that only ever open the absolute paths
+// resolveAssetPath returns.
 bool absoluteFileExists(const std::string& path, void*) {
   std::error_code error;
   return fs::path(path).is_absolute() && fs::is_regular_file(path, error);
 }
-std::string keepFilePath(const std::string& path, void*) { return path; }
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   const std::streamoff size = file ? std::streamoff(file.tellg()) : -1;
@@ -315,6 +434,18 @@ std::string percentDecoded(const std::string& uri) {
     }
   }
   return decoded;
+}
+
+// How messages name the i-th object of a kind: "light 0 'lamp'", or "light 0" when it has no name.
+std::string named(const char* kind, std::size_t index, const std::string& name) {
+  return kind + (" " + std::to_string(index)) + (name.empty() ? "" : " '" + name + "'");
+}
+
+// A number from the file for a message, with the digits that tell it from its neighbours.
+std::string numberText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", value);
+  return text;
 }
 
 // tinygltf's messages end lines with '\n'; a SceneError is one line.
@@ -518,10 +649,9 @@ class Importer {
 
   // Collects one warning line per kind of problem, naming what it concerns.
   void warn(const std::string& kind, const std::string& subject) {
-    auto found = std::find_if(warnings_.begin(), warnings_.end(), [&](const auto& w) { return w.first == kind; });
-    if (found == warnings_.end()) found = warnings_.insert(warnings_.end(), {kind, {}});
-    if (std::find(found->second.begin(), found->second.end(), subject) == found->second.end())
-      found->second.push_back(subject);
+    auto found = std::find_if(warnings_.begin(), warnings_.end(), [&](const Warning& w) { return w.kind == kind; });
+    if (found == warnings_.end()) found = warnings_.insert(warnings_.end(), {kind, {}, {}});
+    if (found->named.insert(subject).second) found->subjects.push_back(subject);
   }
 
   void emitWarnings() const {
@@ -537,7 +667,7 @@ class Importer {
       for (std::size_t i = 0; i < ignoredExtensions_.size(); ++i) line += (i ? ", " : "") + ignoredExtensions_[i];
       emit(line);
     }
-    for (const auto& [kind, subjects] : warnings_) {
+    for (const auto& [kind, subjects, named] : warnings_) {
       std::string line = path_.string() + ": " + kind + ": ";
       for (std::size_t i = 0; i < subjects.size() && i < kNamedSubjects; ++i) line += (i ? ", " : "") + subjects[i];
       if (subjects.size() > kNamedSubjects)
@@ -589,7 +719,9 @@ class Importer {
 
     json document;
     try {
-      document = json::parse(text.begin(), text.end());
+      document = json::parse(text.begin(), text.end(), refuseDeepNesting);
+    } catch (const JsonTooDeep&) {
+      fail("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     } catch (const json::exception& e) {
       fail(std::string("not valid JSON (") + e.what() + ")");
     }
@@ -597,26 +729,105 @@ class Importer {
     if (const std::string violation = schemaViolation(document, kRoot, ""); !violation.empty())
       fail("invalid glTF: " + violation);
     checkExtensions(document);
+    checkLightValues(document);
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&keepEncodedImage, nullptr);
-    loader.SetFsCallbacks({&absoluteFileExists, &keepFilePath, &readWholeFile, &refuseWrite, nullptr});
-    const std::string baseDir = fs::absolute(path_).parent_path().string();
-    std::string error;
+    const fs::path folder = fs::absolute(path_).parent_path();
+    std::error_code error;
+    AssetFolder assets{folder.string(), fs::weakly_canonical(folder, error), options_.allowOutsideAssets, {}};
+    if (error) fail("cannot resolve the folder of the file (" + error.message() + ")");
+    loader.SetFsCallbacks({&absoluteFileExists, &resolveAssetPath, &readWholeFile, &refuseWrite, &assets});
+    std::string loadError;
     // tinygltf's warnings only concern images it could not read; whether that
     // matters depends on whether a material uses the image, checked later.
     std::string ignoredWarnings;
     bool loaded = false;
     try {
-      loaded = binary ? loader.LoadBinaryFromMemory(&model_, &error, &ignoredWarnings, bytes.data(),
-                                                    unsigned(glbLength), baseDir)
-                      : loader.LoadASCIIFromString(&model_, &error, &ignoredWarnings, text.data(),
-                                                   unsigned(text.size()), baseDir);
+      loaded = binary ? loader.LoadBinaryFromMemory(&model_, &loadError, &ignoredWarnings, bytes.data(),
+                                                    unsigned(glbLength), assets.baseDir)
+                      : loader.LoadASCIIFromString(&model_, &loadError, &ignoredWarnings, text.data(),
+                                                   unsigned(text.size()), assets.baseDir);
     } catch (const std::exception& e) {
       // tinygltf's JSON library throws on some inputs the schema check lets through.
-      error = e.what();
+      loadError = e.what();
     }
-    if (!loaded) fail("cannot load glTF: " + (error.empty() ? std::string("tinygltf gave no reason") : oneLine(error)));
+    // A refused URI is an error even for an image no material uses, and
+    // tinygltf's own message would call the file missing.
+    if (!assets.refusal.empty()) fail(assets.refusal);
+    if (!loaded)
+      fail("cannot load glTF: " + (loadError.empty() ? std::string("tinygltf gave no reason") : oneLine(loadError)));
+    restoreDroppedPbrBlocks(document);
+  }
+
+  // tinygltf replaces a KHR_lights_punctual value of the wrong JSON type by
+  // its default without a word (and a light without a type string by an
+  // error naming no light). The file's values are checked here first: each
+  // one that falls back to its default is named in a warning; a light with
+  // no type to fall back on is refused.
+  void checkLightValues(const json& document) {
+    const auto extensions = document.find("extensions");
+    if (extensions == document.end()) return;
+    const auto punctual = extensions->find("KHR_lights_punctual");
+    if (punctual == extensions->end()) return;
+    const auto lights = punctual->find("lights");
+    if (lights == punctual->end()) return;
+    if (!lights->is_array() ||
+        !std::all_of(lights->begin(), lights->end(), [](const json& l) { return l.is_object(); }))
+      fail("extensions.KHR_lights_punctual.lights must be an array of objects");
+    for (std::size_t i = 0; i < lights->size(); ++i) {
+      const json& light = (*lights)[i];
+      const auto name = light.find("name");
+      const std::string what =
+          named("light", i, name != light.end() && name->is_string() ? name->get<std::string>() : "");
+      const auto type = light.find("type");
+      if (type == light.end() || !type->is_string())
+        fail(what + ": type must be a string (directional, point or spot)");
+      // Present but not a number: tinygltf uses the default.
+      const auto warnUnlessNumber = [&](const json& object, const char* key, const std::string& kind) {
+        if (const auto found = object.find(key); found != object.end() && !found->is_number()) warn(kind, what);
+      };
+      if (const auto color = light.find("color");
+          color != light.end() && !(color->is_array() && std::all_of(color->begin(), color->end(),
+                                                                     [](const json& c) { return c.is_number(); })))
+        warn("light color must be an array of 3 numbers; using (1, 1, 1)", what);
+      warnUnlessNumber(light, "intensity", "light intensity must be a number; using 1");
+      warnUnlessNumber(light, "range", "light range must be a number; using none (the light reaches everywhere)");
+      if (*type != "spot") continue;
+      const auto spot = light.find("spot");
+      if (spot == light.end() || !spot->is_object()) fail(what + ": a spot light needs a \"spot\" object");
+      warnUnlessNumber(*spot, "innerConeAngle", "spot light innerConeAngle must be a number; using 0");
+      warnUnlessNumber(*spot, "outerConeAngle", "spot light outerConeAngle must be a number; using pi/4");
+    }
+  }
+
+  // tinygltf drops a whole pbrMetallicRoughness whose baseColorFactor does
+  // not have 4 numbers, textures and factors with it, and says nothing. The
+  // rest of the block is read here instead, with the default base colour,
+  // and the fallback is named in a warning.
+  void restoreDroppedPbrBlocks(const json& document) {
+    const auto materials = document.find("materials");
+    if (materials == document.end()) return;
+    for (std::size_t i = 0; i < materials->size() && i < model_.materials.size(); ++i) {
+      const json& material = (*materials)[i];
+      const auto pbr = material.find("pbrMetallicRoughness");
+      if (pbr == material.end()) continue;
+      const auto factor = pbr->find("baseColorFactor");
+      if (factor == pbr->end() || factor->size() == 4) continue;
+      warn("pbrMetallicRoughness.baseColorFactor must have 4 numbers; using (1, 1, 1, 1)",
+           named("material", i, model_.materials[i].name));
+      tinygltf::PbrMetallicRoughness& restored = model_.materials[i].pbrMetallicRoughness;
+      restored.metallicFactor = pbr->value("metallicFactor", 1.0);
+      restored.roughnessFactor = pbr->value("roughnessFactor", 1.0);
+      const auto textureInfo = [&](const char* key, tinygltf::TextureInfo& info) {
+        if (const auto found = pbr->find(key); found != pbr->end()) {
+          info.index = found->value("index", -1);
+          info.texCoord = found->value("texCoord", 0);
+        }
+      };
+      textureInfo("baseColorTexture", restored.baseColorTexture);
+      textureInfo("metallicRoughnessTexture", restored.metallicRoughnessTexture);
+    }
   }
 
   void checkExtensions(const json& document) {
@@ -789,19 +1000,15 @@ class Importer {
     const auto key = std::make_pair(image, srgb);
     if (const auto found = textureIndex_.find(key); found != textureIndex_.end()) return found->second;
 
-    auto job =
-        std::find_if(decodeJobs_.begin(), decodeJobs_.end(), [&](const DecodeJob& j) { return j.image == image; });
-    if (job == decodeJobs_.end()) {
-      job = decodeJobs_.insert(decodeJobs_.end(), DecodeJob{});
-      job->image = image;
-      job->name = imageName(image);
-    }
+    const auto [jobIndex, isNew] = decodeJobOfImage_.try_emplace(image, decodeJobs_.size());
+    if (isNew) decodeJobs_.push_back({.image = image, .name = imageName(image)});
+    DecodeJob& job = decodeJobs_[jobIndex->second];
     const int textureIndex = int(scene_.textures.size());
     Texture texture;
-    texture.name = job->name;
+    texture.name = job.name;
     texture.srgb = srgb;
     scene_.textures.push_back(std::move(texture));
-    job->textures.push_back(textureIndex);
+    job.textures.push_back(textureIndex);
     textureIndex_[key] = textureIndex;
     return textureIndex;
   }
@@ -816,7 +1023,7 @@ class Importer {
   void convertMaterials() {
     for (std::size_t i = 0; i < model_.materials.size(); ++i) {
       const tinygltf::Material& source = model_.materials[i];
-      const std::string what = "material " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string what = named("material", i, source.name);
       const auto vector = [&](const std::vector<double>& values, std::size_t size, const char* property) {
         if (values.size() != size) fail(what + ": " + property + " must have " + std::to_string(size) + " numbers");
         glm::vec4 result(0.0f);
@@ -847,9 +1054,13 @@ class Importer {
       if (const auto found = source.extensions.find("KHR_materials_emissive_strength");
           found != source.extensions.end() && found->second.Has("emissiveStrength")) {
         const tinygltf::Value& strength = found->second.Get("emissiveStrength");
-        if (!strength.IsNumber() || !(strength.GetNumberAsDouble() >= 0.0))
-          fail(what + ": KHR_materials_emissive_strength needs a non-negative emissiveStrength");
-        material.emissiveStrength = toFloat(strength.GetNumberAsDouble(), what + ": emissiveStrength");
+        if (!strength.IsNumber()) {
+          warn("KHR_materials_emissive_strength emissiveStrength must be a number; using 1", what);
+        } else {
+          if (!(strength.GetNumberAsDouble() >= 0.0))
+            fail(what + ": KHR_materials_emissive_strength needs a non-negative emissiveStrength");
+          material.emissiveStrength = toFloat(strength.GetNumberAsDouble(), what + ": emissiveStrength");
+        }
       }
       material.baseColorTexture = textureFor(pbr.baseColorTexture.index, true, pbr.baseColorTexture.texCoord, what);
       material.metallicRoughnessTexture =
@@ -909,11 +1120,7 @@ class Importer {
       return;
     }
     try {
-      io::Rgba8Image image = io::decodeRgba8(std::span(bytes.data, bytes.size), what);
-      if (image.width > kMaxTextureSide || image.height > kMaxTextureSide) {
-        job.error = what + " has an unsupported size";
-        return;
-      }
+      io::Rgba8Image image = io::decodeRgba8(std::span(bytes.data, bytes.size), what, kMaxTextureSide);
       job.width = image.width;
       job.height = image.height;
       job.rgba8 = std::move(image.rgba8);
@@ -929,7 +1136,7 @@ class Importer {
     meshPrimitives_.resize(model_.meshes.size());
     for (std::size_t m = 0; m < model_.meshes.size(); ++m) {
       const tinygltf::Mesh& source = model_.meshes[m];
-      const std::string meshName = "mesh " + std::to_string(m) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string meshName = named("mesh", m, source.name);
       const bool morphed = !source.weights.empty() || std::any_of(source.primitives.begin(), source.primitives.end(),
                                                                   [](const auto& p) { return !p.targets.empty(); });
       if (morphed) warn("morph targets are ignored", meshName);
@@ -1080,7 +1287,7 @@ class Importer {
     cameraIndex_.assign(model_.cameras.size(), -1);
     for (std::size_t i = 0; i < model_.cameras.size(); ++i) {
       const tinygltf::Camera& camera = model_.cameras[i];
-      const std::string what = "camera " + std::to_string(i) + (camera.name.empty() ? "" : " '" + camera.name + "'");
+      const std::string what = named("camera", i, camera.name);
       if (camera.type == "orthographic") {
         warn("orthographic cameras are skipped", what);
         continue;
@@ -1088,7 +1295,9 @@ class Importer {
       if (camera.type != "perspective") fail(what + ": unknown camera type '" + camera.type + "'");
       const double yfov = camera.perspective.yfov;
       const double znear = camera.perspective.znear;
-      if (!(yfov > 0.0 && yfov < glm::pi<double>())) fail(what + ": yfov must be between 0 and pi");
+      // Checked as the float it is kept as: 3.14159265 is below pi, but its float is not.
+      if (!(yfov > 0.0 && float(yfov) < glm::pi<float>()))
+        fail(what + ": yfov " + numberText(yfov) + " must be between 0 and pi (exclusive, as a 32-bit float)");
       if (!(znear > 0.0)) fail(what + ": znear must be positive");
       cameraIndex_[i] = int(scene_.cameras.size());
       scene_.cameras.push_back({camera.name, float(yfov), toFloat(znear, what + ": znear")});
@@ -1098,7 +1307,7 @@ class Importer {
   void convertLights() {
     for (std::size_t i = 0; i < model_.lights.size(); ++i) {
       const tinygltf::Light& source = model_.lights[i];
-      const std::string what = "light " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string what = named("light", i, source.name);
       Light light;
       light.name = source.name;
       if (source.type == "directional")
@@ -1138,7 +1347,7 @@ class Importer {
     scene_.nodes.resize(model_.nodes.size());
     for (std::size_t i = 0; i < model_.nodes.size(); ++i) {
       const tinygltf::Node& source = model_.nodes[i];
-      const std::string what = "node " + std::to_string(i) + (source.name.empty() ? "" : " '" + source.name + "'");
+      const std::string what = named("node", i, source.name);
       Node& node = scene_.nodes[i];
       node.name = source.name;
       node.local = localTransform(source, what);
@@ -1328,10 +1537,12 @@ class Importer {
         if (scene_.nodes[i].parent < 0) scene_.roots.push_back(int(i));
       return;
     }
+    std::vector<bool> listed(scene_.nodes.size(), false);
     for (int node : model_.scenes[std::size_t(chosen)].nodes) {
       if (node < 0 || std::size_t(node) >= scene_.nodes.size())
         fail("scene " + std::to_string(chosen) + ": node " + std::to_string(node) + " does not exist");
-      if (std::find(scene_.roots.begin(), scene_.roots.end(), node) == scene_.roots.end()) scene_.roots.push_back(node);
+      if (!listed[std::size_t(node)]) scene_.roots.push_back(node);
+      listed[std::size_t(node)] = true;
     }
   }
 
@@ -1340,11 +1551,17 @@ class Importer {
   tinygltf::Model model_;
   Scene scene_;
   std::vector<std::string> ignoredExtensions_;
-  std::vector<std::pair<std::string, std::vector<std::string>>> warnings_;  // kind, subjects; in order of appearance
+  struct Warning {
+    std::string kind;
+    std::vector<std::string> subjects;      // in order of appearance
+    std::unordered_set<std::string> named;  // the same, to find repeats at once on large scenes
+  };
+  std::vector<Warning> warnings_;                     // in order of appearance
   std::vector<std::vector<int>> meshPrimitives_;      // glTF mesh -> Scene::meshes (one per triangle primitive)
   std::vector<int> cameraIndex_;                      // glTF camera -> Scene::cameras, -1 if skipped
   std::map<std::pair<int, bool>, int> textureIndex_;  // (glTF image, sRGB) -> Scene::textures
   std::vector<DecodeJob> decodeJobs_;                 // one per image that materials use
+  std::map<int, std::size_t> decodeJobOfImage_;       // glTF image -> decodeJobs_
 };
 
 }  // namespace

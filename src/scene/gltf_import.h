@@ -12,8 +12,10 @@
 // KHR_lights_punctual lights; perspective cameras; node animations.
 //
 // What is refused, with a SceneError whose what() starts with the file path:
-// anything malformed (JSON, schema types, out-of-range indices or accessor
-// ranges, missing files, NaN or infinite geometry, cycles in the node graph)
+// anything malformed (JSON, JSON nested deeper than 64 levels, schema types,
+// out-of-range indices or accessor ranges, missing files, buffer or image
+// URIs outside the file's folder, NaN or infinite geometry, cycles in the
+// node graph)
 // and files that require an extension this importer does not implement.
 // Everything else it cannot use (optional extensions, orthographic cameras,
 // skins, morph targets, vertex colours, ...) is reported through
@@ -32,6 +34,12 @@ struct GltfImportOptions {
   // Receives one line per warning (without a trailing newline). Empty: print
   // "bounce: warning: <line>" to stderr.
   std::function<void(const std::string&)> warn;
+  // Buffer and image files are read from the glTF file's folder only: a URI
+  // that leads elsewhere (an absolute path, ".." above the folder, a symlink
+  // pointing out of it) is refused, with the same message whether or not
+  // the file it names exists. True reads such files (`--allow-outside-assets`).
+  // A URI with a NUL byte is refused either way.
+  bool allowOutsideAssets = false;
 };
 
 // Loads a .gltf or .glb file (recognised by its content, not its extension)

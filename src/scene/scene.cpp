@@ -173,8 +173,8 @@ void validate(const Scene& scene) {
     if (mesh.indices.size() % 3 != 0) fail(scene, name + ": index count is not a multiple of 3");
     for (std::uint32_t index : mesh.indices)
       if (index >= vertices)
-        fail(scene, name + ": index " + std::to_string(index) + " out of range (" + std::to_string(vertices) +
-                        " vertices)");
+        fail(scene,
+             name + ": index " + std::to_string(index) + " out of range (" + std::to_string(vertices) + " vertices)");
     for (std::size_t v = 0; v < vertices; ++v)
       if (!finite(mesh.positions[v]) || !finite(mesh.normals[v]) || !finite(mesh.tangents[v]) ||
           !finite(mesh.texcoords[v]))
@@ -198,13 +198,20 @@ void validate(const Scene& scene) {
         texture.rgba8.size() != std::size_t(texture.width) * std::size_t(texture.height) * 4)
       fail(scene, "texture '" + texture.name + "': size and pixel data disagree");
 
-  // Node graph: indices in range, parent/child links consistent, no cycles.
+  // Node graph: indices in range, parent and child links that agree, no
+  // cycles. Linear in the node count, however deep the hierarchy: a chain of
+  // 100,000 nodes is a valid file.
   const int nodeCount = int(scene.nodes.size());
+  std::vector<int> timesListed(scene.nodes.size(), 0);
   for (int i = 0; i < nodeCount; ++i) {
     const Node& node = scene.nodes[std::size_t(i)];
-    for (int child : node.children)
+    if (node.parent >= nodeCount) fail(scene, "node " + std::to_string(i) + ": parent index out of range");
+    for (int child : node.children) {
       if (child < 0 || child >= nodeCount || scene.nodes[std::size_t(child)].parent != i)
         fail(scene, "node " + std::to_string(i) + ": child " + std::to_string(child) + " is invalid");
+      if (++timesListed[std::size_t(child)] > 1)
+        fail(scene, "node " + std::to_string(i) + ": lists child " + std::to_string(child) + " twice");
+    }
     for (int mesh : node.meshes)
       if (mesh < 0 || mesh >= int(scene.meshes.size())) fail(scene, "node " + std::to_string(i) + ": bad mesh index");
     if (node.camera >= int(scene.cameras.size()) || node.light >= int(scene.lights.size()))
@@ -212,11 +219,34 @@ void validate(const Scene& scene) {
     if (!finite(node.local.translation) || !finite(node.local.scale) ||
         !finite(glm::vec4(node.local.rotation.x, node.local.rotation.y, node.local.rotation.z, node.local.rotation.w)))
       fail(scene, "node " + std::to_string(i) + ": transform has a NaN or infinite value");
-    int steps = 0;
-    for (int up = node.parent; up >= 0; up = scene.nodes[std::size_t(up)].parent) {
-      if (up >= nodeCount) fail(scene, "node " + std::to_string(i) + ": parent index out of range");
-      if (++steps > nodeCount) fail(scene, "node " + std::to_string(i) + " is part of a cycle in the node graph");
+  }
+  for (int i = 0; i < nodeCount; ++i) {
+    const int parent = scene.nodes[std::size_t(i)].parent;
+    if (parent >= 0 && timesListed[std::size_t(i)] == 0)
+      fail(scene,
+           "node " + std::to_string(i) + ": its parent " + std::to_string(parent) + " does not list it as a child");
+  }
+  // With the links agreeing, the nodes reachable from the parentless ones
+  // form trees; any other node lies on a cycle or below one.
+  std::vector<bool> reached(scene.nodes.size(), false);
+  std::vector<int> stack;
+  for (int i = 0; i < nodeCount; ++i)
+    if (scene.nodes[std::size_t(i)].parent < 0) stack.push_back(i);
+  while (!stack.empty()) {
+    const int index = stack.back();
+    stack.pop_back();
+    reached[std::size_t(index)] = true;
+    for (int child : scene.nodes[std::size_t(index)].children) stack.push_back(child);
+  }
+  if (const auto unreached = std::find(reached.begin(), reached.end(), false); unreached != reached.end()) {
+    // Climbing parents from there repeats a node, and that node is on the cycle.
+    std::vector<bool> climbed(scene.nodes.size(), false);
+    std::size_t onCycle = std::size_t(unreached - reached.begin());
+    while (!climbed[onCycle]) {
+      climbed[onCycle] = true;
+      onCycle = std::size_t(scene.nodes[onCycle].parent);
     }
+    fail(scene, "node " + std::to_string(onCycle) + " is part of a cycle in the node graph");
   }
   for (int root : scene.roots)
     if (root < 0 || root >= nodeCount || scene.nodes[std::size_t(root)].parent >= 0)
