@@ -59,12 +59,21 @@ TEST(Scene, ChildTransformsComposeParentFirst) {
 TEST(Scene, LinearStepAndRotationChannelsInterpolate) {
   Scene scene = twoNodeScene();
   Animation animation;
-  animation.channels.push_back({0, AnimatedProperty::Translation, Interpolation::Linear, {0.0f, 2.0f},
+  animation.channels.push_back({0,
+                                AnimatedProperty::Translation,
+                                Interpolation::Linear,
+                                {0.0f, 2.0f},
                                 {glm::vec4(0, 0, 0, 0), glm::vec4(4, 0, 0, 0)}});
-  animation.channels.push_back({1, AnimatedProperty::Scale, Interpolation::Step, {0.0f, 1.0f, 2.0f},
+  animation.channels.push_back({1,
+                                AnimatedProperty::Scale,
+                                Interpolation::Step,
+                                {0.0f, 1.0f, 2.0f},
                                 {glm::vec4(1), glm::vec4(3), glm::vec4(5)}});
   const glm::quat turn = glm::angleAxis(glm::radians(120.0f), glm::vec3(0, 0, 1));
-  animation.channels.push_back({1, AnimatedProperty::Rotation, Interpolation::Linear, {0.0f, 2.0f},
+  animation.channels.push_back({1,
+                                AnimatedProperty::Rotation,
+                                Interpolation::Linear,
+                                {0.0f, 2.0f},
                                 {glm::vec4(0, 0, 0, 1), glm::vec4(turn.x, turn.y, turn.z, turn.w)}});
   scene.animations.push_back(animation);
   validate(scene);
@@ -84,7 +93,10 @@ TEST(Scene, CubicSplineUsesTangents) {
   // p0 = 0, p1 = 0, out-tangent of key 0 = 1, in-tangent of key 1 = 0: the
   // Hermite curve at t = 0.5 over dt = 1 is (t^3 - 2t^2 + t) * 1 = 0.125.
   Animation animation;
-  animation.channels.push_back({0, AnimatedProperty::Translation, Interpolation::CubicSpline, {0.0f, 1.0f},
+  animation.channels.push_back({0,
+                                AnimatedProperty::Translation,
+                                Interpolation::CubicSpline,
+                                {0.0f, 1.0f},
                                 {glm::vec4(0), glm::vec4(0), glm::vec4(1, 0, 0, 0),  //
                                  glm::vec4(0), glm::vec4(0), glm::vec4(0)}});
   scene.animations.push_back(animation);
@@ -120,6 +132,45 @@ TEST(Scene, ValidateNamesTheProblem) {
   Scene badMaterial = twoNodeScene();
   badMaterial.meshes[0].material = 3;
   EXPECT_EQ(messageOf(badMaterial), "test: mesh 0: material index 3 out of range");
+}
+
+// Lights whose radiance would overflow 32-bit floats are refused by name;
+// at the limit they are accepted.
+TEST(Scene, LightsBeyondTheStrengthLimitAreRefusedByName) {
+  const auto messageOf = [](const Scene& scene) -> std::string {
+    try {
+      validate(scene);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  Scene lit = twoNodeScene();
+  Light lamp;
+  lamp.name = "lamp";
+  lamp.intensity = 1e20f;
+  lit.lights = {lamp};
+  EXPECT_EQ(messageOf(lit), "no error");
+  lit.lights[0].intensity = 3e38f;
+  EXPECT_EQ(messageOf(lit),
+            "test: light 0 'lamp': intensity 3e+38 is above 1e+20, the brightest light Bounce renders (radiance "
+            "beyond it would overflow 32-bit floats)");
+  lit.lights[0].intensity = 1e20f;
+  lit.lights[0].color = glm::vec3(1.0f, 5.0f, 1.0f);
+  EXPECT_EQ(messageOf(lit).rfind("test: light 0 'lamp': intensity 1e+20 times colour 5 (5e+20) is above 1e+20", 0), 0u)
+      << messageOf(lit);
+
+  Scene sunny = twoNodeScene();
+  sunny.sun.illuminance = 1e30f;
+  EXPECT_NE(messageOf(sunny).find("the sun: illuminance 1e+30"), std::string::npos) << messageOf(sunny);
+  sunny.hasSun = false;
+  EXPECT_EQ(messageOf(sunny), "no error") << "a scene without sun does not use it";
+
+  Scene glowing = twoNodeScene();
+  glowing.materials[0].emissiveFactor = glm::vec3(1.0f);
+  glowing.materials[0].emissiveStrength = 2e38f;
+  EXPECT_NE(messageOf(glowing).find("material 0"), std::string::npos) << messageOf(glowing);
+  EXPECT_NE(messageOf(glowing).find("emissive strength 2e+38"), std::string::npos) << messageOf(glowing);
 }
 
 TEST(Scene, SunDirectionFollowsElevationAndAzimuth) {
