@@ -44,7 +44,7 @@ namespace {
 using namespace gpu::formats;
 
 constexpr std::uint32_t kWidth = 64, kHeight = 48;
-// Frames before the poison: every history has filled (the filter's to 12 frames).
+// Frames before the poison: every history has filled (the filter holds 12 frames by then).
 constexpr std::uint32_t kPoisonedFrame = 12;
 constexpr std::uint32_t kHealingFrames = 8;
 
@@ -87,7 +87,9 @@ struct Injection {
   Poison poison;
   bool block;  // false: every pixel
   std::string describe() const {
-    return std::string(name(input)) + (poison == Poison::NaN ? " NaN" : " +Inf") + (block ? " block" : " everywhere");
+    const bool unorm = input == Input::BaseColorMetallic;  // see poisonedTexels
+    const char* value = poison == Poison::NaN ? (unorm ? " all ones" : " NaN") : (unorm ? " all zeros" : " +Inf");
+    return std::string(name(input)) + value + (block ? " block" : " everywhere");
   }
 };
 
