@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -339,6 +340,79 @@ TEST(Cli, ReferenceKeepsWhatItAccumulatedOnCtrlC) {
   std::ifstream json(dir / "ref.json");
   const std::string meta((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
   EXPECT_NE(meta.find("\"interrupted\": true"), std::string::npos) << meta;
+  fs::remove_all(dir);
+}
+
+// --- Lights too bright for 32-bit floats (issue 10, item 6): a glTF sun of
+// 3e38 and --env-intensity 1e38 made the sky NaN and exited 0. Such inputs
+// are refused up front, naming the light or the option and the limit; just
+// within the limit the frame renders, saturated but finite.
+
+// A 4 m floor under a KHR_lights_punctual directional light named Sun, which
+// the CLI adopts as the sun.
+fs::path writeSunlitFloor(const fs::path& dir, const std::string& intensity) {
+  fs::create_directories(dir);
+  const fs::path file = dir / ("sun-" + intensity + ".gltf");
+  std::ofstream(file) << R"({"asset": {"version": "2.0"},
+    "extensionsUsed": ["KHR_lights_punctual"],
+    "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "name": "Sun", "intensity": )"
+                      << intensity << R"(}]}},
+    "buffers": [{"byteLength": 60, "uri": "data:application/octet-stream;base64,)"
+                      << "AAAAwAAAAAAAAADAAAAAQAAAAAAAAADAAAAAQAAAAAAAAABAAAAAwAAAAAAAAABAAAACAAEAAAADAAIA"
+                      << R"("}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-2, 0, -2], "max": [2, 0, 2]},
+                  {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "nodes": [{"mesh": 0}, {"rotation": [-0.3826834, 0, 0, 0.9238795], "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+    "scenes": [{"nodes": [0, 1]}], "scene": 0})";
+  return file;
+}
+
+// Renders `arguments` into `out` and returns the largest value of the EXR,
+// after checking that it exited 0 and that every value is finite.
+float renderFiniteFrame(const std::string& arguments, const fs::path& out) {
+  Result r = run(arguments + " --width 32 --height 24 --frames 1 --gi-warmup 2 --out " + out.string());
+  EXPECT_EQ(r.exitCode, 0) << arguments << ": " << r.output;
+  if (r.exitCode != 0) return 0.0f;
+  const bounce::io::ImageF exr = bounce::io::readImage(out / "render.exr");
+  float largest = 0.0f;
+  std::size_t nonFinite = 0;
+  for (float value : exr.pixels) {
+    nonFinite += !std::isfinite(value);
+    if (std::isfinite(value)) largest = std::max(largest, value);
+  }
+  EXPECT_EQ(nonFinite, 0u) << arguments;
+  return largest;
+}
+
+// Expects `arguments` refused in one line naming `what` and the limit, and no image written.
+void expectRefused(const std::string& arguments, const std::string& what, const fs::path& out) {
+  Result r = run(arguments + " --width 32 --height 24 --frames 1 --out " + out.string());
+  EXPECT_EQ(r.exitCode, 1) << arguments << ": " << r.output;
+  EXPECT_EQ(lineCount(r.output), 1u) << arguments << ": " << r.output;
+  EXPECT_EQ(r.output.rfind("bounce: error:", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find(what), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("above 1e+20"), std::string::npos) << "names the limit: " << r.output;
+  EXPECT_FALSE(fs::exists(out / "render.exr")) << arguments;
+}
+
+TEST(Cli, AGltfSunBeyondFloatRangeIsRefusedAndOneAtTheLimitRendersFinite) {
+  const fs::path dir = freshDirectory("bright_sun");
+  expectRefused("render " + writeSunlitFloor(dir, "3e38").string(), "light 0 'Sun': intensity 3e+38", dir / "refused");
+  // At the limit the sunlit floor is far brighter than a half float holds:
+  // it saturates at the largest finite one.
+  EXPECT_EQ(renderFiniteFrame("render " + writeSunlitFloor(dir, "1e20").string(), dir / "limit"), 65504.0f);
+  fs::remove_all(dir);
+}
+
+TEST(Cli, AnEnvironmentIntensityBeyondFloatRangeIsRefusedAndOneWithinItRendersFinite) {
+  const fs::path dir = freshDirectory("bright_environment");
+  expectRefused("render cornell --env-intensity 1e38", "--env-intensity 1e+38", dir / "cornell");
+  expectRefused("render sun-room --env-intensity 1e38", "--env-intensity 1e+38", dir / "sun-room");
+  // The sky is the intensity times the sun's illuminance (10 in sun-room).
+  expectRefused("render sun-room --env-intensity 1e20", "times the sun's illuminance 10", dir / "product");
+  EXPECT_EQ(renderFiniteFrame("render sun-room --env-intensity 5e18", dir / "within"), 65504.0f);
   fs::remove_all(dir);
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -406,6 +407,37 @@ TEST(EnvironmentMap, IntensityScalesAndValuesStayInFloat16Range) {
   EXPECT_EQ(prepared.at(3, 3, 3), 1.0f);
 }
 
+// A map's NaN or infinite texels are black, and do not spread to their
+// neighbours through the area filter (docs/conventions.md, "Non-finite values").
+TEST(EnvironmentMap, NonFiniteTexelsAreBlackAndDoNotSpread) {
+  io::ImageF map = constantMap(32, 16, glm::vec3(1.0f));
+  map.at(5, 5, 1) = std::numeric_limits<float>::quiet_NaN();
+  map.at(20, 9, 0) = std::numeric_limits<float>::infinity();
+  const io::ImageF prepared = prepareEnvironmentMap(map, "test.exr", 2.0f, 0.0f, 2048);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(prepared.at(5, 5, c), 0.0f);
+    EXPECT_EQ(prepared.at(20, 9, c), 0.0f);
+    EXPECT_EQ(prepared.at(6, 5, c), 2.0f);
+  }
+  const io::ImageF shrunk = prepareEnvironmentMap(map, "test.exr", 1.0f, 0.0f, 16);
+  for (float value : shrunk.pixels) EXPECT_TRUE(std::isfinite(value));
+}
+
+TEST(EnvironmentMap, IntensitiesWhoseSkyWouldOverflowAreRefused) {
+  EnvironmentDesc desc;  // the sky of the default sun, illuminance 3
+  EXPECT_EQ(environmentIntensityProblem(desc), "");
+  desc.intensity = 1e38f;
+  EXPECT_EQ(environmentIntensityProblem(desc).rfind("is above 1e+20", 0), 0u) << environmentIntensityProblem(desc);
+  desc.intensity = 1e20f;
+  EXPECT_EQ(environmentIntensityProblem(desc).rfind("times the sun's illuminance 3 (3e+20) is above 1e+20", 0), 0u)
+      << environmentIntensityProblem(desc);
+  desc.hasSun = false;
+  EXPECT_EQ(environmentIntensityProblem(desc), "") << "no sky, no product";
+  desc.map = "map.exr";
+  desc.hasSun = true;
+  EXPECT_EQ(environmentIntensityProblem(desc), "") << "a map's texels are clamped to 65504 before the intensity";
+}
+
 TEST(EnvironmentMap, RejectsMapsThatAreNotEquirectangular) {
   try {
     prepareEnvironmentMap(constantMap(64, 64, glm::vec3(1.0f)), "/maps/square.exr", 1.0f, 0.0f, 2048);
@@ -660,6 +692,12 @@ TEST_F(EnvironmentGpu, InvalidDescriptionsAreRejected) {
   EXPECT_THROW((Environment{context(), desc}), gpu::GpuError);
   desc = {};
   desc.sun.elevationDegrees = std::nanf("");
+  EXPECT_THROW((Environment{context(), desc}), gpu::GpuError);
+  desc = {};
+  desc.intensity = 1e38f;
+  EXPECT_THROW((Environment{context(), desc}), gpu::GpuError);
+  desc = {};
+  desc.sun.illuminance = 1e30f;
   EXPECT_THROW((Environment{context(), desc}), gpu::GpuError);
 }
 

@@ -39,6 +39,10 @@ TEST_F(SharedMathOnGpu, MatchesCpuOnThousandsOfRandomInputs) {
   inputs[2].values = glm::vec4(0.5f);
   inputs[3].bits = glm::uvec4(0u);
   inputs[4].bits = glm::uvec4(0xffffffffu);
+  // Infinities, NaNs and the largest finite values, for isFinite and sanitizeRadiance.
+  inputs[5].bits = glm::uvec4(0x7f800000u, 0xff800000u, 0x7fc00000u, 0x7f7fffffu);
+  inputs[6].bits = glm::uvec4(0x3f800000u, 0x7f800001u, 0x477fe000u, 0xffc00000u);
+  inputs[7].bits = glm::uvec4(0x3f800000u, 0x40000000u, 0x7f7fffffu, 0x00000001u);
 
   gpu::Buffer inputBuffer(context(), "tests.inputs", sizeof(SharedMathCheckInput) * kCount,
                           gpu::BufferUsage::DeviceLocal);
@@ -90,6 +94,10 @@ TEST_F(SharedMathOnGpu, MatchesCpuOnThousandsOfRandomInputs) {
     ASSERT_TRUE(closeEnough(gpu.material.y, cpu.material.y, 2e-3f, 1e-5f)) << "pdfMaterial, input " << i;
     ASSERT_TRUE(closeEnough(gpu.material.z, cpu.material.z, 1e-4f, 1e-6f)) << "specularReflectance, input " << i;
     ASSERT_EQ(gpu.sampled.w, cpu.sampled.w) << "sampleMaterial's verdict, input " << i;
+    // The bit test must survive the GPU compiler, which may assume no NaN.
+    ASSERT_EQ(gpu.finite.x, cpu.finite.x) << "isFinite, input " << i;
+    for (int c = 1; c < 4; ++c)  // a GPU may flush denormals to zero
+      ASSERT_TRUE(closeEnough(gpu.finite[c], cpu.finite[c], 0.0f, 1e-37f)) << "sanitizeRadiance, input " << i;
     // A sample near the lobe-choice threshold or a horizon may go either way
     // under different rounding; such cases stay rare, the rest agree closely.
     const float apart = glm::length(glm::vec3(gpu.sampled) - glm::vec3(cpu.sampled));

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "render/frame_renderer.h"
@@ -39,6 +40,64 @@ TEST(Reservoir, PackingKeepsEverythingTheShadersRead) {
   EXPECT_EQ(u.W, r.W);
   EXPECT_EQ(u.flags, r.flags);
   EXPECT_EQ(sizeof(a) + sizeof(b), 32u) << "at most 32 bytes a reservoir";
+}
+
+// The reservoirs are history: whatever went into one, what is stored is
+// finite, and a sample that is not is dropped whole.
+TEST(Reservoir, PackingStoresOnlyFiniteValues) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const auto stored = [](const Reservoir& r) {
+    uvec4 a, b;
+    packReservoir(r, a, b);
+    return unpackReservoir(a, b);
+  };
+  const auto finite = [](const Reservoir& r) {
+    return isFinite(r.position) && isFinite(r.normal) && isFinite(r.radiance) && isFinite(r.M) && isFinite(r.W);
+  };
+  Reservoir good = emptyReservoir();
+  good.position = vec3(1.0f, 2.0f, 3.0f);
+  good.normal = vec3(0.0f, 1.0f, 0.0f);
+  good.radiance = vec3(1.0f);
+  good.M = 4.0f;
+  good.W = 0.5f;
+  good.flags = kReservoirHasSample;
+  for (int which = 0; which < 4; ++which)
+    for (float bad : {nan, inf, -inf}) {
+      Reservoir r = good;
+      if (which == 0) r.position.y = bad;
+      if (which == 1) r.normal.x = bad;
+      if (which == 2) r.W = bad;
+      if (which == 3) r.M = bad;
+      const Reservoir u = stored(r);
+      EXPECT_TRUE(finite(u)) << "field " << which << ", value " << bad;
+      if (which < 3) {
+        EXPECT_FALSE(reservoirHasSample(u)) << "a sample with a non-finite field is dropped: " << which;
+        EXPECT_EQ(u.W, 0.0f);
+        EXPECT_EQ(u.M, good.M) << "the candidates were still seen";
+      } else {
+        EXPECT_TRUE(reservoirHasSample(u));
+        EXPECT_EQ(u.M, 0.0f) << "a non-finite confidence counts as none";
+      }
+    }
+  Reservoir r = good;
+  r.radiance = vec3(1.0f, nan, 1.0f);
+  EXPECT_EQ(stored(r).radiance, vec3(0.0f)) << "non-finite radiance is no light";
+  r.radiance = vec3(inf);
+  EXPECT_EQ(stored(r).radiance, vec3(0.0f));
+}
+
+TEST(Reservoir, NonFiniteWeightsAreRefused) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  Reservoir r = emptyReservoir();
+  EXPECT_TRUE(reservoirStream(r, vec3(1.0f), vec3(0, 0, 1), vec3(1.0f), 0u, 2.0f, 1.0f, 0.5f));
+  for (float bad : {nan, inf, -inf, 0.0f, -1.0f})
+    EXPECT_FALSE(reservoirStream(r, vec3(2.0f), vec3(0, 0, 1), vec3(1.0f), 0u, bad, 1.0f, 0.0f)) << bad;
+  EXPECT_EQ(r.weightSum, 2.0f) << "refused weights do not count";
+  EXPECT_EQ(r.M, 6.0f) << "but their candidates were seen";
+  EXPECT_EQ(r.position, vec3(1.0f));
+  reservoirFinalize(r, 1.0f, 1e-45f);  // W = 2 / 1.4e-45 overflows
+  EXPECT_FALSE(reservoirHasSample(r));
+  EXPECT_EQ(r.W, 0.0f);
 }
 
 TEST(Reservoir, StreamingKeepsEachCandidateInProportionToItsWeight) {

@@ -187,6 +187,45 @@ TEST(Scene, AMillionNodeChainIsValidatedAndPlacedInLinearTime) {
   EXPECT_THROW(validate(chain), SceneError);
 }
 
+// Lights whose radiance would overflow 32-bit floats are refused by name;
+// at the limit they are accepted.
+TEST(Scene, LightsBeyondTheStrengthLimitAreRefusedByName) {
+  const auto messageOf = [](const Scene& scene) -> std::string {
+    try {
+      validate(scene);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  Scene lit = twoNodeScene();
+  Light lamp;
+  lamp.name = "lamp";
+  lamp.intensity = 1e20f;
+  lit.lights = {lamp};
+  EXPECT_EQ(messageOf(lit), "no error");
+  lit.lights[0].intensity = 3e38f;
+  EXPECT_EQ(messageOf(lit),
+            "test: light 0 'lamp': intensity 3e+38 is above 1e+20, the brightest light Bounce renders (radiance "
+            "beyond it would overflow 32-bit floats)");
+  lit.lights[0].intensity = 1e20f;
+  lit.lights[0].color = glm::vec3(1.0f, 5.0f, 1.0f);
+  EXPECT_EQ(messageOf(lit).rfind("test: light 0 'lamp': intensity 1e+20 times colour 5 (5e+20) is above 1e+20", 0), 0u)
+      << messageOf(lit);
+
+  Scene sunny = twoNodeScene();
+  sunny.sun.illuminance = 1e30f;
+  EXPECT_NE(messageOf(sunny).find("the sun: illuminance 1e+30"), std::string::npos) << messageOf(sunny);
+  sunny.hasSun = false;
+  EXPECT_EQ(messageOf(sunny), "no error") << "a scene without sun does not use it";
+
+  Scene glowing = twoNodeScene();
+  glowing.materials[0].emissiveFactor = glm::vec3(1.0f);
+  glowing.materials[0].emissiveStrength = 2e38f;
+  EXPECT_NE(messageOf(glowing).find("material 0"), std::string::npos) << messageOf(glowing);
+  EXPECT_NE(messageOf(glowing).find("emissive strength 2e+38"), std::string::npos) << messageOf(glowing);
+}
+
 TEST(Scene, SunDirectionFollowsElevationAndAzimuth) {
   Sun sun;
   sun.elevationDegrees = 90.0f;

@@ -2,11 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <set>
 #include <vector>
 
 #include "shared/brdf.glsl"
 #include "shared/color.glsl"
+#include "shared/finite.glsl"
 #include "shared/intersect.glsl"
 #include "shared/packing.glsl"
 #include "shared/rng.glsl"
@@ -74,6 +77,61 @@ TEST(Rng, SuccessiveValuesAreUncorrelated) {
   double cov = sumXY / n - (sumX / n) * (sumY / n);
   double corr = cov / std::sqrt((sumX2 / n - sumX * sumX / n / n) * (sumY2 / n - sumY * sumY / n / n));
   EXPECT_LT(std::abs(corr), 0.02);
+}
+
+float fromBits(uint bits) {
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+
+TEST(Finite, OnlyNanAndInfinityAreNotFinite) {
+  using limits = std::numeric_limits<float>;
+  for (float value : {0.0f, -0.0f, 1.0f, -3.5f, limits::max(), limits::lowest(), limits::min(), limits::denorm_min(),
+                      -limits::denorm_min(), kMaxHalf})
+    EXPECT_TRUE(isFinite(value)) << value;
+  // Every NaN: quiet and signalling, either sign, any payload.
+  for (uint bits : {0x7f800000u, 0xff800000u, 0x7fc00000u, 0xffc00000u, 0x7f800001u, 0x7fbfffffu, 0xffffffffu})
+    EXPECT_FALSE(isFinite(fromBits(bits))) << std::hex << bits;
+  EXPECT_TRUE(isFinite(vec4(1.0f, 2.0f, 3.0f, 4.0f)));
+  for (int c = 0; c < 4; ++c) {
+    vec4 v(1.0f);
+    v[c] = limits::quiet_NaN();
+    EXPECT_FALSE(isFinite(v)) << "NaN in component " << c;
+    v[c] = -limits::infinity();
+    EXPECT_FALSE(isFinite(v)) << "-inf in component " << c;
+    if (c < 3) {
+      EXPECT_FALSE(isFinite(vec3(v))) << c;
+    }
+    if (c < 2) {
+      EXPECT_FALSE(isFinite(vec2(v))) << c;
+    }
+  }
+}
+
+TEST(Finite, FiniteOrReplacesTheWholeValue) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(finiteOr(2.5f, 7.0f), 2.5f);
+  EXPECT_EQ(finiteOr(nan, 7.0f), 7.0f);
+  EXPECT_EQ(finiteOr(-inf, 7.0f), 7.0f);
+  EXPECT_EQ(finiteOr(vec2(1.0f, inf), vec2(3.0f)), vec2(3.0f)) << "a vector is usable whole or not at all";
+  EXPECT_EQ(finiteOr(vec3(1.0f, 2.0f, 3.0f), vec3(0.0f)), vec3(1.0f, 2.0f, 3.0f));
+  EXPECT_EQ(finiteOr(vec4(nan, 1.0f, 1.0f, 1.0f), vec4(0.0f)), vec4(0.0f));
+}
+
+TEST(Finite, SanitizedRadianceIsStorableAsHalfAndNonFiniteIsNoLight) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(sanitizeRadiance(vec3(0.25f, 3.0f, 65504.0f)), vec3(0.25f, 3.0f, 65504.0f)) << "valid radiance passes";
+  EXPECT_EQ(sanitizeRadiance(vec3(1e6f, 2.0f, 3e38f)), vec3(kMaxHalf, 2.0f, kMaxHalf)) << "saturates, finite";
+  EXPECT_EQ(sanitizeRadiance(vec3(-1.0f, 2.0f, -0.0f)), vec3(0.0f, 2.0f, 0.0f)) << "no negative light";
+  EXPECT_EQ(sanitizeRadiance(vec3(nan, 2.0f, 3.0f)), vec3(0.0f)) << "NaN anywhere: no light at all";
+  EXPECT_EQ(sanitizeRadiance(vec3(1.0f, inf, 3.0f)), vec3(0.0f)) << "infinity is not the brightest light";
+  EXPECT_EQ(sanitizeRadiance(vec3(1.0f, 2.0f, -inf)), vec3(0.0f));
+  // What it returns survives the conversion to half floats.
+  for (float value : {1e6f, 3e38f, kMaxHalf, 65519.0f}) {
+    const vec3 stored = sanitizeRadiance(vec3(value));
+    EXPECT_TRUE(isFinite(unpackHalf2x16(packHalf2x16(vec2(stored.x, stored.y))).x)) << value;
+  }
 }
 
 TEST(Packing, OctahedralRoundTripIsWithinHundredthOfADegree) {
@@ -241,7 +299,8 @@ TEST(Brdf, ReciprocalFiniteAndZeroBelowTheHorizon) {
     }
   }
   // Grazing and roughness 0 stay finite.
-  EXPECT_TRUE(std::isfinite(ggxSpecularCosine(n, directionAt(1e-7f, 0), directionAt(1e-7f, kPi), vec3(1), ggxAlpha(0)).x));
+  EXPECT_TRUE(
+      std::isfinite(ggxSpecularCosine(n, directionAt(1e-7f, 0), directionAt(1e-7f, kPi), vec3(1), ggxAlpha(0)).x));
   EXPECT_TRUE(std::isfinite(ggxSpecularCosine(n, n, n, vec3(1), ggxAlpha(0.0f)).x));
   EXPECT_EQ(materialBrdfCosine(n, n, vec3(0, 0, -1), vec3(1), 0.0f, 0.5f), vec3(0.0f));
 }

@@ -47,7 +47,10 @@ struct Camera {
 };
 
 // What the engine hands the library each frame: its images (all the
-// context's size, in these formats; docs/conventions.md) and cameras.
+// context's size, in these formats; docs/conventions.md) and cameras. No
+// image value is trusted to be finite: NaN or infinity in an input makes that
+// pixel background, a disocclusion or no light (docs/gi.md, "Non-finite
+// inputs"), and nothing the library stores is ever non-finite.
 struct FrameInputs {
   gpu::Image* viewZ = nullptr;                    // r32f: positive distance along the view axis; 0 = background
   gpu::Image* normalRoughness = nullptr;          // rgba16f: world shading normal, perceptual roughness

@@ -5,6 +5,7 @@
 #define BOUNCE_GI_COMMON_GLSL
 
 #include "gi/gi_types.glsl"
+#include "shared/finite.glsl"
 #include "shared/packing.glsl"
 #include "shared/rng.glsl"
 
@@ -25,6 +26,22 @@ bool insideHalf(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(less
 
 // The full-resolution pixel whose surface a half-resolution reservoir belongs to.
 ivec2 reservoirSurfacePixel(ivec2 halfPixel) { return halfPixel * 2; }
+
+// What the passes accept from the engine (docs/gi.md, "Non-finite
+// inputs"). Nothing an engine hands over is trusted to be finite: a depth
+// that is not a finite positive number is background; a surface pixel whose
+// normal or roughness is not finite, or whose normal has no direction, has
+// no usable surface either and is treated like background: nothing is
+// gathered for it or reused from it, and since its history surface is
+// stored as background, the next frame sees a disocclusion there. Motion
+// that is not finite finds no history (a disocclusion too). Radiance goes
+// through sanitizeRadiance (shared/finite.glsl) as it is read.
+float usableViewZ(float viewZ) { return isFinite(viewZ) && viewZ > 0.0f ? viewZ : 0.0f; }
+bool usableNormalRoughness(vec4 normalRoughness) {
+  vec3 normal = vec3(normalRoughness.x, normalRoughness.y, normalRoughness.z);
+  return isFinite(normalRoughness) && dot(normal, normal) > 0.0f;
+}
+bool usableMotion(vec2 motion) { return isFinite(motion); }
 
 // A surface of this frame or the previous one: where it is and which way it faces.
 struct Surface {

@@ -2,7 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // gi.store_history: this frame's depth and normals, packed into 8 bytes a
 // pixel, for the next frame: gathering reconstructs last frame's surfaces
-// from them, and reprojection tests that a surface is the one it was.
+// from them, and reprojection tests that a surface is the one it was. A
+// pixel without a usable surface is stored as background, so the next frame
+// finds no history there.
 #include "gi/gi_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -11,11 +13,12 @@ layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
 layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
 layout(set = 0, binding = 3, rg32ui) writeonly uniform uimage2D gOut_Surface;
 
+#include "gi/gbuffer.glsl"
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
-  vec3 normal = imageLoad(gIn_NormalRoughness, pixel).xyz;
-  uint packedNormal = viewZ > 0.0f ? packNormalOct32(normalize(normal)) : 0u;
-  imageStore(gOut_Surface, pixel, uvec4(floatBitsToUint(max(viewZ, 0.0f)), packedNormal, 0u, 0u));
+  Surface surface = gbufferSurface(pixel);
+  uint packedNormal = surface.viewZ > 0.0f ? packNormalOct32(surface.normal) : 0u;
+  imageStore(gOut_Surface, pixel, uvec4(floatBitsToUint(surface.viewZ), packedNormal, 0u, 0u));
 }

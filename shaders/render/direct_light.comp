@@ -3,8 +3,11 @@
 // render.direct_light: direct lighting of the G-buffer's surfaces — the sun
 // and every punctual light, each with a ray-traced (alpha-tested) shadow —
 // through the GGX + Lambert material, plus the surface's own emission.
-// Background pixels show the environment. Linear HDR.
+// Background pixels show the environment. Linear HDR, stored through
+// sanitizeRadiance: light brighter than a half float saturates at its
+// largest finite value (docs/conventions.md, "Non-finite values").
 #include "render/scene_access.glsl"
+#include "shared/finite.glsl"
 #include "render/environment.glsl"
 #define DIRECT_LIGHTS_BINDING 21
 #include "render/direct_lighting.glsl"
@@ -28,7 +31,7 @@ void main() {
   vec3 direction = cameraRayDirection(gIn_Frame.frame.camera, vec2(pixel) + 0.5f + gIn_Frame.frame.jitter.xy, size);
   float viewZ = imageLoad(gIn_ViewZ, pixel).x;
   if (viewZ <= 0.0f) {
-    imageStore(gOut_Radiance, pixel, vec4(environmentBackground(gIn_Environment, direction), 0.0f));
+    imageStore(gOut_Radiance, pixel, vec4(sanitizeRadiance(environmentBackground(gIn_Environment, direction)), 0.0f));
     return;
   }
 
@@ -46,5 +49,5 @@ void main() {
 
   radiance += directLighting(position, shadowOrigin, normal, geometricNormal, toCamera, baseColorMetallic.xyz,
                              baseColorMetallic.w, normalRoughness.w);
-  imageStore(gOut_Radiance, pixel, vec4(radiance, 0.0f));
+  imageStore(gOut_Radiance, pixel, vec4(sanitizeRadiance(radiance), 0.0f));
 }

@@ -6,6 +6,7 @@
 // plain box would overweight the rows near the poles). The input is bound as
 // a single level; when input and output have the same size this is a copy.
 #include "shared/equirect.glsl"
+#include "shared/finite.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -30,5 +31,5 @@ void main() {
       weightSum += weight;
     }
   }
-  imageStore(gOut_Destination, texel, sum / weightSum);
+  imageStore(gOut_Destination, texel, vec4(sanitizeRadiance((sum / weightSum).xyz), 1.0f));
 }

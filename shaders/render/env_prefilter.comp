@@ -18,6 +18,7 @@
 // levels are blended here.
 #include "render/environment.glsl"
 #include "shared/brdf.glsl"
+#include "shared/finite.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -67,7 +68,7 @@ void main() {
   ivec2 size = imageSize(gOut_Radiance);
   if (texel.x >= size.x || texel.y >= size.y) return;
   if (params.level == 0u) {
-    imageStore(gOut_Radiance, texel, vec4(texelFetch(gIn_SourceEven, texel, 0).xyz, 1.0f));
+    imageStore(gOut_Radiance, texel, vec4(sanitizeRadiance(texelFetch(gIn_SourceEven, texel, 0).xyz), 1.0f));
     return;
   }
 
@@ -102,5 +103,5 @@ void main() {
     sum += sourceRadiance(l, lod) * nDotL;
     weightSum += nDotL;
   }
-  imageStore(gOut_Radiance, texel, vec4(sum / max(weightSum, 1e-20f), 1.0f));
+  imageStore(gOut_Radiance, texel, vec4(sanitizeRadiance(sum / max(weightSum, 1e-20f)), 1.0f));
 }

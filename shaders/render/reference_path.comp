@@ -25,6 +25,7 @@
 #define LIGHT_SAMPLING_FIRST_BINDING 22
 #include "render/light_sampling.glsl"
 #include "render/reference_types.glsl"
+#include "shared/finite.glsl"
 #include "shared/rng.glsl"
 #include "shared/sampling.glsl"
 
@@ -197,8 +198,6 @@ vec3 tracePath(uint firstLobes, PathVertex x0, vec3 v0, inout uint rng) {
   }
   return radiance;
 }
-
-bool isFinite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

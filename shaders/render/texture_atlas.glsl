@@ -8,6 +8,7 @@
 #define BOUNCE_RENDER_TEXTURE_ATLAS_GLSL
 
 #include "shared/color.glsl"
+#include "shared/finite.glsl"
 
 layout(set = 0, binding = TEXTURE_ATLAS_BINDING) uniform sampler2DArray gIn_TextureAtlas;
 // Per texture: x = page, y = x | y << 16, z = log2 width | log2 height << 8 |
@@ -49,9 +50,11 @@ vec4 atlasBilinear(uvec4 entry, int mip, vec2 uv) {
 vec4 sampleAtlas(uint textureIndex, vec2 uv, float uvLog2Footprint) {
   uvec4 entry = gIn_TextureAtlasEntries.items[textureIndex];
   int mipCount = int((entry.z >> 16) & 0xffu);
-  if (any(isnan(uv)) || any(isinf(uv))) uv = vec2(0.0f);
+  uv = finiteOr(uv, vec2(0.0f));
   float texelLod = uvLog2Footprint + 0.5f * float(int(entry.z & 0xffu) + int((entry.z >> 8) & 0xffu));
-  float level = clamp(isnan(texelLod) ? 0.0f : texelLod, 0.0f, float(mipCount - 1));
+  // clamp() takes an infinite level to an end of the chain; a NaN, which
+  // clamp() may pass through, reads the sharpest level.
+  float level = finiteOr(clamp(texelLod, 0.0f, float(mipCount - 1)), 0.0f);
   int lower = int(floor(level));
   int upper = min(lower + 1, mipCount - 1);
   vec4 value = atlasBilinear(entry, lower, uv);

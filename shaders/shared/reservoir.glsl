@@ -25,6 +25,7 @@
 #define BOUNCE_SHARED_RESERVOIR_GLSL
 
 #include "shared/color.glsl"
+#include "shared/finite.glsl"
 #include "shared/lang.glsl"
 #include "shared/packing.glsl"
 
@@ -60,11 +61,13 @@ bool reservoirIsEnvironment(Reservoir r) { return (r.flags & kReservoirEnvironme
 
 // Streams one candidate (or a whole reservoir, with `count` its M) into r:
 // keeps it with probability weight / (weightSum + weight), u uniform in
-// [0,1). Returns whether it was kept.
+// [0,1). Returns whether it was kept. A weight that is not a finite
+// positive number is refused: an infinite one would take the reservoir over
+// for good (every later weight is nothing beside it), a NaN would make its W NaN.
 bool reservoirStream(INOUT(Reservoir) r, vec3 position, vec3 normal, vec3 radiance, uint flags, float weight,
                      float count, float u) {
   r.M += count;
-  if (!(weight > 0.0f)) return false;  // also refuses NaN
+  if (!(weight > 0.0f) || !isFinite(weight)) return false;
   r.weightSum += weight;
   if (u * r.weightSum >= weight) return false;
   r.position = position;
@@ -104,7 +107,7 @@ float targetPdf(Reservoir r, vec3 shadedPosition, vec3 shadedNormal, uint target
 // (1 / candidate count), pass M = 1.
 void reservoirFinalize(INOUT(Reservoir) r, float chosenTargetPdf, float confidence) {
   r.W = (chosenTargetPdf > 0.0f && confidence > 0.0f) ? r.weightSum / (confidence * chosenTargetPdf) : 0.0f;
-  if (!(r.W > 0.0f) || isinf(r.W)) {
+  if (!(r.W > 0.0f) || !isFinite(r.W)) {
     r.W = 0.0f;
     r.flags = r.flags & ~kReservoirHasSample;
   }
@@ -158,15 +161,24 @@ bool canHandOver(Reservoir r, vec3 position, vec3 normal, vec3 to, float maxJaco
          reuseJacobian(r, position, to, maxJacobian, useJacobian) > 0.0f;
 }
 
-// Half floats top out at 65504; brighter radiance is clamped there.
-vec3 clampToHalf(vec3 v) { return min(max(v, vec3(0.0f)), vec3(65504.0f)); }
-
+// Stores a reservoir; what it stores is finite whatever went in, since the
+// reservoirs are next frame's history and a NaN there would be reused into
+// the neighbours frame after frame. A sample with a non-finite position,
+// normal or W is dropped (the reservoir keeps its M: the candidates were
+// seen); radiance goes through sanitizeRadiance (half floats top out at
+// kMaxHalf), M is clamped to [0, kMaxHalf].
 void packReservoir(Reservoir r, OUT(uvec4) first, OUT(uvec4) second) {
-  first = uvec4(floatBitsToUint(r.position.x), floatBitsToUint(r.position.y), floatBitsToUint(r.position.z),
-                packNormalOct32(r.normal));
-  vec3 radiance = clampToHalf(r.radiance);
-  second = uvec4(packHalf2x16(vec2(radiance.x, radiance.y)), packHalf2x16(vec2(radiance.z, min(r.M, 65504.0f))),
-                 floatBitsToUint(r.W), r.flags);
+  bool keep = reservoirHasSample(r) && isFinite(r.position) && isFinite(r.normal) && isFinite(r.W);
+  vec3 position = keep ? r.position : vec3(0.0f);
+  vec3 normal = keep ? r.normal : vec3(0.0f, 0.0f, 1.0f);
+  float W = keep ? r.W : 0.0f;
+  uint flags = keep ? r.flags : 0u;
+  first = uvec4(floatBitsToUint(position.x), floatBitsToUint(position.y), floatBitsToUint(position.z),
+                packNormalOct32(normal));
+  vec3 radiance = sanitizeRadiance(r.radiance);
+  float M = clamp(finiteOr(r.M, 0.0f), 0.0f, kMaxHalf);
+  second = uvec4(packHalf2x16(vec2(radiance.x, radiance.y)), packHalf2x16(vec2(radiance.z, M)), floatBitsToUint(W),
+                 flags);
 }
 
 Reservoir unpackReservoir(uvec4 first, uvec4 second) {

@@ -4,6 +4,7 @@
 #ifndef BOUNCE_TESTS_SHARED_MATH_CHECK_GLSL
 #define BOUNCE_TESTS_SHARED_MATH_CHECK_GLSL
 #include "shared/color.glsl"
+#include "shared/finite.glsl"
 #include "shared/intersect.glsl"
 #include "shared/packing.glsl"
 #include "shared/rng.glsl"
@@ -24,6 +25,8 @@ struct SharedMathCheckOutput {
   vec4 display;    // tonemapAcesFitted (xyz), displayEncode (w, red channel)
   vec4 material;   // luminance of materialBrdfCosine, pdfMaterial, specularReflectance (red), pdf of sampleMaterial
   vec4 sampled;    // sampleMaterial's direction (xyz), 1 if it returned a sample (w)
+  vec4 finite;     // bits.xyzw as floats (NaN and infinity among them): isFinite of each as bits 0-3 of x;
+                   // sanitizeRadiance of the first three (yzw)
 };
 
 SharedMathCheckOutput runSharedMathCheck(SharedMathCheckInput args) {
@@ -69,6 +72,13 @@ SharedMathCheckOutput runSharedMathCheck(SharedMathCheckInput args) {
                          specularReflectance(specularF0(baseColor, metallic), dot(normal, view), roughness).x,
                          sampledPdf);
   result.sampled = vec4(sampledDirection, sampled ? 1.0f : 0.0f);
+
+  // Random words hold NaN and infinity (all exponent bits set) one time in 256.
+  vec4 words = vec4(uintBitsToFloat(args.bits.x), uintBitsToFloat(args.bits.y), uintBitsToFloat(args.bits.z),
+                    uintBitsToFloat(args.bits.w));
+  float finiteMask = (isFinite(words.x) ? 1.0f : 0.0f) + (isFinite(words.y) ? 2.0f : 0.0f) +
+                     (isFinite(words.z) ? 4.0f : 0.0f) + (isFinite(words.w) ? 8.0f : 0.0f);
+  result.finite = vec4(finiteMask, sanitizeRadiance(vec3(words.x, words.y, words.z)));
   return result;
 }
 

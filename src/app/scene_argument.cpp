@@ -1,3 +1,4 @@
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -49,7 +50,9 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
   command.add_option("--fps", options.fps, "Frames per second of scene time (animation and camera)")
       ->check(finiteRange(0.001, 10000.0));
   command.add_option("--env", options.env, "Equirectangular environment map (.exr/.hdr); default: procedural sky");
-  command.add_option("--env-intensity", options.envIntensity, "Multiplier of the environment")
+  command
+      .add_option("--env-intensity", options.envIntensity,
+                  "Multiplier of the environment (at most 1e20, also times the sun's illuminance for the sky)")
       ->check(finiteAtLeast(0.0));
   command.add_option("--env-rotation", options.envRotation, "Rotation of the environment map about +Y, degrees")
       ->check(finiteNumber());
@@ -81,6 +84,12 @@ render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, con
     if (options.sunElevation || options.sunAzimuth)
       throw std::runtime_error("--no-sun contradicts --sun-elevation/--sun-azimuth");
     environment.hasSun = false;
+  }
+  // Refused here, before anything is rendered, with the option's name.
+  if (const std::string problem = render::environmentIntensityProblem(environment); !problem.empty()) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", double(environment.intensity));
+    throw std::runtime_error(std::string("--env-intensity ") + value + " " + problem);
   }
   return rendererOptions;
 }

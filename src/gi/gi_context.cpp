@@ -364,6 +364,7 @@ std::vector<NamedImage> GiContext::images() {
                                   {"diffuse.reservoirs1", &i.reservoir1.current(f)},
                                   {"diffuse.resolved", i.diffuse.get()},
                                   {"diffuse.filtered", &i.filtered.current(f)},
+                                  {"diffuse.moments", &i.moments.current(f)},
                                   {"composite", &i.composite.current(f)}};
   for (const auto& level : i.brightLevels) list.push_back({level->name().substr(3), level.get()});
   return list;

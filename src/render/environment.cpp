@@ -8,6 +8,7 @@
 
 #include "gpu/error.h"
 #include "gpu/transfer.h"
+#include "shared/finite.glsl"
 #include "shared/sky.glsl"
 
 namespace bounce::render {
@@ -60,8 +61,6 @@ constexpr double kPrecipitableWaterCm = 2.0;
 // the exact ratio would make a fixed-E low-sun sky tens to thousands of
 // times brighter than its sun (docs/environment.md).
 constexpr double kMinSunTransmittanceForScale = 0.1;
-
-constexpr float kHalfMax = 65504.0f;
 
 // The black environment is one small level: nothing to prefilter.
 constexpr std::uint32_t kBlackWidth = 16;
@@ -117,10 +116,18 @@ std::uint32_t fullMipCount(std::uint32_t width, std::uint32_t height) {
 
 bool finite(float value) { return std::isfinite(value); }
 
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 void validate(const EnvironmentDesc& desc) {
   const auto fail = [](const std::string& why) { return gpu::GpuError("environment: " + why); };
   if (!finite(desc.intensity) || desc.intensity < 0.0f)
     throw fail("intensity " + std::to_string(desc.intensity) + " is not a finite value >= 0");
+  if (const std::string problem = environmentIntensityProblem(desc); !problem.empty())
+    throw fail("intensity " + number(desc.intensity) + " " + problem);
   if (!finite(desc.rotationDegrees)) throw fail("rotation is not finite");
   if (!finite(desc.turbidity)) throw fail("turbidity is not finite");
   if (!finite(desc.groundAlbedo) || desc.groundAlbedo < 0.0f || desc.groundAlbedo > 1.0f)
@@ -128,6 +135,11 @@ void validate(const EnvironmentDesc& desc) {
   if (!finite(desc.sun.elevationDegrees) || !finite(desc.sun.azimuthDegrees) || !finite(desc.sun.illuminance) ||
       desc.sun.illuminance < 0.0f || !finite(desc.sun.color.x + desc.sun.color.y + desc.sun.color.z))
     throw fail("the sun has a non-finite direction or colour, or a negative illuminance");
+  const glm::vec3& sunColour = desc.sun.color;
+  if (const std::string problem =
+          scene::lightStrengthProblem(double(desc.sun.illuminance) * std::max({sunColour.x, sunColour.y, sunColour.z}));
+      desc.hasSun && !problem.empty())
+    throw fail("the sun's illuminance " + number(desc.sun.illuminance) + " (times its colour) is " + problem);
   if (desc.skyWidth < 8 || desc.skyWidth > 16384)
     throw fail("sky width " + std::to_string(desc.skyWidth) + " is outside 8..16384");
   if (desc.maxMapWidth < 8) throw fail("maximum map width " + std::to_string(desc.maxMapWidth) + " is below 8");
@@ -136,6 +148,22 @@ void validate(const EnvironmentDesc& desc) {
   if (desc.prefilterSamples < 1 || desc.prefilterSamples > 65536)
     throw fail("prefilter sample count " + std::to_string(desc.prefilterSamples) + " is outside 1..65536");
 }
+
+}  // namespace
+
+std::string environmentIntensityProblem(const EnvironmentDesc& desc) {
+  if (const std::string problem = scene::lightStrengthProblem(desc.intensity); !problem.empty()) return "is " + problem;
+  if (!desc.map.empty() || !desc.hasSun) return {};
+  // The sky's ground takes the sun's colour, its sky does not: at least 1.
+  const glm::vec3& colour = desc.sun.color;
+  const double sky =
+      double(desc.intensity) * double(desc.sun.illuminance) * std::max({colour.x, colour.y, colour.z, 1.0f});
+  if (const std::string problem = scene::lightStrengthProblem(sky); !problem.empty())
+    return "times the sun's illuminance " + number(desc.sun.illuminance) + " (" + number(sky) + ") is " + problem;
+  return {};
+}
+
+namespace {
 
 // The exact solid angle of the latitude band between fractional rows a and b
 // of an image `height` rows tall, up to the constant 2 pi / width.
@@ -271,10 +299,15 @@ io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name,
     throw io::ImageIoError(name + ": " + std::to_string(map.width) + "x" + std::to_string(map.height) +
                            " is not an equirectangular map (width = 2 x height)");
 
+  // A texel with a NaN or infinite channel is black before it is filtered,
+  // so that it cannot spread into its neighbours.
   io::ImageF rgb(map.width, map.height, {"R", "G", "B", "A"});
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x) {
-      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = map.at(x, y, channels == 1 ? 0 : c);
+      glm::vec3 texel;
+      for (int c = 0; c < 3; ++c) texel[c] = map.at(x, y, channels == 1 ? 0 : c);
+      texel = shared::finiteOr(texel, glm::vec3(0.0f));
+      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = texel[c];
       rgb.at(x, y, 3) = 1.0f;
     }
   if (std::uint32_t(rgb.width) > maxWidth) {
@@ -293,10 +326,11 @@ io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name,
   for (int y = 0; y < rgb.height; ++y)
     for (int x = 0; x < width; ++x) {
       const int x0 = (x + whole) % width, x1 = (x + whole + 1) % width;
-      for (int c = 0; c < 3; ++c) {
-        const float value = (rgb.at(x0, y, c) * (1.0f - fraction) + rgb.at(x1, y, c) * fraction) * intensity;
-        out.at(x, y, c) = std::clamp(value, 0.0f, kHalfMax);
-      }
+      glm::vec3 value;
+      for (int c = 0; c < 3; ++c)
+        value[c] = (rgb.at(x0, y, c) * (1.0f - fraction) + rgb.at(x1, y, c) * fraction) * intensity;
+      value = shared::sanitizeRadiance(value);
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = value[c];
       out.at(x, y, 3) = 1.0f;
     }
   return out;

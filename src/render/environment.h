@@ -51,6 +51,13 @@ struct EnvironmentDesc {
   std::uint32_t prefilterSamples = 256;  // GGX samples per texel of each prefiltered level
 };
 
+// "" when the environment's intensity is within scene::kMaxLightStrength and,
+// for the sky (built from the sun), so is intensity x the sun's illuminance x
+// its colour's largest channel; else why not, to follow the intensity's value
+// in a message: "times the sun's illuminance 1e+15 (1e+25) is above ...".
+// The constructor refuses such a desc; the CLI names --env-intensity.
+std::string environmentIntensityProblem(const EnvironmentDesc& desc);
+
 // Levels of the prefiltered chain for an environment `height` texels tall:
 // down to a level 8 texels tall (so even roughness 1 keeps some shape), at
 // most maxMipCount, at least 1.
@@ -88,8 +95,10 @@ SkyParameters skyParams(const EnvironmentDesc& desc);
 // renderer units (the sky of `params` with no ground, integrated numerically).
 glm::vec3 skyHorizontalIrradiance(const SkyParameters& params);
 
-// An equirect map as the environment stores it: RGBA, clamped to [0, 65504]
-// (float16's range; lossy EXR codecs leave small negatives), area-filtered
+// An equirect map as the environment stores it: RGBA, each texel through
+// sanitizeRadiance (clamped to [0, 65504], float16's range, since lossy EXR
+// codecs leave small negatives; black where a channel is NaN or infinite, as
+// everywhere in the renderer: docs/conventions.md), area-filtered
 // down to maxWidth if wider, turned by rotationDegrees about +Y, times
 // intensity. Throws io::ImageIoError naming `name` if it is not 2:1 (within
 // 1 %) or narrower than 8 texels.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -15,6 +16,26 @@ std::string where(const Scene& scene) { return scene.source.empty() ? scene.name
 
 [[noreturn]] void fail(const Scene& scene, const std::string& reason) {
   throw SceneError(where(scene) + ": " + reason);
+}
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+// Refuses a light whose strength (value times its colour's largest channel)
+// is beyond kMaxLightStrength, naming it: "light 0 'Sun': intensity 3e+38 is
+// above ..." or "...: intensity 1e+20 times colour 5 (5e+20) is above ...".
+void checkStrength(const Scene& scene, const std::string& what, const char* quantity, float value,
+                   const glm::vec3& colour) {
+  const double peak = std::max({double(colour.x), double(colour.y), double(colour.z)});
+  const double strength = double(value) * peak;
+  const std::string problem = lightStrengthProblem(strength);
+  if (problem.empty()) return;
+  fail(scene, what + ": " + quantity + " " + number(value) +
+                  (peak == 1.0 ? "" : " times colour " + number(peak) + " (" + number(strength) + ")") + " is " +
+                  problem);
 }
 
 glm::vec4 hermite(const glm::vec4& p0, const glm::vec4& m0, const glm::vec4& p1, const glm::vec4& m1, float t,
@@ -138,6 +159,12 @@ Bounds worldBounds(const Scene& scene, float time) {
   return bounds;
 }
 
+std::string lightStrengthProblem(double strength) {
+  if (strength <= kMaxLightStrength) return {};
+  return "above " + number(kMaxLightStrength) +
+         ", the brightest light Bounce renders (radiance beyond it would overflow 32-bit floats)";
+}
+
 bool adoptDirectionalLightAsSun(Scene& scene, float time) {
   const std::vector<glm::mat4> world = nodeWorldMatrices(scene, time);
   for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
@@ -192,7 +219,18 @@ void validate(const Scene& scene) {
         !std::isfinite(material.metallicFactor) || !std::isfinite(material.roughnessFactor) ||
         !std::isfinite(material.emissiveStrength))
       fail(scene, "material " + std::to_string(i) + ": a factor is NaN or infinite");
+    checkStrength(scene, "material " + std::to_string(i) + (material.name.empty() ? "" : " '" + material.name + "'"),
+                  "emissive strength", material.emissiveStrength, material.emissiveFactor);
   }
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& light = scene.lights[i];
+    const std::string what = "light " + std::to_string(i) + (light.name.empty() ? "" : " '" + light.name + "'");
+    if (!finite(light.color) || !std::isfinite(light.intensity) || light.intensity < 0.0f ||
+        !(light.color.x >= 0.0f && light.color.y >= 0.0f && light.color.z >= 0.0f))
+      fail(scene, what + ": colour and intensity must be finite and not negative");
+    checkStrength(scene, what, "intensity", light.intensity, light.color);
+  }
+  if (scene.hasSun) checkStrength(scene, "the sun", "illuminance", scene.sun.illuminance, scene.sun.color);
   for (const Texture& texture : scene.textures)
     if (texture.width <= 0 || texture.height <= 0 ||
         texture.rgba8.size() != std::size_t(texture.width) * std::size_t(texture.height) * 4)

@@ -67,11 +67,11 @@ struct Material {
 struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;    // unit length
-  std::vector<glm::vec4> tangents;   // xyz unit, w = bitangent sign (+1 or -1)
-  std::vector<glm::vec2> texcoords;  // set 0; zeros when the file has none
+  std::vector<glm::vec3> normals;      // unit length
+  std::vector<glm::vec4> tangents;     // xyz unit, w = bitangent sign (+1 or -1)
+  std::vector<glm::vec2> texcoords;    // set 0; zeros when the file has none
   std::vector<std::uint32_t> indices;  // triangle list, 3 per triangle
-  int material = 0;  // index into Scene::materials
+  int material = 0;                    // index into Scene::materials
 };
 
 struct Transform {
@@ -135,7 +135,7 @@ struct Sun {
   float azimuthDegrees = 30.0f;    // from +Z towards +X
   float illuminance = 3.0f;        // irradiance on a surface facing the sun
   glm::vec3 color{1.0f, 0.96f, 0.9f};
-  glm::vec3 direction() const;     // unit vector towards the sun
+  glm::vec3 direction() const;  // unit vector towards the sun
 };
 
 // A camera placement at one moment.
@@ -201,10 +201,29 @@ inline bool isAnimated(const Scene& scene) { return !scene.animations.empty(); }
 // the scene as it is, when there is none.
 bool adoptDirectionalLightAsSun(Scene& scene, float time = 0.0f);
 
+// The brightest light the renderer takes, in its radiance units: a sun's
+// illuminance, a punctual light's intensity, a material's emission (each
+// times its colour's largest channel) and the environment's intensity (for
+// the sky, times the sun's) must not exceed it. Radiance is computed in
+// 32-bit floats (largest 3.4e38), and on the way multiplied by BRDF peaks
+// (below 1e7 at the smallest GGX roughness) and inverse-square falloff (up to
+// 1e8, distances are clamped at 1e-4): 1e20 keeps all of it finite, and is
+// 1e15 times the sun's real illuminance in lux. Whatever is stored in a
+// 16-bit image saturates at 65504 anyway (docs/conventions.md, "Non-finite
+// values"), so nothing visible is lost by the limit.
+// (The float 1e20, so that a value given as 1e20 is within it.)
+inline constexpr double kMaxLightStrength = 1e20f;
+
+// "" when a light of this strength (everything multiplied together) is
+// within kMaxLightStrength, else why not, to follow "... is": "above 1e+20,
+// the brightest light Bounce renders (...)".
+std::string lightStrengthProblem(double strength);
+
 // Checks the invariants the renderer relies on (indices in range, attribute
 // arrays the right length, finite positions, material and texture indices
-// valid, no cycles in the node graph) and throws SceneError naming the scene
-// and the first problem.
+// valid, no cycles in the node graph, lights and emission within
+// kMaxLightStrength) and throws SceneError naming the scene and the first
+// problem.
 void validate(const Scene& scene);
 
 }  // namespace bounce::scene

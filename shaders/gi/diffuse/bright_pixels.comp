@@ -23,7 +23,7 @@ void main() {
     ivec2 pixel = tile * 2 + ivec2(i & 1, i >> 1);
     if (!insideFull(pixel)) continue;
     if (uintBitsToFloat(imageLoad(gPrev_Surface, pixel).x) <= 0.0f) continue;  // background: no surface sends light
-    float brightness = targetBrightness(imageLoad(gPrev_Composite, pixel).xyz, targetFunction());
+    float brightness = targetBrightness(sanitizeRadiance(imageLoad(gPrev_Composite, pixel).xyz), targetFunction());
     if (brightness > best.x) best = vec4(brightness, vec2(pixel), 1.0f);
   }
   imageStore(gOut_Brightest, tile, best);

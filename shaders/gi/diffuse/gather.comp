@@ -39,6 +39,8 @@ layout(set = 0, binding = 6) uniform sampler2D gIn_Environment;
 layout(set = 0, binding = 7, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 
+#include "gi/gbuffer.glsl"
+
 const float kMaxFootprintStretch = 5.0f;
 
 // A candidate point on last frame's surfaces: the surface at `pixel`, the
@@ -69,7 +71,7 @@ ScreenPoint screenPoint(ivec2 pixel) {
   point.valid = true;
   point.position = surface.position;
   point.normal = surface.normal;
-  point.radiance = imageLoad(gPrev_Composite, pixel).xyz;
+  point.radiance = sanitizeRadiance(imageLoad(gPrev_Composite, pixel).xyz);
   point.areaPdf = 1.0f / (fullSize().x * fullSize().y * footprint);
   return point;
 }
@@ -91,15 +93,14 @@ void main() {
   if (!insideHalf(halfPixel)) return;
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
   Reservoir r = emptyReservoir();
-  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
-  if (viewZ <= 0.0f) {
+  Surface x = gbufferSurface(pixel);
+  if (x.viewZ <= 0.0f) {
     uvec4 first, second;
     packReservoir(r, first, second);
     imageStore(gOut_Reservoir0, halfPixel, first);
     imageStore(gOut_Reservoir1, halfPixel, second);
     return;
   }
-  Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
   uint rng = giSeed(uvec2(halfPixel), kSaltGather);
   uint target = targetFunction();
   float screenCount = float(gIn_Frame.frame.candidates.x);
@@ -110,9 +111,9 @@ void main() {
   // A bright entry is one of brightSize.x * brightSize.y; a screen pixel one of all of them.
   float brightPerScreen = fullSize().x * fullSize().y / float(brightSize.x * brightSize.y);
   // Points closer than this are the shaded surface itself (or a pixel away).
-  float minimumDistance = 1e-3f * viewZ;
+  float minimumDistance = 1e-3f * x.viewZ;
   // Below this distance the inverse-square law is clamped (toSolidAngle).
-  float nearField = 1e-2f * viewZ;
+  float nearField = 1e-2f * x.viewZ;
 
   for (uint i = 0u; i < gIn_Frame.frame.candidates.x + gIn_Frame.frame.candidates.y; ++i) {
     bool bright = i >= gIn_Frame.frame.candidates.x;
@@ -154,7 +155,8 @@ void main() {
     float choice = rngUniform(rng);
     vec3 local = sampleUniformHemisphere(vec2(ux, uy));
     vec3 direction = tangent * local.x + bitangent * local.y + x.normal * local.z;
-    vec3 radiance = textureLod(gIn_Environment, equirectUv(direction), gIn_Frame.frame.temporal.w).xyz;
+    vec3 radiance =
+        sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), gIn_Frame.frame.temporal.w).xyz);
     float pHat = targetBrightness(radiance, target) * local.z;
     if (pHat <= 0.0f) continue;
     reservoirStream(r, direction, x.normal, radiance, kReservoirEnvironment, pHat / (environmentCount * pdfUniformHemisphere()),

@@ -17,18 +17,18 @@ layout(set = 0, binding = 5, rgba16f) writeonly uniform image2D gOut_Estimate;
 layout(set = 0, binding = 6, r32f) writeonly uniform image2D gOut_M;
 layout(set = 0, binding = 7, r32f) writeonly uniform image2D gOut_W;
 
+#include "gi/gbuffer.glsl"
+
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideHalf(halfPixel)) return;
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
   Reservoir r = unpackReservoir(imageLoad(gIn_Reservoir0, halfPixel), imageLoad(gIn_Reservoir1, halfPixel));
-  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
+  Surface x = gbufferSurface(pixel);
   vec3 estimate = vec3(0.0f);
-  if (viewZ > 0.0f && reservoirHasSample(r)) {
-    Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
+  if (x.viewZ > 0.0f && reservoirHasSample(r))
     estimate = r.radiance * (max(dot(x.normal, sampleDirection(r, x.position)), 0.0f) * kInvPi * r.W);
-  }
-  imageStore(gOut_Estimate, halfPixel, vec4(estimate, 1.0f));
+  imageStore(gOut_Estimate, halfPixel, vec4(sanitizeRadiance(estimate), 1.0f));
   imageStore(gOut_M, halfPixel, vec4(r.M));
   imageStore(gOut_W, halfPixel, vec4(r.W));
 }

@@ -19,8 +19,8 @@ layout(set = 0, binding = 3, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
 layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
 layout(set = 0, binding = 5, rgba16f) writeonly uniform image2D gOut_Diffuse;
 
+#include "gi/gbuffer.glsl"
 #include "gi/screen_trace.glsl"
-
 
 // The reservoirs a pixel evaluates: where their surfaces are.
 struct Owner {
@@ -60,12 +60,11 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
-  if (viewZ <= 0.0f) {
+  Surface x = gbufferSurface(pixel);
+  if (x.viewZ <= 0.0f) {
     imageStore(gOut_Diffuse, pixel, vec4(0.0f));
     return;
   }
-  Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
   uint rng = giSeed(uvec2(pixel), kSaltResolve);
   ivec2 base = pixel / 2;
   // Nearest first: the reservoir of this pixel's own 2x2 block, then its neighbours towards this pixel.
@@ -79,11 +78,9 @@ void main() {
     ivec2 halfPixel = base + offsets[k];
     if (!insideHalf(halfPixel)) continue;
     ivec2 ownerPixel = reservoirSurfacePixel(halfPixel);
-    float ownerViewZ = imageLoad(gIn_ViewZ, ownerPixel).x;
-    vec3 ownerNormal = normalize(imageLoad(gIn_NormalRoughness, ownerPixel).xyz);
-    if (!similarSurface(viewZ, x.normal, ownerViewZ, ownerNormal, 0.1f, 0.8f)) continue;
-    owners[count] = Owner(halfPixel, surfaceAt(gIn_Frame.frame.view, ownerPixel, ownerViewZ, ownerNormal).position,
-                          ownerNormal, ownerPixel == pixel);
+    Surface owner = gbufferSurface(ownerPixel);
+    if (!similarSurface(x.viewZ, x.normal, owner.viewZ, owner.normal, 0.1f, 0.8f)) continue;
+    owners[count] = Owner(halfPixel, owner.position, owner.normal, ownerPixel == pixel);
     ++count;
   }
   // A thin feature no reservoir shares: borrow the nearest reservoir's
@@ -106,5 +103,5 @@ void main() {
     for (uint j = 0u; j < count; ++j) coverage += covers(owners[j], r, x) ? 1.0f : 0.0f;
     if (coverage > 0.0f) sum += evaluate(x, owners[i], r, jitter) / coverage;
   }
-  imageStore(gOut_Diffuse, pixel, vec4(sum, 1.0f));
+  imageStore(gOut_Diffuse, pixel, vec4(sanitizeRadiance(sum), 1.0f));
 }

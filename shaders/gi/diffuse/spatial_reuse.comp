@@ -25,6 +25,8 @@ layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
 layout(set = 0, binding = 5, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 6, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 
+#include "gi/gbuffer.glsl"
+
 layout(push_constant) uniform Params {
   float radius;   // half-resolution pixels at the surface
   uint samples;   // neighbours tried
@@ -39,9 +41,9 @@ void main() {
   uvec4 first = imageLoad(gIn_Reservoir0, halfPixel);
   uvec4 second = imageLoad(gIn_Reservoir1, halfPixel);
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
-  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
+  Surface x = gbufferSurface(pixel);
+  float viewZ = x.viewZ;
   if (viewZ > 0.0f && params.samples > 0u) {
-    Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
     uint target = targetFunction();
     uint rng = giSeed(uvec2(halfPixel), kSaltSpatial + 16u * params.passIndex);
     Reservoir own = unpackReservoir(first, second);
@@ -69,11 +71,8 @@ void main() {
       if (projected.z <= 0.0f) continue;
       ivec2 neighbourHalf = ivec2(floor(projected.xy * 0.5f));
       if (!insideHalf(neighbourHalf) || neighbourHalf == halfPixel) continue;
-      ivec2 neighbourPixel = reservoirSurfacePixel(neighbourHalf);
-      float neighbourViewZ = imageLoad(gIn_ViewZ, neighbourPixel).x;
-      if (neighbourViewZ <= 0.0f) continue;
-      Surface neighbour = surfaceAt(gIn_Frame.frame.view, neighbourPixel, neighbourViewZ,
-                                    normalize(imageLoad(gIn_NormalRoughness, neighbourPixel).xyz));
+      Surface neighbour = gbufferSurface(reservoirSurfacePixel(neighbourHalf));
+      if (neighbour.viewZ <= 0.0f) continue;
       if (dot(neighbour.normal, x.normal) < gIn_Frame.frame.spatial.x) continue;
       if (abs(dot(x.normal, neighbour.position - x.position)) > gIn_Frame.frame.spatial.y * viewZ) continue;
       Reservoir candidate = unpackReservoir(imageLoad(gIn_Reservoir0, neighbourHalf), imageLoad(gIn_Reservoir1, neighbourHalf));

@@ -13,7 +13,9 @@
 // averaged, which would darken the picture frame after frame.
 // The blend weight is 1 / history length, the length capped at
 // gi.diffuse.temporal_filter_frames and reset to 1 where the history is lost
-// (disocclusion, camera cut). Alpha of the output holds the history length.
+// (disocclusion, camera cut, motion that is not finite). Alpha of the output
+// holds the history length. The filtered image and the moments are next
+// frame's history, so they are stored finite (sanitizeRadiance, finiteOr).
 #include "gi/gi_common.glsl"
 #include "shared/color.glsl"
 
@@ -31,11 +33,13 @@ layout(set = 0, binding = 7, rg32f) readonly uniform image2D gPrev_Moments;
 layout(set = 0, binding = 8, rgba16f) writeonly uniform image2D gOut_Filtered;
 layout(set = 0, binding = 9, rg32f) writeonly uniform image2D gOut_Moments;
 
+#include "gi/gbuffer.glsl"
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
-  if (viewZ <= 0.0f) {
+  Surface x = gbufferSurface(pixel);
+  if (x.viewZ <= 0.0f) {
     imageStore(gOut_Filtered, pixel, vec4(0.0f));
     imageStore(gOut_Moments, pixel, vec4(0.0f));
     return;
@@ -48,7 +52,7 @@ void main() {
   for (int dy = -kClipRadius; dy <= kClipRadius; ++dy)
     for (int dx = -kClipRadius; dx <= kClipRadius; ++dx) {
       ivec2 q = pixel + ivec2(dx, dy);
-      if (!insideFull(q) || imageLoad(gIn_ViewZ, q).x <= 0.0f) continue;
+      if (!insideFull(q) || gbufferDepth(q) <= 0.0f) continue;
       float value = luminance(imageLoad(gIn_Diffuse, q).xyz);
       sum += value;
       sumSquares += value * value;
@@ -60,11 +64,10 @@ void main() {
   float historyLength = 0.0f;
   vec3 history = vec3(0.0f);
   vec2 moments = vec2(0.0f);
-  if (historyUsable()) {
-    vec3 normal = normalize(imageLoad(gIn_NormalRoughness, pixel).xyz);
-    Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normal);
+  vec2 motion = historyUsable() ? imageLoad(gIn_Motion, pixel).xy : vec2(0.0f);
+  if (historyUsable() && usableMotion(motion)) {
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
-    vec2 previous = vec2(pixel) + imageLoad(gIn_Motion, pixel).xy;  // texel space: centre + motion - 0.5
+    vec2 previous = vec2(pixel) + motion;  // texel space: centre + motion - 0.5
     ivec2 corner = ivec2(floor(previous));
     vec2 f = previous - vec2(corner);
     vec4 accumulated = vec4(0.0f);
@@ -75,7 +78,7 @@ void main() {
       if (!insideFull(tap) || expectedViewZ <= 0.0f) continue;
       float weight = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
       Surface then = historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy);
-      if (weight <= 0.0f || !similarSurface(expectedViewZ, normal, then.viewZ, then.normal,
+      if (weight <= 0.0f || !similarSurface(expectedViewZ, x.normal, then.viewZ, then.normal,
                                             gIn_Frame.frame.temporal.x, gIn_Frame.frame.temporal.y))
         continue;
       accumulated += imageLoad(gPrev_Filtered, tap) * weight;
@@ -100,6 +103,6 @@ void main() {
     history = historyLuminance > 0.0f ? history * (clipped / historyLuminance) : current;
   }
   vec3 filtered = mix(history, current, blend);
-  imageStore(gOut_Filtered, pixel, vec4(filtered, frames));
-  imageStore(gOut_Moments, pixel, vec4(moments, 0.0f, 0.0f));
+  imageStore(gOut_Filtered, pixel, vec4(sanitizeRadiance(filtered), frames));
+  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec2(0.0f)), 0.0f, 0.0f));
 }

@@ -6,7 +6,8 @@
 // there is the same one (depth and normal). The history's sample is
 // re-weighed by its p-hat at this frame's surface; its M is capped so old
 // samples cannot crowd out new light. On a camera cut, the first frame, or
-// a disocclusion, the fresh reservoir passes through.
+// a disocclusion (or motion that is not finite), the fresh reservoir passes
+// through.
 #include "gi/gi_common.glsl"
 #include "shared/reservoir.glsl"
 
@@ -23,17 +24,19 @@ layout(set = 0, binding = 8, rgba32ui) readonly uniform uimage2D gPrev_Reservoir
 layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 10, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 
+#include "gi/gbuffer.glsl"
+
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideHalf(halfPixel)) return;
   uvec4 first = imageLoad(gIn_Reservoir0, halfPixel);
   uvec4 second = imageLoad(gIn_Reservoir1, halfPixel);
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
-  float viewZ = imageLoad(gIn_ViewZ, pixel).x;
-  if (viewZ > 0.0f && historyUsable()) {
-    Surface x = surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(imageLoad(gIn_NormalRoughness, pixel).xyz));
+  Surface x = gbufferSurface(pixel);
+  vec2 motion = x.viewZ > 0.0f && historyUsable() ? imageLoad(gIn_Motion, pixel).xy : vec2(0.0f);
+  if (x.viewZ > 0.0f && historyUsable() && usableMotion(motion)) {
     // Where this surface was last frame, and the reservoir that covered it.
-    vec2 previousPosition = vec2(pixel) + 0.5f + imageLoad(gIn_Motion, pixel).xy;
+    vec2 previousPosition = vec2(pixel) + 0.5f + motion;
     ivec2 previousHalf = ivec2(floor(previousPosition * 0.5f));
     ivec2 previousPixel = reservoirSurfacePixel(previousHalf);
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;

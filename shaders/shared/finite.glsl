@@ -1,0 +1,48 @@
+// Telling finite values from NaN and infinity, and making radiance safe to
+// use and to store. One source for GLSL and C++ (lang.glsl), tested on the
+// CPU in tests/test_shared_math.cpp and on the GPU in
+// tests/test_gpu_shared_math.cpp.
+//
+// The policy (docs/conventions.md, "Non-finite values"): no pass trusts a
+// value it reads from another stage to be finite, and none stores a value
+// that is not. Non-finite radiance is no light (0), never the brightest
+// light: it says nothing about how bright anything is, and reading +inf as
+// "very bright" would let one bad pixel light the whole frame through
+// reuse. Finite radiance is clamped to [0, kMaxHalf], so an rgba16f image
+// saturates at its largest finite value instead of rounding to +inf.
+#ifndef BOUNCE_SHARED_FINITE_GLSL
+#define BOUNCE_SHARED_FINITE_GLSL
+#include "shared/lang.glsl"
+
+BOUNCE_SHARED_BEGIN
+
+// The largest finite half float (rgba16f, rg16f).
+const float kMaxHalf = 65504.0f;
+
+// Whether x is finite: an IEEE-754 binary32 value is NaN or infinite exactly
+// when its eight exponent bits are all ones. Tested on the bits rather than
+// with isnan()/isinf(): GLSL does not require NaN support, and a driver may
+// compile float code as if NaN and infinity never occurred (as fast-math
+// does), folding isnan(x), isinf(x) and x != x to false. An integer test on
+// floatBitsToUint(x) cannot be folded that way.
+bool isFinite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u; }
+bool isFinite(vec2 v) { return isFinite(v.x) && isFinite(v.y); }
+bool isFinite(vec3 v) { return isFinite(v.x) && isFinite(v.y) && isFinite(v.z); }
+bool isFinite(vec4 v) { return isFinite(v.x) && isFinite(v.y) && isFinite(v.z) && isFinite(v.w); }
+
+// The value where it is finite (every component), else the fallback.
+float finiteOr(float x, float fallback) { return isFinite(x) ? x : fallback; }
+vec2 finiteOr(vec2 v, vec2 fallback) { return isFinite(v) ? v : fallback; }
+vec3 finiteOr(vec3 v, vec3 fallback) { return isFinite(v) ? v : fallback; }
+vec4 finiteOr(vec4 v, vec4 fallback) { return isFinite(v) ? v : fallback; }
+
+// Radiance fit to be used and stored: 0 when any channel is NaN or infinite,
+// else every channel clamped to [0, kMaxHalf] (there is no negative light,
+// and above kMaxHalf a half float rounds to +inf). Valid radiance read from
+// a 16-bit image passes unchanged.
+vec3 sanitizeRadiance(vec3 radiance) {
+  return isFinite(radiance) ? clamp(radiance, vec3(0.0f), vec3(kMaxHalf)) : vec3(0.0f);
+}
+
+BOUNCE_SHARED_END
+#endif
