@@ -117,6 +117,7 @@ int runReference(const ReferenceCommandOptions& options) {
   const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
   const std::vector<scene::CameraFrame> cameraFrames =
       scene::sampleCameraFrames(*path, first, options.frame - first + 1, view.fps);
+  checkCameraFrames(cameraFrames, first, view);
   const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, view);
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);

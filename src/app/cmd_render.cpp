@@ -103,6 +103,7 @@ int runRender(const RenderOptions& options) {
   const std::unique_ptr<scene::CameraPath> path =
       shot.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(shot.camera, scene);
   const std::vector<scene::CameraFrame> cameraFrames = scene::sampleCameraPath(*path, int(options.frames), shot.fps);
+  checkCameraFrames(cameraFrames, 0, shot);
   render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
   rendererOptions.jitter = options.jitter;
 

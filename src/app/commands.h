@@ -12,6 +12,7 @@
 #include "bounce/gi_settings.h"
 #include "gpu/context.h"
 #include "render/frame_renderer.h"
+#include "scene/camera_path.h"
 #include "scene/gltf_import.h"
 #include "scene/scene.h"
 
@@ -60,6 +61,13 @@ struct SceneOptions {
   bool allowOutsideAssets = false;  // glTF buffers and images may come from outside the file's folder
 };
 void addSceneOptions(CLI::App& command, SceneOptions& options);
+// Checks the camera of every frame before any is rendered (render::
+// checkCamera): a path that passes through its target or looks along its up
+// vector half-way fails now, not after minutes of frames. Throws naming the
+// camera path, the frame (numbered from `firstFrame`), its time and the problem.
+void checkCameraFrames(const std::vector<scene::CameraFrame>& frames, std::uint32_t firstFrame,
+                       const SceneOptions& options);
+
 // The renderer options (size, environment, sun) for a loaded scene as the
 // flags say; throws for contradictory flags.
 render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options);

@@ -65,6 +65,21 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
   addAllowOutsideAssetsFlag(command, options.allowOutsideAssets);
 }
 
+void checkCameraFrames(const std::vector<scene::CameraFrame>& frames, std::uint32_t firstFrame,
+                       const SceneOptions& options) {
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    try {
+      render::checkCamera(frames[i].pose);
+    } catch (const std::exception& problem) {
+      const std::uint64_t frame = firstFrame + i;
+      char time[32];
+      std::snprintf(time, sizeof time, "%g", double(float(frame) / options.fps));
+      const std::string path = options.camera.empty() ? "the scene's camera" : "--camera " + options.camera;
+      throw std::runtime_error(path + ": frame " + std::to_string(frame) + " (at " + time + " s): " + problem.what());
+    }
+  }
+}
+
 render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options) {
   render::FrameRendererOptions rendererOptions;
   rendererOptions.width = options.width;
