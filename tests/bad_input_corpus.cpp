@@ -3,16 +3,21 @@
 // to it, so a case's name says exactly what it tests.
 #include "bad_input_corpus.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "bounce/gi_settings.h"
+#include "gltf_builder.h"
 #include "io/image_io.h"
 
 namespace bounce::testing {
@@ -212,8 +217,8 @@ void environmentMaps(CorpusBuilder& corpus) {
       "unsupported Radiance pixel format");
   map("hdr_resolution_garbage", "env.hdr", radianceFile("-Y two +X 4", Bytes(32, 128)), "corrupt resolution line");
   map("hdr_sideways", "env.hdr", radianceFile("+X 4 -Y 2", Bytes(32, 128)), "unsupported Radiance orientation");
-  map("hdr_zero_size", "env.hdr", radianceFile("-Y 0 +X 0", {}), "zero size");
-  map("hdr_negative_size", "env.hdr", radianceFile("-Y -2 +X 4", {}), "zero size");
+  map("hdr_zero_size", "env.hdr", radianceFile("-Y 0 +X 0", {}), "no pixels");
+  map("hdr_negative_size", "env.hdr", radianceFile("-Y -2 +X 4", {}), "no pixels (4x-2)");
   map("hdr_declares_1_5_gb", "env.hdr", radianceFile("-Y 8000 +X 16000", Bytes(20, 7)), "16000x8000");
   map("hdr_declares_24_gib", "env.hdr", radianceFile("-Y 32768 +X 65536", Bytes(20, 7)), "more than");
   map("hdr_side_over_limit", "env.hdr", radianceFile("-Y 2 +X 70000", Bytes(20, 7)), "70000");
@@ -325,6 +330,543 @@ void optionValues(CorpusBuilder& corpus) {
       {"compare", "{dir}/a.exr", "{dir}/b.exr", "--max-flip", "nan"}, "--max-flip");
 }
 
+// ---------------------------------------------------------------- glTF and GLB scenes
+
+// The valid scene every glTF case breaks one thing of: a textured unit quad
+// facing +Z, a camera looking at it from 3 m, a point light in front of it.
+// Accessors: 0 POSITION, 1 NORMAL, 2 TEXCOORD_0, 3 indices.
+gltf::GltfBuilder baseScene() {
+  gltf::GltfBuilder builder;
+  json& doc = builder.doc();
+  const int positions = builder.floats(gltf::kQuadPositions, "VEC3");
+  const int normals = builder.floats(gltf::kQuadNormals, "VEC3");
+  const int texcoords = builder.floats({0, 0, 1, 0, 1, 1, 0, 1}, "VEC2");
+  const int indices = builder.addAccessor(gltf::kQuadIndices, gltf::kUnsignedInt, "SCALAR");
+  json primitive = {{"attributes", {{"POSITION", positions}, {"NORMAL", normals}, {"TEXCOORD_0", texcoords}}},
+                    {"indices", indices},
+                    {"material", 0}};
+  doc["meshes"] = json::array({{{"name", "quad"}, {"primitives", json::array({primitive})}}});
+  json pbr = {{"baseColorFactor", {1, 1, 1, 1}},
+              {"baseColorTexture", {{"index", 0}}},
+              {"metallicFactor", 0.0},
+              {"roughnessFactor", 0.6}};
+  doc["materials"] = json::array({{{"name", "painted"}, {"pbrMetallicRoughness", pbr}}});
+  doc["textures"] = json::array({{{"source", 0}, {"sampler", 0}}});
+  doc["samplers"] = json::array({json::object()});
+  doc["images"] = json::array({{{"uri", "texture.png"}}});
+  doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.05}}}}});
+  doc["extensionsUsed"] = json::array({"KHR_lights_punctual"});
+  json light = {{"type", "point"}, {"intensity", 5.0}, {"color", {1, 1, 1}}};
+  doc["extensions"]["KHR_lights_punctual"]["lights"] = json::array({light});
+  json lamp = {{"name", "lamp"}, {"translation", {0.5, 0.5, 2}}};
+  lamp["extensions"]["KHR_lights_punctual"]["light"] = 0;
+  doc["nodes"] = json::array(
+      {{{"name", "quad"}, {"mesh", 0}}, {{"name", "camera"}, {"camera", 0}, {"translation", {0.5, 0.5, 3}}}, lamp});
+  doc["scenes"] = json::array({{{"nodes", {0, 1, 2}}}});
+  doc["scene"] = 0;
+  return builder;
+}
+
+void writeTexture(const fs::path& dir) {
+  std::vector<std::uint8_t> rgba(4 * 4 * 4);
+  for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = std::uint8_t(i % 4 == 3 ? 255 : 60 + i * 3);
+  const std::vector<std::uint8_t> png = gltf::encodePng(4, 4, rgba);
+  writeBytes(dir / "texture.png", png);
+}
+
+// The base scene as scene.gltf + scene.bin + texture.png, `change` applied
+// to its JSON (buffers included) and `bin` to its buffer's bytes.
+void writeGltfCase(const fs::path& dir, const std::function<void(json&)>& change,
+                   const std::function<void(Bytes&)>& changeBin = {}) {
+  gltf::GltfBuilder builder = baseScene();
+  json doc = builder.doc();
+  Bytes bin = builder.bin();
+  doc["buffers"] = {{{"byteLength", bin.size()}, {"uri", "scene.bin"}}};
+  if (change) change(doc);
+  if (changeBin) changeBin(bin);
+  writeBytes(dir / "scene.bin", bin);
+  writeTexture(dir);
+  writeText(dir / "scene.gltf", doc.dump(1));
+}
+
+// The base scene as scene.glb (buffer in its BIN chunk), then `change` to its bytes.
+void writeGlbCase(const fs::path& dir, const std::function<void(Bytes&)>& change) {
+  baseScene().writeGlb(dir / "scene.glb");
+  writeTexture(dir);
+  std::ifstream in(dir / "scene.glb", std::ios::binary);
+  Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  if (change) change(bytes);
+  writeBytes(dir / "scene.glb", bytes);
+}
+
+void setU32(Bytes& bytes, std::size_t at, std::uint32_t value) {
+  for (int b = 0; b < 4; ++b) bytes[at + std::size_t(b)] = std::uint8_t(value >> (8 * b));
+}
+
+// A float stored in the buffer's bytes (floats are little-endian in glTF).
+void setFloat(Bytes& bytes, std::size_t at, float value) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, 4);
+  setU32(bytes, at, bits);
+}
+
+// The name a JSON pointer's last step gives its property in messages:
+// "/meshes/0/primitives/0/mode" -> "mode", "/scenes/0/nodes/0" -> "nodes".
+std::string propertyName(const std::string& pointer) {
+  std::vector<std::string> steps;
+  for (std::size_t at = 1; at <= pointer.size();) {
+    const std::size_t next = std::min(pointer.find('/', at), pointer.size());
+    steps.push_back(pointer.substr(at, next - at));
+    at = next + 1;
+  }
+  while (steps.size() > 1 && std::all_of(steps.back().begin(), steps.back().end(), ::isdigit)) steps.pop_back();
+  return steps.back();
+}
+
+void gltfScenes(CorpusBuilder& corpus) {
+  const std::vector<std::string> render = {"render", "{dir}/scene.gltf", "--out", "{out}"};
+  const auto scene = [&](const std::string& name, std::function<void(json&)> change, const std::string& mentions,
+                         Outcome outcome = Outcome::Error, std::function<void(Bytes&)> changeBin = {}) {
+    corpus.add(
+        "gltf_" + name, "scene.gltf",
+        [change, changeBin](const fs::path& dir) { writeGltfCase(dir, change, changeBin); }, render, mentions, outcome);
+  };
+  const auto set = [](const std::string& pointer, json value) {
+    return [pointer, value](json& doc) { doc[json::json_pointer(pointer)] = value; };
+  };
+  const auto erase = [](const std::string& pointer) {
+    return [pointer](json& doc) {
+      const json::json_pointer at(pointer);
+      doc[at.parent_pointer()].erase(at.back());
+    };
+  };
+  scene("valid_control", {}, "", Outcome::FiniteImage);
+
+  // Every property the importer reads, given a value of another JSON type:
+  // the message names the property.
+  const std::vector<std::string> typed = {
+      "/asset",
+      "/asset/version",
+      "/scene",
+      "/scenes",
+      "/scenes/0/nodes",
+      "/nodes",
+      "/nodes/0/mesh",
+      "/nodes/0/name",
+      "/nodes/2/extensions",
+      "/nodes/1/camera",
+      "/nodes/1/translation",
+      "/nodes/2/extensions/KHR_lights_punctual",
+      "/meshes",
+      "/meshes/0/primitives",
+      "/meshes/0/primitives/0/attributes",
+      "/meshes/0/primitives/0/attributes/POSITION",
+      "/meshes/0/primitives/0/indices",
+      "/meshes/0/primitives/0/material",
+      "/accessors",
+      "/accessors/0/bufferView",
+      "/accessors/0/componentType",
+      "/accessors/0/count",
+      "/accessors/0/type",
+      "/bufferViews",
+      "/bufferViews/0/buffer",
+      "/bufferViews/0/byteOffset",
+      "/bufferViews/0/byteLength",
+      "/buffers",
+      "/buffers/0/uri",
+      "/buffers/0/byteLength",
+      "/materials",
+      "/materials/0/pbrMetallicRoughness",
+      "/materials/0/pbrMetallicRoughness/metallicFactor",
+      "/materials/0/pbrMetallicRoughness/roughnessFactor",
+      "/materials/0/pbrMetallicRoughness/baseColorTexture",
+      "/materials/0/pbrMetallicRoughness/baseColorTexture/index",
+      "/materials/0/name",
+      "/textures",
+      "/textures/0/source",
+      "/textures/0/sampler",
+      "/samplers",
+      "/images",
+      "/images/0/uri",
+      "/cameras",
+      "/cameras/0/type",
+      "/cameras/0/perspective",
+      "/cameras/0/perspective/yfov",
+      "/cameras/0/perspective/znear",
+      "/extensionsUsed",
+  };
+  const json base = [] {
+    json doc = baseScene().doc();
+    doc["buffers"] = {{{"byteLength", 1}, {"uri", "scene.bin"}}};
+    return doc;
+  }();
+  for (const std::string& pointer : typed) {
+    const json& value = base.at(json::json_pointer(pointer));
+    // Two values of other types than the one the property has.
+    std::vector<std::pair<std::string, json>> wrong;
+    if (!value.is_string()) wrong.emplace_back("string", "seven");
+    if (!value.is_number()) wrong.emplace_back("number", 7);
+    if (value.is_string() || value.is_number()) wrong.emplace_back("object", json{{"a", 1}});
+    if (value.is_object()) wrong.emplace_back("array", json::array({1}));
+    if (value.is_array()) wrong.emplace_back("bool", true);
+    for (const auto& [kind, replacement] : wrong)
+      scene("type" + pointer + "_" + kind, set(pointer, replacement), propertyName(pointer));
+  }
+  // Indices (non-negative integers that fit an int): a negative, a fraction
+  // and one past what exists.
+  const std::vector<std::string> indices = {
+      "/scene",
+      "/scenes/0/nodes/0",
+      "/nodes/0/mesh",
+      "/nodes/1/camera",
+      "/nodes/2/extensions/KHR_lights_punctual/light",
+      "/meshes/0/primitives/0/attributes/POSITION",
+      "/meshes/0/primitives/0/attributes/NORMAL",
+      "/meshes/0/primitives/0/indices",
+      "/meshes/0/primitives/0/material",
+      "/accessors/0/bufferView",
+      "/bufferViews/0/buffer",
+      "/materials/0/pbrMetallicRoughness/baseColorTexture/index",
+      "/textures/0/source",
+      "/textures/0/sampler",
+  };
+  for (const std::string& pointer : indices) {
+    scene("index_negative" + pointer, set(pointer, -1), propertyName(pointer));
+    scene("index_fraction" + pointer, set(pointer, 1.5), propertyName(pointer));
+    const bool light = pointer.ends_with("/light");
+    const bool indicesAccessor = pointer.ends_with("/indices");
+    scene("index_past_the_end" + pointer, set(pointer, 99),
+          light             ? "names a light that does not exist"
+          : indicesAccessor ? "indices accessor out of bounds"
+                            : "99");
+  }
+
+  // The document as a whole.
+  scene("no_asset", erase("/asset"), "asset is missing");
+  scene("version_1", set("/asset/version", "1.0"), "glTF version 1.0 is not supported");
+  scene("min_version_2_1", set("/asset/minVersion", "2.1"), "2.1");
+  scene("required_extension", set("/extensionsRequired", {"KHR_draco_mesh_compression"}),
+        "requires glTF extensions this importer does not support: KHR_draco_mesh_compression");
+  scene("extras_nested_15000", set("/extras", json::parse(nestedObjects(15000))), "nested deeper than 64 levels");
+  scene("extensions_nested_15000", set("/nodes/0/extensions", {{"EXT_deep", json::parse(nestedObjects(15000))}}),
+        "nested deeper than 64 levels");
+  corpus.textFile("gltf_not_json", "scene.gltf", "A scene, honest", render, "not valid JSON");
+  // Text that starts with the GLB magic is read as a GLB container.
+  corpus.textFile("gltf_text_with_glb_magic", "scene.gltf", "glTF 2.0, honest", render, "truncated GLB header");
+  corpus.textFile("gltf_empty_file", "scene.gltf", "", render, "scene.gltf");
+  corpus.textFile("gltf_array", "scene.gltf", "[]", render, "not a glTF file");
+  corpus.textFile("gltf_truncated_json", "scene.gltf", R"({"asset": {"version": "2.0"}, "nodes": [)", render,
+                  "not valid JSON");
+  corpus.textFile("gltf_only_asset", "scene.gltf", R"({"asset": {"version": "2.0"}})", render, "",
+                  Outcome::FiniteImage);
+  corpus.binaryFile("gltf_binary_garbage", "scene.gltf", Bytes{0x00, 0xff, 0x13, 0x37, 0x00, 0x42}, render,
+                    "not valid JSON");
+  corpus.add(
+      "gltf_is_a_folder", "scene.gltf", [](const fs::path& dir) { fs::create_directories(dir / "scene.gltf"); }, render,
+      "not a regular file");
+  corpus.add(
+      "gltf_missing", "scene.gltf", [](const fs::path&) {}, render, "file not found");
+
+  // The node graph.
+  scene("node_child_missing", set("/nodes/0/children", {3}), "child 3 does not exist");
+  scene(
+      "node_cycle",
+      [](json& doc) {
+        doc["nodes"][0]["children"] = {1};
+        doc["nodes"][1]["children"] = {0};
+        doc["scenes"][0]["nodes"] = {2};
+      },
+      "cycle");
+  scene(
+      "node_two_parents",
+      [](json& doc) {
+        doc["nodes"].push_back({{"name", "a"}, {"children", {0}}});
+        doc["nodes"].push_back({{"name", "b"}, {"children", {0}}});
+      },
+      "more than one parent");
+  scene("node_own_child", set("/nodes/0/children", {0}), "node 0");
+  scene("node_child_twice", set("/nodes/1/children", {0, 0}), "twice");
+  scene(
+      "node_chain_20000",
+      [](json& doc) {
+        for (int i = 0; i < 20000; ++i)
+          doc["nodes"].push_back({{"children", {int(doc["nodes"].size()) + 1}}, {"translation", {0, 0, -1e-5}}});
+        doc["nodes"].push_back({{"mesh", 0}});
+        doc["scenes"][0]["nodes"] = {1, 2, 3};
+      },
+      "", Outcome::FiniteImage);
+  scene("translation_overflows_float", set("/nodes/0/translation", {0, 1e39, 0}), "translation is out of range");
+  scene("scale_overflows_float", set("/nodes/0/scale", {1e39, 1, 1}), "scale is out of range");
+  scene("scale_tiny", set("/nodes/0/scale", {1e-13, 1e-13, 1e-13}), "", Outcome::FiniteImage);
+  scene("scale_zero", set("/nodes/0/scale", {0, 0, 0}), "", Outcome::FiniteImage);
+  scene("matrix_15_numbers", set("/nodes/0/matrix", json(std::vector<double>(15, 0.0))), "matrix must have 16 numbers");
+  scene("matrix_overflows_float", set("/nodes/0/matrix", {1e39, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}),
+        "matrix is out of range");
+  scene("rotation_zero", set("/nodes/0/rotation", {0, 0, 0, 0}), "not a unit quaternion");
+  scene("rotation_three_numbers", set("/nodes/0/rotation", {0, 0, 1}), "rotation must have 4 numbers");
+
+  // Cameras.
+  scene("camera_yfov_pi", set("/cameras/0/perspective/yfov", 3.14159265), "yfov");
+  scene("camera_yfov_zero", set("/cameras/0/perspective/yfov", 0), "yfov");
+  scene("camera_znear_zero", set("/cameras/0/perspective/znear", 0), "znear");
+  scene("camera_type_unknown", set("/cameras/0/type", "fisheye"), "Invalid camera type: \"fisheye\"");
+  scene("camera_orthographic_only",
+        set("/cameras/0",
+            {{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"zfar", 9}, {"znear", 0.1}}}}),
+        "", Outcome::FiniteImage);
+  scene("camera_far_away", set("/nodes/1/translation", {0, 0, 1e19}), "1e+18");
+
+  // Lights and materials.
+  scene("light_type_unknown", set("/extensions/KHR_lights_punctual/lights/0/type", "laser"),
+        "unknown light type 'laser'");
+  scene("light_type_missing", erase("/extensions/KHR_lights_punctual/lights/0/type"), "type must be a string");
+  scene("light_intensity_word", set("/extensions/KHR_lights_punctual/lights/0/intensity", "bright"), "",
+        Outcome::FiniteImage);
+  scene("light_colour_word", set("/extensions/KHR_lights_punctual/lights/0/color", "red"), "", Outcome::FiniteImage);
+  scene("light_intensity_negative", set("/extensions/KHR_lights_punctual/lights/0/intensity", -5), "negative");
+  scene("light_intensity_3e38", set("/extensions/KHR_lights_punctual/lights/0/intensity", 3e38), "above 1e+20");
+  scene("light_intensity_overflows_float", set("/extensions/KHR_lights_punctual/lights/0/intensity", 1e39),
+        "intensity");
+  scene("light_spot_cones_inverted",
+        set("/extensions/KHR_lights_punctual/lights/0",
+            {{"type", "spot"}, {"intensity", 5}, {"spot", {{"innerConeAngle", 0.8}, {"outerConeAngle", 0.4}}}}),
+        "cone angles");
+  scene("light_spot_without_spot", set("/extensions/KHR_lights_punctual/lights/0/type", "spot"), "spot");
+  scene("lights_not_an_array", set("/extensions/KHR_lights_punctual/lights", {{"type", "point"}}),
+        "lights must be an array");
+  scene(
+      "sun_3e38",
+      [](json& doc) {
+        doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "directional"}, {"intensity", 3e38}};
+      },
+      "above 1e+20");
+  scene("base_colour_three_numbers", set("/materials/0/pbrMetallicRoughness/baseColorFactor", {1, 0, 0}), "",
+        Outcome::FiniteImage);
+  scene("base_colour_overflows_float", set("/materials/0/pbrMetallicRoughness/baseColorFactor", {1e39, 0, 0, 1}),
+        "baseColorFactor is out of range");
+  scene(
+      "emission_above_limit",
+      [](json& doc) {
+        doc["materials"][0]["emissiveFactor"] = {1, 1, 1};
+        doc["extensionsUsed"].push_back("KHR_materials_emissive_strength");
+        doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1e30}}}};
+      },
+      "above 1e+20");
+  scene(
+      "emissive_strength_negative",
+      [](json& doc) {
+        doc["materials"][0]["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", -1}}}};
+      },
+      "emissiveStrength");
+  scene("alpha_mode_unknown", set("/materials/0/alphaMode", "SOMETIMES"), "unknown alphaMode 'SOMETIMES'");
+  scene("alpha_cutoff_negative", set("/materials/0/alphaCutoff", -0.5), "alphaCutoff");
+  scene("emissive_factor_two_numbers", set("/materials/0/emissiveFactor", {1, 1}), "emissiveFactor");
+
+  // Primitives and accessors.
+  scene("primitive_mode_unknown", set("/meshes/0/primitives/0/mode", 7), "unknown primitive mode 7");
+  scene("primitive_points_only", set("/meshes/0/primitives/0/mode", 0), "", Outcome::FiniteImage);
+  scene("primitive_without_position", erase("/meshes/0/primitives/0/attributes/POSITION"), "", Outcome::FiniteImage);
+  scene("mesh_without_primitives", set("/meshes/0/primitives", json::array()), "", Outcome::FiniteImage);
+  scene("position_as_vec2", set("/accessors/0/type", "VEC2"), "expected VEC3");
+  scene("position_as_doubles", set("/accessors/0/componentType", 5130), "POSITION");
+  scene("position_normalized_floats", set("/accessors/0/normalized", true), "", Outcome::FiniteImage);
+  scene("accessor_count_past_view", set("/accessors/0/count", 1000000), "do not fit in bufferView");
+  scene("accessor_count_zero", set("/accessors/0/count", 0), "has no elements");
+  scene("accessor_offset_past_view", set("/accessors/0/byteOffset", 4000), "do not fit in bufferView");
+  scene("accessor_type_unknown", set("/accessors/0/type", "VEC5"), "Got \"VEC5\"");
+  scene("accessor_count_over_int", set("/accessors/0/count", std::int64_t(3000000000)), "3000000000");
+  scene(
+      "accessor_huge_count_no_view",
+      [](json& doc) {
+        doc["accessors"][1] = {{"componentType", 5126}, {"count", 2000000000}, {"type", "VEC3"}};
+      },
+      "too many elements");
+  scene("view_stride_too_small", set("/bufferViews/0/byteStride", 4), "byteStride 4 is invalid");
+  scene("view_stride_too_large", set("/bufferViews/0/byteStride", 256), "byteStride");
+  scene("view_past_buffer", set("/bufferViews/0/byteLength", 100000), "runs past the end of its buffer");
+  scene("view_offset_past_buffer", set("/bufferViews/0/byteOffset", 100000), "bufferView");
+  scene("buffer_longer_than_file", set("/buffers/0/byteLength", 100000), "scene.gltf");
+  scene("index_past_vertices", {}, "out of range for 4 vertices", Outcome::Error,
+        [](Bytes& bin) { setU32(bin, 4 * 12 + 4 * 12 + 4 * 8 + 4, 99); });
+  scene("position_nan", {}, "NaN or infinite", Outcome::Error,
+        [](Bytes& bin) { setFloat(bin, 4, std::numeric_limits<float>::quiet_NaN()); });
+  scene("position_infinite", {}, "NaN or infinite", Outcome::Error,
+        [](Bytes& bin) { setFloat(bin, 0, std::numeric_limits<float>::infinity()); });
+  // A vertex far out makes a huge triangle, seen from the file's own camera.
+  scene("position_1e30", {}, "", Outcome::FiniteImage, [](Bytes& bin) { setFloat(bin, 0, 1e30f); });
+  scene("texcoord_infinite", {}, "TEXCOORD_0", Outcome::Error,
+        [](Bytes& bin) { setFloat(bin, 4 * 12 + 4 * 12, -std::numeric_limits<float>::infinity()); });
+  scene("normals_zero", {}, "", Outcome::FiniteImage, [](Bytes& bin) {
+    for (std::size_t at = 4 * 12; at < 4 * 12 + 4 * 12; at += 4) setFloat(bin, at, 0.0f);
+  });
+  scene("normals_nan", {}, "", Outcome::FiniteImage, [](Bytes& bin) {
+    for (std::size_t at = 4 * 12; at < 4 * 12 + 4 * 12; at += 4) setFloat(bin, at, std::nanf(""));
+  });
+  scene("indices_as_floats", set("/accessors/3/componentType", 5126), "indices");
+  const auto sparse = [](json value) { return [value](json& doc) { doc["accessors"][0]["sparse"] = value; }; };
+  scene("sparse_count_over_int",
+        sparse({{"count", std::int64_t(3000000000)},
+                {"indices", {{"bufferView", 3}, {"componentType", 5125}}},
+                {"values", {{"bufferView", 0}}}}),
+        "3000000000");
+  scene("sparse_count_past_accessor",
+        sparse(
+            {{"count", 9}, {"indices", {{"bufferView", 3}, {"componentType", 5125}}}, {"values", {{"bufferView", 0}}}}),
+        "sparse count 9");
+  scene("sparse_indices_not_increasing",
+        sparse(
+            {{"count", 4}, {"indices", {{"bufferView", 3}, {"componentType", 5125}}}, {"values", {{"bufferView", 0}}}}),
+        "not increasing");
+  scene("sparse_index_type_float",
+        sparse(
+            {{"count", 1}, {"indices", {{"bufferView", 3}, {"componentType", 5126}}}, {"values", {{"bufferView", 0}}}}),
+        "sparse indices");
+  scene("sparse_offset_over_int",
+        sparse({{"count", 1},
+                {"indices", {{"bufferView", 3}, {"componentType", 5125}, {"byteOffset", std::int64_t(4294967296)}}},
+                {"values", {{"bufferView", 0}}}}),
+        "4294967296");
+
+  // Where the buffer and the texture come from.
+  for (const auto& [name, uri, mentions] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"parent", "../../../../../../etc/passwd", "outside the glTF file's folder"},
+           {"encoded_parent", "%2e%2e/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "outside the glTF file's folder"},
+           {"encoded_slashes", "..%2F..%2F..%2Fetc%2Fpasswd", "outside the glTF file's folder"},
+           {"absolute", "/etc/passwd", "outside the glTF file's folder"},
+           {"nul", "scene.bin%00.png", "NUL"},
+           {"missing", "nowhere.bin", "nowhere.bin"},
+           {"folder", ".", "scene.gltf"},
+           {"bad_base64", "data:application/octet-stream;base64,!!!!", "scene.gltf"},
+           {"short_data", "data:application/octet-stream;base64,AAAA", "scene.gltf"},
+       }) {
+    scene("buffer_uri_" + name, set("/buffers/0/uri", uri), mentions);
+    scene("image_uri_" + name, set("/images/0/uri", uri), name == "short_data" ? "texture" : mentions);
+  }
+  // A file outside the folder is refused alike whether it exists or not, and
+  // its bytes never reach the message.
+  corpus.add(
+      "gltf_buffer_uri_outside_existing", "scene.gltf",
+      [](const fs::path& dir) {
+        writeGltfCase(dir, [](json& doc) { doc["buffers"][0]["uri"] = "../secret.bin"; });
+        writeText(dir.parent_path() / "secret.bin", "SECRET-BYTES-SECRET-BYTES-SECRET-BYTES");
+      },
+      render, "outside the glTF file's folder");
+  corpus.add(
+      "gltf_buffer_symlink_out", "scene.gltf",
+      [](const fs::path& dir) {
+        writeGltfCase(dir, [](json& doc) { doc["buffers"][0]["uri"] = "link.bin"; });
+        fs::create_symlink("/etc/passwd", dir / "link.bin");
+      },
+      render, "outside the glTF file's folder");
+  const auto image = [&](const std::string& name, std::function<void(const fs::path&)> write,
+                         const std::string& mentions) {
+    corpus.add(
+        "gltf_texture_" + name, "scene.gltf",
+        [write](const fs::path& dir) {
+          writeGltfCase(dir, {});
+          write(dir / "texture.png");
+        },
+        render, mentions);
+  };
+  image(
+      "not_an_image", [](const fs::path& path) { writeText(path, "a picture of a cat"); }, "not a PNG or JPEG");
+  image(
+      "empty", [](const fs::path& path) { writeText(path, ""); }, "texture");
+  image(
+      "png_truncated",
+      [](const fs::path& path) {
+        std::vector<std::uint8_t> rgba(64 * 64 * 4, 90);
+        Bytes png = gltf::encodePng(64, 64, rgba);
+        png.resize(png.size() / 2);
+        writeBytes(path, png);
+      },
+      "texture");
+  image(
+      "png_20000_square",
+      [](const fs::path& path) {
+        // A PNG signature and an IHDR chunk declaring 20000x20000, then nothing.
+        Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R'};
+        for (std::uint32_t side : {20000u, 20000u})
+          for (int b = 3; b >= 0; --b) png.push_back(std::uint8_t(side >> (8 * b)));
+        png.insert(png.end(), {8, 6, 0, 0, 0, 0, 0, 0, 0});
+        writeBytes(path, png);
+      },
+      "over the limit of 16384");
+  image(
+      "jpeg_garbage",
+      [](const fs::path& path) {
+        writeBytes(path, Bytes{0xff, 0xd8, 0xff, 0xe0, 1, 2, 3});
+      },
+      "texture");
+  scene("texture_without_image", erase("/textures/0/source"), "", Outcome::FiniteImage);
+
+  // Animations.
+  const auto animation = [](json samplerInput, json channel) {
+    return [samplerInput, channel](json& doc) {
+      doc["animations"] = {{{"samplers", {{{"input", samplerInput}, {"output", 0}}}}, {"channels", {channel}}}};
+    };
+  };
+  scene("animation_target_missing_node",
+        animation(0, {{"sampler", 0}, {"target", {{"node", 99}, {"path", "translation"}}}}), "node 99 does not exist");
+  scene("animation_sampler_missing", animation(0, {{"sampler", 5}, {"target", {{"node", 0}, {"path", "translation"}}}}),
+        "sampler");
+  scene("animation_input_not_scalar",
+        animation(0, {{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}), "input");
+  scene("animation_weights_only", animation(0, {{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}), "",
+        Outcome::FiniteImage);
+  scene("skin", set("/nodes/0/skin", 0), "skin");
+
+  // GLB containers: the base scene with its BIN chunk, then one thing broken.
+  const std::vector<std::string> renderGlb = {"render", "{dir}/scene.glb", "--out", "{out}"};
+  const auto glb = [&](const std::string& name, std::function<void(Bytes&)> change, const std::string& mentions,
+                       Outcome outcome = Outcome::Error) {
+    corpus.add(
+        "glb_" + name, "scene.glb", [change](const fs::path& dir) { writeGlbCase(dir, change); }, renderGlb, mentions,
+        outcome);
+  };
+  glb("valid_control", {}, "", Outcome::FiniteImage);
+  glb(
+      "version_1", [](Bytes& b) { setU32(b, 4, 1); }, "GLB container version 1 is not 2");
+  glb(
+      "length_past_file", [](Bytes& b) { setU32(b, 8, std::uint32_t(b.size() + 100)); }, "truncated GLB");
+  glb(
+      "json_chunk_past_file", [](Bytes& b) { setU32(b, 12, std::uint32_t(b.size())); }, "runs past the end");
+  glb(
+      "json_chunk_not_json", [](Bytes& b) { setU32(b, 16, 0x12345678); }, "not JSON");
+  glb(
+      "json_chunk_empty", [](Bytes& b) { setU32(b, 12, 0); }, "the GLB JSON chunk is empty");
+  glb(
+      "bin_chunk_wrong_type",
+      [](Bytes& b) {
+        const std::size_t bin = 20 + std::size_t(b[12] | b[13] << 8 | b[14] << 16 | b[15] << 24);
+        setU32(b, bin + 4, 0x11111111);
+      },
+      "not BIN");
+  glb(
+      "bin_chunk_past_file",
+      [](Bytes& b) {
+        const std::size_t bin = 20 + std::size_t(b[12] | b[13] << 8 | b[14] << 16 | b[15] << 24);
+        setU32(b, bin, std::uint32_t(b.size()));
+      },
+      "BIN chunk runs past the end");
+  glb(
+      "json_garbage", [](Bytes& b) { std::fill(b.begin() + 20, b.begin() + 40, std::uint8_t('#')); }, "not valid JSON");
+  for (std::size_t keep : {4u, 12u, 19u, 30u, 200u})
+    glb(
+        "cut_to_" + std::to_string(keep) + "_bytes", [keep](Bytes& b) { b.resize(keep); }, "scene.glb");
+  glb(
+      "cut_one_byte_short", [](Bytes& b) { b.pop_back(); }, "truncated GLB");
+  corpus.add(
+      "glb_deep_json", "scene.glb",
+      [](const fs::path& dir) {
+        gltf::GltfBuilder deep;
+        deep.doc()["extras"] = json::parse(nestedObjects(15000));
+        deep.writeGlb(dir / "scene.glb");
+      },
+      renderGlb, "nested deeper than 64 levels");
+}
+
 }  // namespace
 
 const std::vector<CorpusCase>& badInputCorpus() {
@@ -334,6 +876,7 @@ const std::vector<CorpusCase>& badInputCorpus() {
     cameraFiles(builder);
     environmentMaps(builder);
     optionValues(builder);
+    gltfScenes(builder);
     return std::move(builder.cases);
   }();
   return corpus;

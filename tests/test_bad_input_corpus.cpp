@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -77,6 +78,7 @@ TEST_P(BadInput, GivesOneClearErrorOrAFiniteImage) {
                                       [](const std::string& line) { return line.starts_with("bounce: error:"); });
     ASSERT_EQ(errors, 1) << "one error line:\n" << r.output;
     const std::string& error = all.back();
+    std::cout << "    " << error << "\n";  // every message, for people reading the test log
     ASSERT_TRUE(error.starts_with("bounce: error:")) << "the error is the last line:\n" << r.output;
     if (!c.file.empty()) {
       EXPECT_NE(error.find(c.file), std::string::npos) << "names the file: " << error;

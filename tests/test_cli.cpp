@@ -695,10 +695,12 @@ TEST(CliSceneInput, ScenesTooLargeForFloatsSayWhatFailed) {
             R"({"asset": {"version": "2.0"}, "nodes": [{"camera": 0}],
                 "cameras": [{"type": "perspective", "perspective": {"yfov": 3.14159265, "znear": 0.1}}]})");
   const std::pair<const char*, const char*> cases[] = {
+      // The camera framing the scene is checked with every frame's before rendering.
       {"huge_positions.gltf",
-       "bounce: error: camera: position (0, 1.56165e+30, 3.0333e+30) is more than 1e+18 from "
-       "the origin along an axis"},
-      {"huge_scale.gltf", "bounce: error: camera: position (0, 1.56165e+19, 3.0333e+19) is more than 1e+18"},
+       "huge_positions.gltf's camera: frame 0 (at 0 s): camera: position (0, 1.56165e+30, 3.0333e+30) is more than "
+       "1e+18 from the origin along an axis"},
+      {"huge_scale.gltf",
+       "huge_scale.gltf's camera: frame 0 (at 0 s): camera: position (0, 1.56165e+19, 3.0333e+19) is more than 1e+18"},
       {"half_turn_lens.gltf", "camera 0: yfov 3.14159265 must be between 0 and pi (exclusive, as a 32-bit float)"}};
   for (const auto& [file, message] : cases) {
     const Result r =

@@ -74,7 +74,8 @@ void checkCameraFrames(const std::vector<scene::CameraFrame>& frames, std::uint3
       const std::uint64_t frame = firstFrame + i;
       char time[32];
       std::snprintf(time, sizeof time, "%g", double(float(frame) / options.fps));
-      const std::string path = options.camera.empty() ? "the scene's camera" : "--camera " + options.camera;
+      const std::string scene = options.scene.empty() ? scene::defaultBuiltinScene() : options.scene;
+      const std::string path = options.camera.empty() ? scene + "'s camera" : "--camera " + options.camera;
       throw std::runtime_error(path + ": frame " + std::to_string(frame) + " (at " + time + " s): " + problem.what());
     }
   }

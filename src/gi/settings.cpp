@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "util/edit_distance.h"
+#include "util/json_error.h"
 
 namespace bounce::gi {
 namespace {
@@ -439,15 +440,6 @@ nlohmann::json parseSettingsJson(std::istream& stream) {
   return nlohmann::json::parse(stream, callback);
 }
 
-std::string withoutJsonExceptionTag(const std::string& message) {
-  // nlohmann prefixes "[json.exception.parse_error.101] "; the rest says where and what.
-  if (message.starts_with("[json.exception.")) {
-    const std::size_t end = message.find("] ");
-    if (end != std::string::npos) return message.substr(end + 2);
-  }
-  return message;
-}
-
 }  // namespace
 
 const std::vector<SettingInfo>& settingKeys() {
@@ -481,7 +473,7 @@ void applySettingsFile(Settings& settings, const std::filesystem::path& file) {
   try {
     root = parseSettingsJson(stream);
   } catch (const nlohmann::json::exception& parseError) {
-    throw std::runtime_error(where + withoutJsonExceptionTag(parseError.what()));
+    throw std::runtime_error(where + util::withoutJsonExceptionTag(parseError.what()));
   } catch (const std::invalid_argument& invalid) {
     throw std::runtime_error(where + invalid.what());
   }

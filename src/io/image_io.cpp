@@ -394,8 +394,8 @@ void checkFinite(const fs::path& path, const ImageF& image) {
   if (badCount == 0) return;
   const std::size_t channelCount = image.channelCount();
   const std::size_t pixel = firstBad / channelCount;
-  fail(path, std::to_string(badCount) + " non-finite values (NaN or Inf), first at pixel (" +
-                 std::to_string(pixel % std::size_t(image.width)) + ", " +
+  fail(path, std::to_string(badCount) + (badCount == 1 ? " non-finite value" : " non-finite values") +
+                 " (NaN or Inf), first at pixel (" + std::to_string(pixel % std::size_t(image.width)) + ", " +
                  std::to_string(pixel / std::size_t(image.width)) + ") channel " +
                  image.channels[firstBad % channelCount]);
 }

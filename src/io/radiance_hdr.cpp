@@ -154,7 +154,7 @@ ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>&
     fail(path, "unsupported Radiance orientation '" + resolution + "' (only -Y H +X W and +Y H +X W)");
   }
   if (width <= 0 || height <= 0) {
-    fail(path, "image has zero size (" + std::to_string(width) + "x" + std::to_string(height) + ")");
+    fail(path, "image has no pixels (" + std::to_string(width) + "x" + std::to_string(height) + ")");
   }
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   if (width > maxSide || height > maxSide)

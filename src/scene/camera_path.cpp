@@ -16,6 +16,8 @@
 #include <glm/gtc/constants.hpp>
 #include <nlohmann/json.hpp>
 
+#include "util/json_error.h"
+
 namespace bounce::scene {
 namespace {
 
@@ -303,7 +305,7 @@ class KeyframeParser {
     try {
       document = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& error) {
-      fail("invalid JSON: " + std::string(error.what()));
+      fail("invalid JSON: " + util::withoutJsonExceptionTag(error.what()));
     }
     if (!document.is_object()) fail("expected an object {\"keyframes\": [...]}");
     for (const auto& [key, value] : document.items())

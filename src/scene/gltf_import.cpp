@@ -35,6 +35,7 @@
 
 #include "io/image_io.h"
 #include "scene/tangents.h"
+#include "util/json_error.h"
 
 namespace bounce::scene {
 namespace {
@@ -706,6 +707,7 @@ class Importer {
              std::to_string(bytes.size()));
       const std::uint64_t jsonLength = readU32(bytes, 12);
       if (readU32(bytes, 16) != 0x4E4F534Au) fail("the first GLB chunk is not JSON");
+      if (jsonLength == 0) fail("the GLB JSON chunk is empty");
       if (20 + jsonLength > glbLength) fail("the GLB JSON chunk runs past the end of the file");
       const std::uint64_t binStart = 20 + jsonLength;
       if (binStart < glbLength) {
@@ -723,7 +725,7 @@ class Importer {
     } catch (const JsonTooDeep&) {
       fail("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     } catch (const json::exception& e) {
-      fail(std::string("not valid JSON (") + e.what() + ")");
+      fail("not valid JSON (" + util::withoutJsonExceptionTag(e.what()) + ")");
     }
     if (!document.is_object()) fail("not a glTF file (the JSON is not an object)");
     if (const std::string violation = schemaViolation(document, kRoot, ""); !violation.empty())
@@ -989,7 +991,13 @@ class Importer {
     if (std::size_t(index) >= model_.textures.size())
       fail(what + ": texture " + std::to_string(index) + " does not exist");
     if (texCoord != 0) warn("textures that use a texture coordinate set other than 0 are read with set 0", what);
-    const int image = model_.textures[std::size_t(index)].source;
+    const tinygltf::Texture& gltfTexture = model_.textures[std::size_t(index)];
+    // Samplers are not used (every texture repeats and filters trilinearly),
+    // but an index to nothing is a broken file all the same.
+    if (gltfTexture.sampler >= 0 && std::size_t(gltfTexture.sampler) >= model_.samplers.size())
+      fail(what + ": texture " + std::to_string(index) + " uses sampler " + std::to_string(gltfTexture.sampler) +
+           ", which does not exist");
+    const int image = gltfTexture.source;
     if (image < 0) {
       warn("textures without a PNG or JPEG image are ignored", "texture " + std::to_string(index));
       return -1;
@@ -1376,7 +1384,12 @@ class Importer {
           fail(what + ": KHR_lights_punctual names a light that does not exist");
         node.light = light.GetNumberAsInt();
       }
-      if (source.skin >= 0) warn("skins are ignored (skinned meshes are drawn in their bind pose)", what);
+      if (source.skin >= 0) {
+        // Unused, but an index to nothing is a broken file all the same.
+        if (std::size_t(source.skin) >= model_.skins.size())
+          fail(what + ": skin " + std::to_string(source.skin) + " does not exist");
+        warn("skins are ignored (skinned meshes are drawn in their bind pose)", what);
+      }
       if (!source.weights.empty()) warn("morph targets are ignored", what);
     }
   }
