@@ -9,10 +9,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build-sanitize
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBOUNCE_SANITIZE=ON --log-level=WARNING
-# Everything the CPU tests and the corpus run: their test programs and bounce.
-targets=$(sed -n 's/^bounce_add_test(\([a-z_]*\) .*LABELS \(cpu\|corpus\)).*/\1/p' tests/CMakeLists.txt)
-# shellcheck disable=SC2086
-cmake --build "$build" --target bounce $targets
+# Everything the CPU tests and the corpus run: their test programs (listed by
+# tests/CMakeLists.txt) and bounce.
+mapfile -t targets < "$build/sanitizer-targets.txt"
+cmake --build "$build" --target bounce "${targets[@]}"
 export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer-suppressions.txt:print_suppressions=0"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1

@@ -374,6 +374,11 @@ void writeTexture(const fs::path& dir) {
   writeBytes(dir / "texture.png", png);
 }
 
+// A string value that writeGltfCase replaces by 15,000 nested objects in the
+// written text: a json value that deep would itself overflow the stack when
+// copied (nlohmann copies recursively), before the importer ever saw it.
+const std::string kDeepMarker = "@@nested 15000 levels@@";
+
 // The base scene as scene.gltf + scene.bin + texture.png, `change` applied
 // to its JSON (buffers included) and `bin` to its buffer's bytes.
 void writeGltfCase(const fs::path& dir, const std::function<void(json&)>& change,
@@ -386,7 +391,10 @@ void writeGltfCase(const fs::path& dir, const std::function<void(json&)>& change
   if (changeBin) changeBin(bin);
   writeBytes(dir / "scene.bin", bin);
   writeTexture(dir);
-  writeText(dir / "scene.gltf", doc.dump(1));
+  std::string text = doc.dump(1);
+  if (const std::size_t at = text.find("\"" + kDeepMarker + "\""); at != std::string::npos)
+    text.replace(at, kDeepMarker.size() + 2, nestedObjects(15000));
+  writeText(dir / "scene.gltf", text);
 }
 
 // The base scene as scene.glb (buffer in its BIN chunk), then `change` to its bytes.
@@ -548,8 +556,8 @@ void gltfScenes(CorpusBuilder& corpus) {
   scene("min_version_2_1", set("/asset/minVersion", "2.1"), "2.1");
   scene("required_extension", set("/extensionsRequired", {"KHR_draco_mesh_compression"}),
         "requires glTF extensions this importer does not support: KHR_draco_mesh_compression");
-  scene("extras_nested_15000", set("/extras", json::parse(nestedObjects(15000))), "nested deeper than 64 levels");
-  scene("extensions_nested_15000", set("/nodes/0/extensions", {{"EXT_deep", json::parse(nestedObjects(15000))}}),
+  scene("extras_nested_15000", set("/extras", kDeepMarker), "nested deeper than 64 levels");
+  scene("extensions_nested_15000", set("/nodes/0/extensions", {{"EXT_deep", kDeepMarker}}),
         "nested deeper than 64 levels");
   corpus.textFile("gltf_not_json", "scene.gltf", "A scene, honest", render, "not valid JSON");
   // Text that starts with the GLB magic is read as a GLB container.
@@ -860,9 +868,17 @@ void gltfScenes(CorpusBuilder& corpus) {
   corpus.add(
       "glb_deep_json", "scene.glb",
       [](const fs::path& dir) {
-        gltf::GltfBuilder deep;
-        deep.doc()["extras"] = json::parse(nestedObjects(15000));
-        deep.writeGlb(dir / "scene.glb");
+        // A GLB of one JSON chunk, written by hand (see kDeepMarker).
+        std::string text = R"({"asset": {"version": "2.0"}, "extras": )" + nestedObjects(15000) + "}";
+        while (text.size() % 4 != 0) text += ' ';
+        Bytes glb = {'g', 'l', 'T', 'F'};
+        glb.resize(20);
+        setU32(glb, 4, 2);
+        setU32(glb, 8, std::uint32_t(20 + text.size()));
+        setU32(glb, 12, std::uint32_t(text.size()));
+        setU32(glb, 16, 0x4E4F534A);
+        glb.insert(glb.end(), text.begin(), text.end());
+        writeBytes(dir / "scene.glb", glb);
       },
       renderGlb, "nested deeper than 64 levels");
 }
