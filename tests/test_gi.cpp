@@ -228,8 +228,10 @@ scene::Scene openCornell() {
 }
 
 // The reference's indirect diffuse of a view, cached on disk between test
-// processes (key: the view, the size, the samples and the path tracer's
-// SPIR-V, so a changed shader computes it anew).
+// processes in the build tree (key: the view, the size, the samples and the
+// path tracer's SPIR-V, so a changed shader computes it anew). On lavapipe
+// one takes half a minute, so ctest computes them first, in parallel, in
+// the GiReferenceCache tests below (the fixture gi_references).
 io::ImageF referenceIndirectDiffuse(gpu::Context& context, const scene::Scene& s, const std::string& name,
                                     const scene::CameraPose& camera, std::uint32_t width, std::uint32_t height,
                                     std::uint32_t spp) {
@@ -238,7 +240,7 @@ io::ImageF referenceIndirectDiffuse(gpu::Context& context, const scene::Scene& s
   char key[160];
   std::snprintf(key, sizeof key, "%s_%ux%u_%u_%.3f_%.3f_%.3f_%08x.exr", name.c_str(), width, height, spp,
                 camera.position.x, camera.position.y, camera.position.z, hash);
-  const fs::path dir = fs::temp_directory_path() / "bounce_test_references";
+  const fs::path dir = fs::path(BOUNCE_TEST_CACHE_DIR) / "gi_references";
   const fs::path file = dir / key;
   if (fs::exists(file)) return io::readImage(file);
 
@@ -260,6 +262,23 @@ io::ImageF referenceIndirectDiffuse(gpu::Context& context, const scene::Scene& s
   fs::rename(partial, file);
   return image;
 }
+
+// The two references the tests below compare with: cornell from the front,
+// and cornell without its boxes (openCornell) from the front.
+io::ImageF cornellReference(gpu::Context& context) {
+  return referenceIndirectDiffuse(context, scene::makeBuiltinScene("cornell"), "cornell", cornellFront(),
+                                  kCompareWidth, kCompareHeight, 128);
+}
+io::ImageF openCornellReference(gpu::Context& context) {
+  return referenceIndirectDiffuse(context, openCornell(), "open-cornell", cornellFront(), kCompareWidth,
+                                  kCompareHeight, 128);
+}
+
+// Not run by the test list (gtest_discover_tests leaves them out): ctest
+// runs each on its own, as the setup of the fixture gi_references.
+class GiReferenceCache : public GiTest {};
+TEST_F(GiReferenceCache, Cornell) { EXPECT_EQ(cornellReference(context()).width, int(kCompareWidth)); }
+TEST_F(GiReferenceCache, OpenCornell) { EXPECT_EQ(openCornellReference(context()).width, int(kCompareWidth)); }
 
 double relMse(const io::ImageF& reference, const io::ImageF& test) {
   return metrics::valueErrors(reference.pixels, test.pixels).relMse;
@@ -284,8 +303,7 @@ Settings noReuse() {
 // no filter history; only the previous frame's light to gather from.
 TEST_F(GiTest, ReusePaysAtTheFirstFrameWithoutHistory) {
   const scene::Scene cornell = scene::makeBuiltinScene("cornell");
-  const io::ImageF truth =
-      referenceIndirectDiffuse(context(), cornell, "cornell", cornellFront(), kCompareWidth, kCompareHeight, 128);
+  const io::ImageF truth = cornellReference(context());
   double errors[2];
   for (int reuse = 0; reuse < 2; ++reuse) {
     Run run = start(cornell, reuse ? Settings{} : noReuse(), kCompareWidth, kCompareHeight);
@@ -308,8 +326,7 @@ TEST_F(GiTest, ReusePaysAfterThirtyTwoFramesOfASlowCameraMove) {
     return p;
   };
   const scene::CameraPose start0 = along(0);
-  const io::ImageF truth =
-      referenceIndirectDiffuse(context(), cornell, "cornell", along(32), kCompareWidth, kCompareHeight, 128);
+  const io::ImageF truth = cornellReference(context());  // along(32) is the front view
   double errors[2];
   for (int reuse = 0; reuse < 2; ++reuse) {
     Run run = start(cornell, reuse ? Settings{} : noReuse(), kCompareWidth, kCompareHeight);
@@ -330,9 +347,8 @@ TEST_F(GiTest, ReusePaysAfterThirtyTwoFramesOfASlowCameraMove) {
 // bounced specularly, which the composite does not have yet: ~3 % here.
 TEST_F(GiTest, MeanMatchesTheReferenceWhenAllLitSurfacesAreOnScreen) {
   const scene::Scene open = openCornell();
-  constexpr std::uint32_t w = 96, h = 72;
-  const io::ImageF truth = referenceIndirectDiffuse(context(), open, "open-cornell", cornellFront(), w, h, 128);
-  Run run = start(open, {}, w, h, true);
+  const io::ImageF truth = openCornellReference(context());
+  Run run = start(open, {}, kCompareWidth, kCompareHeight, true);
   advance(run, cornellFront(), 100u);
   const io::ImageF mean = averageIndirect(run, cornellFront(), 60);
   const double ratio = meanLuminance(mean) / meanLuminance(truth);
