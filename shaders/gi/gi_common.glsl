@@ -9,7 +9,12 @@
 #include "shared/packing.glsl"
 #include "shared/rng.glsl"
 
-layout(set = 0, binding = 0, std140) uniform FrameBlock { GiFrameConstants frame; } gIn_Frame;
+// The frame constants live in a storage buffer, not a uniform block: lavapipe
+// (the CPU driver CI runs on) inlines uniform-block values that steer control
+// flow and compiles a new variant of the shader for every new set of values
+// (image sizes, settings), 20 s each for the larger passes. On a GPU it is a
+// few cached loads per thread.
+layout(set = 0, binding = 0, std430) readonly buffer FrameBlock { GiFrameConstants frame; } gIn_Frame;
 
 // Stable per-pass salts for rngSeed, so no two passes draw the same numbers.
 const uint kSaltGather = 0x6761u;

@@ -14,7 +14,8 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0, std140) uniform FrameBlock { FrameConstants frame; } gIn_Frame;
+// A storage buffer, as in scene_access.glsl (which says why).
+layout(set = 0, binding = 0, std430) readonly buffer FrameBlock { FrameConstants frame; } gIn_Frame;
 layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
 layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
 layout(set = 0, binding = 3, rgba8) readonly uniform image2D gIn_BaseColorMetallic;
