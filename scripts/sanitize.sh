@@ -8,7 +8,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build-sanitize
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBOUNCE_SANITIZE=ON --log-level=WARNING
+# The main build's shader cache, when there is one: the same shaders, already
+# compiled by its test run (a cold compile on lavapipe is what takes time).
+cache=()
+[ -d build/mesa_shader_cache ] && cache=(-DBOUNCE_SHADER_CACHE_DIR="$PWD/build/mesa_shader_cache")
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBOUNCE_SANITIZE=ON --log-level=WARNING "${cache[@]}"
 # Everything the CPU tests and the corpus run: their test programs (listed by
 # tests/CMakeLists.txt) and bounce.
 mapfile -t targets < "$build/sanitizer-targets.txt"
