@@ -1,7 +1,8 @@
 # Compiles GLSL compute shaders with glslc and embeds the SPIR-V words into a
 # static library, so the binary never looks shaders up at run time and no .spv
 # is ever committed. A shader is found at run time by its path below the
-# shader root without extension, e.g. "render/direct_sun".
+# shader root without extension, e.g. "render/direct_sun", and by whether
+# its constant blocks are uniform blocks or storage buffers.
 function(bounce_embed_shaders target shader_root)
   set(sources ${ARGN})
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/embedded_shaders)
@@ -12,21 +13,32 @@ function(bounce_embed_shaders target shader_root)
   foreach(src IN LISTS sources)
     file(RELATIVE_PATH rel ${shader_root} ${src})
     string(REGEX REPLACE "\\.comp$" "" key ${rel})
-    set(inc ${out_dir}/${key}.spv.inc)
-    get_filename_component(inc_dir ${inc} DIRECTORY)
-    add_custom_command(
-      OUTPUT ${inc}
-      COMMAND ${CMAKE_COMMAND} -E make_directory ${inc_dir}
-      COMMAND ${GLSLC} --target-env=vulkan1.3 -O -g -Werror -I ${shader_root}
-              -MD -MF ${inc}.d -mfmt=num -o ${inc} ${src}
-      DEPENDS ${src}
-      DEPFILE ${inc}.d
-      COMMENT "glslc ${rel}"
-      VERBATIM)
-    list(APPEND generated ${inc})
-    string(APPEND arrays "const uint32_t kShader${index}[] = {\n#include \"${key}.spv.inc\"\n};\n")
-    string(APPEND table_entries "    {\"${key}\", kShader${index}, sizeof(kShader${index}) / sizeof(uint32_t)},\n")
-    math(EXPR index "${index} + 1")
+    # Two variants of each: constant blocks as uniform blocks (GPUs), and as
+    # storage buffers (CPU drivers; shaders/gpu/constant_block.glsl says why).
+    foreach(variant uniform storage)
+      set(inc ${out_dir}/${key}.${variant}.spv.inc)
+      set(defines "")
+      set(storage false)
+      if(variant STREQUAL "storage")
+        set(defines -DBOUNCE_CONSTANTS_IN_STORAGE_BUFFERS)
+        set(storage true)
+      endif()
+      get_filename_component(inc_dir ${inc} DIRECTORY)
+      add_custom_command(
+        OUTPUT ${inc}
+        COMMAND ${CMAKE_COMMAND} -E make_directory ${inc_dir}
+        COMMAND ${GLSLC} --target-env=vulkan1.3 -O -g -Werror -I ${shader_root} ${defines}
+                -MD -MF ${inc}.d -mfmt=num -o ${inc} ${src}
+        DEPENDS ${src}
+        DEPFILE ${inc}.d
+        COMMENT "glslc ${rel} (${variant} constants)"
+        VERBATIM)
+      list(APPEND generated ${inc})
+      string(APPEND arrays "const uint32_t kShader${index}[] = {\n#include \"${key}.${variant}.spv.inc\"\n};\n")
+      string(APPEND table_entries
+             "    {\"${key}\", ${storage}, kShader${index}, sizeof(kShader${index}) / sizeof(uint32_t)},\n")
+      math(EXPR index "${index} + 1")
+    endforeach()
   endforeach()
   set(table_cpp ${out_dir}/embedded_shaders.cpp)
   file(CONFIGURE OUTPUT ${table_cpp} CONTENT

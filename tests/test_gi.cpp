@@ -266,12 +266,12 @@ io::ImageF referenceIndirectDiffuse(gpu::Context& context, const scene::Scene& s
 // The two references the tests below compare with: cornell from the front,
 // and cornell without its boxes (openCornell) from the front.
 io::ImageF cornellReference(gpu::Context& context) {
-  return referenceIndirectDiffuse(context, scene::makeBuiltinScene("cornell"), "cornell", cornellFront(),
-                                  kCompareWidth, kCompareHeight, 128);
+  return referenceIndirectDiffuse(context, scene::makeBuiltinScene("cornell"), "cornell", cornellFront(), kCompareWidth,
+                                  kCompareHeight, 128);
 }
 io::ImageF openCornellReference(gpu::Context& context) {
-  return referenceIndirectDiffuse(context, openCornell(), "open-cornell", cornellFront(), kCompareWidth,
-                                  kCompareHeight, 128);
+  return referenceIndirectDiffuse(context, openCornell(), "open-cornell", cornellFront(), kCompareWidth, kCompareHeight,
+                                  128);
 }
 
 // Not run by the test list (gtest_discover_tests leaves them out): ctest
@@ -355,6 +355,35 @@ TEST_F(GiTest, MeanMatchesTheReferenceWhenAllLitSurfacesAreOnScreen) {
   std::printf("open cornell: mean indirect diffuse %.4f, reference %.4f, ratio %.3f\n", meanLuminance(mean),
               meanLuminance(truth), ratio);
   EXPECT_NEAR(ratio, 1.0, 0.10);
+}
+
+// Every shader runs in two variants (shaders/gpu/constant_block.glsl):
+// lavapipe, as in CI, takes the one whose constant blocks are storage
+// buffers; GPUs the one with uniform blocks. Both must make the same frames.
+TEST_F(GiTest, UniformAndStorageConstantBlocksRenderTheSameFrames) {
+  const scene::Scene cornell = scene::makeBuiltinScene("cornell");
+  std::vector<io::ImageF> frames;
+  for (const bool storage : {true, false}) {
+    gpu::ContextOptions options;
+    options.validation = true;
+    options.printValidationMessages = false;
+    options.constantsInStorageBuffers = storage;
+    context_ = std::make_unique<gpu::Context>(options);  // TearDown checks the last one's messages
+    ASSERT_EQ(context().constantsInStorageBuffers(), storage);
+    {
+      Run run = start(cornell, {}, 32, 24);
+      advance(run, cornellFront(), 4u);
+      frames.push_back(rgb(gpu::readbackImage(context(), run.gi->composite())));
+    }
+    EXPECT_TRUE(context().validationMessages().empty()) << context().validationMessages().front();
+  }
+  float largest = 0.0f, difference = 0.0f;
+  for (std::size_t i = 0; i < frames[0].pixels.size(); ++i) {
+    largest = std::max(largest, frames[0].pixels[i]);
+    difference = std::max(difference, std::abs(frames[0].pixels[i] - frames[1].pixels[i]));
+  }
+  EXPECT_GT(largest, 0.0f);
+  EXPECT_LE(difference, 1e-5f * largest) << "largest value " << largest;
 }
 
 TEST_F(GiTest, AStaticCameraIsStable) {

@@ -4,17 +4,13 @@
 #ifndef BOUNCE_GI_COMMON_GLSL
 #define BOUNCE_GI_COMMON_GLSL
 
+#include "gpu/constant_block.glsl"
 #include "gi/gi_types.glsl"
 #include "shared/finite.glsl"
 #include "shared/packing.glsl"
 #include "shared/rng.glsl"
 
-// The frame constants live in a storage buffer, not a uniform block: lavapipe
-// (the CPU driver CI runs on) inlines uniform-block values that steer control
-// flow and compiles a new variant of the shader for every new set of values
-// (image sizes, settings), 20 s each for the larger passes. On a GPU it is a
-// few cached loads per thread.
-layout(set = 0, binding = 0, std430) readonly buffer FrameBlock { GiFrameConstants frame; } gIn_Frame;
+layout(set = 0, binding = 0, std140) CONSTANT_BLOCK FrameBlock { GiFrameConstants frame; } gIn_Frame;
 
 // Stable per-pass salts for rngSeed, so no two passes draw the same numbers.
 const uint kSaltGather = 0x6761u;

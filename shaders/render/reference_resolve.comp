@@ -8,14 +8,14 @@
 //   gOut_Diffuse    indirect diffuse, demodulated (as the GI passes output it)
 //   gOut_Specular   indirect specular, demodulated by specularReflectance()
 //   gOut_Radiance   direct + base colour (1 - metallic) diffuse + specularReflectance specular
+#include "gpu/constant_block.glsl"
 #include "render/frame_types.glsl"
 #include "render/reference_types.glsl"
 #include "shared/brdf.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// A storage buffer, as in scene_access.glsl (which says why).
-layout(set = 0, binding = 0, std430) readonly buffer FrameBlock { FrameConstants frame; } gIn_Frame;
+layout(set = 0, binding = 0, std140) CONSTANT_BLOCK FrameBlock { FrameConstants frame; } gIn_Frame;
 layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
 layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
 layout(set = 0, binding = 3, rgba8) readonly uniform image2D gIn_BaseColorMetallic;

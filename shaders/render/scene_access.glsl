@@ -8,15 +8,11 @@
 #ifndef BOUNCE_RENDER_SCENE_ACCESS_GLSL
 #define BOUNCE_RENDER_SCENE_ACCESS_GLSL
 
+#include "gpu/constant_block.glsl"
 #include "render/frame_types.glsl"
 #include "shared/packing.glsl"
 
-// The frame constants live in a storage buffer, not a uniform block: lavapipe
-// (the CPU driver CI runs on) inlines uniform-block values that steer control
-// flow and compiles a new variant of the shader for every new set of values
-// (image sizes, settings), 20 s each for the larger passes. On a GPU it is a
-// few cached loads per thread.
-layout(set = 0, binding = 0, std430) readonly buffer FrameBlock { FrameConstants frame; } gIn_Frame;
+layout(set = 0, binding = 0, std140) CONSTANT_BLOCK FrameBlock { FrameConstants frame; } gIn_Frame;
 layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial items[]; } gIn_Materials;
 layout(set = 0, binding = 2, std430) readonly buffer Instances { GpuInstance items[]; } gIn_Instances;
 // Per vertex: x = octahedral normal, y = octahedral tangent whose lowest bit

@@ -14,7 +14,7 @@ using gpu::ResourceKind;
 using namespace gpu::formats;
 
 ResourceDecl frameConstants() {
-  return {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "cameras, sizes, settings", ResourceKind::StorageBuffer};
+  return {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "cameras, sizes, settings", ResourceKind::UniformBuffer};
 }
 ResourceDecl viewZ() { return {"gIn_ViewZ", Access::Read, kR32f, "positive view depth; 0 = background"}; }
 ResourceDecl normalRoughness() {

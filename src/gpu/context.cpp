@@ -254,6 +254,11 @@ Context::Context(const ContextOptions& options)
     }
     physicalDevice_ = devices[chosen];
     deviceInfo_ = infos[chosen];
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 driverProperties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+    vkGetPhysicalDeviceProperties2(physicalDevice_, &driverProperties);
+    constantsInStorageBuffers_ =
+        options.constantsInStorageBuffers.value_or(driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE);
     vkGetPhysicalDeviceProperties(physicalDevice_, &properties_);
     vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
     queueFamily_ = *chooseQueueFamily(physicalDevice_);

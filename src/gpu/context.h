@@ -26,6 +26,10 @@ struct ContextOptions {
   // Print validation messages to stderr as they arrive (tests turn this off
   // and assert on the log instead).
   bool printValidationMessages = true;
+  // Which variant of the shaders to run (shaders/gpu/constant_block.glsl):
+  // constant blocks as read-only storage buffers, or as uniform blocks.
+  // Empty = storage buffers on lavapipe, uniform blocks elsewhere.
+  std::optional<bool> constantsInStorageBuffers;
 };
 
 struct DeviceInfo {
@@ -60,6 +64,9 @@ class Context {
   const DeviceInfo& deviceInfo() const { return deviceInfo_; }
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   bool validationEnabled() const { return validation_; }
+  // Whether passes run the shader variant whose constant blocks are storage
+  // buffers (ContextOptions::constantsInStorageBuffers).
+  bool constantsInStorageBuffers() const { return constantsInStorageBuffers_; }
   bool debugLabelsAvailable() const { return debugUtils_; }
 
   // Validation messages (warnings and errors) received so far.
@@ -101,6 +108,7 @@ class Context {
                                            const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
 
   bool validation_ = false;
+  bool constantsInStorageBuffers_ = false;
   bool printMessages_ = true;
   bool debugUtils_ = false;
   VkInstance instance_ = VK_NULL_HANDLE;

@@ -38,8 +38,11 @@ const char* accessName(Access access) {
 }
 
 // Checks the host declaration against the reflected shader and returns the
-// reflected binding of each declared resource, in declaration order.
-std::vector<ReflectedBinding> matchDeclarations(const PassDesc& desc, const ShaderReflection& reflection) {
+// reflected binding of each declared resource, in declaration order. In the
+// shader variant whose constant blocks are storage buffers, a declared
+// uniform buffer is one (read-only) storage buffer.
+std::vector<ReflectedBinding> matchDeclarations(const PassDesc& desc, const ShaderReflection& reflection,
+                                                bool constantsInStorageBuffers) {
   auto fail = [&](const std::string& why) { return GpuError("pass '" + desc.name + "': " + why); };
   auto shaderNames = [&] {
     std::string list;
@@ -58,7 +61,9 @@ std::vector<ReflectedBinding> matchDeclarations(const PassDesc& desc, const Shad
       throw fail("binding '" + decl.name + "' is declared on the host but shader '" + desc.shader +
                  "' has no such binding (shader bindings: " + shaderNames() + ")");
     if (found->set != 0) throw fail("binding '" + decl.name + "' must be in descriptor set 0");
-    if (found->kind != decl.kind)
+    const ResourceKind expected =
+        constantsInStorageBuffers && decl.kind == ResourceKind::UniformBuffer ? ResourceKind::StorageBuffer : decl.kind;
+    if (found->kind != expected)
       throw fail("binding '" + decl.name + "' is declared as a " + kindName(decl.kind) + " but the shader has a " +
                  kindName(found->kind));
     if (decl.kind == ResourceKind::StorageImage) {
@@ -91,9 +96,9 @@ std::vector<ReflectedBinding> matchDeclarations(const PassDesc& desc, const Shad
 }  // namespace
 
 ComputePass::ComputePass(Context& context, PassDesc desc) : context_(context), desc_(std::move(desc)) {
-  std::span<const std::uint32_t> spirv = findShader(desc_.shader);
+  std::span<const std::uint32_t> spirv = findShader(desc_.shader, context.constantsInStorageBuffers());
   reflection_ = reflectShader(spirv, desc_.shader);
-  bindings_ = matchDeclarations(desc_, reflection_);
+  bindings_ = matchDeclarations(desc_, reflection_, context.constantsInStorageBuffers());
 
   VkDevice device = context.device();
   std::vector<VkDescriptorSetLayoutBinding> layoutBindings;

@@ -146,14 +146,17 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
   bufferInfos_.reserve(desc.resources.size());
   for (std::size_t i = 0; i < desc.resources.size(); ++i) {
     const ResourceDecl& decl = desc.resources[i];
+    // What the pipeline binds there: a declared uniform buffer is a storage
+    // buffer in the shader variant for CPU drivers (gpu/constant_block.glsl).
+    const ResourceKind kind = pass.binding(i).kind;
     const Bind* bind = ordered_[i];
     if (!bind) throw fail("resource '" + decl.name + "' is not bound");
-    const bool isImage = decl.kind == ResourceKind::StorageImage || decl.kind == ResourceKind::SampledImage;
+    const bool isImage = kind == ResourceKind::StorageImage || kind == ResourceKind::SampledImage;
     if (isImage != (bind->image != nullptr))
       throw fail("'" + decl.name + "' needs " + (isImage ? "an image" : "a buffer"));
     const bool writes = decl.access != Access::Read;
     VkAccessFlags2 access = VK_ACCESS_2_NONE;
-    switch (decl.kind) {
+    switch (kind) {
       case ResourceKind::StorageImage:
       case ResourceKind::StorageBuffer:
         if (decl.access != Access::Write) access |= VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
@@ -172,7 +175,7 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
     write.descriptorCount = 1;
     if (isImage) {
       Image& image = *bind->image;
-      if (decl.kind == ResourceKind::StorageImage && image.format() != decl.format)
+      if (kind == ResourceKind::StorageImage && image.format() != decl.format)
         throw fail("'" + decl.name + "' is declared " + formatInfo(decl.format).name + " but image '" + image.name() +
                    "' is " + formatInfo(image.format()).name);
       require(image.sync(), image.handle(), image.desc().mipLevels, VK_IMAGE_LAYOUT_GENERAL, kCompute, access, writes);
@@ -181,19 +184,18 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
       if (bind->mipLevel != Bind::kAllMips)
         info.imageView = image.mipView(bind->mipLevel);
       else
-        info.imageView = decl.kind == ResourceKind::StorageImage ? image.mipView(0) : image.view();
+        info.imageView = kind == ResourceKind::StorageImage ? image.mipView(0) : image.view();
       info.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
-      if (decl.kind == ResourceKind::SampledImage)
-        info.sampler = bind->sampler ? bind->sampler : context_.linearSampler();
+      if (kind == ResourceKind::SampledImage) info.sampler = bind->sampler ? bind->sampler : context_.linearSampler();
       imageInfos_.push_back(info);
-      write.descriptorType = decl.kind == ResourceKind::SampledImage ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-                                                                     : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+      write.descriptorType = kind == ResourceKind::SampledImage ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+                                                                : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
       write.pImageInfo = &imageInfos_.back();
     } else {
       Buffer& buffer = *bind->buffer;
       // A larger buffer would be bound anyway and read out of range on some
       // devices (VUID-VkWriteDescriptorSet-descriptorType-00333/00332).
-      const bool uniform = decl.kind == ResourceKind::UniformBuffer;
+      const bool uniform = kind == ResourceKind::UniformBuffer;
       const VkDeviceSize maxRange = uniform ? context_.properties().limits.maxUniformBufferRange
                                             : context_.properties().limits.maxStorageBufferRange;
       if (buffer.size() > maxRange)
@@ -201,8 +203,8 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
                    "' is larger than this device binds (" + std::to_string(maxRange) + " bytes)");
       require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kCompute, access, writes);
       bufferInfos_.push_back({buffer.handle(), 0, VK_WHOLE_SIZE});
-      write.descriptorType = decl.kind == ResourceKind::UniformBuffer ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                                                                      : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      write.descriptorType =
+          kind == ResourceKind::UniformBuffer ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       write.pBufferInfo = &bufferInfos_.back();
     }
     writes_.push_back(write);

@@ -5,11 +5,13 @@
 
 namespace bounce::gpu {
 
-std::span<const std::uint32_t> findShader(std::string_view name) {
+std::span<const std::uint32_t> findShader(std::string_view name, bool constantsInStorageBuffers) {
   for (const EmbeddedShader& shader : embeddedShaders())
-    if (name == shader.name) return {shader.words, shader.wordCount};
+    if (name == shader.name && shader.constantsInStorageBuffers == constantsInStorageBuffers)
+      return {shader.words, shader.wordCount};
   std::string known;
-  for (const EmbeddedShader& shader : embeddedShaders()) known += std::string(known.empty() ? "" : ", ") + shader.name;
+  for (const EmbeddedShader& shader : embeddedShaders())
+    if (!shader.constantsInStorageBuffers) known += std::string(known.empty() ? "" : ", ") + shader.name;
   throw GpuError("no embedded shader named '" + std::string(name) + "' (embedded: " + known + ")");
 }
 

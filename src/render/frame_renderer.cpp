@@ -152,7 +152,7 @@ std::vector<gpu::ResourceDecl> FrameRenderer::sceneResources() {
   using gpu::ResourceKind;
   std::vector<gpu::ResourceDecl> decls = {
       {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "camera, previous camera, sun, jitter",
-       ResourceKind::StorageBuffer},
+       ResourceKind::UniformBuffer},
       {"gIn_Materials", Access::Read, VK_FORMAT_UNDEFINED, "materials", ResourceKind::StorageBuffer},
       {"gIn_Instances", Access::Read, VK_FORMAT_UNDEFINED, "instance transforms, now and before",
        ResourceKind::StorageBuffer},

@@ -49,7 +49,7 @@ gpu::PassDesc resolveDesc() {
           .shader = "render/reference_resolve",
           .resources =
               {
-                  {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "camera", gpu::ResourceKind::StorageBuffer},
+                  {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "camera", gpu::ResourceKind::UniformBuffer},
                   {"gIn_ViewZ", Access::Read, kR32f, "background mask"},
                   {"gIn_NormalRoughness", Access::Read, kRgba16f, "for specularReflectance"},
                   {"gIn_BaseColorMetallic", Access::Read, kRgba8, "remodulation"},
