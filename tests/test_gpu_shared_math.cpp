@@ -89,9 +89,15 @@ TEST_F(SharedMathOnGpu, MatchesCpuOnThousandsOfRandomInputs) {
     }
     ASSERT_TRUE(closeEnough(gpu.normalHit.w, cpu.normalHit.w, 1e-4f, 1e-5f)) << "intersectSphere, input " << i;
     ASSERT_TRUE(closeEnough(gpu.display.w, cpu.display.w, 1e-4f, 1e-5f)) << "displayEncode, input " << i;
-    ASSERT_TRUE(closeEnough(gpu.material.x, cpu.material.x, 2e-3f, 1e-5f))
+    // At the peak of a sharp lobe (values far above 1), GGX's D subtracts two
+    // nearly equal numbers, 1 - (n.h)^2 (1 - alpha^2): one rounding step of the
+    // half vector becomes a relative error of several 1e-3 (an H100 gave
+    // 149.42 for the CPU's 149.07).
+    const auto lobeTolerance = [](float value) { return std::abs(value) > 10.0f ? 1e-2f : 2e-3f; };
+    ASSERT_TRUE(closeEnough(gpu.material.x, cpu.material.x, lobeTolerance(cpu.material.x), 1e-5f))
         << "materialBrdfCosine, input " << i << ": " << gpu.material.x << " vs " << cpu.material.x;
-    ASSERT_TRUE(closeEnough(gpu.material.y, cpu.material.y, 2e-3f, 1e-5f)) << "pdfMaterial, input " << i;
+    ASSERT_TRUE(closeEnough(gpu.material.y, cpu.material.y, lobeTolerance(cpu.material.y), 1e-5f))
+        << "pdfMaterial, input " << i << ": " << gpu.material.y << " vs " << cpu.material.y;
     ASSERT_TRUE(closeEnough(gpu.material.z, cpu.material.z, 1e-4f, 1e-6f)) << "specularReflectance, input " << i;
     ASSERT_EQ(gpu.sampled.w, cpu.sampled.w) << "sampleMaterial's verdict, input " << i;
     // The bit test must survive the GPU compiler, which may assume no NaN.
