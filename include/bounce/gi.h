@@ -1,10 +1,12 @@
 // The Bounce GI library: screen-space ReSTIR global illumination for an
-// engine's G-buffer. It sees images and camera matrices, never a scene.
+// engine's G-buffer, recorded into the engine's own command buffers on the
+// engine's own Vulkan device. It sees images and camera matrices, never a
+// scene. docs/integration.md walks through an integration step by step.
 //
-//   gi::GiContext gi(device, width, height, settings);
-//   every frame, after the engine's G-buffer and direct light:
-//     gi.record(recorder, inputs);            // into the engine's command buffer
-//     ... present or read gi.composite() (HDR), gi.indirectDiffuse() ...
+//   bounce::gi::GiContext gi(device, {.maxWidth = 1920, .maxHeight = 1080});
+//   every frame, after the engine's G-buffer and direct light, in its command buffer:
+//     gi.record(commandBuffer, inputs);
+//     ... read gi.composite() (the frame, HDR) or gi.indirectDiffuse() ...
 //
 // The passes it records (docs/passes.md has each one's inputs and outputs):
 //   gi.store_history                    this frame's depth and normals, for the next frame
@@ -19,94 +21,292 @@
 //   gi.composite                        direct + albedo * indirect diffuse (+ emission)
 // The composite is what the next frame's gathering samples, so light keeps
 // bouncing from frame to frame.
+//
+// Errors: every call that can fail throws bounce::gi::Error (a
+// std::runtime_error) whose message names the input or setting at fault;
+// settings are checked as gi_settings.h says. A call that throws records
+// nothing into the command buffer.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <vulkan/vulkan.h>
-#include <glm/glm.hpp>
 
 #include "bounce/gi_settings.h"
-#include "gpu/context.h"
-#include "gpu/recorder.h"
-#include "gpu/resources.h"
+#include "bounce/version.h"
 
 namespace bounce::gi {
 
-// A camera as engines keep it. Views are right-handed and look down -Z
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The engine's Vulkan device. It must be Vulkan 1.3 with the features
+// synchronization2 and maintenance4 enabled and the device extension
+// VK_KHR_push_descriptor enabled (the library writes its descriptors into
+// the command buffer: no pools, no per-frame allocations). The library
+// keeps the handles; the engine keeps them alive and destroys them after
+// the GiContext.
+struct Device {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  // The family of the queues the command buffers given to record() are
+  // submitted to; it must support compute.
+  std::uint32_t queueFamily = 0;
+  // VK_EXT_debug_utils is enabled on the instance: the library names its
+  // images and pipelines and labels each pass in the command buffer (what
+  // RenderDoc, Nsight and validation messages then show).
+  bool debugUtils = false;
+};
+
+// One of the engine's images as it is when record() is called.
+//   - `view` is a 2D view of mip 0 (of every mip for the environment).
+//   - `layout`, `stage`, `access`: the layout the image is in and the stage
+//     and access of the engine's last use of it before record() (e.g. a
+//     compute shader's write: VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+//     VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT). The library's first barrier waits
+//     for that use; an image the engine has not touched is UNDEFINED / NONE.
+// The library reads inputs as sampled images (texelFetch), so they need
+// VK_IMAGE_USAGE_SAMPLED_BIT; it never writes them.
+struct ImageRef {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::uint32_t mipLevels = 1;
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkPipelineStageFlags2 stage = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 access = VK_ACCESS_2_NONE;
+};
+
+// A camera as engines keep it: column-major 4x4 matrices (m[column * 4 +
+// row], as glm and GLSL store them). Views are right-handed and look down -Z
 // with +Y up; the projection must be a symmetric perspective (what
 // glm::perspective makes, with or without Vulkan's flipped Y), with any
 // sub-pixel jitter given apart, in pixels.
 struct Camera {
-  glm::mat4 worldToView{1.0f};
-  glm::mat4 viewToClip{1.0f};
-  glm::vec2 jitter{0.0f};  // the G-buffer's sample of pixel (i, j) lies at (i + 0.5, j + 0.5) + jitter
+  float worldToView[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  float viewToClip[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  float jitter[2] = {0.0f, 0.0f};  // the G-buffer's sample of pixel (i, j) lies at (i + 0.5, j + 0.5) + jitter
 };
 
-// What the engine hands the library each frame: its images (all the
-// context's size, in these formats; docs/conventions.md) and cameras. No
-// image value is trusted to be finite: NaN or infinity in an input makes that
-// pixel background, a disocclusion or no light (docs/gi.md, "Non-finite
-// inputs"), and nothing the library stores is ever non-finite.
+// What the engine hands the library each frame. The frame covers the
+// rectangle [0, width) x [0, height) of every image (images may be larger:
+// the render size can change from frame to frame up to the context's
+// maximum; a change of size restarts the history, as a camera cut does).
+//
+// Accepted formats (docs/conventions.md has the conventions):
+//   viewZ              R32_SFLOAT, R16_SFLOAT: positive distance along the view axis; 0 = background
+//   normalRoughness    R16G16B16A16_SFLOAT: world shading normal xyz, perceptual roughness w;
+//                      A2B10G10R10_UNORM_PACK32: octahedral normal in rg, stored as
+//                      encodeOctahedral(n) * 0.5 + 0.5 (shaders/shared/packing.glsl), roughness in b
+//   baseColorMetallic  R8G8B8A8_UNORM, R8G8B8A8_SRGB: base colour rgb (linear once read), metallic a
+//   motion             R16G16_SFLOAT, R32G32_SFLOAT: times Settings::input.motionScale, the
+//                      offset in pixels from this frame's pixel to where it was in the last one
+//   direct             R16G16B16A16_SFLOAT, R32G32B32A32_SFLOAT: direct light, linear HDR;
+//                      background pixels show the sky
+//   emissive           optional (image VK_NULL_HANDLE: `direct` holds the emission), as `direct`
+//   environment        R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT equirect with a prefiltered mip
+//                      chain (mip k = GGX roughness k / (levels - 1)): EnvironmentPrefilter makes one
+// A NaN or infinite value in any input is treated as invalid (no surface,
+// no light, no history), never passed on (docs/reliability.md).
 struct FrameInputs {
-  gpu::Image* viewZ = nullptr;                    // r32f: positive distance along the view axis; 0 = background
-  gpu::Image* normalRoughness = nullptr;          // rgba16f: world shading normal, perceptual roughness
-  gpu::Image* baseColorMetallic = nullptr;        // rgba8: linear base colour, metallic
-  gpu::Image* motion = nullptr;                   // rg16f: pixels, previous position = current + motion
-  gpu::Image* direct = nullptr;                   // rgba16f: direct light, linear HDR; background pixels show the sky
-  gpu::Image* emissive = nullptr;                 // optional rgba16f: emission, added by the composite (leave null
-                                                  // when `direct` already holds it)
-  gpu::Image* environment = nullptr;              // rgba16f equirect with a prefiltered mip chain (mip k = GGX
-                                                  // roughness k / (levels - 1)); sampled
-  VkSampler environmentSampler = VK_NULL_HANDLE;  // repeats in u
+  ImageRef viewZ;
+  ImageRef normalRoughness;
+  ImageRef baseColorMetallic;
+  ImageRef motion;
+  ImageRef direct;
+  ImageRef emissive;
+  ImageRef environment;
+  VkSampler environmentSampler = VK_NULL_HANDLE;  // linear, repeating in u, clamped in v
+  std::uint32_t width = 0;                        // the render size, at most the context's maximum
+  std::uint32_t height = 0;
   Camera camera;
   Camera previousCamera;  // ignored on a cut
   std::uint64_t frameIndex = 0;
   bool cameraCut = false;  // nothing of earlier frames is reused
+  // Copy every pass's output of this frame for debugging; collect() returns
+  // the copies once the frame has run.
+  bool captureStages = false;
 };
 
-// An image the library made, for --dump-stages and debugging.
-struct NamedImage {
-  std::string name;
-  gpu::Image* image;
+// What the library does with the engine's input images after its passes.
+enum class InputState {
+  // Transitioned back to the layout they had (ImageRef::layout), after a
+  // barrier from the library's reads to the stage and access they had: the
+  // engine can go on as if the library had not been there.
+  Restore,
+  // Left in VK_IMAGE_LAYOUT_GENERAL, last used by compute-shader sampled
+  // reads; the engine barriers from there.
+  LeaveGeneral,
+};
+
+struct ContextDesc {
+  std::uint32_t maxWidth = 0;  // the largest render size; the library's images are this big
+  std::uint32_t maxHeight = 0;
+  // Frames the engine has in flight at most: record() of frame N may reuse
+  // what frame N - framesInFlight used (timestamp queries, stage copies).
+  std::uint32_t framesInFlight = 2;
+  bool timestamps = true;  // time every pass (collect() returns the times)
+  InputState inputState = InputState::Restore;
+};
+
+// How an image of the library is best looked at (bounce --dump-stages uses it).
+enum class Visualization {
+  Radiance,  // linear HDR: exposure + tonemap + sRGB
+  Color,     // linear [0,1] colour: sRGB encode
+  Signed,    // [-1,1] vectors: x * 0.5 + 0.5
+  Range,     // scalar data: min..max to black..white
+  Raw,       // stored values, clamped to [0,1]
+  Motion,    // 2D vectors, scaled by the largest
+  Ids,       // integer labels: a colour each
+  Heat,      // positive scalars spanning decades: log scale, magma colours
+};
+
+// An image the library owns, in the state the last record() left it: layout
+// GENERAL, last written by a compute shader (stage COMPUTE_SHADER, access
+// SHADER_STORAGE_WRITE). The engine may read it (sample it, copy it) with a
+// barrier from there; if it moves it to another layout it must move it back
+// to GENERAL before the next record().
+struct LibraryImage {
+  std::string name;  // e.g. "gi.diffuse.reservoirs0"
+  ImageRef image;
+  Visualization visualization = Visualization::Raw;
+  std::string purpose;
+};
+
+struct PassTiming {
+  std::uint64_t frameIndex = 0;
+  std::string pass;  // e.g. "gi.diffuse.resolve"
+  double milliseconds = 0.0;
+};
+
+// A copy of one image a pass wrote, taken right after that pass ran (so
+// later passes that reuse the image do not hide it). Texels of mip 0,
+// tightly packed rows, in `format`.
+struct CapturedStage {
+  std::uint64_t frameIndex = 0;
+  std::string pass;     // e.g. "gi.diffuse.resolve"
+  std::string binding;  // the shader's name for it, e.g. "gOut_Diffuse"
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  Visualization visualization = Visualization::Raw;
+  std::vector<std::uint8_t> texels;
+};
+
+struct FrameResults {
+  std::vector<PassTiming> timings;       // in recorded order, frame by frame
+  std::vector<CapturedStage> stages;
 };
 
 class GiContext {
  public:
-  // Throws std::invalid_argument for bad settings or sizes (0, or above 16384).
-  GiContext(gpu::Context& device, std::uint32_t width, std::uint32_t height, const Settings& settings = {});
+  // Creates the library's images (pooled in a few allocations of device
+  // memory), samplers and pipelines on the engine's device. Throws Error
+  // when the device lacks what the library needs, when the size is 0 or
+  // above 16384, and for settings gi_settings.h's validate() refuses.
+  GiContext(const Device& device, const ContextDesc& desc, const Settings& settings = {});
   ~GiContext();
   GiContext(const GiContext&) = delete;
   GiContext& operator=(const GiContext&) = delete;
 
-  // Records every pass for one frame. Throws std::invalid_argument naming the
-  // input when an image is missing, of the wrong size or format, or a camera
-  // is not finite or not a symmetric perspective.
-  void record(gpu::Recorder& recorder, const FrameInputs& frame);
+  // Records every pass of one frame into `commandBuffer`, which is in the
+  // recording state and will be submitted to a queue of Device::queueFamily
+  // after everything recorded before and before everything recorded after.
+  // Transitions what it needs and leaves inputs as ContextDesc::inputState
+  // says. Throws Error naming the input when an image is missing, too
+  // small for the render size, of a format not listed above, or a camera is
+  // not finite or not a symmetric perspective.
+  void record(VkCommandBuffer commandBuffer, const FrameInputs& frame);
+
+  // Timings and stage copies of the frames recorded so far whose command
+  // buffers have completed: the engine passes the index of the last frame it
+  // knows has finished on the GPU (after waiting on its fence). Throws Error
+  // for a frame index never recorded.
+  FrameResults collect(std::uint64_t completedFrameIndex);
 
   // Indirect diffuse after the temporal filter, demodulated (light arriving
-  // through a white Lambert lobe; multiply by base colour (1 - metallic)).
-  gpu::Image& indirectDiffuse();
-  // The composited HDR frame (rgba16f).
-  gpu::Image& composite();
-  // Every image of the library (history, reservoirs, intermediate results).
-  std::vector<NamedImage> images();
+  // through a white Lambert lobe; multiply by base colour (1 - metallic));
+  // RGBA16F, alpha the history length in frames. See LibraryImage for its state.
+  ImageRef indirectDiffuse() const;
+  // The composited frame: linear HDR, RGBA16F.
+  ImageRef composite() const;
+  // Every image of the library, by name (history, reservoirs, intermediate results).
+  std::vector<LibraryImage> images() const;
 
+  // Device memory the library holds (its images and buffers), in bytes.
+  std::uint64_t memoryBytes() const;
   const Settings& settings() const;
-  std::uint32_t width() const;
-  std::uint32_t height() const;
+  std::uint32_t maxWidth() const;
+  std::uint32_t maxHeight() const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
-// The Camera for a view whose basis and field of view are given directly:
-// `right`, `up`, `forward` orthonormal, fovY in radians, aspect = width / height.
-Camera cameraFromBasis(glm::vec3 position, glm::vec3 right, glm::vec3 up, glm::vec3 forward, float fovY, float aspect,
-                       glm::vec2 jitter = glm::vec2(0.0f));
+// What EnvironmentPrefilter makes: an equirectangular image of `width` x
+// `height` texels (2:1 is what the mapping expects) whose mip k is the
+// environment prefiltered for GGX perceptual roughness k / (levels - 1);
+// levels down to 8 texels tall, at most maxMipLevels.
+struct PrefilterDesc {
+  std::uint32_t width = 1024;  // 8..16384
+  std::uint32_t height = 512;  // 4..8192
+  std::uint32_t maxMipLevels = 6;      // 1..16
+  std::uint32_t samplesPerTexel = 256;  // GGX samples of each prefiltered texel, 1..65536
+};
+
+// The environment input the library needs, made from an equirectangular HDR
+// image of the engine's (linear radiance, any size): a copy resampled to the
+// desc's size with a GGX-prefiltered mip chain, and the sampler to read it
+// with (linear, repeating in u across the seam, clamped at the poles).
+// Recorded into the engine's command buffer like GiContext.
+class EnvironmentPrefilter {
+ public:
+  // Throws Error for a desc out of range and for what GiContext's
+  // constructor refuses about the device.
+  EnvironmentPrefilter(const Device& device, const PrefilterDesc& desc = {});
+  ~EnvironmentPrefilter();
+  EnvironmentPrefilter(const EnvironmentPrefilter&) = delete;
+  EnvironmentPrefilter& operator=(const EnvironmentPrefilter&) = delete;
+
+  // Records the prefiltering of `equirect` (R16G16B16A16_SFLOAT or
+  // R32G32B32A32_SFLOAT, sampled; `view` shows its mip 0; handed back as
+  // InputState::Restore says). Record it when the environment changes,
+  // before the frames that use it. Throws Error for a missing image, a
+  // format not listed or an UNDEFINED layout (the message names them).
+  // `captureStages`: copy every pass's output, for collect().
+  void record(VkCommandBuffer commandBuffer, const ImageRef& equirect, bool captureStages = false);
+  // The pass times (timings' frameIndex 0) and stage copies of the last
+  // record(), once its command buffer has completed; empty after the first
+  // call. Throws Error when the command buffer has not completed.
+  FrameResults collect();
+
+  // The prefiltered environment for FrameInputs::environment: R16G16B16A16_SFLOAT,
+  // all mipLevels() in its view; once record() has run, in layout GENERAL,
+  // last written by a compute shader (stage COMPUTE_SHADER, access SHADER_STORAGE_WRITE).
+  ImageRef output() const;
+  VkSampler sampler() const;
+  std::uint32_t mipLevels() const;
+  std::uint64_t memoryBytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The Camera of a view whose basis and field of view are given directly:
+// `right`, `up`, `forward` orthonormal (x, y, z each), fovY in radians,
+// aspect = width / height.
+Camera cameraFromBasis(const float position[3], const float right[3], const float up[3], const float forward[3],
+                       float fovY, float aspect, const float jitter[2] = nullptr);
 
 }  // namespace bounce::gi

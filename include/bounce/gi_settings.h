@@ -68,8 +68,25 @@ struct DiffuseSettings {
   std::uint32_t temporalFilterFrames = 64;  // the longest history the filter accumulates
 };
 
+// What the engine's motion vectors are in (the library's own convention:
+// pixels, previous position = current + motion).
+enum class MotionUnits : std::uint32_t {
+  Pixels = 0,  // pixels of the render size
+  Uv = 1,      // fractions of the render size ([0,1] across the frame)
+};
+
+// How the library reads the engine's inputs (docs/integration.md, "Inputs").
+struct InputSettings {
+  MotionUnits motionUnits = MotionUnits::Pixels;
+  // Multiply the motion after its units: -1 flips an axis (y up, or
+  // motion stored as current - previous).
+  float motionScaleX = 1.0f;
+  float motionScaleY = 1.0f;
+};
+
 struct Settings {
   DiffuseSettings diffuse;
+  InputSettings input;
   // false: no temporal and no spatial reuse (gathering, resolve and filters
   // stay): the baseline every reuse comparison is made against.
   bool restir = true;

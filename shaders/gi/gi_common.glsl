@@ -1,6 +1,7 @@
 // What every GI pass shares: the frame constants at binding 0 (gIn_Frame),
-// surfaces from the G-buffer and from the history, and randomness. A pass
-// declares its own images from binding 1 on.
+// surfaces of this frame and of the history, and randomness. Passes that
+// look at this frame's surfaces include gi/gbuffer.glsl too (bindings 1 and
+// 2); the three are the group every such pass binds (src/gi/frame_inputs.h).
 #ifndef BOUNCE_GI_COMMON_GLSL
 #define BOUNCE_GI_COMMON_GLSL
 
@@ -17,10 +18,9 @@ const uint kSaltGather = 0x6761u;
 const uint kSaltSpatial = 0x7370u;
 const uint kSaltResolve = 0x7265u;
 
-vec2 fullSize() { return gIn_Frame.frame.size.xy; }
-vec2 halfSize() { return gIn_Frame.frame.halfSize.xy; }
-bool historyUsable() { return gIn_Frame.frame.frame.y == 0u; }
-uint targetFunction() { return gIn_Frame.frame.candidates.w; }
+vec2 fullSize() { return gIn_Frame.frame.renderSize; }
+vec2 halfSize() { return gIn_Frame.frame.halfSize; }
+bool historyUsable() { return gIn_Frame.frame.noHistory == 0u; }
 
 bool insideFull(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(fullSize()))); }
 bool insideHalf(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(halfSize()))); }
@@ -73,7 +73,7 @@ bool similarSurface(float viewZ, vec3 normal, float otherViewZ, vec3 otherNormal
 }
 
 uint giSeed(uvec2 pixel, uint salt) {
-  return rngSeed(pixel, gIn_Frame.frame.frame.x, gIn_Frame.frame.frame.z ^ salt);
+  return rngSeed(pixel, gIn_Frame.frame.frameIndex, gIn_Frame.frame.seed ^ salt);
 }
 
 #endif

@@ -1,6 +1,9 @@
-// The constants every GI pass reads (binding 0, gIn_Frame), laid out
-// identically in GLSL (std140) and C++: two ScreenViews and vec4/uvec4s.
-// src/gi/gi_context.cpp fills them from gi::Settings and the frame inputs.
+// The constants every GI pass reads (binding 0, gIn_Frame): the cameras and
+// what the engine's frame is, laid out identically in GLSL (std140) and
+// C++. src/gi/frame_inputs.cpp fills them from gi::FrameInputs and
+// gi::Settings; each pass's declaration checks the layout against the
+// shader's SPIR-V (gpu/constants_layout.h). A branch's own settings are in
+// its own block (gi/diffuse/diffuse_types.glsl).
 #ifndef BOUNCE_GI_TYPES_GLSL
 #define BOUNCE_GI_TYPES_GLSL
 
@@ -10,19 +13,21 @@
 namespace bounce::shared {
 #endif
 
+// How gIn_NormalRoughness stores a normal (docs/integration.md, "Inputs").
+const uint kNormalEncodingXyz = 0u;         // rgba16f: world normal xyz, perceptual roughness w
+const uint kNormalEncodingOctahedral = 1u;  // rgb10_a2: octahedral normal * 0.5 + 0.5 in rg, roughness in b
+
 struct GiFrameConstants {
   ScreenView view;
-  ScreenView previousView;
-  vec4 size;           // full resolution: width, height, 1 / width, 1 / height
-  vec4 halfSize;       // reservoirs: width, height, 1 / width, 1 / height
-  uvec4 frame;         // x frame index, y 1 = no usable history (cut or first frame), z seed, w 1 = ReSTIR reuse on
-  uvec4 candidates;    // x screen, y bright, z environment candidates per pixel, w target function
-  uvec4 brightLevel;   // xy size of the bright-pixel pyramid's last level, z its level: each entry is the
-                       // brightest pixel of a 2^z x 2^z tile of the frame
-  uvec4 options;       // x resolve reservoirs, y 1 = emissive image given
-  vec4 temporal;       // x depth tolerance, y cos(normal tolerance), z max M, w environment mip
-  vec4 spatial;        // x cos(normal tolerance), y plane tolerance, z 1 = Jacobian, w off-screen environment visibility
-  vec4 resolveFilter;  // x visibility steps, y visibility thickness, z variance clipping gamma, w max history frames
+  ScreenView previousView;  // the camera last frame's images were made with
+  vec2 renderSize;          // pixels of this frame (FrameInputs::width, height)
+  vec2 halfSize;            // reservoirs: ceil(renderSize / 2)
+  vec2 motionScale;         // turns the engine's motion vectors into pixels (units and scale settings)
+  uint frameIndex;
+  uint noHistory;       // 1: nothing of earlier frames may be used (first frame, cut, new render size)
+  uint seed;            // Settings::seed
+  uint normalEncoding;  // kNormalEncoding*
+  uint hasEmissive;     // 1: the engine gave emission apart from the direct light
 };
 
 #ifdef __cplusplus

@@ -1,6 +1,6 @@
 // Screen-space visibility: marches a segment through this frame's depth
-// buffer. The including shader declares gIn_ViewZ (r32f) and includes
-// gi/gi_common.glsl first. The march reads depths raw, without
+// buffer. The including shader includes gi/gi_common.glsl and
+// gi/gbuffer.glsl first. The march reads depths raw, without
 // usableViewZ's bit test (3 % of the resolve's time on an H100, at 48
 // steps a pixel): whatever a driver makes of a NaN or infinite depth, a
 // step can only answer visible, occluded or left the screen, so a broken
@@ -8,8 +8,8 @@
 //
 // A step is blocked when the segment there lies behind the depth buffer's
 // surface by more than a sliver and by less than that surface's thickness
-// (a fraction of its viewZ, gi.diffuse.visibility_thickness): thin objects
-// do not cast shadows forever behind themselves.
+// (`thickness`, a fraction of its viewZ: gi.diffuse.visibility_thickness for
+// the diffuse branch): thin objects do not cast shadows forever behind themselves.
 #ifndef BOUNCE_GI_SCREEN_TRACE_GLSL
 #define BOUNCE_GI_SCREEN_TRACE_GLSL
 
@@ -19,8 +19,7 @@ const float kLeftScreen = -1.0f;  // the march left the screen (or passed behind
 
 // Marches `steps` points evenly from `from` to `to` (ends excluded, start
 // offset by `jitter` in [0,1) to trade banding for noise).
-float screenVisibility(vec3 from, vec3 to, uint steps, float jitter) {
-  float thickness = gIn_Frame.frame.resolveFilter.y;
+float screenVisibility(vec3 from, vec3 to, uint steps, float jitter, float thickness) {
   vec3 start = toViewSpace(gIn_Frame.frame.view, from);
   vec3 end = toViewSpace(gIn_Frame.frame.view, to);
   for (uint i = 0u; i < steps; ++i) {
@@ -29,7 +28,7 @@ float screenVisibility(vec3 from, vec3 to, uint steps, float jitter) {
     vec3 projected = projectViewPoint(gIn_Frame.frame.view, mix(start, end, t), fullSize());
     ivec2 texel = ivec2(floor(projected.xy));
     if (projected.z <= 0.0f || !insideFull(texel)) return kLeftScreen;
-    float sceneViewZ = imageLoad(gIn_ViewZ, texel).x;
+    float sceneViewZ = gbufferRawViewZ(texel);
     if (sceneViewZ <= 0.0f) continue;  // sky: nothing in the way
     float behind = projected.z - sceneViewZ;
     if (behind > 0.01f * sceneViewZ && behind < thickness * sceneViewZ) return kOccluded;
@@ -45,9 +44,9 @@ float screenVisibility(vec3 from, vec3 to, uint steps, float jitter) {
 // through a surface at the edge, or ends over one, most likely hits what is
 // beyond: it gets `offscreenVisibility` (gi.diffuse.offscreen_environment_visibility).
 // Without this, rooms leak the sky through their off-screen walls.
-float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float offscreenVisibility) {
+float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float thickness,
+                            float offscreenVisibility) {
   const float kFarthest = 64.0f;  // in multiples of the pixel's viewZ
-  float thickness = gIn_Frame.frame.resolveFilter.y;
   ivec2 size = ivec2(fullSize());
   vec3 start = toViewSpace(gIn_Frame.frame.view, from);
   vec3 step = toViewSpace(gIn_Frame.frame.view, from + direction) - start;  // one unit along the ray
@@ -59,9 +58,9 @@ float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, 
     if (projected.z <= 0.0f) return offscreenVisibility;
     if (!insideFull(texel)) {
       ivec2 edge = clamp(texel, ivec2(0), size - 1);
-      return imageLoad(gIn_ViewZ, edge).x <= 0.0f ? kVisible : offscreenVisibility;
+      return gbufferRawViewZ(edge) <= 0.0f ? kVisible : offscreenVisibility;
     }
-    float sceneViewZ = imageLoad(gIn_ViewZ, texel).x;
+    float sceneViewZ = gbufferRawViewZ(texel);
     if (sceneViewZ <= 0.0f) return kVisible;
     float behind = projected.z - sceneViewZ;
     if (behind > 0.01f * sceneViewZ && behind < thickness * sceneViewZ) return kOccluded;

@@ -9,11 +9,9 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
-layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
-layout(set = 0, binding = 3, rg32ui) writeonly uniform uimage2D gOut_Surface;
-
 #include "gi/gbuffer.glsl"
+
+layout(set = 0, binding = 3, rg32ui) writeonly uniform uimage2D gOut_Surface;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

@@ -8,7 +8,7 @@
 // largest finite value (docs/conventions.md, "Non-finite values").
 #include "render/scene_access.glsl"
 #include "shared/finite.glsl"
-#include "render/environment.glsl"
+#include "shared/environment.glsl"
 #define DIRECT_LIGHTS_BINDING 21
 #include "render/direct_lighting.glsl"
 

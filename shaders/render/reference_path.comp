@@ -19,7 +19,7 @@
 // the sums of half A, odd ones to half B, two independent estimates whose
 // difference measures how converged their mean is.
 #include "render/scene_access.glsl"
-#include "render/environment.glsl"
+#include "shared/environment.glsl"
 #define DIRECT_LIGHTS_BINDING 20
 #include "render/direct_lighting.glsl"
 #define LIGHT_SAMPLING_FIRST_BINDING 22

@@ -10,14 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/copy_bandwidth.h"
 #include "app/option_checks.h"
 #include "app/output_files.h"
 #include "app/progress.h"
-#include "gpu/copy_bandwidth.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "render/frame_renderer.h"
-#include "render/gi_inputs.h"
+#include "render/gi_bridge.h"
 #include "render/gpu_bvh.h"
 #include "scene/camera_path.h"
 
@@ -95,15 +95,21 @@ int runBench(const BenchOptions& options) {
   }
   if (options.sunAzimuth) rendererOptions.environment.sun.azimuthDegrees = *options.sunAzimuth;
   render::FrameRenderer renderer(*context, scene, rendererOptions);
-  std::unique_ptr<gi::GiContext> gi;
-  if (settings) gi = std::make_unique<gi::GiContext>(*context, options.width, options.height, *settings);
+  std::unique_ptr<render::GiBridge> gi;
+  if (settings)
+    gi = std::make_unique<render::GiBridge>(
+        *context,
+        gi::ContextDesc{.maxWidth = options.width,
+                        .maxHeight = options.height,
+                        .framesInFlight = render::FrameRenderer::kFramesInFlight},
+        *settings);
   checkDeviceMemoryFits(*context, options.width, options.height);
   std::fprintf(report, "scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
   const scene::CameraPose camera = scene::defaultCameraPath(scene)->pose(0.0f);
 
-  std::unique_ptr<gpu::CopyBandwidthProbe> copy;
+  std::unique_ptr<CopyBandwidthProbe> copy;
   if (options.copyMegabytes)
-    copy = std::make_unique<gpu::CopyBandwidthProbe>(*context, VkDeviceSize(options.copyMegabytes) << 20);
+    copy = std::make_unique<CopyBandwidthProbe>(*context, VkDeviceSize(options.copyMegabytes) << 20);
   std::unique_ptr<render::BvhRayTracer> tracer;
   std::unique_ptr<gpu::Buffer> rays, results;
   if (options.rays) {
@@ -127,7 +133,7 @@ int runBench(const BenchOptions& options) {
     const std::uint64_t index = frameCounter++;
     const render::FrameView view{camera, 0.0f, index == 0};
     renderer.record(recorder, index, view);
-    if (gi) gi->record(recorder, render::giFrameInputs(renderer, index, view, view, false));
+    if (gi) gi->record(recorder, renderer, index, view, view);
     if (tracer) {
       tracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Closest);
       anyTracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Any);
@@ -156,7 +162,7 @@ int runBench(const BenchOptions& options) {
   const double pixels = double(options.width) * double(options.height);
   for (const gpu::PassTiming& t : loop.timings().summary()) {
     const double seconds = t.medianMs * 1e-3;
-    if (copy && t.pass == gpu::CopyBandwidthProbe::kPassName) bandwidth = double(copy->bytesMoved()) / seconds / 1e9;
+    if (copy && t.pass == CopyBandwidthProbe::kPassName) bandwidth = double(copy->bytesMoved()) / seconds / 1e9;
     if (t.pass == "render.gbuffer") primaryRays = pixels / seconds;
     if (t.pass == "render.bvh_trace_rays") incoherentClosest = double(options.rays) / seconds;
     if (t.pass == "render.bvh_trace_rays_any") incoherentAny = double(options.rays) / seconds;

@@ -17,7 +17,7 @@
 #include "app/output_files.h"
 #include "app/progress.h"
 #include "gpu/frame_loop.h"
-#include "gpu/stage_dump.h"
+#include "gpuio/stage_dump.h"
 #include "io/image_io.h"
 #include "metrics/image_metrics.h"
 #include "render/reference_renderer.h"
@@ -208,7 +208,7 @@ int runReference(const ReferenceCommandOptions& options) {
                              2),
                io::PngEncoding::Linear);
   if (!captures.empty()) {
-    const auto files = gpu::writeStageDumps(sibling(out, ".stages"), captures, options.exposure);
+    const auto files = gpuio::writeStageDumps(sibling(out, ".stages"), captures, options.exposure);
     std::printf("wrote %zu stage images to %s\n", files.size(), sibling(out, ".stages").c_str());
   }
 

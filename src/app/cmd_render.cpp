@@ -15,11 +15,12 @@
 #include "app/process.h"
 #include "app/progress.h"
 #include "gpu/frame_loop.h"
-#include "gpu/stage_dump.h"
 #include "gpu/transfer.h"
+#include "gpuio/gpu_images.h"
+#include "gpuio/stage_dump.h"
 #include "io/image_io.h"
 #include "render/frame_renderer.h"
-#include "render/gi_inputs.h"
+#include "render/gi_bridge.h"
 #include "scene/builtin_scenes.h"
 #include "scene/camera_path.h"
 
@@ -131,16 +132,26 @@ int runRender(const RenderOptions& options) {
   const fs::path framesDir = outDir / "frames";
   if (everyFrame) fs::create_directories(framesDir);
   std::vector<gpu::CapturedStage> captures;
-  std::unique_ptr<gi::GiContext> giContext;
-  if (gi) giContext = std::make_unique<gi::GiContext>(*context, shot.width, shot.height, settings);
+  // The GI library on this device, through its public interface (render/gi_bridge.h).
+  std::unique_ptr<render::GiBridge> giBridge;
+  if (gi) {
+    giBridge = std::make_unique<render::GiBridge>(
+        *context,
+        gi::ContextDesc{.maxWidth = shot.width,
+                        .maxHeight = shot.height,
+                        .framesInFlight = render::FrameRenderer::kFramesInFlight},
+        settings);
+  }
   checkDeviceMemoryFits(*context, shot.width, shot.height);
   // What the frame is: the GI library's composite, or direct light alone.
-  const auto frameImage = [&]() -> gpu::Image& { return gi ? giContext->composite() : renderer.direct(); };
+  const auto frameImage = [&]() -> gpu::Image& { return gi ? giBridge->composite() : renderer.direct(); };
   render::FrameView previous{};
-  const auto recordFrame = [&](gpu::Recorder& recorder, const render::FrameView& view) {
+  const auto recordFrame = [&](gpu::Recorder& recorder, const render::FrameView& view, bool capture) {
     const std::uint64_t index = loop.frameIndex();
     renderer.record(recorder, index, view);
-    if (gi) giContext->record(recorder, render::giFrameInputs(renderer, index, view, previous, options.jitter));
+    if (gi)
+      giBridge->record(recorder, renderer, index, view, previous,
+                       {.jitter = options.jitter, .captureStages = capture});
     previous = view;
   };
   const bool warmUp = gi && options.gi.warmup > 0;
@@ -149,7 +160,7 @@ int runRender(const RenderOptions& options) {
     // histories to fill: render them at the first camera, unseen.
     ProgressBar warming("gi warm-up", options.gi.warmup);
     for (std::uint32_t i = 0; i < options.gi.warmup; ++i) {
-      recordFrame(loop.beginFrame(), {cameraFrames[0].pose, 0.0f, i == 0});
+      recordFrame(loop.beginFrame(), {cameraFrames[0].pose, 0.0f, i == 0}, false);
       loop.endFrame();
       warming.update(i + 1);
     }
@@ -165,22 +176,23 @@ int runRender(const RenderOptions& options) {
   };
   ProgressBar progress("render", options.frames);
   for (std::uint32_t frame = 0; frame < options.frames; ++frame) {
-    gpu::Recorder& recorder = loop.beginFrame(isDumpFrame(frame));
+    const bool dump = isDumpFrame(frame);
+    gpu::Recorder& recorder = loop.beginFrame(dump);
     const scene::CameraFrame& camera = cameraFrames[frame];
     // The path's first frame is a cut, unless the warm-up already stood there.
     const bool asked = std::find(options.cutFrames.begin(), options.cutFrames.end(), frame) != options.cutFrames.end();
     const bool cut = asked || (camera.cut && !(frame == 0 && warmUp));
-    recordFrame(recorder, {camera.pose, float(frame) / shot.fps, cut});
+    recordFrame(recorder, {camera.pose, float(frame) / shot.fps, cut}, dump);
     loop.endFrame();
     takeCaptures();
     if (everyFrame) {
       // Each frame's image is read back before the next reuses it.
       loop.finish();
-      const io::ImageF image = gpu::readbackImage(*context, frameImage());
+      const io::ImageF image = gpuio::readbackImage(*context, frameImage());
       char name[32];
       std::snprintf(name, sizeof name, "frame%04u", frame);
       if (options.frames > 1) {
-        const gpu::VisualizedImage view = gpu::visualize(image, gpu::Visualize::Radiance);
+        const gpuio::VisualizedImage view = gpuio::visualize(image, gpu::Visualize::Radiance);
         io::writePng(framesDir / (std::string(name) + ".png"), view.image, view.encoding, options.exposure);
         if (animate) animation.push_back(io::toDisplay(view.image, view.encoding, options.exposure));
       }
@@ -188,7 +200,7 @@ int runRender(const RenderOptions& options) {
         io::writeExr(framesDir / (std::string(name) + ".exr"), image);
         if (gi)
           io::writeExr(framesDir / (std::string(name) + ".indirect-diffuse.exr"),
-                       gpu::readbackImage(*context, giContext->indirectDiffuse()));
+                       gpuio::readbackImage(*context, giBridge->indirectDiffuse()));
       }
     }
     progress.update(frame + 1);
@@ -197,8 +209,8 @@ int runRender(const RenderOptions& options) {
   progress.finish();
   takeCaptures();
 
-  const io::ImageF final = gpu::readbackImage(*context, frameImage());
-  const gpu::VisualizedImage view = gpu::visualize(final, gpu::Visualize::Radiance);
+  const io::ImageF final = gpuio::readbackImage(*context, frameImage());
+  const gpuio::VisualizedImage view = gpuio::visualize(final, gpu::Visualize::Radiance);
   io::writePng(outDir / "render.png", view.image, view.encoding, options.exposure);
   io::writeExr(outDir / "render.exr", final);
   std::printf("wrote %s and %s (%ux%u, %u frame%s)\n", (outDir / "render.png").c_str(), (outDir / "render.exr").c_str(),
@@ -216,13 +228,13 @@ int runRender(const RenderOptions& options) {
   }
   if (!options.aovs.empty()) {
     std::vector<render::Aov> giAovs;
-    if (gi) giAovs.push_back({"indirect-diffuse", &giContext->indirectDiffuse()});
+    if (gi) giAovs.push_back({"indirect-diffuse", &giBridge->indirectDiffuse()});
     writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure, giAovs);
   }
   if (!captures.empty()) {
-    auto files = gpu::writeStageDumps(outDir / "stages", captures, options.exposure);
+    auto files = gpuio::writeStageDumps(outDir / "stages", captures, options.exposure);
     std::printf("wrote %zu stage images to %s\n", files.size(), (outDir / "stages").c_str());
-    const float historyCap = giContext ? float(giContext->settings().diffuse.temporalFilterFrames) : 1.0f;
+    const float historyCap = giBridge ? float(giBridge->library().settings().diffuse.temporalFilterFrames) : 1.0f;
     for (const fs::path& sheet : writeValidationSheets(outDir / "stages", captures, options.exposure, historyCap))
       std::printf("wrote %s (validation: viewZ, normals, motion, history length, reprojection failures in red)\n",
                   sheet.c_str());

@@ -5,8 +5,9 @@
 #include <map>
 
 #include "app/plot.h"
-#include "gpu/stage_dump.h"
 #include "gpu/transfer.h"
+#include "gpuio/gpu_images.h"
+#include "gpuio/stage_dump.h"
 #include "io/colormap.h"
 
 namespace bounce::app {
@@ -90,7 +91,7 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
   std::map<std::string, std::size_t> cellOf;
   const auto write = [&](const std::string& name, const io::ImageF& pixels, gpu::Visualize how) {
     io::writeExr(dir / (name + ".exr"), pixels);
-    const gpu::VisualizedImage view = gpu::visualize(pixels, how);
+    const gpuio::VisualizedImage view = gpuio::visualize(pixels, how);
     io::writePng(dir / (name + ".png"), view.image, view.encoding, exposure);
     cellOf[name] = cells.size();
     cells.push_back(io::toDisplay(view.image, view.encoding, exposure));
@@ -103,7 +104,7 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
     const bool roughness = aov.name == "normal" && wants("roughness");
     const bool metallic = aov.name == "albedo" && wants("metallic");
     if (!wants(aov.name) && !roughness && !metallic) continue;
-    const io::ImageF image = gpu::readbackImage(context, *aov.image);
+    const io::ImageF image = gpuio::readbackImage(context, *aov.image);
     if (wants(aov.name)) write(aov.name, image, aov.image->desc().visualize);
     if (roughness || metallic) {
       const std::string name = roughness ? "roughness" : "metallic";
@@ -131,11 +132,11 @@ const gpu::CapturedStage* findCapture(const std::vector<gpu::CapturedStage>& cap
 }
 
 io::ImageF capturedPixels(const gpu::CapturedStage& capture) {
-  return gpu::texelsToImage(capture.image, capture.texels->mapped());
+  return gpuio::texelsToImage(capture.image, capture.texels.data());
 }
 
 io::ImageF displayOf(const io::ImageF& pixels, gpu::Visualize how, float exposure) {
-  const gpu::VisualizedImage view = gpu::visualize(pixels, how);
+  const gpuio::VisualizedImage view = gpuio::visualize(pixels, how);
   return io::toDisplay(view.image, view.encoding, exposure);
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "bounce/version.h"
 #include "util/edit_distance.h"
 
 namespace bounce::app {
@@ -84,7 +85,7 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   CLI::App app{"Bounce: real-time screen-space global illumination (Vulkan compute)", "bounce"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("bounce ") + BOUNCE_VERSION);
+  app.set_version_flag("--version", std::string("bounce ") + BOUNCE_VERSION_STRING);
   InfoOptions info;
   RenderOptions render;
   BenchOptions bench;

@@ -1,60 +1,66 @@
-// GiContext: owns the GI library's images and passes and records one frame.
-// The order of the passes and why each reads what it reads is in
-// include/bounce/gi.h; docs/gi.md explains the algorithm.
+// GiContext: the library on the engine's device. It owns the frame's
+// images and the branches, records store_history -> branches -> composite
+// into the engine's command buffer, and keeps per-frame-in-flight query
+// pools and stage copies until collect(). What each branch does is its own
+// business (src/gi/diffuse/); docs/gi.md explains the algorithm.
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <optional>
 #include <string>
+#include <utility>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "bounce/gi.h"
-#include "gi/gi_types.glsl"
-#include "gi/passes.h"
+#include "gi/diffuse/diffuse_branch.h"
+#include "gi/engine_images.h"
+#include "gi/frame_constants.h"
+#include "gi/frame_passes.h"
+#include "gi/image_table.h"
+#include "gi/library_device.h"
+#include "gi/pass_log.h"
+#include "gpu/error.h"
 #include "gpu/format.h"
-#include "gpu/pass.h"
+#include "gpu/recorder.h"
+#include "gpu/timing.h"
 
 namespace bounce::gi {
 namespace {
 
-using shared::GiFrameConstants;
-using shared::ScreenView;
-
 using namespace gpu::formats;
 
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
+constexpr ImageSpec kFrameImages[] = {
+    {"gi.history_surface", Resolution::Full, kRg32ui, true, gpu::Visualize::Raw,
+     "viewZ bits and octahedral normal of every pixel, for the next frame"},
+    {"gi.composite", Resolution::Full, kRgba16f, true, gpu::Visualize::Radiance,
+     "the frame, linear HDR: direct light + remodulated indirect light; next frame's light source"},
+};
+static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per FrameImage");
 
-// The ScreenView of a camera; throws for what the library cannot use.
-ScreenView screenView(const Camera& camera, const char* which) {
-  const auto fail = [&](const std::string& why) {
-    return std::invalid_argument(std::string("gi: ") + which + ": " + why);
-  };
-  const glm::mat4& p = camera.viewToClip;
-  if (!finite(camera.worldToView) || !finite(p) || !std::isfinite(camera.jitter.x) || !std::isfinite(camera.jitter.y))
-    throw fail("camera matrices and jitter must be finite");
-  if (!(p[0][0] > 0.0f) || p[1][1] == 0.0f || std::abs(p[2][3] + 1.0f) > 1e-5f || std::abs(p[3][3]) > 1e-6f)
-    throw fail("viewToClip must be a perspective projection looking down -Z (as glm::perspective makes)");
-  if (std::abs(p[2][0]) > 1e-6f || std::abs(p[2][1]) > 1e-6f)
-    throw fail("viewToClip must be symmetric; give sub-pixel jitter in Camera::jitter instead");
-  const glm::mat4 viewToWorld = glm::inverse(camera.worldToView);
-  if (!finite(viewToWorld)) throw fail("worldToView is not invertible");
-  return {camera.worldToView, viewToWorld, glm::vec4(1.0f / p[0][0], 1.0f / std::abs(p[1][1]), camera.jitter)};
-}
-
-gpu::ImageDesc imageDesc(const std::string& name, std::uint32_t width, std::uint32_t height, VkFormat format,
-                         gpu::Visualize visualize) {
-  return {.name = name, .width = width, .height = height, .format = format, .visualize = visualize};
+// A library image as the engine may use it: GENERAL, last written by a compute shader.
+ImageRef libraryRef(gpu::Image& image) {
+  return {.image = image.handle(),
+          .view = image.view(),
+          .format = image.format(),
+          .width = image.width(),
+          .height = image.height(),
+          .mipLevels = image.desc().mipLevels,
+          .layout = VK_IMAGE_LAYOUT_GENERAL,
+          .stage = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+          .access = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
 }
 
 }  // namespace
 
-Camera cameraFromBasis(glm::vec3 position, glm::vec3 right, glm::vec3 up, glm::vec3 forward, float fovY, float aspect,
-                       glm::vec2 jitter) {
-  glm::mat4 viewToWorld(glm::vec4(right, 0.0f), glm::vec4(up, 0.0f), glm::vec4(-forward, 0.0f),
-                        glm::vec4(position, 1.0f));
+std::span<const ImageSpec> frameImageTable() { return kFrameImages; }
+
+Camera cameraFromBasis(const float position[3], const float right[3], const float up[3], const float forward[3],
+                       float fovY, float aspect, const float jitter[2]) {
+  const glm::vec3 p = glm::make_vec3(position), r = glm::make_vec3(right), u = glm::make_vec3(up),
+                  f = glm::make_vec3(forward);
+  const glm::mat4 viewToWorld(glm::vec4(r, 0.0f), glm::vec4(u, 0.0f), glm::vec4(-f, 0.0f), glm::vec4(p, 1.0f));
+  const glm::mat4 worldToView = glm::inverse(viewToWorld);
   const float tanHalf = std::tan(fovY * 0.5f);
   glm::mat4 projection(0.0f);
   projection[0][0] = 1.0f / (tanHalf * aspect);
@@ -62,316 +68,229 @@ Camera cameraFromBasis(glm::vec3 position, glm::vec3 right, glm::vec3 up, glm::v
   projection[2][2] = -1.0f;
   projection[2][3] = -1.0f;
   projection[3][2] = -0.1f;  // near plane 0.1: only the depth row needs one, and GI reads no clip depth
-  return {glm::inverse(viewToWorld), projection, jitter};
+  Camera camera;
+  std::copy_n(glm::value_ptr(worldToView), 16, camera.worldToView);
+  std::copy_n(glm::value_ptr(projection), 16, camera.viewToClip);
+  if (jitter) {
+    camera.jitter[0] = jitter[0];
+    camera.jitter[1] = jitter[1];
+  }
+  return camera;
 }
 
 struct GiContext::Impl {
-  gpu::Context& device;
-  std::uint32_t width, height, halfWidth, halfHeight;
+  ContextDesc desc;
   Settings settings;
-  bool hasHistory = false;
+  std::unique_ptr<gpu::Context> context;
+  gpu::MemoryArena arena;
+  ImageSet frameImages;
+  std::unique_ptr<gpu::Buffer> frameConstants;
+  std::vector<std::unique_ptr<Branch>> branches;
+  gpu::ComputePass storeHistory, compositor;
+  EngineImages engine;
+  std::vector<std::unique_ptr<PassLog>> logs;  // one per frame in flight, used in turn
+
+  // What the last frame left.
+  std::uint64_t recorded = 0;  // frames recorded; the history images swap by this count
+  std::optional<std::uint64_t> lastFrameIndex;
   Camera lastCamera;
-  std::uint64_t lastFrame = 0;  // the index of the last frame recorded: its images are the current ones
+  Extent lastSize;
 
-  std::unique_ptr<gpu::Buffer> constants;
-  gpu::HistoryImage surface, composite, filtered, moments, reservoir0, reservoir1;
-  // Reservoir images: the fresh ones, the first spatial pass's, and those of
-  // the stage not kept for the next frame (temporal or second spatial,
-  // whichever DiffuseSettings::spatialFeedback does not keep).
-  std::unique_ptr<gpu::Image> gathered0, gathered1, transient0, transient1, spatial0, spatial1, diffuse;
-  std::vector<std::unique_ptr<gpu::Image>> brightLevels;
-  std::unique_ptr<gpu::Image> viewEstimate, viewM, viewW;
-
-  std::unique_ptr<gpu::ComputePass> storeHistory, brightPixels, brightReduce, gather, temporalReuse, spatialReuse,
-      resolve, temporalFilter, compositor;
-  std::vector<std::unique_ptr<gpu::ComputePass>> reservoirViews;  // created on the first captured frame
-
-  Impl(gpu::Context& device, std::uint32_t w, std::uint32_t h, const Settings& s)
-      : device(device),
-        width(w),
-        height(h),
-        halfWidth((w + 1) / 2),
-        halfHeight((h + 1) / 2),
+  Impl(const Device& device, const ContextDesc& d, const Settings& s)
+      : desc(d),
         settings(s),
-        surface(device, imageDesc("gi.history_surface", w, h, kRg32ui, gpu::Visualize::Raw)),
-        composite(device, imageDesc("gi.composite", w, h, kRgba16f, gpu::Visualize::Radiance)),
-        filtered(device, imageDesc("gi.diffuse.filtered", w, h, kRgba16f, gpu::Visualize::Radiance)),
-        moments(device, imageDesc("gi.diffuse.moments", w, h, kRg32f, gpu::Visualize::Raw)),
-        reservoir0(device, imageDesc("gi.diffuse.reservoirs0", halfWidth, halfHeight, kRgba32ui, gpu::Visualize::Raw)),
-        reservoir1(device, imageDesc("gi.diffuse.reservoirs1", halfWidth, halfHeight, kRgba32ui, gpu::Visualize::Raw)) {
-    const auto half = [&](const char* name) {
-      return std::make_unique<gpu::Image>(device,
-                                          imageDesc(name, halfWidth, halfHeight, kRgba32ui, gpu::Visualize::Raw));
-    };
-    gathered0 = half("gi.diffuse.gathered0");
-    gathered1 = half("gi.diffuse.gathered1");
-    transient0 = half("gi.diffuse.transient0");
-    transient1 = half("gi.diffuse.transient1");
-    spatial0 = half("gi.diffuse.spatial0");
-    spatial1 = half("gi.diffuse.spatial1");
-    diffuse = std::make_unique<gpu::Image>(device,
-                                           imageDesc("gi.diffuse.resolved", w, h, kRgba16f, gpu::Visualize::Radiance));
-    // The bright-pixel pyramid: halve until about settings.diffuse.brightPixels entries remain.
-    std::uint32_t levelWidth = w, levelHeight = h;
-    do {
-      levelWidth = (levelWidth + 1) / 2;
-      levelHeight = (levelHeight + 1) / 2;
-      brightLevels.push_back(std::make_unique<gpu::Image>(
-          device, imageDesc("gi.diffuse.bright_level" + std::to_string(brightLevels.size() + 1), levelWidth,
-                            levelHeight, kRgba32f, gpu::Visualize::Raw)));
-    } while (levelWidth * levelHeight > settings.diffuse.brightPixels && (levelWidth > 1 || levelHeight > 1));
-
-    constants = std::make_unique<gpu::Buffer>(device, "gi.frame_constants", sizeof(GiFrameConstants),
-                                              gpu::BufferUsage::DeviceLocal);
-    const auto make = [&](gpu::PassDesc desc) { return std::make_unique<gpu::ComputePass>(device, std::move(desc)); };
-    storeHistory = make(storeHistoryPass());
-    brightPixels = make(brightPixelsPass());
-    brightReduce = make(brightPixelsReducePass());
-    gather = make(gatherPass());
-    temporalReuse = make(temporalReusePass());
-    spatialReuse = make(spatialReusePass());
-    resolve = make(resolvePass());
-    temporalFilter = make(temporalFilterPass());
-    compositor = make(gi::compositePass());
+        context(openLibraryContext(device)),
+        arena(*context),
+        frameImages(*context, arena, kFrameImages, {d.maxWidth, d.maxHeight}),
+        frameConstants(std::make_unique<gpu::Buffer>(*context, "gi.frame_constants", sizeof(shared::GiFrameConstants),
+                                                     gpu::BufferUsage::DeviceLocal, &arena)),
+        storeHistory(*context, storeHistoryPass()),
+        compositor(*context, compositePass()),
+        engine(*context) {
+    branches.push_back(std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings));
+    for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
+      logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps));
   }
 
-  void checkInputs(const FrameInputs& frame) const {
-    const auto check = [&](gpu::Image* image, const char* name, VkFormat format) {
-      if (!image) throw std::invalid_argument(std::string("gi: frame input ") + name + " is missing");
-      if (image->width() != width || image->height() != height)
-        throw std::invalid_argument(std::string("gi: frame input ") + name + " '" + image->name() + "' is " +
-                                    std::to_string(image->width()) + "x" + std::to_string(image->height()) +
-                                    "; the context is " + std::to_string(width) + "x" + std::to_string(height));
-      if (format != VK_FORMAT_UNDEFINED && image->format() != format)
-        throw std::invalid_argument(std::string("gi: frame input ") + name + " '" + image->name() +
-                                    "' has the wrong format (include/bounce/gi.h lists each input's)");
-    };
-    check(frame.viewZ, "viewZ", kR32f);
-    check(frame.normalRoughness, "normalRoughness", kRgba16f);
-    check(frame.baseColorMetallic, "baseColorMetallic", kRgba8);
-    check(frame.motion, "motion", kRg16f);
-    check(frame.direct, "direct", kRgba16f);
-    if (frame.emissive) check(frame.emissive, "emissive", kRgba16f);
-    if (!frame.environment || frame.environmentSampler == VK_NULL_HANDLE)
-      throw std::invalid_argument("gi: frame input environment (image and sampler) is missing");
+  DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches.front()); }
+  std::uint64_t current() const { return recorded == 0 ? 0 : recorded - 1; }
+
+  // Everything that can be refused, before anything is recorded.
+  void check(const FrameInputs& frame) {
+    if (frame.width == 0 || frame.height == 0 || frame.width > desc.maxWidth || frame.height > desc.maxHeight)
+      throw Error("gi: render size " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
+                  " is outside 1x1.." + std::to_string(desc.maxWidth) + "x" + std::to_string(desc.maxHeight) +
+                  " (ContextDesc::maxWidth, maxHeight)");
+    if (lastFrameIndex && frame.frameIndex <= *lastFrameIndex)
+      throw Error("gi: frameIndex " + std::to_string(frame.frameIndex) + " is not after the last frame recorded (" +
+                  std::to_string(*lastFrameIndex) + "); frame indices must increase");
+    screenView(frame.camera, "camera");
+    if (!frame.cameraCut) screenView(frame.previousCamera, "previousCamera");
   }
 
-  GiFrameConstants frameConstants(const FrameInputs& frame, bool usableHistory) const {
-    const DiffuseSettings& d = settings.diffuse;
-    GiFrameConstants c{};
+  shared::GiFrameConstants frameConstantsOf(const FrameInputs& frame, bool hasHistory, bool usableHistory) const {
+    shared::GiFrameConstants c{};
     c.view = screenView(frame.camera, "camera");
     // Last frame's images were made with the camera given last frame; the
     // engine's previousCamera is that same camera unless it cut.
     c.previousView = usableHistory ? screenView(frame.previousCamera, "previousCamera")
                      : hasHistory  ? screenView(lastCamera, "last frame's camera")
                                    : c.view;
-    c.size = glm::vec4(float(width), float(height), 1.0f / float(width), 1.0f / float(height));
-    c.halfSize = glm::vec4(float(halfWidth), float(halfHeight), 1.0f / float(halfWidth), 1.0f / float(halfHeight));
-    c.frame =
-        glm::uvec4(std::uint32_t(frame.frameIndex), usableHistory ? 0u : 1u, settings.seed, settings.restir ? 1u : 0u);
-    // Without last frame's composite there is nothing on screen to gather from.
-    c.candidates = glm::uvec4(hasHistory ? d.screenCandidates : 0u, hasHistory ? d.brightCandidates : 0u,
-                              d.environmentCandidates, std::uint32_t(d.target));
-    const gpu::Image& lastLevel = *brightLevels.back();
-    c.brightLevel = glm::uvec4(lastLevel.width(), lastLevel.height(), std::uint32_t(brightLevels.size()), 0u);
-    c.options = glm::uvec4(d.resolveReservoirs, frame.emissive ? 1u : 0u, 0u, 0u);
-    c.temporal = glm::vec4(d.temporalDepthTolerance, std::cos(glm::radians(d.temporalNormalToleranceDegrees)),
-                           float(d.temporalMaxM), d.environmentMip);
-    c.spatial = glm::vec4(std::cos(glm::radians(d.spatialNormalToleranceDegrees)), d.spatialPlaneTolerance,
-                          d.jacobian ? 1.0f : 0.0f, d.offscreenEnvironmentVisibility);
-    c.resolveFilter = glm::vec4(float(d.visibilitySteps), d.visibilityThickness, d.varianceClippingGamma,
-                                float(d.temporalFilterFrames));
+    const Extent half = extentOf(Resolution::Half, {frame.width, frame.height});
+    c.renderSize = glm::vec2(float(frame.width), float(frame.height));
+    c.halfSize = glm::vec2(float(half.width), float(half.height));
+    const InputSettings& input = settings.input;
+    const glm::vec2 units = input.motionUnits == MotionUnits::Uv ? c.renderSize : glm::vec2(1.0f);
+    c.motionScale = units * glm::vec2(input.motionScaleX, input.motionScaleY);
+    c.frameIndex = std::uint32_t(frame.frameIndex);
+    c.noHistory = usableHistory ? 0u : 1u;
+    c.seed = settings.seed;
+    c.normalEncoding = frame.normalRoughness.format == VK_FORMAT_A2B10G10R10_UNORM_PACK32
+                           ? shared::kNormalEncodingOctahedral
+                           : shared::kNormalEncodingXyz;
+    c.hasEmissive = frame.emissive.image != VK_NULL_HANDLE ? 1u : 0u;
     return c;
   }
 
-  // The reservoir images after a pass, shown by gi.diffuse.reservoir_view
-  // (captured frames only).
-  void viewReservoirs(gpu::Recorder& recorder, const FrameInputs& frame, std::size_t which, gpu::Image& first,
-                      gpu::Image& second) {
-    static const char* const kAfter[] = {"gather", "temporal_reuse", "spatial_reuse1", "spatial_reuse2"};
-    if (reservoirViews.empty()) {
-      for (const char* after : kAfter)
-        reservoirViews.push_back(std::make_unique<gpu::ComputePass>(device, reservoirViewPass(after)));
-      viewEstimate = std::make_unique<gpu::Image>(device, imageDesc("gi.diffuse.reservoir_estimate", halfWidth,
-                                                                    halfHeight, kRgba16f, gpu::Visualize::Radiance));
-      viewM = std::make_unique<gpu::Image>(
-          device, imageDesc("gi.diffuse.reservoir_M", halfWidth, halfHeight, kR32f, gpu::Visualize::Heat));
-      viewW = std::make_unique<gpu::Image>(
-          device, imageDesc("gi.diffuse.reservoir_W", halfWidth, halfHeight, kR32f, gpu::Visualize::Heat));
-    }
-    recorder.dispatch(*reservoirViews[which], halfWidth, halfHeight,
-                      {{"gIn_Frame", *constants},
-                       {"gIn_ViewZ", *frame.viewZ},
-                       {"gIn_NormalRoughness", *frame.normalRoughness},
-                       {"gIn_Reservoir0", first},
-                       {"gIn_Reservoir1", second},
-                       {"gOut_Estimate", *viewEstimate},
-                       {"gOut_M", *viewM},
-                       {"gOut_W", *viewW}});
-  }
+  void record(VkCommandBuffer commandBuffer, const FrameInputs& frame) {
+    if (commandBuffer == VK_NULL_HANDLE) throw Error("gi: record() needs a command buffer in the recording state");
+    check(frame);
+    engine.take(frame, desc.inputState);
 
-  void record(gpu::Recorder& recorder, const FrameInputs& frame) {
-    checkInputs(frame);
-    const std::uint64_t f = frame.frameIndex;
+    const Extent size{frame.width, frame.height};
+    // A new render size makes last frame's images another picture: nothing of them is reused.
+    const bool hasHistory = recorded > 0 && size.width == lastSize.width && size.height == lastSize.height;
     const bool usableHistory = hasHistory && !frame.cameraCut;
-    const GiFrameConstants c = frameConstants(frame, usableHistory);
-    recorder.updateBuffer(*constants, &c, sizeof c);
-    const bool showReservoirs = recorder.capturing();
+    const shared::GiFrameConstants constants = frameConstantsOf(frame, hasHistory, usableHistory);
+    const std::uint64_t f = recorded;  // the history images' index
 
-    recorder.dispatch(*storeHistory, width, height,
-                      {{"gIn_Frame", *constants},
-                       {"gIn_ViewZ", *frame.viewZ},
-                       {"gIn_NormalRoughness", *frame.normalRoughness},
-                       {"gOut_Surface", surface.current(f)}});
+    // The log of frame recorded - framesInFlight, which has completed; if
+    // nobody collected it, it is dropped.
+    PassLog& log = *logs[recorded % logs.size()];
+    gpu::Recorder recorder(*context, commandBuffer, log.sink());
+    log.begin(commandBuffer, recorder, frame.frameIndex, frame.captureStages);
 
-    const DiffuseSettings& d = settings.diffuse;
-    if (d.enabled)
-      recordDiffuse(recorder, frame, showReservoirs);
-    else
-      recorder.clearImage(filtered.current(f), {});  // no indirect diffuse: the composite is the direct light
-    recorder.dispatch(*compositor, width, height,
-                      {{"gIn_Frame", *constants},
-                       {"gIn_ViewZ", *frame.viewZ},
-                       {"gIn_Direct", *frame.direct},
-                       {"gIn_BaseColorMetallic", *frame.baseColorMetallic},
+    recorder.updateBuffer(*frameConstants, &constants, sizeof constants);
+    const FrameGroup group(*frameConstants, engine[Input::ViewZ], engine[Input::NormalRoughness],
+                           context->nearestSampler());
+    recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
+                      {{"gOut_Surface", frameImages.current(kHistorySurface, f)}});
+
+    const FrameState state{.recorder = recorder,
+                           .group = group,
+                           .engine = engine,
+                           .environmentSampler = frame.environmentSampler,
+                           .nearestSampler = context->nearestSampler(),
+                           .frameIndex = f,
+                           .renderSize = size,
+                           .hasHistory = hasHistory,
+                           .usableHistory = usableHistory,
+                           .previousComposite = frameImages.previous(kComposite, f),
+                           .previousSurface = frameImages.previous(kHistorySurface, f),
+                           .capturing = frame.captureStages};
+    for (const std::unique_ptr<Branch>& branch : branches) branch->record(state);
+
+    gpu::Image& direct = engine[Input::Direct];
+    const VkSampler nearest = context->nearestSampler();
+    recorder.dispatch(compositor, size.width, size.height, group.binds(GroupPart::Depth),
+                      {{"gIn_Direct", direct, nearest},
+                       {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
                        // Not read without an emissive image (the constants say so); bound only to fill the slot.
-                       {"gIn_Emissive", frame.emissive ? *frame.emissive : *frame.direct},
-                       {"gIn_IndirectDiffuse", filtered.current(f)},
-                       {"gOut_Composite", composite.current(f)}});
-    hasHistory = true;
+                       {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
+                       {"gIn_IndirectDiffuse", diffuse().result(f)},
+                       {"gOut_Composite", frameImages.current(kComposite, f)}});
+
+    engine.handBack(recorder);
+    // Stage copies moved some images to transfer layouts: every library
+    // image is left as LibraryImage says.
+    if (frame.captureStages) {
+      for (ImageSet* set : imageSets())
+        for (const ImageSet::Listed& listed : set->list(f))
+          if (listed.image->sync().layout != VK_IMAGE_LAYOUT_GENERAL)
+            recorder.handOver(*listed.image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+      recorder.flush();
+    }
+
+    ++recorded;
+    lastFrameIndex = frame.frameIndex;
     lastCamera = frame.camera;
-    lastFrame = f;
+    lastSize = size;
   }
 
-  // The diffuse branch, gathering to temporal filter (seed 001).
-  void recordDiffuse(gpu::Recorder& recorder, const FrameInputs& frame, bool showReservoirs) {
-    const std::uint64_t f = frame.frameIndex;
-    const DiffuseSettings& d = settings.diffuse;
-    if (hasHistory && d.brightCandidates > 0) {
-      recorder.dispatch(*brightPixels, brightLevels[0]->width(), brightLevels[0]->height(),
-                        {{"gIn_Frame", *constants},
-                         {"gPrev_Composite", composite.previous(f)},
-                         {"gPrev_Surface", surface.previous(f)},
-                         {"gOut_Brightest", *brightLevels[0]}});
-      for (std::size_t level = 1; level < brightLevels.size(); ++level)
-        recorder.dispatch(*brightReduce, brightLevels[level]->width(), brightLevels[level]->height(),
-                          {{"gIn_Brightest", *brightLevels[level - 1]}, {"gOut_Brightest", *brightLevels[level]}});
-    }
+  std::vector<ImageSet*> imageSets() {
+    std::vector<ImageSet*> sets = {&frameImages};
+    for (const std::unique_ptr<Branch>& branch : branches) sets.push_back(&branch->images());
+    return sets;
+  }
 
-    recorder.dispatch(*gather, halfWidth, halfHeight,
-                      {{"gIn_Frame", *constants},
-                       {"gIn_ViewZ", *frame.viewZ},
-                       {"gIn_NormalRoughness", *frame.normalRoughness},
-                       {"gPrev_Composite", composite.previous(f)},
-                       {"gPrev_Surface", surface.previous(f)},
-                       {"gIn_Brightest", *brightLevels.back()},
-                       {"gIn_Environment", *frame.environment, frame.environmentSampler},
-                       {"gOut_Reservoir0", *gathered0},
-                       {"gOut_Reservoir1", *gathered1}});
-    if (showReservoirs) viewReservoirs(recorder, frame, 0, *gathered0, *gathered1);
-
-    gpu::Image* final0 = gathered0.get();
-    gpu::Image* final1 = gathered1.get();
-    if (settings.restir) {
-      // The reservoirs the next frame's temporal reuse starts from are the
-      // history images; the others are scratch.
-      const bool feedback = d.spatialFeedback;
-      gpu::Image& temporalOut0 = feedback ? *transient0 : reservoir0.current(f);
-      gpu::Image& temporalOut1 = feedback ? *transient1 : reservoir1.current(f);
-      gpu::Image& spatialOut0 = feedback ? reservoir0.current(f) : *transient0;
-      gpu::Image& spatialOut1 = feedback ? reservoir1.current(f) : *transient1;
-      recorder.dispatch(*temporalReuse, halfWidth, halfHeight,
-                        {{"gIn_Frame", *constants},
-                         {"gIn_ViewZ", *frame.viewZ},
-                         {"gIn_NormalRoughness", *frame.normalRoughness},
-                         {"gIn_Motion", *frame.motion},
-                         {"gPrev_Surface", surface.previous(f)},
-                         {"gIn_Reservoir0", *gathered0},
-                         {"gIn_Reservoir1", *gathered1},
-                         {"gPrev_Reservoir0", reservoir0.previous(f)},
-                         {"gPrev_Reservoir1", reservoir1.previous(f)},
-                         {"gOut_Reservoir0", temporalOut0},
-                         {"gOut_Reservoir1", temporalOut1}});
-      if (showReservoirs) viewReservoirs(recorder, frame, 1, temporalOut0, temporalOut1);
-      // The two spatial passes are one shader with other parameters.
-      const auto spatialPass = [&](gpu::Image& in0, gpu::Image& in1, gpu::Image& out0, gpu::Image& out1,
-                                   const SpatialReuseParams& params) {
-        recorder.dispatch(*spatialReuse, halfWidth, halfHeight,
-                          {{"gIn_Frame", *constants},
-                           {"gIn_ViewZ", *frame.viewZ},
-                           {"gIn_NormalRoughness", *frame.normalRoughness},
-                           {"gIn_Reservoir0", in0},
-                           {"gIn_Reservoir1", in1},
-                           {"gOut_Reservoir0", out0},
-                           {"gOut_Reservoir1", out1}},
-                          params);
-      };
-      spatialPass(temporalOut0, temporalOut1, *spatial0, *spatial1, {d.spatialRadius, d.spatialSamples, 0u});
-      if (showReservoirs) viewReservoirs(recorder, frame, 2, *spatial0, *spatial1);
-      spatialPass(*spatial0, *spatial1, spatialOut0, spatialOut1, {d.spatial2Radius, d.spatial2Samples, 1u});
-      final0 = &spatialOut0;
-      final1 = &spatialOut1;
-      if (showReservoirs) viewReservoirs(recorder, frame, 3, *final0, *final1);
-    }
-
-    recorder.dispatch(*resolve, width, height,
-                      {{"gIn_Frame", *constants},
-                       {"gIn_ViewZ", *frame.viewZ},
-                       {"gIn_NormalRoughness", *frame.normalRoughness},
-                       {"gIn_Reservoir0", *final0},
-                       {"gIn_Reservoir1", *final1},
-                       {"gOut_Diffuse", *diffuse}});
-    recorder.dispatch(*temporalFilter, width, height,
-                      {{"gIn_Frame", *constants},
-                       {"gIn_ViewZ", *frame.viewZ},
-                       {"gIn_NormalRoughness", *frame.normalRoughness},
-                       {"gIn_Motion", *frame.motion},
-                       {"gIn_Diffuse", *diffuse},
-                       {"gPrev_Surface", surface.previous(f)},
-                       {"gPrev_Filtered", filtered.previous(f)},
-                       {"gPrev_Moments", moments.previous(f)},
-                       {"gOut_Filtered", filtered.current(f)},
-                       {"gOut_Moments", moments.current(f)}});
+  FrameResults collect(std::uint64_t completedFrameIndex) {
+    if (!lastFrameIndex || completedFrameIndex > *lastFrameIndex)
+      throw Error("gi: collect(" + std::to_string(completedFrameIndex) + "): no frame with that index was recorded" +
+                  (lastFrameIndex ? " (the last was " + std::to_string(*lastFrameIndex) + ")" : std::string()));
+    std::vector<PassLog*> ready;  // oldest first
+    for (const std::unique_ptr<PassLog>& log : logs)
+      if (log->frameIndex() && *log->frameIndex() <= completedFrameIndex) ready.push_back(log.get());
+    std::sort(ready.begin(), ready.end(),
+              [](const PassLog* a, const PassLog* b) { return *a->frameIndex() < *b->frameIndex(); });
+    FrameResults results;
+    for (PassLog* log : ready) log->collectInto(results, "gi: collect(" + std::to_string(completedFrameIndex) + ")");
+    return results;
   }
 };
 
-GiContext::GiContext(gpu::Context& device, std::uint32_t width, std::uint32_t height, const Settings& settings) {
-  if (width == 0 || height == 0 || width > 16384 || height > 16384)
-    throw std::invalid_argument("gi: size " + std::to_string(width) + "x" + std::to_string(height) +
-                                " is outside 1..16384");
-  validate(settings);
-  impl_ = std::make_unique<Impl>(device, width, height, settings);
+GiContext::GiContext(const Device& device, const ContextDesc& desc, const Settings& settings) {
+  if (desc.maxWidth == 0 || desc.maxHeight == 0 || desc.maxWidth > 16384 || desc.maxHeight > 16384)
+    throw Error("gi: ContextDesc maximum size " + std::to_string(desc.maxWidth) + "x" + std::to_string(desc.maxHeight) +
+                " is outside 1x1..16384x16384");
+  if (desc.framesInFlight == 0 || desc.framesInFlight > 16)
+    throw Error("gi: ContextDesc::framesInFlight " + std::to_string(desc.framesInFlight) + " is outside 1..16");
+  try {
+    validate(settings);
+  } catch (const std::invalid_argument& e) {
+    throw Error(e.what());
+  }
+  try {
+    impl_ = std::make_unique<Impl>(device, desc, settings);
+  } catch (const gpu::GpuError& e) {
+    throw Error(std::string("gi: ") + e.what());
+  }
 }
 
 GiContext::~GiContext() = default;
 
-void GiContext::record(gpu::Recorder& recorder, const FrameInputs& frame) { impl_->record(recorder, frame); }
+void GiContext::record(VkCommandBuffer commandBuffer, const FrameInputs& frame) {
+  try {
+    impl_->record(commandBuffer, frame);
+  } catch (const gpu::GpuError& e) {
+    throw Error(std::string("gi: ") + e.what());
+  }
+}
 
-gpu::Image& GiContext::indirectDiffuse() { return impl_->filtered.current(impl_->lastFrame); }
-gpu::Image& GiContext::composite() { return impl_->composite.current(impl_->lastFrame); }
+FrameResults GiContext::collect(std::uint64_t completedFrameIndex) {
+  try {
+    return impl_->collect(completedFrameIndex);
+  } catch (const gpu::GpuError& e) {
+    throw Error(std::string("gi: ") + e.what());
+  }
+}
 
-std::vector<NamedImage> GiContext::images() {
-  Impl& i = *impl_;
-  const std::uint64_t f = i.lastFrame;
-  std::vector<NamedImage> list = {{"history_surface", &i.surface.current(f)},
-                                  {"diffuse.gathered0", i.gathered0.get()},
-                                  {"diffuse.gathered1", i.gathered1.get()},
-                                  {"diffuse.transient0", i.transient0.get()},
-                                  {"diffuse.transient1", i.transient1.get()},
-                                  {"diffuse.spatial0", i.spatial0.get()},
-                                  {"diffuse.spatial1", i.spatial1.get()},
-                                  {"diffuse.reservoirs0", &i.reservoir0.current(f)},
-                                  {"diffuse.reservoirs1", &i.reservoir1.current(f)},
-                                  {"diffuse.resolved", i.diffuse.get()},
-                                  {"diffuse.filtered", &i.filtered.current(f)},
-                                  {"diffuse.moments", &i.moments.current(f)},
-                                  {"composite", &i.composite.current(f)}};
-  for (const auto& level : i.brightLevels) list.push_back({level->name().substr(3), level.get()});
+ImageRef GiContext::indirectDiffuse() const { return libraryRef(impl_->diffuse().result(impl_->current())); }
+
+ImageRef GiContext::composite() const { return libraryRef(impl_->frameImages.current(kComposite, impl_->current())); }
+
+std::vector<LibraryImage> GiContext::images() const {
+  std::vector<LibraryImage> list;
+  for (ImageSet* set : impl_->imageSets())
+    for (const ImageSet::Listed& listed : set->list(impl_->current()))
+      list.push_back({listed.name, libraryRef(*listed.image), visualization(listed.spec->view),
+                      std::string(listed.spec->purpose)});
   return list;
 }
 
+std::uint64_t GiContext::memoryBytes() const { return impl_->arena.bytes(); }
 const Settings& GiContext::settings() const { return impl_->settings; }
-std::uint32_t GiContext::width() const { return impl_->width; }
-std::uint32_t GiContext::height() const { return impl_->height; }
+std::uint32_t GiContext::maxWidth() const { return impl_->desc.maxWidth; }
+std::uint32_t GiContext::maxHeight() const { return impl_->desc.maxHeight; }
 
 }  // namespace bounce::gi

@@ -30,29 +30,41 @@ namespace {
 
 constexpr std::string_view kKeyPrefix = "gi.";
 
-// A field is either in DiffuseSettings or directly in Settings; keeping the
-// pointer-to-member (not a lambda) lets validate() find a key from its field.
+// A field is in DiffuseSettings, in InputSettings or directly in Settings;
+// keeping the pointer-to-member (not a lambda) lets validate() find a key
+// from its field.
 template <typename T>
 struct Member {
   T DiffuseSettings::*diffuse = nullptr;
+  T InputSettings::*input = nullptr;
   T Settings::*top = nullptr;
 
-  T& of(Settings& settings) const { return diffuse ? settings.diffuse.*diffuse : settings.*top; }
-  const T& of(const Settings& settings) const { return diffuse ? settings.diffuse.*diffuse : settings.*top; }
+  T& of(Settings& settings) const {
+    return diffuse ? settings.diffuse.*diffuse : input ? settings.input.*input : settings.*top;
+  }
+  const T& of(const Settings& settings) const {
+    return diffuse ? settings.diffuse.*diffuse : input ? settings.input.*input : settings.*top;
+  }
 };
 
 template <typename T>
 constexpr Member<T> inDiffuse(T DiffuseSettings::*member) {
-  return {member, nullptr};
+  return {member, nullptr, nullptr};
+}
+
+template <typename T>
+constexpr Member<T> inInput(T InputSettings::*member) {
+  return {nullptr, member, nullptr};
 }
 
 template <typename T>
 constexpr Member<T> inSettings(T Settings::*member) {
-  return {nullptr, member};
+  return {nullptr, nullptr, member};
 }
 
 // The alternative held also says the field's type, so type and member cannot disagree.
-using Field = std::variant<Member<bool>, Member<std::uint32_t>, Member<float>, Member<TargetFunction>>;
+using Field = std::variant<Member<bool>, Member<std::uint32_t>, Member<float>, Member<TargetFunction>,
+                           Member<MotionUnits>>;
 
 // Numeric range; unused for bool and enum fields.
 struct Bounds {
@@ -81,14 +93,24 @@ struct Entry {
   std::string_view description;
 };
 
-struct TargetName {
-  TargetFunction value;
+// The names an enum setting takes, in the order its help lists them.
+template <typename E>
+struct EnumName {
+  E value;
   std::string_view name;
 };
 
-constexpr std::array kTargetNames{
-    TargetName{TargetFunction::Luminance, "luminance"},
-    TargetName{TargetFunction::ColorLength, "color-length"},
+template <typename E>
+constexpr auto kEnumNames = 0;  // every enum field's type has its list below
+template <>
+constexpr std::array kEnumNames<TargetFunction>{
+    EnumName<TargetFunction>{TargetFunction::Luminance, "luminance"},
+    EnumName<TargetFunction>{TargetFunction::ColorLength, "color-length"},
+};
+template <>
+constexpr std::array kEnumNames<MotionUnits>{
+    EnumName<MotionUnits>{MotionUnits::Pixels, "pixels"},
+    EnumName<MotionUnits>{MotionUnits::Uv, "uv"},
 };
 
 // The single source of truth, in the order of the structs in gi_settings.h.
@@ -146,6 +168,13 @@ constexpr std::array kEntries{
           "temporal filter: history is clipped to mean +- gamma * sigma of the 3x3 neighbourhood"},
     Entry{"diffuse.temporal_filter_frames", inDiffuse(&DiffuseSettings::temporalFilterFrames), closed(1, 1024),
           "temporal filter: the longest history it accumulates, in frames"},
+    Entry{"input.motion_units", inInput(&InputSettings::motionUnits), kNoBounds,
+          "what the engine's motion vectors are in: pixels, or uv (fractions of the render size)"},
+    Entry{"input.motion_scale_x", inInput(&InputSettings::motionScaleX), closed(-1e6, 1e6),
+          "multiplies the motion vectors' x (after the units): -1 for engines whose x points the other way"},
+    Entry{"input.motion_scale_y", inInput(&InputSettings::motionScaleY), closed(-1e6, 1e6),
+          "multiplies the motion vectors' y (after the units): -1 for engines whose y points up, or that store "
+          "current - previous"},
     Entry{"restir", inSettings(&Settings::restir), kNoBounds,
           "temporal and spatial reuse (off: the no-reuse baseline; gathering, resolve and filters stay)"},
     Entry{"seed", inSettings(&Settings::seed), kAnyUint, "random seed; another seed gives other, independent noise"},
@@ -166,11 +195,22 @@ std::string formatNumber(Number value) {
   return std::string(buffer.data(), result.ptr);
 }
 
-std::string_view targetName(TargetFunction target) {
-  for (const TargetName& entry : kTargetNames) {
-    if (entry.value == target) return entry.name;
+template <typename E>
+std::string_view enumName(E value) {
+  for (const EnumName<E>& entry : kEnumNames<E>) {
+    if (entry.value == value) return entry.name;
   }
   return {};
+}
+
+template <typename E>
+std::string enumList(std::string_view separator, std::string_view lastSeparator) {
+  std::string text;
+  for (std::size_t i = 0; i < kEnumNames<E>.size(); ++i) {
+    if (i > 0) text += i + 1 == kEnumNames<E>.size() ? lastSeparator : separator;
+    text += kEnumNames<E>[i].name;
+  }
+  return text;
 }
 
 std::string describeBounds(const Bounds& bounds) {
@@ -179,40 +219,38 @@ std::string describeBounds(const Bounds& bounds) {
 }
 
 std::string typeText(const Entry& entry) {
-  struct Visitor {
-    const Bounds& bounds;
-    std::string operator()(const Member<bool>&) const { return "bool"; }
-    std::string operator()(const Member<std::uint32_t>&) const { return "uint " + describeBounds(bounds); }
-    std::string operator()(const Member<float>&) const { return "float " + describeBounds(bounds); }
-    std::string operator()(const Member<TargetFunction>&) const {
-      std::string text = "enum: ";
-      for (const TargetName& target : kTargetNames) {
-        if (&target != &kTargetNames.front()) text += "|";
-        text += target.name;
-      }
-      return text;
-    }
-  };
-  return std::visit(Visitor{entry.bounds}, entry.field);
+  return std::visit(
+      [&](const auto& member) -> std::string {
+        using T = std::remove_cvref_t<decltype(member.of(std::declval<Settings&>()))>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return "bool";
+        } else if constexpr (std::is_enum_v<T>) {
+          return "enum: " + enumList<T>("|", "|");
+        } else if constexpr (std::is_same_v<T, std::uint32_t>) {
+          return "uint " + describeBounds(entry.bounds);
+        } else {
+          return "float " + describeBounds(entry.bounds);
+        }
+      },
+      entry.field);
 }
 
 // What a key accepts, phrased for the end of an error message.
 std::string acceptedText(const Entry& entry) {
-  struct Visitor {
-    const Bounds& bounds;
-    std::string operator()(const Member<bool>&) const { return "on, off, true, false, yes, no, 1 or 0"; }
-    std::string operator()(const Member<std::uint32_t>&) const { return "an integer in " + describeBounds(bounds); }
-    std::string operator()(const Member<float>&) const { return "a number in " + describeBounds(bounds); }
-    std::string operator()(const Member<TargetFunction>&) const {
-      std::string text;
-      for (std::size_t i = 0; i < kTargetNames.size(); ++i) {
-        if (i > 0) text += i + 1 == kTargetNames.size() ? " or " : ", ";
-        text += kTargetNames[i].name;
-      }
-      return text;
-    }
-  };
-  return std::visit(Visitor{entry.bounds}, entry.field);
+  return std::visit(
+      [&](const auto& member) -> std::string {
+        using T = std::remove_cvref_t<decltype(member.of(std::declval<Settings&>()))>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return "on, off, true, false, yes, no, 1 or 0";
+        } else if constexpr (std::is_enum_v<T>) {
+          return enumList<T>(", ", " or ");
+        } else if constexpr (std::is_same_v<T, std::uint32_t>) {
+          return "an integer in " + describeBounds(entry.bounds);
+        } else {
+          return "a number in " + describeBounds(entry.bounds);
+        }
+      },
+      entry.field);
 }
 
 [[noreturn]] void throwBadValue(const Entry& entry, std::string_view value) {
@@ -240,9 +278,10 @@ std::optional<Number> parseNumber(std::string_view text) {
   return value;
 }
 
-std::optional<TargetFunction> parseTarget(std::string_view text) {
+template <typename E>
+std::optional<E> parseEnum(std::string_view text) {
   const std::string lower = lowercase(text);
-  for (const TargetName& entry : kTargetNames) {
+  for (const EnumName<E>& entry : kEnumNames<E>) {
     if (entry.name == lower) return entry.value;
   }
   return std::nullopt;
@@ -255,8 +294,8 @@ void applyToField(Settings& settings, const Entry& entry, std::string_view text)
         std::optional<T> value;
         if constexpr (std::is_same_v<T, bool>) {
           value = parseBool(text);
-        } else if constexpr (std::is_same_v<T, TargetFunction>) {
-          value = parseTarget(text);
+        } else if constexpr (std::is_enum_v<T>) {
+          value = parseEnum<T>(text);
         } else {
           value = parseNumber<T>(text);
           if (value && !entry.bounds.contains(static_cast<double>(*value))) value.reset();
@@ -274,8 +313,8 @@ std::string formatField(const Settings& settings, const Entry& entry) {
         using T = std::remove_cvref_t<decltype(value)>;
         if constexpr (std::is_same_v<T, bool>) {
           return value ? "on" : "off";
-        } else if constexpr (std::is_same_v<T, TargetFunction>) {
-          const std::string_view name = targetName(value);
+        } else if constexpr (std::is_enum_v<T>) {
+          const std::string_view name = enumName(value);
           // A value cast in code from an unknown number has no name; show the number so validate() can say which.
           return name.empty() ? formatNumber(static_cast<std::uint32_t>(value)) : std::string(name);
         } else {
@@ -292,8 +331,8 @@ bool fieldIsValid(const Settings& settings, const Entry& entry) {
         using T = std::remove_cvref_t<decltype(value)>;
         if constexpr (std::is_same_v<T, bool>) {
           return true;
-        } else if constexpr (std::is_same_v<T, TargetFunction>) {
-          return !targetName(value).empty();
+        } else if constexpr (std::is_enum_v<T>) {
+          return !enumName(value).empty();
         } else {
           // NaN fails both comparisons of contains(), so it is refused here too.
           return entry.bounds.contains(static_cast<double>(value));
@@ -357,6 +396,8 @@ const Entry& entryOf(T Struct::*member) {
     if (!field) continue;
     if constexpr (std::is_same_v<Struct, DiffuseSettings>) {
       if (field->diffuse == member) return entry;
+    } else if constexpr (std::is_same_v<Struct, InputSettings>) {
+      if (field->input == member) return entry;
     } else {
       if (field->top == member) return entry;
     }

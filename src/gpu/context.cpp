@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <string_view>
 
 #include "gpu/error.h"
 #include "gpu/recorder.h"
@@ -254,14 +255,8 @@ Context::Context(const ContextOptions& options)
     }
     physicalDevice_ = devices[chosen];
     deviceInfo_ = infos[chosen];
-    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-    VkPhysicalDeviceProperties2 driverProperties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
-    vkGetPhysicalDeviceProperties2(physicalDevice_, &driverProperties);
-    constantsInStorageBuffers_ =
-        options.constantsInStorageBuffers.value_or(driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE);
-    vkGetPhysicalDeviceProperties(physicalDevice_, &properties_);
-    vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
     queueFamily_ = *chooseQueueFamily(physicalDevice_);
+    timestampValidBits_ = 64;  // chooseQueueFamily takes only families with timestamps
 
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -284,48 +279,104 @@ Context::Context(const ContextOptions& options)
     deviceCreate.ppEnabledExtensionNames = deviceExtensions;
     check(vkCreateDevice(physicalDevice_, &deviceCreate, nullptr, &device_), "vkCreateDevice");
     vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
-
-    cmdPushDescriptorSet =
-        reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
-    if (debugUtils_) {
-      cmdBeginDebugLabel = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
-          vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
-      cmdEndDebugLabel = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
-          vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
-      setObjectName = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
-          vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
-    }
-
-    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    poolInfo.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
-    poolInfo.queueFamilyIndex = queueFamily_;
-    check(vkCreateCommandPool(device_, &poolInfo, nullptr, &setupPool_), "vkCreateCommandPool");
-
-    VkSamplerCreateInfo sampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    sampler.addressModeU = sampler.addressModeV = sampler.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    sampler.maxLod = VK_LOD_CLAMP_NONE;
-    sampler.magFilter = sampler.minFilter = VK_FILTER_LINEAR;
-    sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-    check(vkCreateSampler(device_, &sampler, nullptr, &linearSampler_), "vkCreateSampler");
-    sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;
-    sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    check(vkCreateSampler(device_, &sampler, nullptr, &nearestSampler_), "vkCreateSampler");
+    initialiseDeviceObjects(options.constantsInStorageBuffers);
   } catch (...) {
     release();
     throw;
   }
 }
 
+Context::Context(const ExternalDevice& external) : ownsDevice_(false) {
+  if (!external.instance || !external.physicalDevice || !external.device)
+    throw GpuError("the device to use is missing its instance, physical device or device handle");
+  instance_ = external.instance;
+  physicalDevice_ = external.physicalDevice;
+  device_ = external.device;
+  queue_ = external.queue;
+  queueFamily_ = external.queueFamily;
+  debugUtils_ = external.debugUtils;
+  deviceInfo_ = describe(physicalDevice_, -1);
+  if (VK_API_VERSION_MAJOR(deviceInfo_.apiVersion) == 1 && VK_API_VERSION_MINOR(deviceInfo_.apiVersion) < 3)
+    throw GpuError("the device is Vulkan " + versionString(deviceInfo_.apiVersion) + "; Bounce needs 1.3");
+  std::uint32_t families = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &families, nullptr);
+  if (queueFamily_ >= families)
+    throw GpuError("queue family " + std::to_string(queueFamily_) + " does not exist on the device");
+  std::vector<VkQueueFamilyProperties> familyProperties(families);
+  vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &families, familyProperties.data());
+  if (!(familyProperties[queueFamily_].queueFlags & VK_QUEUE_COMPUTE_BIT))
+    throw GpuError("queue family " + std::to_string(queueFamily_) + " cannot run compute shaders");
+  timestampValidBits_ = familyProperties[queueFamily_].timestampValidBits;
+  try {
+    initialiseDeviceObjects(external.constantsInStorageBuffers);
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+void Context::initialiseDeviceObjects(std::optional<bool> constantsInStorageBuffers) {
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceProperties2 driverProperties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+  vkGetPhysicalDeviceProperties2(physicalDevice_, &driverProperties);
+  constantsInStorageBuffers_ = constantsInStorageBuffers.value_or(driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE);
+  // The GI library opens its context on the engine's device and cannot be
+  // given the option; the variable lets one compare the variants there too.
+  if (!constantsInStorageBuffers) {
+    const char* forced = std::getenv("BOUNCE_CONSTANT_BLOCKS");
+    if (forced && std::string_view(forced) == "storage") constantsInStorageBuffers_ = true;
+    if (forced && std::string_view(forced) == "uniform") constantsInStorageBuffers_ = false;
+  }
+  vkGetPhysicalDeviceProperties(physicalDevice_, &properties_);
+  vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
+
+  cmdPushDescriptorSet =
+      reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+  if (!cmdPushDescriptorSet)
+    throw GpuError("the device was created without VK_KHR_push_descriptor, which Bounce records its bindings with");
+  if (debugUtils_) {
+    cmdBeginDebugLabel = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
+    cmdEndDebugLabel =
+        reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+    setObjectName = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+        vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+  }
+
+  if (queue_) {
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+    poolInfo.queueFamilyIndex = queueFamily_;
+    check(vkCreateCommandPool(device_, &poolInfo, nullptr, &setupPool_), "vkCreateCommandPool");
+  }
+
+  VkSamplerCreateInfo sampler{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  sampler.addressModeU = sampler.addressModeV = sampler.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  sampler.maxLod = VK_LOD_CLAMP_NONE;
+  sampler.magFilter = sampler.minFilter = VK_FILTER_LINEAR;
+  sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  check(vkCreateSampler(device_, &sampler, nullptr, &linearSampler_), "vkCreateSampler");
+  sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;
+  sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  check(vkCreateSampler(device_, &sampler, nullptr, &nearestSampler_), "vkCreateSampler");
+}
+
 Context::~Context() { release(); }
 
 void Context::release() {
   if (device_) {
-    vkDeviceWaitIdle(device_);
+    // Another's device may be busy with its own work; its owner waits for
+    // what concerns this context before destroying it (docs/integration.md).
+    if (ownsDevice_) vkDeviceWaitIdle(device_);
     if (linearSampler_) vkDestroySampler(device_, linearSampler_, nullptr);
     if (nearestSampler_) vkDestroySampler(device_, nearestSampler_, nullptr);
     if (setupPool_) vkDestroyCommandPool(device_, setupPool_, nullptr);
-    vkDestroyDevice(device_, nullptr);
+    if (ownsDevice_) vkDestroyDevice(device_, nullptr);
     device_ = VK_NULL_HANDLE;
+  }
+  if (!ownsDevice_) {
+    instance_ = VK_NULL_HANDLE;
+    return;
   }
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
@@ -394,6 +445,7 @@ void Context::trackAllocation(std::uint32_t memoryType, std::int64_t bytes) {
 }
 
 void Context::submitAndWait(const std::function<void(Recorder&)>& record) {
+  if (!setupPool_) throw GpuError("submitAndWait needs a queue, and this context was given none");
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   alloc.commandPool = setupPool_;
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -401,12 +453,16 @@ void Context::submitAndWait(const std::function<void(Recorder&)>& record) {
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   check(vkAllocateCommandBuffers(device_, &alloc, &cmd), "vkAllocateCommandBuffers");
   VkFence fence = VK_NULL_HANDLE;
+  std::vector<Recorder::CompletionHandler> handlers;
+  std::vector<CapturedStage>* captures = nullptr;
   try {
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
     Recorder recorder(*this, cmd);
     record(recorder);
+    handlers = recorder.takeCompletionHandlers();
+    captures = recorder.captureSink();
     check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     check(vkCreateFence(device_, &fenceInfo, nullptr, &fence), "vkCreateFence");
@@ -422,6 +478,7 @@ void Context::submitAndWait(const std::function<void(Recorder&)>& record) {
   }
   vkDestroyFence(device_, fence, nullptr);
   vkFreeCommandBuffers(device_, setupPool_, 1, &cmd);
+  for (Recorder::CompletionHandler& handler : handlers) handler(nullptr, captures);
 }
 
 void Context::nameObject(VkObjectType type, std::uint64_t handle, const std::string& name) const {

@@ -28,7 +28,24 @@ struct ContextOptions {
   bool printValidationMessages = true;
   // Which variant of the shaders to run (shaders/gpu/constant_block.glsl):
   // constant blocks as read-only storage buffers, or as uniform blocks.
-  // Empty = storage buffers on lavapipe, uniform blocks elsewhere.
+  // Empty = the environment variable BOUNCE_CONSTANT_BLOCKS (storage or
+  // uniform) if set, else storage buffers on lavapipe, uniform blocks elsewhere.
+  std::optional<bool> constantsInStorageBuffers;
+};
+
+// A device someone else made (an engine's): the context uses it and
+// destroys nothing of it. It must be Vulkan 1.3 with synchronization2 and
+// maintenance4 on and VK_KHR_push_descriptor enabled.
+struct ExternalDevice {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  std::uint32_t queueFamily = 0;
+  // A queue of that family for submitAndWait (uploads, readbacks); without
+  // one, submitAndWait throws and all work goes into the owner's command buffers.
+  VkQueue queue = VK_NULL_HANDLE;
+  bool debugUtils = false;  // VK_EXT_debug_utils is enabled on the instance: name objects, label passes
+  // As ContextOptions::constantsInStorageBuffers.
   std::optional<bool> constantsInStorageBuffers;
 };
 
@@ -46,7 +63,11 @@ std::string versionString(std::uint32_t apiVersion);
 
 class Context {
  public:
+  // Creates its own instance and device (and destroys them).
   explicit Context(const ContextOptions& options = {});
+  // Works on another's device; throws GpuError when the device lacks what
+  // Bounce needs (VK_KHR_push_descriptor, Vulkan 1.3).
+  explicit Context(const ExternalDevice& device);
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
@@ -63,6 +84,8 @@ class Context {
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
   const DeviceInfo& deviceInfo() const { return deviceInfo_; }
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
+  // Whether the queue family writes timestamps (a context of its own picks one that does).
+  bool hasTimestamps() const { return timestampValidBits_ > 0; }
   bool validationEnabled() const { return validation_; }
   // Whether passes run the shader variant whose constant blocks are storage
   // buffers (ContextOptions::constantsInStorageBuffers).
@@ -103,11 +126,16 @@ class Context {
 
  private:
   void release();
+  // What both constructors do once the device exists: properties, entry
+  // points, samplers, the set-up command pool.
+  void initialiseDeviceObjects(std::optional<bool> constantsInStorageBuffers);
   static VkBool32 VKAPI_PTR onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                            VkDebugUtilsMessageTypeFlagsEXT types,
                                            const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
 
   bool validation_ = false;
+  bool ownsDevice_ = true;
+  std::uint32_t timestampValidBits_ = 0;
   bool constantsInStorageBuffers_ = false;
   bool printMessages_ = true;
   bool debugUtils_ = false;

@@ -1,5 +1,7 @@
-// The SPIR-V of every shader under shaders/, compiled by glslc at build time
-// and linked into the binary (see cmake/EmbedShaders.cmake).
+// Shaders compiled by glslc at build time and linked into the binary
+// (cmake/EmbedShaders.cmake): each library embeds the shaders it runs in a
+// table of its own (gi::shaders(), render::shaders(), ...), which its passes
+// name in their PassDesc.
 #pragma once
 
 #include <cstddef>
@@ -19,10 +21,9 @@ struct EmbeddedShader {
   std::size_t wordCount;
 };
 
-std::span<const EmbeddedShader> embeddedShaders();
-
-// The shader of that name and variant; throws GpuError listing the known
-// names if absent.
-std::span<const std::uint32_t> findShader(std::string_view name, bool constantsInStorageBuffers = false);
+// The shader of that name and variant in `library`; throws GpuError listing
+// the library's names if absent.
+std::span<const std::uint32_t> findShader(std::span<const EmbeddedShader> library, std::string_view name,
+                                          bool constantsInStorageBuffers = false);
 
 }  // namespace bounce::gpu

@@ -72,8 +72,13 @@ void FrameLoop::collect(Slot& slot) {
     for (const auto& [pass, ms] : frameTotals) timings_.add(*pass, ms);
   }
   slot.timestamps.passes.clear();
-  for (CapturedStage& c : slot.captures) completedCaptures_.push_back(std::move(c));
+  for (CapturedStage& c : slot.captures) {
+    completeCapture(c);
+    completedCaptures_.push_back(std::move(c));
+  }
   slot.captures.clear();
+  for (Recorder::CompletionHandler& handler : slot.completionHandlers) handler(&timings_, &completedCaptures_);
+  slot.completionHandlers.clear();
 }
 
 Recorder& FrameLoop::beginFrame(bool capture) {
@@ -81,6 +86,7 @@ Recorder& FrameLoop::beginFrame(bool capture) {
   frameIndex_ = submitted_;
   Slot& slot = slots_[submitted_ % slots_.size()];
   collect(slot);
+  slot.frameIndex = frameIndex_;
   check(vkResetFences(context_.device(), 1, &slot.fence), "vkResetFences");
   check(vkResetCommandBuffer(slot.cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -96,6 +102,7 @@ void FrameLoop::endFrame() {
   if (!recording_) throw GpuError("endFrame called without beginFrame");
   Slot& slot = slots_[submitted_ % slots_.size()];
   check(vkEndCommandBuffer(slot.cmd), "vkEndCommandBuffer");
+  slot.completionHandlers = slot.recorder->takeCompletionHandlers();
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &slot.cmd;

@@ -36,16 +36,21 @@ class FrameLoop {
   std::uint64_t frameIndex() const { return frameIndex_; }  // of the frame being (or last) recorded
   std::uint32_t framesInFlight() const { return std::uint32_t(slots_.size()); }
   const TimingStats& timings() const { return timings_; }
-  // Stage copies of completed frames, oldest first; the caller takes them.
+  // Work recorded with its own queries (a library's) adds its times here
+  // through Recorder::onCompleted.
+  TimingStats& timings() { return timings_; }
+  // Stage copies of completed frames (texels on the host), oldest first; the caller takes them.
   std::vector<CapturedStage> takeCaptures();
 
  private:
   struct Slot {
+    std::uint64_t frameIndex = 0;
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     TimestampSink timestamps;
     std::vector<CapturedStage> captures;
     std::unique_ptr<Recorder> recorder;  // one per slot, so its scratch memory is reused
+    std::vector<Recorder::CompletionHandler> completionHandlers;  // of the frame in flight
     bool pending = false;
   };
   void collect(Slot& slot);

@@ -1,5 +1,6 @@
 #include "gpu/pass.h"
 
+#include <algorithm>
 #include <set>
 #include <string>
 
@@ -87,18 +88,82 @@ std::vector<ReflectedBinding> matchDeclarations(const PassDesc& desc, const Shad
   }
   for (const ReflectedBinding& b : reflection.bindings)
     if (!declared.count(b.name)) throw fail("shader binding '" + b.name + "' is not declared on the host");
-  if (desc.pushConstantSize != reflection.pushConstantSize)
-    throw fail("push constants are declared as " + std::to_string(desc.pushConstantSize) +
-               " bytes but the shader's block is " + std::to_string(reflection.pushConstantSize) + " bytes");
   return matched;
+}
+
+// Checks each declared constant layout against the shader's, and that every
+// uniform block and the push constants have one.
+void matchConstantLayouts(const PassDesc& desc, const ShaderReflection& reflection,
+                          const std::vector<ReflectedBinding>& matched) {
+  auto fail = [&](const std::string& why) { return GpuError("pass '" + desc.name + "': " + why); };
+  auto declared = [&](const std::string& binding) {
+    return std::find_if(desc.constants.begin(), desc.constants.end(),
+                        [&](const ConstantsDecl& c) { return c.binding == binding; });
+  };
+  for (std::size_t i = 0; i < desc.resources.size(); ++i)
+    if (desc.resources[i].kind == ResourceKind::UniformBuffer && declared(desc.resources[i].name) == desc.constants.end())
+      throw fail("uniform buffer '" + desc.resources[i].name + "' has no declared layout (BOUNCE_CONSTANTS_LAYOUT)");
+  if (reflection.pushConstantSize > 0 && declared("") == desc.constants.end())
+    throw fail("the push constants have no declared layout (BOUNCE_CONSTANTS_LAYOUT with binding \"\")");
+
+  for (const ConstantsDecl& constants : desc.constants) {
+    const std::vector<BlockMember>* shaderMembers = nullptr;
+    std::uint32_t shaderSize = 0;
+    const std::string block = constants.binding.empty() ? "the push constants" : "'" + constants.binding + "'";
+    if (constants.binding.empty()) {
+      shaderMembers = &reflection.pushConstantMembers;
+      shaderSize = reflection.pushConstantSize;
+    } else {
+      for (std::size_t i = 0; i < desc.resources.size(); ++i)
+        if (desc.resources[i].name == constants.binding) {
+          shaderMembers = &matched[i].members;
+          shaderSize = matched[i].blockSize;
+        }
+      if (!shaderMembers) throw fail("a layout is declared for '" + constants.binding + "', which is not a resource");
+    }
+    const std::vector<BlockMember>& members = *shaderMembers;
+    const std::string where = block + " (" + constants.type + ")";
+    for (std::size_t m = 0; m < std::max(members.size(), constants.members.size()); ++m) {
+      if (m >= members.size())
+        throw fail(where + ": member '" + constants.members[m].name + "' is not in the shader's block");
+      if (m >= constants.members.size())
+        throw fail(where + ": the shader's member '" + members[m].name + "' is not declared on the host");
+      const MemberLayout& host = constants.members[m];
+      const BlockMember& shader = members[m];
+      if (host.name != shader.name)
+        throw fail(where + ": member " + std::to_string(m) + " is '" + host.name + "' on the host but '" +
+                   shader.name + "' in the shader");
+      if (host.offset != shader.offset || host.size != shader.size)
+        throw fail(where + ": member '" + host.name + "' is at byte " + std::to_string(host.offset) + " (" +
+                   std::to_string(host.size) + " bytes) on the host but at byte " + std::to_string(shader.offset) +
+                   " (" + std::to_string(shader.size) + " bytes) in the shader");
+    }
+    if (constants.size < shaderSize)
+      throw fail(where + ": the host struct has " + std::to_string(constants.size) + " bytes, the shader reads " +
+                 std::to_string(shaderSize));
+    // The pipeline's push-constant range is the host struct: it must be the shader's block exactly.
+    if (constants.binding.empty() && constants.size != shaderSize)
+      throw fail("push constants are declared as " + std::to_string(constants.size) +
+                 " bytes but the shader's block is " + std::to_string(shaderSize) + " bytes");
+  }
+  if (reflection.pushConstantSize == 0 && desc.pushConstantSize() > 0)
+    throw fail("push constants are declared as " + std::to_string(desc.pushConstantSize()) +
+               " bytes but the shader has none");
 }
 
 }  // namespace
 
+std::uint32_t PassDesc::pushConstantSize() const {
+  for (const ConstantsDecl& c : constants)
+    if (c.binding.empty()) return std::uint32_t(c.size);
+  return 0;
+}
+
 ComputePass::ComputePass(Context& context, PassDesc desc) : context_(context), desc_(std::move(desc)) {
-  std::span<const std::uint32_t> spirv = findShader(desc_.shader, context.constantsInStorageBuffers());
+  std::span<const std::uint32_t> spirv = findShader(desc_.shaders, desc_.shader, context.constantsInStorageBuffers());
   reflection_ = reflectShader(spirv, desc_.shader);
   bindings_ = matchDeclarations(desc_, reflection_, context.constantsInStorageBuffers());
+  matchConstantLayouts(desc_, reflection_, bindings_);
 
   VkDevice device = context.device();
   std::vector<VkDescriptorSetLayoutBinding> layoutBindings;
@@ -118,11 +183,11 @@ ComputePass::ComputePass(Context& context, PassDesc desc) : context_(context), d
   setInfo.pBindings = layoutBindings.data();
   check(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout_), "vkCreateDescriptorSetLayout");
 
-  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, desc_.pushConstantSize};
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, desc_.pushConstantSize()};
   VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   layoutInfo.setLayoutCount = 1;
   layoutInfo.pSetLayouts = &setLayout_;
-  layoutInfo.pushConstantRangeCount = desc_.pushConstantSize ? 1 : 0;
+  layoutInfo.pushConstantRangeCount = desc_.pushConstantSize() ? 1 : 0;
   layoutInfo.pPushConstantRanges = &range;
   check(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout_), "vkCreatePipelineLayout");
 

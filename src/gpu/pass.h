@@ -1,28 +1,34 @@
 // A compute pass: one shader, one host declaration.
 //
 // The declaration names every resource the shader touches, with how it is
-// accessed, its format and a one-line purpose. At creation the declaration
-// is checked against the shader's own SPIR-V: a missing, extra, misspelled,
-// wrongly-typed or wrongly-formatted binding is an error that names the pass
-// and the binding, never a silent mismatch by binding order.
+// accessed, its format and a one-line purpose, and the layout of its
+// constant blocks. At creation the declaration is checked against the
+// shader's own SPIR-V: a missing, extra, misspelled, wrongly-typed or
+// wrongly-formatted binding, or a constant block whose members sit elsewhere
+// than the C++ struct's, is an error that names the pass and the binding,
+// never a silent mismatch by binding order or byte offset.
 //
 //   const gpu::PassDesc kDirectSun{
 //       .name = "render.direct_light",
 //       .shader = "render/direct_light",
+//       .shaders = render::shaders(),
 //       .resources = {
 //           {"gIn_ViewZ", gpu::Access::Read, VK_FORMAT_R32_SFLOAT, "linear view depth"},
 //           {"gOut_Radiance", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "direct light"},
 //       },
-//       .pushConstantSize = sizeof(DirectLightParams),
+//       .constants = {BOUNCE_CONSTANTS_LAYOUT("", DirectLightParams, sunDirection, sunColor)},
 //   };
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <vulkan/vulkan.h>
 
+#include "gpu/constants_layout.h"
+#include "gpu/embedded_shaders.h"
 #include "gpu/spirv_reflect.h"
 
 namespace bounce::gpu {
@@ -45,8 +51,15 @@ struct ResourceDecl {
 struct PassDesc {
   std::string name;    // stable: GPU timestamp key, debug label, dump file prefix
   std::string shader;  // embedded shader path, e.g. "render/direct_light"
+  std::span<const EmbeddedShader> shaders;  // the library the shader is embedded in (render::shaders(), ...)
   std::vector<ResourceDecl> resources;
-  std::uint32_t pushConstantSize = 0;
+  // The layout of every uniform block and of the push constants
+  // (BOUNCE_CONSTANTS_LAYOUT; binding "" for the push constants), checked
+  // member by member against the shader.
+  std::vector<ConstantsDecl> constants;
+
+  // The size of the push-constant struct (0: none).
+  std::uint32_t pushConstantSize() const;
 };
 
 class ComputePass {

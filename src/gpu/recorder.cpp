@@ -119,16 +119,23 @@ void Recorder::writeTimestamp(bool begin, const std::string& passName) {
 
 void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> binds,
                         const void* pushConstants, std::size_t pushConstantBytes) {
+  dispatch(pass, width, height, std::span<const Bind>(), binds, pushConstants, pushConstantBytes);
+}
+
+void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height,
+                        std::span<const Bind> group, std::span<const Bind> binds, const void* pushConstants,
+                        std::size_t pushConstantBytes) {
   const PassDesc& desc = pass.desc();
   auto fail = [&](const std::string& why) { return GpuError("pass '" + desc.name + "': " + why); };
   if (width == 0 || height == 0) throw fail("dispatch over an empty grid");
-  if (pushConstantBytes != desc.pushConstantSize)
+  if (pushConstantBytes != desc.pushConstantSize())
     throw fail("push constants of " + std::to_string(pushConstantBytes) + " bytes given, " +
-               std::to_string(desc.pushConstantSize) + " declared");
+               std::to_string(desc.pushConstantSize()) + " declared");
 
   // Put the binds into declaration order, checking names as we go.
   ordered_.assign(desc.resources.size(), nullptr);
-  for (const Bind& bind : binds) {
+  for (std::size_t b = 0; b < group.size() + binds.size(); ++b) {
+    const Bind& bind = b < group.size() ? group[b] : binds[b - group.size()];
     auto it = std::find_if(desc.resources.begin(), desc.resources.end(),
                            [&](const ResourceDecl& r) { return r.name == bind.name; });
     if (it == desc.resources.end())
@@ -176,16 +183,20 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
     if (isImage) {
       Image& image = *bind->image;
       if (kind == ResourceKind::StorageImage && image.format() != decl.format)
-        throw fail("'" + decl.name + "' is declared " + formatInfo(decl.format).name + " but image '" + image.name() +
-                   "' is " + formatInfo(image.format()).name);
-      require(image.sync(), image.handle(), image.desc().mipLevels, VK_IMAGE_LAYOUT_GENERAL, kCompute, access, writes);
+        throw fail("'" + decl.name + "' is declared " + formatName(decl.format) + " (" + formatInfo(decl.format).name +
+                   " in GLSL) but image '" + image.name() + "' is " + formatName(image.format()));
+      // Storage access needs GENERAL; a sampled read takes the image in the
+      // layout it is sampled in (another's image stays in its read-only layout).
+      const VkImageLayout layout =
+          kind == ResourceKind::SampledImage && !writes ? image.sampledLayout() : VK_IMAGE_LAYOUT_GENERAL;
+      require(image.sync(), image.handle(), image.desc().mipLevels, layout, kCompute, access, writes);
       VkDescriptorImageInfo info{};
       // Storage images take one level: the one asked for, else level 0.
       if (bind->mipLevel != Bind::kAllMips)
         info.imageView = image.mipView(bind->mipLevel);
       else
         info.imageView = kind == ResourceKind::StorageImage ? image.mipView(0) : image.view();
-      info.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+      info.imageLayout = layout;
       if (kind == ResourceKind::SampledImage) info.sampler = bind->sampler ? bind->sampler : context_.linearSampler();
       imageInfos_.push_back(info);
       write.descriptorType = kind == ResourceKind::SampledImage ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
@@ -231,13 +242,30 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
       const ResourceDecl& decl = desc.resources[i];
       if (decl.access == Access::Read || !ordered_[i]->image) continue;
       Image& image = *ordered_[i]->image;
-      auto texels = std::make_shared<Buffer>(context_, "capture." + desc.name + "." + decl.name, image.byteSize(),
-                                             BufferUsage::Readback);
-      copyImageToBuffer(image, *texels);
-      makeHostReadable(*texels);
-      captures_->push_back({captureFrame_, desc.name, decl.name, image.desc(), texels});
+      const std::uint32_t level = ordered_[i]->mipLevel == Bind::kAllMips ? 0 : ordered_[i]->mipLevel;
+      const ImageRegion region{.mipLevel = level,
+                               .width = std::min(width, image.mipWidth(level)),
+                               .height = std::min(height, image.mipHeight(level))};
+      CapturedStage capture{.frame = captureFrame_, .pass = desc.name, .binding = decl.name, .image = image.desc()};
+      capture.image.width = region.width;
+      capture.image.height = region.height;
+      capture.image.mipLevels = 1;
+      capture.pending = std::make_shared<Buffer>(context_, "capture." + desc.name + "." + decl.name,
+                                                 VkDeviceSize(region.width) * region.height *
+                                                     formatInfo(image.format()).bytesPerPixel,
+                                                 BufferUsage::Readback);
+      copyImageToBuffer(image, *capture.pending, region);
+      makeHostReadable(*capture.pending);
+      captures_->push_back(std::move(capture));
     }
   }
+}
+
+void completeCapture(CapturedStage& capture) {
+  if (!capture.pending) return;
+  const auto* bytes = static_cast<const std::uint8_t*>(capture.pending->mapped());
+  capture.texels.assign(bytes, bytes + capture.pending->size());
+  capture.pending.reset();
 }
 
 void Recorder::copyBufferToImage(Buffer& source, Image& destination) {
@@ -270,17 +298,33 @@ void Recorder::copyBufferToImage(Buffer& source, Image& destination, const Image
 }
 
 void Recorder::copyImageToBuffer(Image& source, Buffer& destination) {
-  if (destination.size() < source.byteSize())
-    throw GpuError("readback of '" + source.name() + "': buffer '" + destination.name() + "' is too small");
+  copyImageToBuffer(source, destination, ImageRegion{});
+}
+
+void Recorder::copyImageToBuffer(Image& source, Buffer& destination, const ImageRegion& region) {
+  const auto fail = [&](const std::string& why) {
+    return GpuError("readback of '" + source.name() + "' into '" + destination.name() + "': " + why);
+  };
+  if (region.mipLevel >= source.desc().mipLevels || region.layer >= source.desc().layers)
+    throw fail("mip level or layer out of range");
+  const std::uint32_t levelWidth = source.mipWidth(region.mipLevel);
+  const std::uint32_t levelHeight = source.mipHeight(region.mipLevel);
+  const std::uint32_t width = region.width ? region.width : levelWidth;
+  const std::uint32_t height = region.height ? region.height : levelHeight;
+  if (region.x + width > levelWidth || region.y + height > levelHeight) throw fail("region outside the image");
+  const VkDeviceSize bytes = VkDeviceSize(width) * height * formatInfo(source.format()).bytesPerPixel;
+  if (region.bufferOffset + bytes > destination.size()) throw fail("buffer is too small");
   require(source.sync(), source.handle(), source.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kTransfer,
           VK_ACCESS_2_TRANSFER_READ_BIT, false);
   require(destination.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT,
           true);
   flushBarriers();
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {source.width(), source.height(), 1};
-  vkCmdCopyImageToBuffer(cmd_, source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination.handle(), 1, &region);
+  VkBufferImageCopy copy{};
+  copy.bufferOffset = region.bufferOffset;
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, region.mipLevel, region.layer, 1};
+  copy.imageOffset = {std::int32_t(region.x), std::int32_t(region.y), 0};
+  copy.imageExtent = {width, height, 1};
+  vkCmdCopyImageToBuffer(cmd_, source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination.handle(), 1, &copy);
 }
 
 void Recorder::copyBuffer(Buffer& source, Buffer& destination, VkDeviceSize bytes) {
@@ -317,6 +361,10 @@ void Recorder::fillBuffer(Buffer& buffer, std::uint32_t word) {
   require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, true);
   flushBarriers();
   vkCmdFillBuffer(cmd_, buffer.handle(), 0, VK_WHOLE_SIZE, word);
+}
+
+void Recorder::handOver(Image& image, VkImageLayout layout, VkPipelineStageFlags2 stage, VkAccessFlags2 access) {
+  require(image.sync(), image.handle(), image.desc().mipLevels, layout, stage, access, true);
 }
 
 void Recorder::makeHostReadable(Buffer& buffer) {

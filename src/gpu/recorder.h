@@ -13,11 +13,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -26,6 +28,8 @@
 #include "gpu/resources.h"
 
 namespace bounce::gpu {
+
+class TimingStats;
 
 class Context;
 
@@ -59,15 +63,22 @@ struct ImageRegion {
   VkDeviceSize bufferOffset = 0;        // tightly packed texels start here
 };
 
-// A copy of one image a pass wrote, taken right after that pass ran
-// (so later passes that reuse the image do not hide it).
+// A copy of one image a pass wrote, taken right after that pass ran (so
+// later passes that reuse the image do not hide it): the level the pass
+// wrote, over the grid it dispatched (a pass that covers a render size
+// smaller than its images is captured at that size).
 struct CapturedStage {
   std::uint64_t frame = 0;
   std::string pass;
   std::string binding;
-  ImageDesc image;
-  std::shared_ptr<Buffer> texels;  // mip 0, tightly packed, host-visible once the frame completed
+  ImageDesc image;                   // width, height: the captured region; mipLevels 1
+  std::vector<std::uint8_t> texels;  // tightly packed rows, once completeCapture() ran
+  std::shared_ptr<Buffer> pending;   // the GPU's copy, until then
 };
+
+// Moves a capture's texels from its host-visible buffer into `texels` and
+// frees the buffer; only once the command buffer that took it has completed.
+void completeCapture(CapturedStage& capture);
 
 // Where a Recorder writes its GPU timestamps (owned by the FrameLoop).
 struct TimestampSink {
@@ -98,6 +109,22 @@ class Recorder {
                 const Params& params) {
     dispatch(pass, width, height, binds, &params, sizeof(Params));
   }
+  // A group of binds many passes share (a library's frame inputs) and the
+  // pass's own, together: every declared resource bound exactly once.
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> group,
+                std::span<const Bind> binds, const void* pushConstants = nullptr, std::size_t pushConstantBytes = 0);
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> group,
+                std::initializer_list<Bind> binds, const void* pushConstants = nullptr,
+                std::size_t pushConstantBytes = 0) {
+    dispatch(pass, width, height, group, std::span<const Bind>(binds.begin(), binds.size()), pushConstants,
+             pushConstantBytes);
+  }
+  template <class Params>
+  void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> group,
+                std::initializer_list<Bind> binds, const Params& params) {
+    dispatch(pass, width, height, group, std::span<const Bind>(binds.begin(), binds.size()), &params,
+             sizeof(Params));
+  }
   // Bind lists put together at run time, e.g. a pass's own binds plus GpuBvh::appendBinds.
   template <class Params>
   void dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> binds,
@@ -108,7 +135,8 @@ class Recorder {
   // Transfers, with the same automatic barriers.
   void copyBufferToImage(Buffer& source, Image& destination);  // tightly packed mip 0
   void copyBufferToImage(Buffer& source, Image& destination, const ImageRegion& region);
-  void copyImageToBuffer(Image& source, Buffer& destination);
+  void copyImageToBuffer(Image& source, Buffer& destination);  // mip 0, tightly packed
+  void copyImageToBuffer(Image& source, Buffer& destination, const ImageRegion& region);
   void copyBuffer(Buffer& source, Buffer& destination, VkDeviceSize bytes);
   // Writes `bytes` (a multiple of 4, at most 65536) into the start of a
   // buffer from the command buffer itself (vkCmdUpdateBuffer), so per-frame
@@ -119,6 +147,13 @@ class Recorder {
   // Makes GPU writes to a host-visible buffer visible to the CPU after the
   // submission's fence is waited on.
   void makeHostReadable(Buffer& buffer);
+  // Hands an image over to work recorded outside this recorder's tracking
+  // (an engine's next use, or another library's): a barrier from everything
+  // recorded here to `stage`/`access`, moving it to `layout`. Afterwards the
+  // image counts as last used there.
+  void handOver(Image& image, VkImageLayout layout, VkPipelineStageFlags2 stage, VkAccessFlags2 access);
+  // Records the barriers asked for so far (handOver batches them).
+  void flush() { flushBarriers(); }
 
   // Copies every image each later pass writes into `sink` (see CapturedStage).
   void captureStages(std::vector<CapturedStage>* sink, std::uint64_t frame) {
@@ -128,6 +163,17 @@ class Recorder {
   // Whether this frame's pass outputs are being captured (passes that exist
   // only to be looked at run then, and only then).
   bool capturing() const { return captures_ != nullptr; }
+
+  // Work a library recorded into this command buffer with its own queries
+  // and copies reports through `handler` once the command buffer has
+  // completed: FrameLoop calls it with its timings table and captures list
+  // (in frame order), Context::submitAndWait with no timings and this
+  // recorder's capture list (null when not capturing).
+  using CompletionHandler = std::function<void(TimingStats* timings, std::vector<CapturedStage>* captures)>;
+  void onCompleted(CompletionHandler handler) { completionHandlers_.push_back(std::move(handler)); }
+  std::vector<CompletionHandler> takeCompletionHandlers() { return std::exchange(completionHandlers_, {}); }
+  std::vector<CapturedStage>* captureSink() const { return captures_; }
+  std::uint64_t captureFrame() const { return captureFrame_; }
 
   // For tests that prove synchronization validation works: with false, only
   // layout transitions are recorded, no hazard barriers.
@@ -146,6 +192,7 @@ class Recorder {
   TimestampSink* timestamps_;
   bool autoBarriers_ = true;
   std::vector<CapturedStage>* captures_ = nullptr;
+  std::vector<CompletionHandler> completionHandlers_;
   std::uint64_t captureFrame_ = 0;
   // Scratch storage reused by every dispatch, so recording a frame does not
   // allocate once their capacity has grown.

@@ -1,5 +1,6 @@
 #include "gpu/resources.h"
 
+#include <algorithm>
 #include <bit>
 #include <string>
 
@@ -9,7 +10,52 @@
 
 namespace bounce::gpu {
 
-Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsage usage)
+MemoryArena::MemoryArena(Context& context, VkDeviceSize maxBlock) : context_(context), maxBlock_(maxBlock) {}
+
+MemoryArena::~MemoryArena() {
+  for (const Block& block : blocks_) {
+    vkFreeMemory(context_.device(), block.memory, nullptr);
+    context_.trackAllocation(block.type, -std::int64_t(block.size));
+  }
+}
+
+MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
+                                              const std::string& what) {
+  const std::uint32_t type = context_.findMemoryType(requirements.memoryTypeBits, required);
+  // Images and buffers may share a block: keeping every start at a multiple
+  // of bufferImageGranularity keeps linear and optimal data off one page.
+  const VkDeviceSize alignment =
+      std::max(requirements.alignment, context_.properties().limits.bufferImageGranularity);
+  const auto alignUp = [alignment](VkDeviceSize value) { return (value + alignment - 1) / alignment * alignment; };
+  for (Block& block : blocks_) {
+    if (block.type != type) continue;
+    const VkDeviceSize offset = alignUp(block.used);
+    if (offset + requirements.size > block.size) continue;
+    block.used = offset + requirements.size;
+    return {block.memory, offset};
+  }
+  Block block;
+  block.type = type;
+  constexpr VkDeviceSize kFirstBlock = VkDeviceSize(4) << 20;
+  block.size = std::max(requirements.size, std::clamp(bytes(), kFirstBlock, std::max(kFirstBlock, maxBlock_)));
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = block.size;
+  alloc.memoryTypeIndex = type;
+  check(vkAllocateMemory(context_.device(), &alloc, nullptr, &block.memory),
+        ("allocating " + std::to_string(block.size) + " bytes of device memory for " + what).c_str());
+  context_.trackAllocation(type, std::int64_t(block.size));
+  block.used = requirements.size;
+  blocks_.push_back(block);
+  return {block.memory, 0};
+}
+
+VkDeviceSize MemoryArena::bytes() const {
+  VkDeviceSize total = 0;
+  for (const Block& block : blocks_) total += block.size;
+  return total;
+}
+
+Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsage usage, MemoryArena* arena)
     : context_(context), name_(std::move(name)), size_(size) {
   if (size == 0) throw GpuError("buffer '" + name_ + "': size is zero");
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -36,6 +82,18 @@ Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsag
       preferred = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
       break;
   }
+  if (arena && usage == BufferUsage::DeviceLocal) {
+    MemoryArena::Allocation allocation;
+    try {
+      allocation = arena->allocate(requirements, required, "buffer '" + name_ + "'");
+    } catch (...) {
+      vkDestroyBuffer(device, buffer_, nullptr);
+      throw;
+    }
+    check(vkBindBufferMemory(device, buffer_, allocation.memory, allocation.offset), "vkBindBufferMemory");
+    context.nameObject(VK_OBJECT_TYPE_BUFFER, std::uint64_t(buffer_), name_);
+    return;
+  }
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = requirements.size;
   alloc.memoryTypeIndex = context.findMemoryType(requirements.memoryTypeBits, required, preferred);
@@ -56,11 +114,19 @@ Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsag
 Buffer::~Buffer() {
   VkDevice device = context_.device();
   vkDestroyBuffer(device, buffer_, nullptr);
-  vkFreeMemory(device, memory_, nullptr);
-  context_.trackAllocation(memoryType_, -std::int64_t(allocated_));
+  if (memory_) {
+    vkFreeMemory(device, memory_, nullptr);
+    context_.trackAllocation(memoryType_, -std::int64_t(allocated_));
+  }
 }
 
-Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_(desc) {
+Image::Image(Context& context, const ExternalImage& external)
+    : context_(context), desc_(external.desc), image_(external.image), owned_(false), view_(external.view),
+      sync_(external.state) {
+  if (!image_ || !view_) throw GpuError("image '" + desc_.name + "': no image or view handle given");
+}
+
+Image::Image(Context& context, const ImageDesc& desc, MemoryArena* arena) : context_(context), desc_(desc) {
   const std::uint32_t maxSide = context.properties().limits.maxImageDimension2D;
   if (desc.width == 0 || desc.height == 0 || desc.width > maxSide || desc.height > maxSide)
     throw GpuError("image '" + desc.name + "': size " + std::to_string(desc.width) + "x" + std::to_string(desc.height) +
@@ -74,8 +140,10 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
   const FormatInfo& format = formatInfo(desc.format);
   VkFormatProperties props;
   vkGetPhysicalDeviceFormatProperties(context.physicalDevice(), desc.format, &props);
-  if (!(props.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
+  if (desc.storage && !(props.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
     throw GpuError("image '" + desc.name + "': this device cannot use " + format.name + " as a storage image");
+  if (!(props.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
+    throw GpuError("image '" + desc.name + "': this device cannot sample " + format.name);
 
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = VK_IMAGE_TYPE_2D;
@@ -85,8 +153,8 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
   info.arrayLayers = desc.layers;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-               VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  info.usage = (desc.storage ? VK_IMAGE_USAGE_STORAGE_BIT : 0) | VK_IMAGE_USAGE_SAMPLED_BIT |
+               VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   VkDevice device = context.device();
@@ -94,18 +162,29 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
 
   VkMemoryRequirements requirements;
   vkGetImageMemoryRequirements(device, image_, &requirements);
-  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  alloc.allocationSize = requirements.size;
-  alloc.memoryTypeIndex = context.findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VkResult result = vkAllocateMemory(device, &alloc, nullptr, &memory_);
-  if (result != VK_SUCCESS) {
-    vkDestroyImage(device, image_, nullptr);
-    check(result, ("allocating memory for image '" + desc.name + "'").c_str());
+  if (arena) {
+    MemoryArena::Allocation allocation;
+    try {
+      allocation = arena->allocate(requirements, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "image '" + desc.name + "'");
+    } catch (...) {
+      vkDestroyImage(device, image_, nullptr);
+      throw;
+    }
+    check(vkBindImageMemory(device, image_, allocation.memory, allocation.offset), "vkBindImageMemory");
+  } else {
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = requirements.size;
+    alloc.memoryTypeIndex = context.findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VkResult result = vkAllocateMemory(device, &alloc, nullptr, &memory_);
+    if (result != VK_SUCCESS) {
+      vkDestroyImage(device, image_, nullptr);
+      check(result, ("allocating memory for image '" + desc.name + "'").c_str());
+    }
+    allocated_ = alloc.allocationSize;
+    memoryType_ = alloc.memoryTypeIndex;
+    context.trackAllocation(memoryType_, std::int64_t(allocated_));
+    check(vkBindImageMemory(device, image_, memory_, 0), "vkBindImageMemory");
   }
-  allocated_ = alloc.allocationSize;
-  memoryType_ = alloc.memoryTypeIndex;
-  context.trackAllocation(memoryType_, std::int64_t(allocated_));
-  check(vkBindImageMemory(device, image_, memory_, 0), "vkBindImageMemory");
 
   VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   viewInfo.image = image_;
@@ -126,17 +205,37 @@ Image::Image(Context& context, const ImageDesc& desc) : context_(context), desc_
 
 Image::~Image() {
   VkDevice device = context_.device();
+  if (!owned_) {
+    for (VkImageView view : mipViews_) vkDestroyImageView(device, view, nullptr);
+    return;
+  }
   for (VkImageView view : mipViews_) vkDestroyImageView(device, view, nullptr);
   vkDestroyImageView(device, view_, nullptr);
   vkDestroyImage(device, image_, nullptr);
-  vkFreeMemory(device, memory_, nullptr);
-  context_.trackAllocation(memoryType_, -std::int64_t(allocated_));
+  if (memory_) {
+    vkFreeMemory(device, memory_, nullptr);
+    context_.trackAllocation(memoryType_, -std::int64_t(allocated_));
+  }
 }
 
 VkImageView Image::mipView(std::uint32_t level) const {
   if (level >= desc_.mipLevels)
     throw GpuError("image '" + desc_.name + "': mip level " + std::to_string(level) + " of " +
                    std::to_string(desc_.mipLevels));
+  if (!owned_ && desc_.mipLevels > 1 && mipViews_.empty()) {
+    // Another's image comes with one view of all its mips; views of single
+    // levels are made the first time one is asked for, and are this wrapper's.
+    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    viewInfo.image = image_;
+    viewInfo.viewType = desc_.layers > 1 || desc_.arrayed ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    viewInfo.format = desc_.format;
+    for (std::uint32_t mip = 0; mip < desc_.mipLevels; ++mip) {
+      viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, mip, 1, 0, desc_.layers};
+      VkImageView view = VK_NULL_HANDLE;
+      check(vkCreateImageView(context_.device(), &viewInfo, nullptr, &view), "vkCreateImageView (mip level)");
+      mipViews_.push_back(view);
+    }
+  }
   return mipViews_.empty() ? view_ : mipViews_[level];
 }
 
@@ -144,11 +243,11 @@ VkDeviceSize Image::byteSize() const {
   return VkDeviceSize(desc_.width) * desc_.height * formatInfo(desc_.format).bytesPerPixel;
 }
 
-HistoryImage::HistoryImage(Context& context, const ImageDesc& desc) {
+HistoryImage::HistoryImage(Context& context, const ImageDesc& desc, MemoryArena* arena) {
   for (std::size_t i = 0; i < images_.size(); ++i) {
     ImageDesc half = desc;
     half.name = desc.name + (i == 0 ? ".ping" : ".pong");
-    images_[i] = std::make_unique<Image>(context, half);
+    images_[i] = std::make_unique<Image>(context, half, arena);
   }
 }
 

@@ -38,6 +38,42 @@ enum class Visualize {
              // from the 1st to the 99th percentile of the positive values, magma colours; 0 black
 };
 
+// Device memory for many images and buffers in a few vkAllocateMemory calls:
+// blocks handed out front to back and freed only with the arena (which must
+// outlive what it holds). Drivers limit the number of allocations (4096 is
+// common) and each one costs. Blocks grow with what the arena holds: the
+// first is 4 MiB, each next one as large as all before it, up to maxBlock,
+// so a small context wastes little and a large one needs few blocks (a GI
+// context at 1080p: five or six).
+class MemoryArena {
+ public:
+  explicit MemoryArena(Context& context, VkDeviceSize maxBlock = VkDeviceSize(128) << 20);
+  ~MemoryArena();
+  MemoryArena(const MemoryArena&) = delete;
+  MemoryArena& operator=(const MemoryArena&) = delete;
+
+  struct Allocation {
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize offset = 0;
+  };
+  Allocation allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
+                      const std::string& what);
+
+  VkDeviceSize bytes() const;                                // device memory held
+  std::size_t allocationCount() const { return blocks_.size(); }  // vkAllocateMemory calls
+
+ private:
+  struct Block {
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    std::uint32_t type = 0;
+    VkDeviceSize size = 0;
+    VkDeviceSize used = 0;
+  };
+  Context& context_;
+  VkDeviceSize maxBlock_;
+  std::vector<Block> blocks_;
+};
+
 enum class BufferUsage {
   DeviceLocal,  // storage buffer on the GPU
   Upload,       // host-visible, written by the CPU, read by the GPU
@@ -46,7 +82,8 @@ enum class BufferUsage {
 
 class Buffer {
  public:
-  Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsage usage);
+  // Device-local buffers may come from an arena; host-visible ones get their own memory.
+  Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsage usage, MemoryArena* arena = nullptr);
   ~Buffer();
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
@@ -63,7 +100,7 @@ class Buffer {
   std::string name_;
   VkDeviceSize size_ = 0;
   VkBuffer buffer_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;  // null when the memory is an arena's
   VkDeviceSize allocated_ = 0;
   std::uint32_t memoryType_ = 0;
   void* mapped_ = nullptr;
@@ -79,14 +116,31 @@ struct ImageDesc {
   std::uint32_t mipLevels = 1;
   std::uint32_t layers = 1;  // > 1 makes an array image (image2DArray / sampler2DArray in shaders)
   bool arrayed = false;      // viewed as an array even with one layer (its shaders declare *2DArray)
+  // false: sampled and copied only (formats without a storage qualifier,
+  // such as sRGB; tests that stand in for an engine's images).
+  bool storage = true;
+};
+
+// Someone else's image (an engine's), used but never destroyed: its handle,
+// a view of all its mips, and what was last done to it, where the first
+// barrier starts from.
+struct ExternalImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  ImageDesc desc;
+  SyncState state;
 };
 
 // A 2D image usable as storage image, sampled image and transfer source and
 // destination. Compute passes use it in VK_IMAGE_LAYOUT_GENERAL (storage
-// and sampled alike); copies move it to the transfer layouts and back.
+// and sampled alike, unless sampledLayout() says otherwise); copies move it
+// to the transfer layouts and the next pass back.
 class Image {
  public:
-  Image(Context& context, const ImageDesc& desc);
+  Image(Context& context, const ImageDesc& desc, MemoryArena* arena = nullptr);
+  // Wraps another's image: its view shows all mips; mipView() makes views
+  // of single levels when first asked, and destroys only those.
+  Image(Context& context, const ExternalImage& external);
   ~Image();
   Image(const Image&) = delete;
   Image& operator=(const Image&) = delete;
@@ -105,17 +159,24 @@ class Image {
   std::uint32_t mipHeight(std::uint32_t level) const { return std::max(1u, desc_.height >> level); }
   VkDeviceSize byteSize() const;  // of mip level 0, layer 0
   SyncState& sync() { return sync_; }
+  // The layout compute passes sample it in (storage access is always in
+  // GENERAL): GENERAL for Bounce's own images; for another's image, the
+  // read-only layout it came in, so reading it needs no transition.
+  VkImageLayout sampledLayout() const { return sampledLayout_; }
+  void setSampledLayout(VkImageLayout layout) { sampledLayout_ = layout; }
 
  private:
   Context& context_;
   ImageDesc desc_;
   VkImage image_ = VK_NULL_HANDLE;
+  bool owned_ = true;  // false: another's image (ExternalImage)
   VkDeviceSize allocated_ = 0;
   std::uint32_t memoryType_ = 0;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;  // null when the memory is an arena's
   VkImageView view_ = VK_NULL_HANDLE;
-  std::vector<VkImageView> mipViews_;  // one per level when there are several
+  mutable std::vector<VkImageView> mipViews_;  // one per level when there are several (another's: made when asked)
   SyncState sync_;
+  VkImageLayout sampledLayout_ = VK_IMAGE_LAYOUT_GENERAL;
 };
 
 // A temporal resource: two images that swap roles every frame. Which one is
@@ -123,7 +184,7 @@ class Image {
 // and a skipped swap cannot happen.
 class HistoryImage {
  public:
-  HistoryImage(Context& context, const ImageDesc& desc);
+  HistoryImage(Context& context, const ImageDesc& desc, MemoryArena* arena = nullptr);
 
   Image& current(std::uint64_t frameIndex) { return *images_[frameIndex & 1u]; }
   Image& previous(std::uint64_t frameIndex) { return *images_[(frameIndex + 1u) & 1u]; }

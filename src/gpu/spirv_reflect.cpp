@@ -49,6 +49,7 @@ ShaderReflection reflectShader(std::span<const std::uint32_t> spirv, const std::
   if (spirv.size() < 5 || spirv[0] != spv::MagicNumber) throw fail("not SPIR-V");
 
   std::map<std::uint32_t, std::string> names;
+  std::map<std::uint32_t, std::map<std::uint32_t, std::string>> memberNames;
   std::map<std::uint32_t, std::map<spv::Decoration, std::uint32_t>> decorations;
   std::map<std::uint32_t, std::map<std::uint32_t, std::map<spv::Decoration, std::uint32_t>>> memberDecorations;
   std::map<std::uint32_t, TypeInfo> types;
@@ -69,6 +70,9 @@ ShaderReflection reflectShader(std::span<const std::uint32_t> spirv, const std::
     switch (op) {
       case spv::OpName:
         names[w[0]] = readString(w.subspan(1));
+        break;
+      case spv::OpMemberName:
+        memberNames[w[0]][w[1]] = readString(w.subspan(2));
         break;
       case spv::OpDecorate:
         decorations[w[0]][spv::Decoration(w[1])] = w.size() > 2 ? w[2] : 1;
@@ -119,7 +123,7 @@ ShaderReflection reflectShader(std::span<const std::uint32_t> spirv, const std::
   }
 
   // Byte size of a type inside a block, from the offsets and strides the
-  // compiler decorated it with (enough for push constants).
+  // compiler decorated it with.
   auto sizeOf = [&](auto&& self, std::uint32_t typeId) -> std::uint32_t {
     const TypeInfo& t = types.at(typeId);
     switch (t.op) {
@@ -144,8 +148,28 @@ ShaderReflection reflectShader(std::span<const std::uint32_t> spirv, const std::
         return size;
       }
       default:
-        throw fail("unsupported type in a push-constant block");
+        throw fail("unsupported type in a buffer or push-constant block");
     }
+  };
+  auto memberSizeOf = [&](std::uint32_t structId, std::uint32_t member) {
+    auto& decorated = memberDecorations[structId][member];
+    const std::uint32_t memberType = types.at(structId).operands[member];
+    return decorated.count(spv::DecorationMatrixStride)
+               ? types.at(memberType).operands[1] * decorated[spv::DecorationMatrixStride]
+               : sizeOf(sizeOf, memberType);
+  };
+  // The members of a block type, or of its only member when that is a struct.
+  auto layoutOf = [&](std::uint32_t blockId) {
+    std::uint32_t structId = blockId;
+    const TypeInfo& block = types.at(blockId);
+    if (block.operands.size() == 1 && types.at(block.operands[0]).op == spv::OpTypeStruct)
+      structId = block.operands[0];
+    std::vector<BlockMember> members;
+    const TypeInfo& type = types.at(structId);
+    for (std::uint32_t m = 0; m < type.operands.size(); ++m)
+      members.push_back({memberNames[structId][m], memberDecorations[structId][m][spv::DecorationOffset],
+                         memberSizeOf(structId, m)});
+    return members;
   };
 
   for (const Variable& v : variables) {
@@ -153,6 +177,7 @@ ShaderReflection reflectShader(std::span<const std::uint32_t> spirv, const std::
     std::uint32_t typeId = pointer.operands[1];
     if (v.storage == spv::StorageClassPushConstant) {
       result.pushConstantSize = sizeOf(sizeOf, typeId);
+      result.pushConstantMembers = layoutOf(typeId);
       continue;
     }
     if (v.storage != spv::StorageClassUniformConstant && v.storage != spv::StorageClassUniform &&
@@ -197,6 +222,12 @@ ShaderReflection reflectShader(std::span<const std::uint32_t> spirv, const std::
       if (allMembersHave(spv::DecorationNonWritable)) binding.writable = false;
       if (allMembersHave(spv::DecorationNonReadable)) binding.readable = false;
       if (binding.kind == ResourceKind::UniformBuffer) binding.writable = false;
+      if (std::none_of(type->operands.begin(), type->operands.end(), [&](std::uint32_t member) {
+            return types.at(member).op == spv::OpTypeRuntimeArray;
+          })) {
+        binding.members = layoutOf(typeId);
+        binding.blockSize = sizeOf(sizeOf, typeId);
+      }
     } else {
       continue;
     }

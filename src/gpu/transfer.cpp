@@ -16,6 +16,8 @@ std::vector<std::string> channelNames(VkFormat format) {
       return {"Y"};
     case 2:
       return {"R", "G"};
+    case 3:
+      return {"R", "G", "B"};
     default:
       return {"R", "G", "B", "A"};
   }
@@ -28,34 +30,6 @@ void uploadImage(Context& context, Image& image, const void* texels, std::size_t
   Buffer staging(context, "staging.upload." + image.name(), bytes, BufferUsage::Upload);
   std::memcpy(staging.mapped(), texels, bytes);
   context.submitAndWait([&](Recorder& r) { r.copyBufferToImage(staging, image); });
-}
-
-void uploadImage(Context& context, Image& image, const io::ImageF& pixels) {
-  const FormatInfo& format = formatInfo(image.format());
-  if (pixels.width != int(image.width()) || pixels.height != int(image.height()) ||
-      pixels.channelCount() != format.channels)
-    throw GpuError("upload to '" + image.name() + "': a " + std::to_string(pixels.width) + "x" +
-                   std::to_string(pixels.height) + "x" + std::to_string(pixels.channelCount()) +
-                   " image does not fit " + std::to_string(image.width()) + "x" + std::to_string(image.height()) + " " +
-                   format.name);
-  std::vector<std::uint8_t> texels =
-      floatsToTexels(image.format(), pixels.pixels.data(), std::size_t(pixels.width) * pixels.height);
-  uploadImage(context, image, texels.data(), texels.size());
-}
-
-io::ImageF texelsToImage(const ImageDesc& desc, const void* texels) {
-  io::ImageF out(int(desc.width), int(desc.height), channelNames(desc.format));
-  texelsToFloats(desc.format, texels, std::size_t(desc.width) * desc.height, out.pixels.data());
-  return out;
-}
-
-io::ImageF readbackImage(Context& context, Image& image) {
-  Buffer staging(context, "staging.readback." + image.name(), image.byteSize(), BufferUsage::Readback);
-  context.submitAndWait([&](Recorder& r) {
-    r.copyImageToBuffer(image, staging);
-    r.makeHostReadable(staging);
-  });
-  return texelsToImage(image.desc(), staging.mapped());
 }
 
 std::vector<std::uint8_t> readbackImageBytes(Context& context, Image& image) {

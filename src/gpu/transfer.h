@@ -1,13 +1,14 @@
-// Moving pixels between the CPU and the GPU (blocking; for set-up, tests and
-// tools, not for per-frame work).
+// Moving bytes between the CPU and the GPU (blocking; for set-up, tests and
+// tools, not for per-frame work). Images as float pixels: gpuio/gpu_images.h.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include <string>
+
 #include "gpu/resources.h"
-#include "io/image_io.h"
 
 namespace bounce::gpu {
 
@@ -17,17 +18,11 @@ class Context;
 std::vector<std::string> channelNames(VkFormat format);
 
 void uploadImage(Context& context, Image& image, const void* texels, std::size_t bytes);
-// Converts the float image to the image's format; channel counts must match.
-void uploadImage(Context& context, Image& image, const io::ImageF& pixels);
-io::ImageF readbackImage(Context& context, Image& image);
 // Mip 0's texels exactly as stored (tightly packed rows), for packed
 // integer data that a float conversion would round.
 std::vector<std::uint8_t> readbackImageBytes(Context& context, Image& image);
 
 void uploadBuffer(Context& context, Buffer& buffer, const void* data, std::size_t bytes);
 std::vector<std::uint8_t> readbackBuffer(Context& context, Buffer& buffer);
-
-// Texels of a host-visible buffer holding a tightly packed image, as floats.
-io::ImageF texelsToImage(const ImageDesc& desc, const void* texels);
 
 }  // namespace bounce::gpu

@@ -6,8 +6,13 @@
 #include <numbers>
 #include <string>
 
+#include "gi/environment_prefilter.h"
+#include "gpu/constants_layout.h"
 #include "gpu/error.h"
-#include "gpu/transfer.h"
+#include "gpu/timing.h"
+#include "gpuio/gpu_images.h"
+#include "render/gi_bridge.h"
+#include "render/render_shaders.h"
 #include "shared/finite.glsl"
 #include "shared/sky.glsl"
 
@@ -67,51 +72,13 @@ constexpr std::uint32_t kBlackWidth = 16;
 
 shared::SkyParams toShared(const SkyParameters& p) { return {p.toSunTurbidity, p.scale, p.groundRadiance}; }
 
-struct SkyBakeParams {
-  shared::SkyParams sky;
-};
-static_assert(sizeof(SkyBakeParams) == sizeof(SkyParameters));
-
-struct PrefilterParams {
-  std::uint32_t level = 0;
-  std::uint32_t mipCount = 1;
-  std::uint32_t sampleCount = 1;
-  std::uint32_t sourceLevels = 1;
-};
-
 gpu::PassDesc skyBakeDesc() {
   return {.name = "render.sky_bake",
           .shader = "render/sky_bake",
+          .shaders = shaders(),
           .resources = {{"gOut_Sky", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT,
-                         "procedural sky radiance, level 0 of the source chain"}},
-          .pushConstantSize = sizeof(SkyBakeParams)};
-}
-
-gpu::PassDesc downsampleDesc() {
-  return {.name = "render.env_downsample",
-          .shader = "render/env_downsample",
-          .resources = {{"gIn_Source", gpu::Access::Read, VK_FORMAT_UNDEFINED, "one level of the source chain",
-                         gpu::ResourceKind::SampledImage},
-                        {"gOut_Destination", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT,
-                         "the next level, solid-angle-weighted box filter"}}};
-}
-
-gpu::PassDesc prefilterDesc() {
-  return {.name = "render.env_prefilter",
-          .shader = "render/env_prefilter",
-          .resources = {{"gIn_SourceEven", gpu::Access::Read, VK_FORMAT_UNDEFINED,
-                         "even levels of the box-filtered source chain", gpu::ResourceKind::SampledImage},
-                        {"gIn_SourceOdd", gpu::Access::Read, VK_FORMAT_UNDEFINED,
-                         "odd levels of the box-filtered source chain", gpu::ResourceKind::SampledImage},
-                        {"gOut_Radiance", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT,
-                         "one level of the GGX-prefiltered chain"}},
-          .pushConstantSize = sizeof(PrefilterParams)};
-}
-
-std::uint32_t fullMipCount(std::uint32_t width, std::uint32_t height) {
-  std::uint32_t levels = 1;
-  while ((std::max(width, height) >> levels) > 0) ++levels;
-  return levels;
+                         "procedural sky radiance: the environment the library prefilters"}},
+          .constants = {BOUNCE_CONSTANTS_LAYOUT("", shared::SkyParams, toSunTurbidity, scale, groundRadiance)}};
 }
 
 bool finite(float value) { return std::isfinite(value); }
@@ -231,9 +198,7 @@ double sunIlluminanceThroughAirMass(double airMass, float turbidity) {
 }  // namespace
 
 std::uint32_t prefilteredMipCount(std::uint32_t height, std::uint32_t maxMipCount) {
-  std::uint32_t levels = 1;
-  while ((height >> levels) >= 8 && levels < maxMipCount) ++levels;
-  return std::max(1u, std::min(levels, maxMipCount));
+  return gi::prefilteredMipCount(height, maxMipCount);
 }
 
 float preethamSunIlluminance(float elevationDegrees, float turbidity) {
@@ -354,88 +319,62 @@ Environment::Environment(gpu::Context& context, const EnvironmentDesc& desc) : c
     sky_ = skyParams(desc);
   }
 
-  VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  samplerInfo.magFilter = samplerInfo.minFilter = VK_FILTER_LINEAR;
-  samplerInfo.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-  samplerInfo.addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT;
-  samplerInfo.addressModeV = samplerInfo.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  samplerInfo.maxLod = VK_LOD_CLAMP_NONE;
-  gpu::check(vkCreateSampler(context.device(), &samplerInfo, nullptr, &sampler_), "vkCreateSampler (environment)");
-  // The source chain is read at exact integer levels, some of which hold
-  // nothing (see source_): nearest-mip selection never touches a neighbour.
-  samplerInfo.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-  if (const VkResult result = vkCreateSampler(context.device(), &samplerInfo, nullptr, &sourceSampler_);
-      result != VK_SUCCESS) {
-    vkDestroySampler(context.device(), sampler_, nullptr);
-    gpu::check(result, "vkCreateSampler (environment source)");
-  }
-
-  try {
-    const std::uint32_t mipCount = kind_ == Kind::Black ? 1 : prefilteredMipCount(height, desc.maxMipCount);
-    radiance_ = std::make_unique<gpu::Image>(context, gpu::ImageDesc{.name = "environment.radiance",
-                                                                     .width = width,
-                                                                     .height = height,
-                                                                     .format = VK_FORMAT_R16G16B16A16_SFLOAT,
-                                                                     .visualize = gpu::Visualize::Radiance,
-                                                                     .mipLevels = mipCount});
-    if (kind_ == Kind::Black) return;
-    sourceLevels_ = fullMipCount(width, height);
-    source_[0] = std::make_unique<gpu::Image>(context, gpu::ImageDesc{.name = "environment.source_even",
-                                                                      .width = width,
-                                                                      .height = height,
-                                                                      .format = VK_FORMAT_R16G16B16A16_SFLOAT,
-                                                                      .visualize = gpu::Visualize::Radiance,
-                                                                      .mipLevels = sourceLevels_});
-    source_[1] = std::make_unique<gpu::Image>(context, gpu::ImageDesc{.name = "environment.source_odd",
-                                                                      .width = std::max(1u, width / 2),
-                                                                      .height = std::max(1u, height / 2),
-                                                                      .format = VK_FORMAT_R16G16B16A16_SFLOAT,
-                                                                      .visualize = gpu::Visualize::Radiance,
-                                                                      .mipLevels = sourceLevels_ - 1});
-    if (kind_ == Kind::Map) gpu::uploadImage(context, *source_[0], map);
-    if (kind_ == Kind::Sky) skyBakePass_ = std::make_unique<gpu::ComputePass>(context, skyBakeDesc());
-    downsamplePass_ = std::make_unique<gpu::ComputePass>(context, downsampleDesc());
-    prefilterPass_ = std::make_unique<gpu::ComputePass>(context, prefilterDesc());
-  } catch (...) {
-    vkDestroySampler(context.device(), sampler_, nullptr);
-    vkDestroySampler(context.device(), sourceSampler_, nullptr);
-    throw;
-  }
+  source_ = std::make_unique<gpu::Image>(context, gpu::ImageDesc{.name = "environment.source",
+                                                                 .width = width,
+                                                                 .height = height,
+                                                                 .format = VK_FORMAT_R16G16B16A16_SFLOAT,
+                                                                 .visualize = gpu::Visualize::Radiance});
+  if (kind_ == Kind::Map) gpuio::uploadImage(context, *source_, map);
+  if (kind_ == Kind::Sky) skyBakePass_ = std::make_unique<gpu::ComputePass>(context, skyBakeDesc());
+  // The black environment is one level: nothing to prefilter.
+  prefilter_ = std::make_unique<gi::EnvironmentPrefilter>(
+      giDevice(context), gi::PrefilterDesc{.width = width,
+                                           .height = height,
+                                           .maxMipLevels = kind_ == Kind::Black ? 1u : desc.maxMipCount,
+                                           .samplesPerTexel = desc.prefilterSamples});
+  const gi::ImageRef output = prefilter_->output();
+  radiance_ = std::make_unique<gpu::Image>(context, gpu::ExternalImage{.image = output.image,
+                                                                       .view = output.view,
+                                                                       .desc = {.name = "environment.radiance",
+                                                                                .width = output.width,
+                                                                                .height = output.height,
+                                                                                .format = output.format,
+                                                                                .visualize = gpu::Visualize::Radiance,
+                                                                                .mipLevels = output.mipLevels}});
 }
 
-Environment::~Environment() {
-  vkDestroySampler(context_.device(), sampler_, nullptr);
-  vkDestroySampler(context_.device(), sourceSampler_, nullptr);
-}
+Environment::~Environment() = default;
 
-gpu::Image& Environment::sourceImage(std::uint32_t chainLevel) { return *source_[chainLevel & 1u]; }
-
-std::uint32_t Environment::sourceMip(std::uint32_t chainLevel) { return chainLevel & ~1u; }
+VkSampler Environment::sampler() const { return prefilter_->sampler(); }
 
 void Environment::record(gpu::Recorder& recorder) {
   if (recorded_) return;
   recorded_ = true;
-  if (kind_ == Kind::Black) {
-    recorder.clearImage(*radiance_, VkClearColorValue{{0.0f, 0.0f, 0.0f, 1.0f}});
-    return;
-  }
-  if (kind_ == Kind::Sky)
-    recorder.dispatch(*skyBakePass_, source_[0]->width(), source_[0]->height(), {{"gOut_Sky", *source_[0]}},
-                      SkyBakeParams{toShared(sky_)});
-  for (std::uint32_t level = 1; level < sourceLevels_; ++level) {
-    gpu::Image& destination = sourceImage(level);
-    const std::uint32_t destinationMip = sourceMip(level);
-    recorder.dispatch(*downsamplePass_, destination.mipWidth(destinationMip), destination.mipHeight(destinationMip),
-                      {{"gIn_Source", sourceImage(level - 1), gpu::MipLevel{sourceMip(level - 1)}},
-                       {"gOut_Destination", destination, gpu::MipLevel{destinationMip}}});
-  }
-  const std::uint32_t levels = mipCount();
-  for (std::uint32_t level = 0; level < levels; ++level)
-    recorder.dispatch(*prefilterPass_, radiance_->mipWidth(level), radiance_->mipHeight(level),
-                      {{"gIn_SourceEven", *source_[0], sourceSampler_},
-                       {"gIn_SourceOdd", *source_[1], sourceSampler_},
-                       {"gOut_Radiance", *radiance_, gpu::MipLevel{level}}},
-                      PrefilterParams{level, levels, desc_.prefilterSamples, sourceLevels_});
+  if (kind_ == Kind::Black)
+    recorder.clearImage(*source_, VkClearColorValue{{0.0f, 0.0f, 0.0f, 1.0f}});
+  else if (kind_ == Kind::Sky)
+    recorder.dispatch(*skyBakePass_, source_->width(), source_->height(), {{"gOut_Sky", *source_}},
+                      toShared(sky_));
+  recorder.flush();
+  // The library prefilters in this command buffer, as it would an engine's environment.
+  const gi::ImageRef given = imageRef(*source_);
+  prefilter_->record(recorder.commandBuffer(), given, recorder.capturing());
+  tookBack(*source_, given);
+  // Its pass times and stage copies join the renderer's once the command buffer is done.
+  recorder.onCompleted([prefilter = prefilter_.get(), frame = recorder.captureFrame()](
+                           gpu::TimingStats* timings, std::vector<gpu::CapturedStage>* captures) {
+    gi::FrameResults results = prefilter->collect();
+    if (timings)
+      for (const gi::PassTiming& timing : results.timings) timings->add(timing.pass, timing.milliseconds);
+    if (captures)
+      for (gi::CapturedStage& stage : results.stages) captures->push_back(capturedStage(std::move(stage), frame));
+  });
+  const gi::ImageRef output = prefilter_->output();
+  gpu::SyncState& state = radiance_->sync();
+  state = {};
+  state.writeStage = output.stage;
+  state.writeAccess = output.access;
+  state.layout = output.layout;
 }
 
 }  // namespace bounce::render

@@ -14,10 +14,12 @@
 // renderer lights with the sun as a directional light, and shared/sky.glsl's
 // sunDiskRadiance() draws the disk for background pixels.
 //
+// The prefiltered chain is made by the GI library's gi::EnvironmentPrefilter,
+// through its public interface, as an engine would make its own.
 // Passes (recorded once, by the first record()):
-//   render.sky_bake        the sky into level 0 of the source chain (maps are uploaded there)
-//   render.env_downsample  the source's box-filtered chain, one level per dispatch
-//   render.env_prefilter   the GGX-prefiltered chain, one level per dispatch
+//   render.sky_bake            the sky into the source image (maps are uploaded there)
+//   gi.environment.downsample  the library: the source's box-filtered chain
+//   gi.environment.prefilter   the library: the GGX-prefiltered chain
 #pragma once
 
 #include <cstdint>
@@ -28,6 +30,7 @@
 #include <vulkan/vulkan.h>
 #include <glm/glm.hpp>
 
+#include "bounce/gi.h"
 #include "gpu/context.h"
 #include "gpu/pass.h"
 #include "gpu/recorder.h"
@@ -114,18 +117,19 @@ class Environment {
   Environment(const Environment&) = delete;
   Environment& operator=(const Environment&) = delete;
 
-  // The first call records the bake (or the map's chain) and the prefilter;
-  // later calls record nothing, since the environment is static.
+  // The first call records the bake (or the map's upload was done) and the
+  // library's prefilter; later calls record nothing, since the environment is static.
   void record(gpu::Recorder& recorder);
 
-  // rgba16f equirect, mipCount() levels of prefiltered radiance; valid once
-  // the command buffer of the first record() has run.
+  // rgba16f equirect, mipCount() levels of prefiltered radiance (the
+  // library's image, wrapped); valid once the command buffer of the first
+  // record() has run.
   gpu::Image& radiance() { return *radiance_; }
   std::uint32_t mipCount() const { return radiance_->desc().mipLevels; }
   // Bilinear + linear-mip sampler that repeats across the equirect seam
   // (u = 0 = 1) and clamps at the poles; bind radiance() with it. The
   // context's linear sampler clamps u too, which shows a seam at +Z.
-  VkSampler sampler() const { return sampler_; }
+  VkSampler sampler() const;
 
   enum class Kind { Sky, Map, Black };
   Kind kind() const { return kind_; }
@@ -134,28 +138,15 @@ class Environment {
   const SkyParameters& sky() const { return sky_; }
 
  private:
-  // The source's box-filtered chain alternates between two images, chain
-  // level 2j in mip 2j of source_[0] and level 2j + 1 in mip 2j of
-  // source_[1] (half the size), so that every downsample dispatch reads one
-  // image and writes another: a dispatch that binds one image twice (read
-  // one level, write the next) gets two barriers in one batch that do not
-  // order against each other when the image needs a layout transition
-  // (after an upload or a stage capture), which synchronization validation
-  // rightly reports. The odd mips of source_[0] and source_[1] stay unused.
-  gpu::Image& sourceImage(std::uint32_t chainLevel);
-  static std::uint32_t sourceMip(std::uint32_t chainLevel);
-
   gpu::Context& context_;
   EnvironmentDesc desc_;
   Kind kind_ = Kind::Sky;
   SkyParameters sky_;
   bool recorded_ = false;
-  VkSampler sampler_ = VK_NULL_HANDLE;
-  VkSampler sourceSampler_ = VK_NULL_HANDLE;  // nearest mip: the source chain is read at exact levels
-  std::uint32_t sourceLevels_ = 0;            // levels of the box-filtered chain
-  std::unique_ptr<gpu::Image> source_[2];
-  std::unique_ptr<gpu::Image> radiance_;
-  std::unique_ptr<gpu::ComputePass> skyBakePass_, downsamplePass_, prefilterPass_;
+  std::unique_ptr<gpu::Image> source_;  // the sharp environment at its full size, one level
+  std::unique_ptr<gi::EnvironmentPrefilter> prefilter_;
+  std::unique_ptr<gpu::Image> radiance_;  // prefilter_'s output
+  std::unique_ptr<gpu::ComputePass> skyBakePass_;
 };
 
 }  // namespace bounce::render

@@ -8,12 +8,14 @@
 #include <string>
 #include <utility>
 
+#include "gpu/constants_layout.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
 #include "gpu/transfer.h"
 #include "render/bvh.h"
 #include "render/frame_types.glsl"
 #include "render/gpu_bvh.h"
+#include "render/render_shaders.h"
 #include "render/texture_atlas.h"
 #include "shared/packing.glsl"
 
@@ -166,6 +168,11 @@ std::vector<gpu::ResourceDecl> FrameRenderer::sceneResources() {
   return decls;
 }
 
+std::vector<gpu::ConstantsDecl> FrameRenderer::sceneConstants() {
+  return {BOUNCE_CONSTANTS_LAYOUT("gIn_Frame", FrameConstants, camera, previousCamera, imageSize, jitter, sunDirection,
+                                  sunColor, environment)};
+}
+
 namespace {
 
 gpu::PassDesc gbufferDesc() {
@@ -179,7 +186,11 @@ gpu::PassDesc gbufferDesc() {
                                 {"gOut_Motion", gpu::Access::Write, kRg16f, "pixels; previous = current + motion"},
                                 {"gOut_Ids", gpu::Access::Write, kR32ui, "object << 16 | material"},
                             });
-  return {.name = "render.gbuffer", .shader = "render/gbuffer", .resources = decls};
+  return {.name = "render.gbuffer",
+          .shader = "render/gbuffer",
+          .shaders = shaders(),
+          .resources = decls,
+          .constants = FrameRenderer::sceneConstants()};
 }
 
 gpu::PassDesc directLightDesc() {
@@ -199,7 +210,11 @@ gpu::PassDesc directLightDesc() {
                                  "sky or HDR map behind the scene", ResourceKind::SampledImage},
                                 {"gOut_Radiance", gpu::Access::Write, kRgba16f, "direct light + emission, linear HDR"},
                             });
-  return {.name = "render.direct_light", .shader = "render/direct_light", .resources = decls};
+  return {.name = "render.direct_light",
+          .shader = "render/direct_light",
+          .shaders = shaders(),
+          .resources = decls,
+          .constants = FrameRenderer::sceneConstants()};
 }
 
 }  // namespace

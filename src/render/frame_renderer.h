@@ -97,6 +97,8 @@ class FrameRenderer {
   // pass that traces into the scene, and their binds for frame `frameIndex`
   // (whose constants the last record() of that frame wrote).
   static std::vector<gpu::ResourceDecl> sceneResources();
+  // The layout of their gIn_Frame (shared::FrameConstants), for PassDesc::constants.
+  static std::vector<gpu::ConstantsDecl> sceneConstants();
   std::vector<gpu::Bind> sceneBinds(std::uint64_t frameIndex);
   gpu::Buffer& frameConstants(std::uint64_t frameIndex) { return *slots_[frameIndex % kFramesInFlight].constants; }
   std::uint32_t width() const { return options_.width; }

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cstring>
 
+#include "gpu/constants_layout.h"
 #include "gpu/error.h"
 #include "gpu/transfer.h"
+#include "render/render_shaders.h"
 
 namespace bounce::render {
 namespace {
@@ -97,7 +99,8 @@ void GpuBvh::appendBinds(std::vector<gpu::Bind>& binds) {
                              {"gIn_BvhTlasNodes", *tlasNodes_}});
 }
 
-gpu::PassDesc bvhTraceRaysPassDesc(std::string name, std::string shader) {
+gpu::PassDesc bvhTraceRaysPassDesc(std::string name, std::string shader,
+                                   std::span<const gpu::EmbeddedShader> library) {
   std::vector<gpu::ResourceDecl> resources = {
       bufferDecl("gIn_Rays", "origin, tMin, direction, tMax per ray"),
       {"gOut_Results", gpu::Access::Write, VK_FORMAT_UNDEFINED,
@@ -105,8 +108,9 @@ gpu::PassDesc bvhTraceRaysPassDesc(std::string name, std::string shader) {
   for (const gpu::ResourceDecl& decl : GpuBvh::traceResources()) resources.push_back(decl);
   return {.name = std::move(name),
           .shader = std::move(shader),
+          .shaders = library.empty() ? shaders() : library,
           .resources = std::move(resources),
-          .pushConstantSize = sizeof(shared::BvhTraceRaysParams)};
+          .constants = {BOUNCE_CONSTANTS_LAYOUT("", shared::BvhTraceRaysParams, rayCountMode)}};
 }
 
 BvhRayTracer::BvhRayTracer(gpu::Context& context, gpu::PassDesc desc) : context_(context), pass_(context, desc) {}

@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -82,9 +83,11 @@ class GpuBvh {
 enum class BvhTraceMode : std::uint32_t { Closest = shared::kBvhTraceClosest, Any = shared::kBvhTraceAny };
 
 // The declaration of render.bvh_trace_rays. Shaders with the same interface
-// (a test's variant with an alpha-test hook) reuse it under their own name.
+// (a test's variant with an alpha-test hook) reuse it under their own name,
+// from their own shader library (empty: the renderer's).
 gpu::PassDesc bvhTraceRaysPassDesc(std::string name = "render.bvh_trace_rays",
-                                   std::string shader = "render/bvh_trace_rays");
+                                   std::string shader = "render/bvh_trace_rays",
+                                   std::span<const gpu::EmbeddedShader> library = {});
 
 // render.bvh_trace_rays: traces `rays` (BvhRay each) and writes one
 // BvhTraceResult per ray into `results`, one thread per ray.

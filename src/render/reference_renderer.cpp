@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gpu/constants_layout.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
 #include "gpu/transfer.h"
+#include "gpuio/gpu_images.h"
+#include "render/render_shaders.h"
 
 namespace bounce::render {
 namespace {
@@ -14,6 +17,11 @@ using namespace gpu::formats;
 
 // Paths per dispatch the automatic samplesPerDispatch aims for on a GPU.
 constexpr double kPathsPerDispatch = 1 << 20;
+
+std::vector<gpu::ConstantsDecl> join(std::vector<gpu::ConstantsDecl> a, const std::vector<gpu::ConstantsDecl>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
 
 gpu::PassDesc pathDesc() {
   using gpu::Access;
@@ -39,14 +47,19 @@ gpu::PassDesc pathDesc() {
                });
   return {.name = "render.reference_path",
           .shader = "render/reference_path",
+          .shaders = shaders(),
           .resources = decls,
-          .pushConstantSize = sizeof(shared::ReferencePathParams)};
+          .constants = join(FrameRenderer::sceneConstants(),
+                            {BOUNCE_CONSTANTS_LAYOUT("", shared::ReferencePathParams, firstSample, sampleCount, seed,
+                                                     maxBounces, rouletteBounces, lobes, environmentWidth,
+                                                     environmentHeight, emissiveCount, emissivePower)})};
 }
 
 gpu::PassDesc resolveDesc() {
   using gpu::Access;
   return {.name = "render.reference_resolve",
           .shader = "render/reference_resolve",
+          .shaders = shaders(),
           .resources =
               {
                   {"gIn_Frame", Access::Read, VK_FORMAT_UNDEFINED, "camera", gpu::ResourceKind::UniformBuffer},
@@ -62,7 +75,8 @@ gpu::PassDesc resolveDesc() {
                   {"gOut_Diffuse", Access::Write, kRgba32f, "indirect diffuse, demodulated"},
                   {"gOut_Specular", Access::Write, kRgba32f, "indirect specular, demodulated"},
               },
-          .pushConstantSize = sizeof(shared::ReferenceResolveParams)};
+          .constants = join(FrameRenderer::sceneConstants(),
+                            {BOUNCE_CONSTANTS_LAYOUT("", shared::ReferenceResolveParams, weightA, weightB)})};
 }
 
 }  // namespace
@@ -87,7 +101,7 @@ ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame
   const EnvironmentDistribution environment =
       frame.environment().kind() == Environment::Kind::Black
           ? EnvironmentDistribution{}
-          : buildEnvironmentDistribution(gpu::readbackImage(context, frame.environment().radiance()));
+          : buildEnvironmentDistribution(gpuio::readbackImage(context, frame.environment().radiance()));
   if (!environment.empty()) {
     environmentWidth_ = environment.width;
     environmentHeight_ = environment.height;
@@ -204,13 +218,13 @@ ReferenceImages ReferenceRenderer::resolve(gpu::FrameLoop& loop, ReferenceHalf h
   loop.finish();
 
   ReferenceImages images;
-  images.radiance = io::firstChannels(gpu::readbackImage(context_, *radiance_), 3);
-  images.direct = io::firstChannels(gpu::readbackImage(context_, frame_.direct()), 3);
-  images.indirectDiffuse = io::firstChannels(gpu::readbackImage(context_, *diffuse_), 3);
-  images.indirectSpecular = io::firstChannels(gpu::readbackImage(context_, *specular_), 3);
+  images.radiance = io::firstChannels(gpuio::readbackImage(context_, *radiance_), 3);
+  images.direct = io::firstChannels(gpuio::readbackImage(context_, frame_.direct()), 3);
+  images.indirectDiffuse = io::firstChannels(gpuio::readbackImage(context_, *diffuse_), 3);
+  images.indirectSpecular = io::firstChannels(gpuio::readbackImage(context_, *specular_), 3);
   for (int h = 0; h < 2; ++h)
     for (gpu::Image* sum : {diffuseSum_[h].get(), specularSum_[h].get()}) {
-      const io::ImageF values = gpu::readbackImage(context_, *sum);
+      const io::ImageF values = gpuio::readbackImage(context_, *sum);
       for (std::size_t p = 3; p < values.pixels.size(); p += 4)
         images.droppedSamples += std::uint64_t(values.pixels[p]);
     }

@@ -7,7 +7,7 @@
 //                (Lambert) towards us; the feedback that makes multiple bounces;
 //   bright       random picks among the brightest pixels of that frame;
 //   environment  uniform directions of the hemisphere, radiance from the
-//                prefiltered environment at mip `temporal.w`.
+//                prefiltered environment at mip gi.diffuse.environment_mip.
 // Visibility is not tested here (gi.diffuse.resolve does it).
 //
 // Weights are generalized RIS with pdfs per unit solid angle at the shaded
@@ -24,22 +24,20 @@
 // p-hat / (sum over techniques of count * pdf); the reservoir's W is then
 // weightSum / p-hat(chosen), with M = 1.
 #include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "gi/diffuse/diffuse_common.glsl"
 #include "shared/equirect.glsl"
 #include "shared/reservoir.glsl"
 #include "shared/sampling.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
-layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
-layout(set = 0, binding = 3, rgba16f) readonly uniform image2D gPrev_Composite;
-layout(set = 0, binding = 4, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_Brightest;
-layout(set = 0, binding = 6) uniform sampler2D gIn_Environment;
-layout(set = 0, binding = 7, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
-layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
-
-#include "gi/gbuffer.glsl"
+layout(set = 0, binding = 4, rgba16f) readonly uniform image2D gPrev_Composite;
+layout(set = 0, binding = 5, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_Brightest;
+layout(set = 0, binding = 7) uniform sampler2D gIn_Environment;
+layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
+layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 
 const float kMaxFootprintStretch = 5.0f;
 
@@ -102,12 +100,13 @@ void main() {
     return;
   }
   uint rng = giSeed(uvec2(halfPixel), kSaltGather);
-  uint target = targetFunction();
-  float screenCount = float(gIn_Frame.frame.candidates.x);
-  float brightCount = float(gIn_Frame.frame.candidates.y);
-  float environmentCount = float(gIn_Frame.frame.candidates.z);
-  ivec2 brightSize = ivec2(gIn_Frame.frame.brightLevel.xy);
-  uint brightLevel = gIn_Frame.frame.brightLevel.z;
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  uint target = d.targetFunction;
+  float screenCount = float(d.screenCandidates);
+  float brightCount = float(d.brightCandidates);
+  float environmentCount = float(d.environmentCandidates);
+  ivec2 brightSize = ivec2(d.brightLevelSize);
+  uint brightLevel = d.brightLevel;
   // A bright entry is one of brightSize.x * brightSize.y; a screen pixel one of all of them.
   float brightPerScreen = fullSize().x * fullSize().y / float(brightSize.x * brightSize.y);
   // Points closer than this are the shaded surface itself (or a pixel away).
@@ -115,8 +114,8 @@ void main() {
   // Below this distance the inverse-square law is clamped (toSolidAngle).
   float nearField = 1e-2f * x.viewZ;
 
-  for (uint i = 0u; i < gIn_Frame.frame.candidates.x + gIn_Frame.frame.candidates.y; ++i) {
-    bool bright = i >= gIn_Frame.frame.candidates.x;
+  for (uint i = 0u; i < d.screenCandidates + d.brightCandidates; ++i) {
+    bool bright = i >= d.screenCandidates;
     ivec2 source;
     float ux = rngUniform(rng);
     float uy = rngUniform(rng);
@@ -149,14 +148,14 @@ void main() {
 
   vec3 tangent, bitangent;
   buildOrthonormalBasis(x.normal, tangent, bitangent);
-  for (uint i = 0u; i < gIn_Frame.frame.candidates.z; ++i) {
+  for (uint i = 0u; i < d.environmentCandidates; ++i) {
     float ux = rngUniform(rng);
     float uy = rngUniform(rng);
     float choice = rngUniform(rng);
     vec3 local = sampleUniformHemisphere(vec2(ux, uy));
     vec3 direction = tangent * local.x + bitangent * local.y + x.normal * local.z;
     vec3 radiance =
-        sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), gIn_Frame.frame.temporal.w).xyz);
+        sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), d.environmentMip).xyz);
     float pHat = targetBrightness(radiance, target) * local.z;
     if (pHat <= 0.0f) continue;
     reservoirStream(r, direction, x.normal, radiance, kReservoirEnvironment, pHat / (environmentCount * pdfUniformHemisphere()),

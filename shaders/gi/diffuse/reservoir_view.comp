@@ -5,19 +5,16 @@
 // in false colour) and the estimate it gives at its own surface (radiance *
 // cos / pi * W, before visibility), after each reservoir pass.
 #include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
 #include "shared/reservoir.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
-layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
-layout(set = 0, binding = 3, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
-layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
-layout(set = 0, binding = 5, rgba16f) writeonly uniform image2D gOut_Estimate;
-layout(set = 0, binding = 6, r32f) writeonly uniform image2D gOut_M;
-layout(set = 0, binding = 7, r32f) writeonly uniform image2D gOut_W;
-
-#include "gi/gbuffer.glsl"
+layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 6, rgba16f) writeonly uniform image2D gOut_Estimate;
+layout(set = 0, binding = 7, r32f) writeonly uniform image2D gOut_M;
+layout(set = 0, binding = 8, r32f) writeonly uniform image2D gOut_W;
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);

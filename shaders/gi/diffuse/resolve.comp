@@ -9,18 +9,16 @@
 // surface (depth or normal too different) are left out. Demodulated: the
 // result is what a white Lambert surface would reflect.
 #include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "gi/diffuse/diffuse_common.glsl"
+#include "gi/screen_trace.glsl"
 #include "shared/reservoir.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
-layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
-layout(set = 0, binding = 3, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
-layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
-layout(set = 0, binding = 5, rgba16f) writeonly uniform image2D gOut_Diffuse;
-
-#include "gi/gbuffer.glsl"
-#include "gi/screen_trace.glsl"
+layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 6, rgba16f) writeonly uniform image2D gOut_Diffuse;
 
 // The reservoirs a pixel evaluates: where their surfaces are.
 struct Owner {
@@ -33,8 +31,9 @@ struct Owner {
 // Whether `owner`'s reservoir could have handed sample r to x (its own
 // reservoir could hand over anything it holds).
 bool covers(Owner owner, Reservoir r, Surface x) {
-  return canHandOver(r, owner.position, owner.normal, x.position, kMaxResolveJacobian,
-                     gIn_Frame.frame.spatial.z > 0.5f && !owner.exact, targetFunction());
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  return canHandOver(r, owner.position, owner.normal, x.position, kMaxResolveJacobian, d.jacobian != 0u && !owner.exact,
+                     d.targetFunction);
 }
 
 // One reservoir's sample evaluated at x: radiance * cos / pi * W * Jacobian * visibility.
@@ -42,17 +41,19 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
   vec3 direction = sampleDirection(r, x.position);
   float cosine = dot(x.normal, direction);
   if (cosine <= 0.0f || targetPdf(r, x.position, x.normal, 0u) <= 0.0f) return vec3(0.0f);
-  uint steps = uint(gIn_Frame.frame.resolveFilter.x);
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  uint steps = d.visibilitySteps;
   float scale = 1.0f;
   if (reservoirIsEnvironment(r)) {
     if (steps > 0u)
-      scale = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, gIn_Frame.frame.spatial.w);
+      scale = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, d.visibilityThickness,
+                                    d.offscreenEnvironmentVisibility);
   } else {
-    scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian,
-                          gIn_Frame.frame.spatial.z > 0.5f && !owner.exact);
+    scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian, d.jacobian != 0u && !owner.exact);
     if (scale <= 0.0f) return vec3(0.0f);
     // A sample beyond the screen's edge cannot be tested: counted visible.
-    if (steps > 0u && screenVisibility(x.position, r.position, steps, jitter) == kOccluded) return vec3(0.0f);
+    if (steps > 0u && screenVisibility(x.position, r.position, steps, jitter, d.visibilityThickness) == kOccluded)
+      return vec3(0.0f);
   }
   return r.radiance * (cosine * kInvPi * r.W * scale);
 }
@@ -74,7 +75,7 @@ void main() {
   // loaded only when its turn comes, so four of them never need registers at once.
   Owner owners[4];
   uint count = 0u;
-  for (uint k = 0u; k < gIn_Frame.frame.options.x; ++k) {
+  for (uint k = 0u; k < gIn_DiffuseConstants.diffuse.resolveReservoirs; ++k) {
     ivec2 halfPixel = base + offsets[k];
     if (!insideHalf(halfPixel)) continue;
     ivec2 ownerPixel = reservoirSurfacePixel(halfPixel);

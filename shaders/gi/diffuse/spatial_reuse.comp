@@ -13,19 +13,17 @@
 // see less of the sky of this pixel (creases, corners). Run twice (radius
 // and count are push constants); the second pass's output is next frame's history.
 #include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "gi/diffuse/diffuse_common.glsl"
 #include "shared/reservoir.glsl"
 #include "shared/sampling.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
-layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
-layout(set = 0, binding = 3, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
-layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
-layout(set = 0, binding = 5, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
-layout(set = 0, binding = 6, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
-
-#include "gi/gbuffer.glsl"
+layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 6, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
+layout(set = 0, binding = 7, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 
 layout(push_constant) uniform Params {
   float radius;   // half-resolution pixels at the surface
@@ -44,7 +42,8 @@ void main() {
   Surface x = gbufferSurface(pixel);
   float viewZ = x.viewZ;
   if (viewZ > 0.0f && params.samples > 0u) {
-    uint target = targetFunction();
+    DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+    uint target = d.targetFunction;
     uint rng = giSeed(uvec2(halfPixel), kSaltSpatial + 16u * params.passIndex);
     Reservoir own = unpackReservoir(first, second);
     Reservoir merged = emptyReservoir();
@@ -55,7 +54,7 @@ void main() {
     float worldRadius = params.radius * 2.0f * pixelSize;
     vec3 tangent, bitangent;
     buildOrthonormalBasis(x.normal, tangent, bitangent);
-    bool jacobian = gIn_Frame.frame.spatial.z > 0.5f;
+    bool jacobian = d.jacobian != 0u;
     // The surfaces and confidences of the neighbours merged, to normalise by later.
     vec3 neighbourPositions[kMaxNeighbours];
     vec3 neighbourNormals[kMaxNeighbours];
@@ -73,8 +72,8 @@ void main() {
       if (!insideHalf(neighbourHalf) || neighbourHalf == halfPixel) continue;
       Surface neighbour = gbufferSurface(reservoirSurfacePixel(neighbourHalf));
       if (neighbour.viewZ <= 0.0f) continue;
-      if (dot(neighbour.normal, x.normal) < gIn_Frame.frame.spatial.x) continue;
-      if (abs(dot(x.normal, neighbour.position - x.position)) > gIn_Frame.frame.spatial.y * viewZ) continue;
+      if (dot(neighbour.normal, x.normal) < d.spatialCosNormalTolerance) continue;
+      if (abs(dot(x.normal, neighbour.position - x.position)) > d.spatialPlaneTolerance * viewZ) continue;
       Reservoir candidate = unpackReservoir(imageLoad(gIn_Reservoir0, neighbourHalf), imageLoad(gIn_Reservoir1, neighbourHalf));
       float scale = reuseJacobian(candidate, neighbour.position, x.position, kMaxSpatialJacobian, jacobian);
       reservoirStream(merged, candidate.position, candidate.normal, candidate.radiance, candidate.flags,

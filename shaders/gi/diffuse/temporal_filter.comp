@@ -17,23 +17,23 @@
 // holds the history length. The filtered image and the moments are next
 // frame's history, so they are stored finite (sanitizeRadiance, finiteOr).
 #include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "gi/diffuse/diffuse_common.glsl"
 #include "shared/color.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 const int kClipRadius = 1;  // 3x3: a 5x5 neighbourhood measured no closer to the truth
 
-layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
-layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
-layout(set = 0, binding = 3, rg16f) readonly uniform image2D gIn_Motion;
-layout(set = 0, binding = 4, rgba16f) readonly uniform image2D gIn_Diffuse;
-layout(set = 0, binding = 5, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gPrev_Filtered;
-layout(set = 0, binding = 7, rg32f) readonly uniform image2D gPrev_Moments;
-layout(set = 0, binding = 8, rgba16f) writeonly uniform image2D gOut_Filtered;
-layout(set = 0, binding = 9, rg32f) writeonly uniform image2D gOut_Moments;
+layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
+layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Diffuse;
+layout(set = 0, binding = 6, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 7, rgba16f) readonly uniform image2D gPrev_Filtered;
+layout(set = 0, binding = 8, rg32f) readonly uniform image2D gPrev_Moments;
+layout(set = 0, binding = 9, rgba16f) writeonly uniform image2D gOut_Filtered;
+layout(set = 0, binding = 10, rg32f) writeonly uniform image2D gOut_Moments;
 
-#include "gi/gbuffer.glsl"
+#include "gi/motion.glsl"
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -64,7 +64,8 @@ void main() {
   float historyLength = 0.0f;
   vec3 history = vec3(0.0f);
   vec2 moments = vec2(0.0f);
-  vec2 motion = historyUsable() ? imageLoad(gIn_Motion, pixel).xy : vec2(0.0f);
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  vec2 motion = historyUsable() ? motionAt(pixel) : vec2(0.0f);
   if (historyUsable() && usableMotion(motion)) {
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
     vec2 previous = vec2(pixel) + motion;  // texel space: centre + motion - 0.5
@@ -78,8 +79,8 @@ void main() {
       if (!insideFull(tap) || expectedViewZ <= 0.0f) continue;
       float weight = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
       Surface then = historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy);
-      if (weight <= 0.0f || !similarSurface(expectedViewZ, x.normal, then.viewZ, then.normal,
-                                            gIn_Frame.frame.temporal.x, gIn_Frame.frame.temporal.y))
+      if (weight <= 0.0f || !similarSurface(expectedViewZ, x.normal, then.viewZ, then.normal, d.temporalDepthTolerance,
+                                            d.temporalCosNormalTolerance))
         continue;
       accumulated += imageLoad(gPrev_Filtered, tap) * weight;
       accumulatedMoments += imageLoad(gPrev_Moments, tap).xy * weight;
@@ -91,13 +92,13 @@ void main() {
       historyLength = accumulated.w / weightSum;
     }
   }
-  float frames = min(historyLength + 1.0f, gIn_Frame.frame.resolveFilter.w);
+  float frames = min(historyLength + 1.0f, d.temporalFilterFrames);
   float blend = 1.0f / frames;
   moments = historyLength > 0.0f ? mix(moments, vec2(currentLuminance, currentLuminance * currentLuminance), blend)
                                  : vec2(currentLuminance, currentLuminance * currentLuminance);
   if (historyLength > 0.0f) {
     float temporalSigma = sqrt(max(moments.y - moments.x * moments.x, 0.0f));
-    float reach = gIn_Frame.frame.resolveFilter.z * max(spatialSigma, temporalSigma);
+    float reach = d.varianceClippingGamma * max(spatialSigma, temporalSigma);
     float historyLuminance = luminance(history);
     float clipped = clamp(historyLuminance, max(mean - reach, 0.0f), mean + reach);
     history = historyLuminance > 0.0f ? history * (clipped / historyLuminance) : current;

@@ -9,22 +9,22 @@
 // a disocclusion (or motion that is not finite), the fresh reservoir passes
 // through.
 #include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "gi/diffuse/diffuse_common.glsl"
 #include "shared/reservoir.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 1, r32f) readonly uniform image2D gIn_ViewZ;
-layout(set = 0, binding = 2, rgba16f) readonly uniform image2D gIn_NormalRoughness;
-layout(set = 0, binding = 3, rg16f) readonly uniform image2D gIn_Motion;
-layout(set = 0, binding = 4, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
-layout(set = 0, binding = 6, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
-layout(set = 0, binding = 7, rgba32ui) readonly uniform uimage2D gPrev_Reservoir0;
-layout(set = 0, binding = 8, rgba32ui) readonly uniform uimage2D gPrev_Reservoir1;
-layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
-layout(set = 0, binding = 10, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
+layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
+layout(set = 0, binding = 5, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 6, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 7, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 8, rgba32ui) readonly uniform uimage2D gPrev_Reservoir0;
+layout(set = 0, binding = 9, rgba32ui) readonly uniform uimage2D gPrev_Reservoir1;
+layout(set = 0, binding = 10, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
+layout(set = 0, binding = 11, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 
-#include "gi/gbuffer.glsl"
+#include "gi/motion.glsl"
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
@@ -33,7 +33,7 @@ void main() {
   uvec4 second = imageLoad(gIn_Reservoir1, halfPixel);
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
   Surface x = gbufferSurface(pixel);
-  vec2 motion = x.viewZ > 0.0f && historyUsable() ? imageLoad(gIn_Motion, pixel).xy : vec2(0.0f);
+  vec2 motion = x.viewZ > 0.0f && historyUsable() ? motionAt(pixel) : vec2(0.0f);
   if (x.viewZ > 0.0f && historyUsable() && usableMotion(motion)) {
     // Where this surface was last frame, and the reservoir that covered it.
     vec2 previousPosition = vec2(pixel) + 0.5f + motion;
@@ -42,13 +42,14 @@ void main() {
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
     if (insideHalf(previousHalf) && expectedViewZ > 0.0f) {
       Surface previous = historySurfaceAt(previousPixel, imageLoad(gPrev_Surface, previousPixel).xy);
-      if (similarSurface(expectedViewZ, x.normal, previous.viewZ, previous.normal, gIn_Frame.frame.temporal.x,
-                         gIn_Frame.frame.temporal.y)) {
-        uint target = targetFunction();
+      DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+      if (similarSurface(expectedViewZ, x.normal, previous.viewZ, previous.normal, d.temporalDepthTolerance,
+                         d.temporalCosNormalTolerance)) {
+        uint target = d.targetFunction;
         uint rng = giSeed(uvec2(halfPixel), kSaltSpatial + 1u);
         Reservoir fresh = unpackReservoir(first, second);
         Reservoir history = unpackReservoir(imageLoad(gPrev_Reservoir0, previousHalf), imageLoad(gPrev_Reservoir1, previousHalf));
-        history.M = min(history.M, gIn_Frame.frame.temporal.z);
+        history.M = min(history.M, d.temporalMaxM);
         Reservoir merged = emptyReservoir();
         reservoirStream(merged, fresh.position, fresh.normal, fresh.radiance, fresh.flags,
                         targetPdf(fresh, x.position, x.normal, target) * fresh.W * fresh.M, fresh.M, rngUniform(rng));

@@ -1,12 +1,15 @@
-#include "gpu/copy_bandwidth.h"
+#include "app/copy_bandwidth.h"
 
 #include <algorithm>
 
+#include "gpu/constants_layout.h"
 #include "gpu/context.h"
 #include "gpu/error.h"
 
-namespace bounce::gpu {
+namespace bounce::app {
 namespace {
+
+using namespace gpu;
 
 struct CopyParams {
   std::uint32_t rowLength;
@@ -26,12 +29,13 @@ CopyBandwidthProbe::CopyBandwidthProbe(Context& context, VkDeviceSize bytes)
   context.submitAndWait([&](Recorder& r) { r.fillBuffer(*source_, 0x3f800000u); });
   pass_ = std::make_unique<ComputePass>(
       context, PassDesc{.name = kPassName,
-                        .shader = "gpu/copy_bandwidth",
+                        .shader = "bench/copy_bandwidth",
+                        .shaders = app::shaders(),
                         .resources = {{"gIn_Source", Access::Read, VK_FORMAT_UNDEFINED, "bytes to read",
                                        ResourceKind::StorageBuffer},
                                       {"gOut_Destination", Access::Write, VK_FORMAT_UNDEFINED, "bytes written",
                                        ResourceKind::StorageBuffer}},
-                        .pushConstantSize = sizeof(CopyParams)});
+                        .constants = {BOUNCE_CONSTANTS_LAYOUT("", CopyParams, rowLength, count)}});
 }
 
 void CopyBandwidthProbe::record(Recorder& recorder) {
@@ -41,4 +45,4 @@ void CopyBandwidthProbe::record(Recorder& recorder) {
                     {{"gIn_Source", *source_}, {"gOut_Destination", *destination_}}, CopyParams{kRowLength, count});
 }
 
-}  // namespace bounce::gpu
+}  // namespace bounce::app

@@ -1,5 +1,5 @@
 #version 460
-// gpu.copy_bandwidth: copies one buffer of vec4 into another. It does nothing
+// bench.copy_bandwidth: copies one buffer of vec4 into another. It does nothing
 // else, so its time measures the memory bandwidth compute passes can reach.
 layout(local_size_x = 256, local_size_y = 1) in;
 

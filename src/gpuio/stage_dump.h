@@ -8,7 +8,7 @@
 #include "gpu/recorder.h"
 #include "io/image_io.h"
 
-namespace bounce::gpu {
+namespace bounce::gpuio {
 
 // An image ready for a PNG, per the Visualize hint: radiance stays linear
 // (the PNG writer tonemaps it), vectors are remapped to [0,1], scalar data is
@@ -17,11 +17,13 @@ struct VisualizedImage {
   io::ImageF image;
   io::PngEncoding encoding;
 };
-VisualizedImage visualize(const io::ImageF& image, Visualize how);
+VisualizedImage visualize(const io::ImageF& image, gpu::Visualize how);
 
-// Writes <dir>/frame<NNNN>.<pass>.<binding>.exr and .png for each capture;
-// returns the paths written. Creates `dir` if needed.
+// Writes <dir>/frame<NNNN>.<pass>.<binding>.exr and .png for each capture
+// (completed: its texels on the host); returns the paths written. Creates
+// `dir` if needed.
 std::vector<std::filesystem::path> writeStageDumps(const std::filesystem::path& dir,
-                                                   const std::vector<CapturedStage>& captures, float exposure = 1.0f);
+                                                   const std::vector<gpu::CapturedStage>& captures,
+                                                   float exposure = 1.0f);
 
-}  // namespace bounce::gpu
+}  // namespace bounce::gpuio

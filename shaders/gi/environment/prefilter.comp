@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// render.env_prefilter: one level of the environment's prefiltered chain.
+// gi.environment.prefilter: one level of the environment's prefiltered chain.
 // Level k holds the radiance reflected by a GGX lobe of perceptual roughness
 // environmentMipRoughness(k) under the split-sum assumption N = V = R
 // (Karis, "Real Shading in Unreal Engine 4", 2013): the average of the source
@@ -11,12 +11,12 @@
 // than caught by a few samples as fireflies. Level 0 is the source's top
 // level, copied.
 //
-// The box-filtered chain alternates between two images (render/environment.h
+// The box-filtered chain alternates between two images (src/gi/environment_prefilter.cpp
 // says why): chain level 2j is mip 2j of gIn_SourceEven, chain level 2j + 1 is
 // mip 2j of gIn_SourceOdd (whose mip 0 is half the size). Both are sampled
 // bilinearly with exact integer levels (a nearest-mip sampler), and the
 // levels are blended here.
-#include "render/environment.glsl"
+#include "shared/environment.glsl"
 #include "shared/brdf.glsl"
 #include "shared/finite.glsl"
 

@@ -1,16 +1,17 @@
-// Sampling the environment (src/render/environment.h) from any pass.
+// Sampling the environment from any pass: the GI library's input and the
+// renderer's background (gi::EnvironmentPrefilter makes it, src/gi/environment_prefilter.cpp).
 //
 // The environment is an equirectangular rgba16f image (shared/equirect.glsl)
 // whose mip k holds the radiance prefiltered with the GGX lobe of perceptual
 // roughness k / (mipCount - 1), under the split-sum N = V = R assumption:
 // mip 0 is the sharp environment. The consumer binds it as a sampler2D with
-// Environment::sampler() (linear, repeating across the u = 0 seam) and calls
+// EnvironmentPrefilter::sampler() (linear, repeating across the u = 0 seam) and calls
 // environmentRadiance(); the mip count comes from the image itself.
 //
 // The roughness <-> mip mapping compiles as C++ too (lang.glsl), so the host
 // that builds the chain and the shaders that read it use the same function.
-#ifndef BOUNCE_RENDER_ENVIRONMENT_GLSL
-#define BOUNCE_RENDER_ENVIRONMENT_GLSL
+#ifndef BOUNCE_SHARED_ENVIRONMENT_GLSL
+#define BOUNCE_SHARED_ENVIRONMENT_GLSL
 
 #include "shared/equirect.glsl"
 #include "shared/lang.glsl"

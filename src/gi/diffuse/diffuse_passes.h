@@ -1,16 +1,19 @@
-// The host declarations of every GI pass: name (timestamp key, debug label,
-// dump prefix), shader, and each resource with its access, format and
-// purpose, checked against the shader's SPIR-V when the pass is created.
-// The shaders are in shaders/gi/ (folder = stage, file = pass).
+// The host declarations of the diffuse branch's passes: name (timestamp
+// key, debug label, dump prefix), shader, each resource with its access,
+// format and purpose, and the layouts of their constants, all checked
+// against the shader's SPIR-V when the pass is created. The shaders are in
+// shaders/gi/diffuse/ (folder = stage, file = pass).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
+#include "gi/diffuse/diffuse_common.glsl"
 #include "gpu/pass.h"
 
 namespace bounce::gi {
 
-gpu::PassDesc storeHistoryPass();
 gpu::PassDesc brightPixelsPass();
 gpu::PassDesc brightPixelsReducePass();
 gpu::PassDesc gatherPass();
@@ -18,7 +21,6 @@ gpu::PassDesc temporalReusePass();
 gpu::PassDesc spatialReusePass();
 gpu::PassDesc resolvePass();
 gpu::PassDesc temporalFilterPass();
-gpu::PassDesc compositePass();
 // For --dump-stages only; `after` names the reservoir pass it shows
 // (the pass is then called gi.diffuse.reservoir_view.<after>).
 gpu::PassDesc reservoirViewPass(const std::string& after);
@@ -28,6 +30,13 @@ struct SpatialReuseParams {
   float radius;
   std::uint32_t samples;
   std::uint32_t passIndex;
+};
+
+// Push constants of gi.diffuse.bright_pixels_reduce: how much of each level
+// this frame's render size fills.
+struct BrightReduceParams {
+  std::uint32_t inputSize[2];
+  std::uint32_t outputSize[2];
 };
 
 }  // namespace bounce::gi

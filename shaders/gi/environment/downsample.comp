@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// render.env_downsample: one level of an equirect mip chain from the level
+// gi.environment.downsample: one level of an equirect mip chain from the level
 // above it. Each output texel averages the input texels it covers, weighted
 // by their solid angle, so the chain keeps the environment's integral (a
 // plain box would overweight the rows near the poles). The input is bound as

@@ -1,22 +1,27 @@
-// gpu.copy_bandwidth: a pass that only copies one buffer into another. Its GPU
+// bench.copy_bandwidth: a pass that only copies one buffer into another. Its GPU
 // time gives the memory bandwidth compute passes can reach on a device, the
 // yardstick for every bandwidth-bound pass.
 #pragma once
 
 #include <memory>
+#include <span>
 
+#include "gpu/embedded_shaders.h"
 #include "gpu/pass.h"
 #include "gpu/recorder.h"
 #include "gpu/resources.h"
 
-namespace bounce::gpu {
+namespace bounce::app {
+
+// The shaders of the bounce command itself (shaders/bench/).
+std::span<const gpu::EmbeddedShader> shaders();
 
 class CopyBandwidthProbe {
  public:
-  static constexpr const char* kPassName = "gpu.copy_bandwidth";
+  static constexpr const char* kPassName = "bench.copy_bandwidth";
   // Copies `bytes`, or as much as the device binds at once when that is less (see bytes()).
-  CopyBandwidthProbe(Context& context, VkDeviceSize bytes);
-  void record(Recorder& recorder);
+  CopyBandwidthProbe(gpu::Context& context, VkDeviceSize bytes);
+  void record(gpu::Recorder& recorder);
   // Bytes of each buffer.
   VkDeviceSize bytes() const { return bytes_; }
   // Bytes read plus bytes written by one dispatch.
@@ -24,8 +29,8 @@ class CopyBandwidthProbe {
 
  private:
   VkDeviceSize bytes_;
-  std::unique_ptr<Buffer> source_, destination_;
-  std::unique_ptr<ComputePass> pass_;
+  std::unique_ptr<gpu::Buffer> source_, destination_;
+  std::unique_ptr<gpu::ComputePass> pass_;
 };
 
-}  // namespace bounce::gpu
+}  // namespace bounce::app

@@ -1,16 +1,19 @@
-#include "gpu/stage_dump.h"
+#include "gpuio/stage_dump.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
-#include "gpu/transfer.h"
+#include "gpuio/gpu_images.h"
+#include "gpu/error.h"
 #include "io/colormap.h"
 
 #include "shared/rng.glsl"
 
-namespace bounce::gpu {
+namespace bounce::gpuio {
+
+using gpu::Visualize;
 
 VisualizedImage visualize(const io::ImageF& image, Visualize how) {
   switch (how) {
@@ -85,14 +88,15 @@ VisualizedImage visualize(const io::ImageF& image, Visualize how) {
 }
 
 std::vector<std::filesystem::path> writeStageDumps(const std::filesystem::path& dir,
-                                                   const std::vector<CapturedStage>& captures, float exposure) {
+                                                   const std::vector<gpu::CapturedStage>& captures, float exposure) {
   std::filesystem::create_directories(dir);
   std::vector<std::filesystem::path> written;
-  for (const CapturedStage& capture : captures) {
+  for (const gpu::CapturedStage& capture : captures) {
     char frame[32];
     std::snprintf(frame, sizeof frame, "frame%04llu", static_cast<unsigned long long>(capture.frame));
     const std::string stem = std::string(frame) + "." + capture.pass + "." + capture.binding;
-    io::ImageF pixels = texelsToImage(capture.image, capture.texels->mapped());
+    if (capture.texels.empty()) throw gpu::GpuError("stage " + stem + " was never completed (completeCapture)");
+    io::ImageF pixels = texelsToImage(capture.image, capture.texels.data());
     written.push_back(dir / (stem + ".exr"));
     io::writeExr(written.back(), pixels);
     VisualizedImage view = visualize(pixels, capture.image.visualize);
@@ -102,4 +106,4 @@ std::vector<std::filesystem::path> writeStageDumps(const std::filesystem::path& 
   return written;
 }
 
-}  // namespace bounce::gpu
+}  // namespace bounce::gpuio

@@ -1,0 +1,47 @@
+// A GI branch: indirect diffuse now, specular and the denoiser next. Each is
+// a unit with its own image table (an ImageSet), its own constants and its
+// own passes; GiContext records the frame's history, then each branch, then
+// the composite, and knows nothing of what a branch does inside.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "gi/engine_images.h"
+#include "gi/frame_constants.h"
+#include "gi/image_table.h"
+#include "gpu/pass.h"
+#include "gpu/recorder.h"
+
+namespace bounce::gi {
+
+// What a branch gets to record one frame.
+struct FrameState {
+  gpu::Recorder& recorder;
+  const FrameGroup& group;  // gIn_Frame, gIn_ViewZ, gIn_NormalRoughness
+  EngineImages& engine;
+  VkSampler environmentSampler;
+  VkSampler nearestSampler;  // for the engine's images, read with texelFetch
+  std::uint64_t frameIndex;
+  Extent renderSize;
+  bool hasHistory;     // last frame's images hold a frame (perhaps of another camera: a cut)
+  bool usableHistory;  // ... and it may be reused (no cut, same render size)
+  gpu::Image& previousComposite;  // last frame's composite: the light the next bounce gathers
+  gpu::Image& previousSurface;    // last frame's viewZ and normals (gi.store_history)
+  bool capturing;                 // this frame's stages are captured: debug passes run too
+};
+
+class Branch {
+ public:
+  virtual ~Branch() = default;
+  virtual std::string_view name() const = 0;  // "diffuse": its passes and images are gi.diffuse.*
+  virtual ImageSet& images() = 0;
+  virtual void record(const FrameState& frame) = 0;
+  // This frame's result, which the composite reads (demodulated radiance).
+  virtual gpu::Image& result(std::uint64_t frameIndex) = 0;
+  // Every pass the branch may record, debug views included (for docs and tests).
+  virtual std::vector<gpu::PassDesc> passes() const = 0;
+};
+
+}  // namespace bounce::gi

@@ -1,0 +1,242 @@
+#include "gi/diffuse/diffuse_branch.h"
+
+#include <cmath>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "gi/diffuse/diffuse_common.glsl"
+#include "gi/diffuse/diffuse_passes.h"
+#include "gpu/format.h"
+
+namespace bounce::gi {
+namespace {
+
+using namespace gpu::formats;
+using gpu::Visualize;
+
+constexpr ImageSpec kImages[] = {
+    {"gi.diffuse.gathered0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
+     "gather's fresh reservoirs: sample position, normal"},
+    {"gi.diffuse.gathered1", Resolution::Half, kRgba32ui, false, Visualize::Raw,
+     "gather's fresh reservoirs: radiance, M, W, flags"},
+    {"gi.diffuse.transient0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
+     "reservoirs of the reuse stage not kept for the next frame"},
+    {"gi.diffuse.transient1", Resolution::Half, kRgba32ui, false, Visualize::Raw, "(second half of the pair)"},
+    {"gi.diffuse.spatial0", Resolution::Half, kRgba32ui, false, Visualize::Raw, "the first spatial pass's reservoirs"},
+    {"gi.diffuse.spatial1", Resolution::Half, kRgba32ui, false, Visualize::Raw, "(second half of the pair)"},
+    {"gi.diffuse.reservoirs0", Resolution::Half, kRgba32ui, true, Visualize::Raw,
+     "the reservoirs the next frame's temporal reuse starts from"},
+    {"gi.diffuse.reservoirs1", Resolution::Half, kRgba32ui, true, Visualize::Raw, "(second half of the pair)"},
+    {"gi.diffuse.resolved", Resolution::Full, kRgba16f, false, Visualize::Radiance,
+     "indirect diffuse, demodulated, before the temporal filter"},
+    {"gi.diffuse.filtered", Resolution::Full, kRgba16f, true, Visualize::Radiance,
+     "indirect diffuse, filtered (the branch's result); alpha: history length"},
+    {"gi.diffuse.moments", Resolution::Full, kRg32f, true, Visualize::Raw,
+     "first and second moments of the luminance over the history"},
+    {"gi.diffuse.bright_level", Resolution::Pyramid, kRgba32f, false, Visualize::Raw,
+     "the last frame's brightest pixel per 2^k x 2^k tile: brightness, x, y, valid"},
+    {"gi.diffuse.reservoir_estimate", Resolution::Half, kRgba16f, false, Visualize::Radiance,
+     "a reservoir's estimate at its own surface (captured frames only)", true},
+    {"gi.diffuse.reservoir_M", Resolution::Half, kR32f, false, Visualize::Heat,
+     "a reservoir's confidence M (captured frames only)", true},
+    {"gi.diffuse.reservoir_W", Resolution::Half, kR32f, false, Visualize::Heat,
+     "a reservoir's contribution weight W (captured frames only)", true},
+};
+static_assert(std::size(kImages) == kDiffuseImageCount, "one table entry per DiffuseImage");
+
+// The reservoir passes gi.diffuse.reservoir_view shows, in recorded order.
+constexpr const char* kViewAfter[] = {"gather", "temporal_reuse", "spatial_reuse1", "spatial_reuse2"};
+
+}  // namespace
+
+std::span<const ImageSpec> diffuseImageTable() { return kImages; }
+
+std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels) {
+  std::uint32_t levels = 0;
+  Extent level = renderSize;
+  do {
+    level = extentOf(Resolution::Half, level);
+    ++levels;
+  } while (std::uint64_t(level.width) * level.height > brightPixels && (level.width > 1 || level.height > 1));
+  return levels;
+}
+
+struct DiffuseBranch::Passes {
+  gpu::ComputePass brightPixels, brightReduce, gather, temporalReuse, spatialReuse, resolve, temporalFilter;
+  std::vector<std::unique_ptr<gpu::ComputePass>> reservoirViews;  // made on the first captured frame
+  explicit Passes(gpu::Context& context)
+      : brightPixels(context, brightPixelsPass()),
+        brightReduce(context, brightPixelsReducePass()),
+        gather(context, gatherPass()),
+        temporalReuse(context, temporalReusePass()),
+        spatialReuse(context, spatialReusePass()),
+        resolve(context, resolvePass()),
+        temporalFilter(context, temporalFilterPass()) {}
+};
+
+DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings)
+    : context_(context),
+      settings_(settings),
+      images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels)),
+      constants_(std::make_unique<gpu::Buffer>(context, "gi.diffuse.constants", sizeof(shared::DiffuseConstants),
+                                               gpu::BufferUsage::DeviceLocal, &arena)),
+      passes_(std::make_unique<Passes>(context)) {}
+
+DiffuseBranch::~DiffuseBranch() = default;
+
+std::vector<gpu::PassDesc> DiffuseBranch::passes() const {
+  std::vector<gpu::PassDesc> list = {brightPixelsPass(), brightPixelsReducePass(), gatherPass(),
+                                     temporalReusePass(), spatialReusePass(),      resolvePass(),
+                                     temporalFilterPass()};
+  for (const char* after : kViewAfter) list.push_back(reservoirViewPass(after));
+  return list;
+}
+
+void DiffuseBranch::viewReservoirs(const FrameState& frame, std::size_t after, gpu::Image& first,
+                                   gpu::Image& second) {
+  if (passes_->reservoirViews.empty()) {
+    for (const char* name : kViewAfter)
+      passes_->reservoirViews.push_back(std::make_unique<gpu::ComputePass>(context_, reservoirViewPass(name)));
+    images_.makeDebugImages();
+  }
+  const Extent half = extentOf(Resolution::Half, frame.renderSize);
+  const std::uint64_t f = frame.frameIndex;
+  frame.recorder.dispatch(*passes_->reservoirViews[after], half.width, half.height, frame.group.binds(),
+                          {{"gIn_Reservoir0", first},
+                           {"gIn_Reservoir1", second},
+                           {"gOut_Estimate", images_.current(kReservoirEstimate, f)},
+                           {"gOut_M", images_.current(kReservoirM, f)},
+                           {"gOut_W", images_.current(kReservoirW, f)}});
+}
+
+void DiffuseBranch::record(const FrameState& frame) {
+  gpu::Recorder& recorder = frame.recorder;
+  const std::uint64_t f = frame.frameIndex;
+  const DiffuseSettings& d = settings_.diffuse;
+  if (!d.enabled) {
+    recorder.clearImage(images_.current(kFiltered, f), {});  // no indirect diffuse: the composite is the direct light
+    return;
+  }
+  const Extent full = frame.renderSize;
+  const Extent half = extentOf(Resolution::Half, full);
+  const std::uint32_t levels = brightPyramidLevels(full, d.brightPixels);
+  const Extent lastLevel = extentOf(Resolution::Pyramid, full, levels);
+
+  shared::DiffuseConstants c{};
+  c.brightLevelSize = glm::uvec2(lastLevel.width, lastLevel.height);
+  c.brightLevel = levels;
+  // Without last frame's composite there is nothing on screen to gather from.
+  c.screenCandidates = frame.hasHistory ? d.screenCandidates : 0u;
+  c.brightCandidates = frame.hasHistory ? d.brightCandidates : 0u;
+  c.environmentCandidates = d.environmentCandidates;
+  c.targetFunction = std::uint32_t(d.target);
+  c.resolveReservoirs = d.resolveReservoirs;
+  c.visibilitySteps = d.visibilitySteps;
+  c.jacobian = d.jacobian ? 1u : 0u;
+  c.temporalMaxM = float(d.temporalMaxM);
+  c.temporalDepthTolerance = d.temporalDepthTolerance;
+  c.temporalCosNormalTolerance = std::cos(glm::radians(d.temporalNormalToleranceDegrees));
+  c.environmentMip = d.environmentMip;
+  c.spatialCosNormalTolerance = std::cos(glm::radians(d.spatialNormalToleranceDegrees));
+  c.spatialPlaneTolerance = d.spatialPlaneTolerance;
+  c.offscreenEnvironmentVisibility = d.offscreenEnvironmentVisibility;
+  c.visibilityThickness = d.visibilityThickness;
+  c.varianceClippingGamma = d.varianceClippingGamma;
+  c.temporalFilterFrames = float(d.temporalFilterFrames);
+  recorder.updateBuffer(*constants_, &c, sizeof c);
+  const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
+
+  if (frame.hasHistory && d.brightCandidates > 0) {
+    const Extent first = extentOf(Resolution::Pyramid, full, 1);
+    recorder.dispatch(passes_->brightPixels, first.width, first.height, frame.group.binds(GroupPart::Constants),
+                      {constants,
+                       {"gPrev_Composite", frame.previousComposite},
+                       {"gPrev_Surface", frame.previousSurface},
+                       {"gOut_Brightest", images_.level(kBrightLevels, 1)}});
+    for (std::uint32_t level = 2; level <= levels; ++level) {
+      const Extent below = extentOf(Resolution::Pyramid, full, level - 1);
+      const Extent size = extentOf(Resolution::Pyramid, full, level);
+      recorder.dispatch(passes_->brightReduce, size.width, size.height,
+                        {{"gIn_Brightest", images_.level(kBrightLevels, level - 1)},
+                         {"gOut_Brightest", images_.level(kBrightLevels, level)}},
+                        BrightReduceParams{{below.width, below.height}, {size.width, size.height}});
+    }
+  }
+
+  gpu::Image& gathered0 = images_.current(kGathered0, f);
+  gpu::Image& gathered1 = images_.current(kGathered1, f);
+  recorder.dispatch(passes_->gather, half.width, half.height, frame.group.binds(),
+                    {constants,
+                     {"gPrev_Composite", frame.previousComposite},
+                     {"gPrev_Surface", frame.previousSurface},
+                     {"gIn_Brightest", images_.level(kBrightLevels, levels)},
+                     {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
+                     {"gOut_Reservoir0", gathered0},
+                     {"gOut_Reservoir1", gathered1}});
+  if (frame.capturing) viewReservoirs(frame, 0, gathered0, gathered1);
+
+  gpu::Image* final0 = &gathered0;
+  gpu::Image* final1 = &gathered1;
+  if (settings_.restir) recordReuse(frame, final0, final1);
+
+  gpu::Image& resolved = images_.current(kResolved, f);
+  recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
+                    {constants, {"gIn_Reservoir0", *final0}, {"gIn_Reservoir1", *final1}, {"gOut_Diffuse", resolved}});
+  recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
+                    {constants,
+                     {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+                     {"gIn_Diffuse", resolved},
+                     {"gPrev_Surface", frame.previousSurface},
+                     {"gPrev_Filtered", images_.previous(kFiltered, f)},
+                     {"gPrev_Moments", images_.previous(kMoments, f)},
+                     {"gOut_Filtered", images_.current(kFiltered, f)},
+                     {"gOut_Moments", images_.current(kMoments, f)}});
+}
+
+// Temporal reuse, then two spatial passes (one shader, other parameters).
+void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gpu::Image*& final1) {
+  gpu::Recorder& recorder = frame.recorder;
+  const std::uint64_t f = frame.frameIndex;
+  const DiffuseSettings& d = settings_.diffuse;
+  const Extent half = extentOf(Resolution::Half, frame.renderSize);
+  const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
+  // The reservoirs the next frame's temporal reuse starts from are the
+  // history images; the others are scratch.
+  const bool feedback = d.spatialFeedback;
+  gpu::Image& temporalOut0 = feedback ? images_.current(kTransient0, f) : images_.current(kReservoirs0, f);
+  gpu::Image& temporalOut1 = feedback ? images_.current(kTransient1, f) : images_.current(kReservoirs1, f);
+  gpu::Image& spatialOut0 = feedback ? images_.current(kReservoirs0, f) : images_.current(kTransient0, f);
+  gpu::Image& spatialOut1 = feedback ? images_.current(kReservoirs1, f) : images_.current(kTransient1, f);
+  recorder.dispatch(passes_->temporalReuse, half.width, half.height, frame.group.binds(),
+                    {constants,
+                     {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+                     {"gPrev_Surface", frame.previousSurface},
+                     {"gIn_Reservoir0", *final0},
+                     {"gIn_Reservoir1", *final1},
+                     {"gPrev_Reservoir0", images_.previous(kReservoirs0, f)},
+                     {"gPrev_Reservoir1", images_.previous(kReservoirs1, f)},
+                     {"gOut_Reservoir0", temporalOut0},
+                     {"gOut_Reservoir1", temporalOut1}});
+  if (frame.capturing) viewReservoirs(frame, 1, temporalOut0, temporalOut1);
+  const auto spatialPass = [&](gpu::Image& in0, gpu::Image& in1, gpu::Image& out0, gpu::Image& out1,
+                               const SpatialReuseParams& params) {
+    recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),
+                      {constants,
+                       {"gIn_Reservoir0", in0},
+                       {"gIn_Reservoir1", in1},
+                       {"gOut_Reservoir0", out0},
+                       {"gOut_Reservoir1", out1}},
+                      params);
+  };
+  gpu::Image& spatial0 = images_.current(kSpatial0, f);
+  gpu::Image& spatial1 = images_.current(kSpatial1, f);
+  spatialPass(temporalOut0, temporalOut1, spatial0, spatial1, {d.spatialRadius, d.spatialSamples, 0u});
+  if (frame.capturing) viewReservoirs(frame, 2, spatial0, spatial1);
+  spatialPass(spatial0, spatial1, spatialOut0, spatialOut1, {d.spatial2Radius, d.spatial2Samples, 1u});
+  final0 = &spatialOut0;
+  final1 = &spatialOut1;
+  if (frame.capturing) viewReservoirs(frame, 3, *final0, *final1);
+}
+
+}  // namespace bounce::gi

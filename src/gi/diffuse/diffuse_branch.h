@@ -1,0 +1,69 @@
+// The diffuse branch (seed 001): screen-space ReSTIR GI at half resolution,
+// resolved at full resolution with screen-space visibility, then a
+// temporal filter. Its passes, in order:
+//   gi.diffuse.bright_pixels(_reduce)  the last frame's brightest pixels, 2x2 -> 1 per level
+//   gi.diffuse.gather                  half res: candidates into one reservoir per pixel
+//   gi.diffuse.temporal_reuse          half res: merge with last frame's reservoir
+//   gi.diffuse.spatial_reuse           half res: merge with neighbours, twice
+//   gi.diffuse.resolve                 full res: indirect diffuse
+//   gi.diffuse.temporal_filter         full res: reprojected, variance-clipped history
+// docs/gi.md explains the algorithm; docs/passes.md each pass and image.
+#pragma once
+
+#include <memory>
+#include <span>
+
+#include "bounce/gi_settings.h"
+#include "gi/branch.h"
+
+namespace bounce::gi {
+
+// The branch's images, in the order of diffuseImageTable().
+enum DiffuseImage : std::size_t {
+  kGathered0,
+  kGathered1,
+  kTransient0,
+  kTransient1,
+  kSpatial0,
+  kSpatial1,
+  kReservoirs0,
+  kReservoirs1,
+  kResolved,
+  kFiltered,
+  kMoments,
+  kBrightLevels,
+  kReservoirEstimate,
+  kReservoirM,
+  kReservoirW,
+  kDiffuseImageCount
+};
+std::span<const ImageSpec> diffuseImageTable();
+
+// Levels of the bright-pixel pyramid for a render size: halving until about
+// `brightPixels` entries remain (at least one level).
+std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels);
+
+class DiffuseBranch final : public Branch {
+ public:
+  DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings);
+  ~DiffuseBranch() override;
+
+  std::string_view name() const override { return "diffuse"; }
+  ImageSet& images() override { return images_; }
+  void record(const FrameState& frame) override;
+  gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kFiltered, frameIndex); }
+  std::vector<gpu::PassDesc> passes() const override;
+
+ private:
+  struct Passes;
+  void recordReuse(const FrameState& frame, gpu::Image*& final0, gpu::Image*& final1);
+  void viewReservoirs(const FrameState& frame, std::size_t after, gpu::Image& first, gpu::Image& second);
+
+  gpu::Context& context_;
+  Settings settings_;
+  ImageSet images_;
+  std::unique_ptr<gpu::Buffer> constants_;
+  std::unique_ptr<Passes> passes_;
+};
+
+}  // namespace bounce::gi

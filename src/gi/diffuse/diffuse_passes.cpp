@@ -1,0 +1,140 @@
+#include "gi/diffuse/diffuse_passes.h"
+
+#include <vector>
+
+#include "gi/frame_constants.h"
+#include "gi/gi_shaders.h"
+#include "gpu/constants_layout.h"
+#include "gpu/format.h"
+
+namespace bounce::gi {
+namespace {
+
+using gpu::Access;
+using gpu::ResourceDecl;
+using gpu::ResourceKind;
+using shared::DiffuseConstants;
+
+using namespace gpu::formats;
+
+ResourceDecl diffuseConstants() {
+  return {"gIn_DiffuseConstants", Access::Read, VK_FORMAT_UNDEFINED, "the diffuse settings",
+          ResourceKind::UniformBuffer};
+}
+gpu::ConstantsDecl diffuseConstantsLayout() {
+  return BOUNCE_CONSTANTS_LAYOUT("gIn_DiffuseConstants", DiffuseConstants, brightLevelSize, brightLevel,
+                                 screenCandidates, brightCandidates, environmentCandidates, targetFunction,
+                                 resolveReservoirs, visibilitySteps, jacobian, temporalMaxM, temporalDepthTolerance,
+                                 temporalCosNormalTolerance, environmentMip, spatialCosNormalTolerance,
+                                 spatialPlaneTolerance, offscreenEnvironmentVisibility, visibilityThickness,
+                                 varianceClippingGamma, temporalFilterFrames);
+}
+ResourceDecl previousSurface() {
+  return {"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"};
+}
+ResourceDecl motion() {
+  return {"gIn_Motion", Access::Read, VK_FORMAT_UNDEFINED, "the engine's motion vectors (times the motion scale)",
+          ResourceKind::SampledImage};
+}
+// A reservoir image pair: rgba32ui each, 32 bytes a reservoir (shared/reservoir.glsl).
+std::vector<ResourceDecl> reservoirs(const char* prefix, Access access, const char* purpose) {
+  const std::string base = std::string(prefix) + "_Reservoir";
+  return {{base + "0", access, kRgba32ui, std::string(purpose) + ": sample position, normal"},
+          {base + "1", access, kRgba32ui, std::string(purpose) + ": radiance, M, W, flags"}};
+}
+
+// A pass of the branch: (part of) the frame group and the branch's
+// constants first, then its own resources.
+gpu::PassDesc pass(const char* name, const char* shader, GroupPart group, std::vector<ResourceDecl> own,
+                   std::vector<gpu::ConstantsDecl> push = {}) {
+  std::vector<ResourceDecl> resources = frameGroupDecls(group);
+  resources.push_back(diffuseConstants());
+  resources.insert(resources.end(), own.begin(), own.end());
+  std::vector<gpu::ConstantsDecl> constants = {frameConstantsLayout(), diffuseConstantsLayout()};
+  constants.insert(constants.end(), push.begin(), push.end());
+  return {.name = name, .shader = shader, .shaders = shaders(), .resources = std::move(resources),
+          .constants = std::move(constants)};
+}
+
+std::vector<ResourceDecl> join(std::vector<ResourceDecl> a, const std::vector<ResourceDecl>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+}  // namespace
+
+gpu::PassDesc brightPixelsPass() {
+  return pass("gi.diffuse.bright_pixels", "gi/diffuse/bright_pixels", GroupPart::Constants,
+              {{"gPrev_Composite", Access::Read, kRgba16f, "last frame's composited radiance"},
+               previousSurface(),
+               {"gOut_Brightest", Access::Write, kRgba32f, "per 2x2 tile: brightness, pixel x, y, valid"}});
+}
+
+gpu::PassDesc brightPixelsReducePass() {
+  // Reads no frame constants: only the pyramid, and how much of it this render size fills.
+  return {.name = "gi.diffuse.bright_pixels_reduce",
+          .shader = "gi/diffuse/bright_pixels_reduce",
+          .shaders = shaders(),
+          .resources = {{"gIn_Brightest", Access::Read, kRgba32f, "the level below"},
+                        {"gOut_Brightest", Access::Write, kRgba32f, "the brightest of each 2x2 of it"}},
+          .constants = {BOUNCE_CONSTANTS_LAYOUT("", BrightReduceParams, inputSize, outputSize)}};
+}
+
+gpu::PassDesc gatherPass() {
+  return pass("gi.diffuse.gather", "gi/diffuse/gather", GroupPart::Surfaces,
+              join({{"gPrev_Composite", Access::Read, kRgba16f, "radiance of screen candidates"},
+                    previousSurface(),
+                    {"gIn_Brightest", Access::Read, kRgba32f, "the bright-pixel pyramid's last level"},
+                    {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED, "prefiltered sky for environment candidates",
+                     ResourceKind::SampledImage}},
+                   reservoirs("gOut", Access::Write, "fresh reservoirs")));
+}
+
+gpu::PassDesc temporalReusePass() {
+  return pass("gi.diffuse.temporal_reuse", "gi/diffuse/temporal_reuse", GroupPart::Surfaces,
+              join(join({motion(), previousSurface()}, reservoirs("gIn", Access::Read, "fresh reservoirs")),
+                   join(reservoirs("gPrev", Access::Read, "last frame's final reservoirs"),
+                        reservoirs("gOut", Access::Write, "merged reservoirs"))));
+}
+
+gpu::PassDesc spatialReusePass() {
+  return pass("gi.diffuse.spatial_reuse", "gi/diffuse/spatial_reuse", GroupPart::Surfaces,
+              join(reservoirs("gIn", Access::Read, "reservoirs"),
+                   reservoirs("gOut", Access::Write, "reservoirs merged with neighbours")),
+              {BOUNCE_CONSTANTS_LAYOUT("", SpatialReuseParams, radius, samples, passIndex)});
+}
+
+gpu::PassDesc resolvePass() {
+  return pass("gi.diffuse.resolve", "gi/diffuse/resolve", GroupPart::Surfaces,
+              join(reservoirs("gIn", Access::Read, "this frame's final reservoirs"),
+                   {{"gOut_Diffuse", Access::Write, kRgba16f, "indirect diffuse, demodulated, unfiltered"}}));
+}
+
+gpu::PassDesc temporalFilterPass() {
+  return pass("gi.diffuse.temporal_filter", "gi/diffuse/temporal_filter", GroupPart::Surfaces,
+              {motion(),
+               {"gIn_Diffuse", Access::Read, kRgba16f, "this frame's resolve"},
+               previousSurface(),
+               {"gPrev_Filtered", Access::Read, kRgba16f, "last frame's output (alpha: history length)"},
+               {"gPrev_Moments", Access::Read, kRg32f, "last frame's luminance moments"},
+               {"gOut_Filtered", Access::Write, kRgba16f, "indirect diffuse, filtered; alpha: history length"},
+               {"gOut_Moments", Access::Write, kRg32f, "first and second moments of the luminance over the history"}});
+}
+
+gpu::PassDesc reservoirViewPass(const std::string& after) {
+  // The view reads no diffuse constants: only the group and the reservoirs.
+  std::vector<ResourceDecl> resources = frameGroupDecls();
+  for (const ResourceDecl& r : join(reservoirs("gIn", Access::Read, "reservoirs"),
+                                    {{"gOut_Estimate", Access::Write, kRgba16f,
+                                      "radiance * cos / pi * W at the reservoir's surface"},
+                                     {"gOut_M", Access::Write, kR32f, "confidence M"},
+                                     {"gOut_W", Access::Write, kR32f, "contribution weight W"}}))
+    resources.push_back(r);
+  return {.name = "gi.diffuse.reservoir_view." + after,
+          .shader = "gi/diffuse/reservoir_view",
+          .shaders = shaders(),
+          .resources = std::move(resources),
+          .constants = {frameConstantsLayout()}};
+}
+
+}  // namespace bounce::gi

@@ -1,0 +1,171 @@
+#include "gi/engine_images.h"
+
+#include <algorithm>
+#include <string>
+
+#include "gpu/format.h"
+
+namespace bounce::gi {
+namespace {
+
+constexpr VkFormat kViewZ[] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16_SFLOAT};
+constexpr VkFormat kNormalRoughness[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_A2B10G10R10_UNORM_PACK32};
+constexpr VkFormat kBaseColorMetallic[] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_SRGB};
+constexpr VkFormat kMotion[] = {VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R32G32_SFLOAT};
+// B10G11R11_UFLOAT is not taken yet: given it, the composite's colours came
+// out wrong on lavapipe and on an H100 alike (docs/known-issues.md).
+constexpr VkFormat kRadiance[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT};
+constexpr VkFormat kEnvironment[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT};
+
+constexpr InputFamily kFamilies[] = {
+    {Input::ViewZ, "viewZ", kViewZ, false, true},
+    {Input::NormalRoughness, "normalRoughness", kNormalRoughness, false, true},
+    {Input::BaseColorMetallic, "baseColorMetallic", kBaseColorMetallic, false, true},
+    {Input::Motion, "motion", kMotion, false, true},
+    {Input::Direct, "direct", kRadiance, false, true},
+    {Input::Emissive, "emissive", kRadiance, true, true},
+    {Input::Environment, "environment", kEnvironment, false, false},
+};
+
+const ImageRef& refOf(const FrameInputs& frame, Input input) {
+  switch (input) {
+    case Input::ViewZ:
+      return frame.viewZ;
+    case Input::NormalRoughness:
+      return frame.normalRoughness;
+    case Input::BaseColorMetallic:
+      return frame.baseColorMetallic;
+    case Input::Motion:
+      return frame.motion;
+    case Input::Direct:
+      return frame.direct;
+    case Input::Emissive:
+      return frame.emissive;
+    case Input::Environment:
+    case Input::Count:
+      break;
+  }
+  return frame.environment;
+}
+
+// Layouts a compute shader may sample a colour image in without a transition.
+bool sampleableInPlace(VkImageLayout layout) {
+  return layout == VK_IMAGE_LAYOUT_GENERAL || layout == VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL ||
+         layout == VK_IMAGE_LAYOUT_READ_ONLY_OPTIMAL;
+}
+
+constexpr VkAccessFlags2 kWriteAccess =
+    VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_WRITE_BIT |
+    VK_ACCESS_2_MEMORY_WRITE_BIT;
+
+std::string size(std::uint32_t width, std::uint32_t height) {
+  return std::to_string(width) + "x" + std::to_string(height);
+}
+
+}  // namespace
+
+std::span<const InputFamily> inputFamilies() { return kFamilies; }
+
+const InputFamily& inputFamily(Input input) { return kFamilies[std::size_t(input)]; }
+
+std::string formatList(std::span<const VkFormat> formats) {
+  std::string list;
+  for (std::size_t i = 0; i < formats.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == formats.size() ? " or " : ", ") + gpu::formatName(formats[i]);
+  return list;
+}
+
+void EngineImages::take(const FrameInputs& frame, InputState state) {
+  // Every check first: a throw leaves nothing half-taken.
+  for (const InputFamily& family : kFamilies) {
+    const ImageRef& ref = refOf(frame, family.input);
+    const std::string input = std::string("gi: frame input ") + family.name;
+    if (ref.image == VK_NULL_HANDLE && family.optional) continue;
+    if (ref.image == VK_NULL_HANDLE || ref.view == VK_NULL_HANDLE)
+      throw Error(input + " is missing (its " + (ref.image == VK_NULL_HANDLE ? "image" : "view") +
+                  " is VK_NULL_HANDLE)");
+    if (std::find(family.formats.begin(), family.formats.end(), ref.format) == family.formats.end())
+      throw Error(input + " has the format " + gpu::formatName(ref.format) + "; " + family.name + " takes " +
+                  formatList(family.formats));
+    if (ref.width == 0 || ref.height == 0 || ref.mipLevels == 0)
+      throw Error(input + " is " + size(ref.width, ref.height) + " with " + std::to_string(ref.mipLevels) +
+                  " mip levels; give its real size");
+    if (family.renderSized && (ref.width < frame.width || ref.height < frame.height))
+      throw Error(input + " is " + size(ref.width, ref.height) + ", smaller than the render size " +
+                  size(frame.width, frame.height));
+    if (ref.layout == VK_IMAGE_LAYOUT_UNDEFINED || ref.layout == VK_IMAGE_LAYOUT_PREINITIALIZED)
+      throw Error(input + " is in " + gpu::layoutName(ref.layout) +
+                  ", whose contents are undefined to a reader; give the layout the engine's last use left it in");
+  }
+  if (frame.environmentSampler == VK_NULL_HANDLE)
+    throw Error("gi: frame input environmentSampler is missing (EnvironmentPrefilter::sampler() is one)");
+  for (const InputFamily& a : kFamilies)
+    for (const InputFamily& b : kFamilies) {
+      if (&b >= &a) break;
+      const ImageRef& ra = refOf(frame, a.input);
+      const ImageRef& rb = refOf(frame, b.input);
+      if (ra.image == VK_NULL_HANDLE || ra.image != rb.image) continue;
+      if (ra.view != rb.view || ra.layout != rb.layout || ra.stage != rb.stage || ra.access != rb.access)
+        throw Error(std::string("gi: frame inputs ") + b.name + " and " + a.name +
+                    " are the same VkImage but differ in view, layout, stage or access; one image is in one state");
+    }
+
+  state_ = state;
+  for (const InputFamily& family : kFamilies) {
+    const std::size_t slot = std::size_t(family.input);
+    const ImageRef& ref = refOf(frame, family.input);
+    given_[slot] = ref;
+    owned_[slot].reset();
+    wrapped_[slot] = nullptr;
+    if (ref.image == VK_NULL_HANDLE) continue;
+    const auto same = std::find_if(kFamilies, &family, [&](const InputFamily& earlier) {
+      return refOf(frame, earlier.input).image == ref.image;
+    });
+    if (same != &family) {
+      wrapped_[slot] = wrapped_[std::size_t(same->input)];
+      continue;
+    }
+    gpu::ExternalImage external{.image = ref.image,
+                                .view = ref.view,
+                                .desc = {.name = std::string("engine.") + family.name,
+                                         .width = ref.width,
+                                         .height = ref.height,
+                                         .format = ref.format,
+                                         .mipLevels = ref.mipLevels,
+                                         .storage = false}};
+    // As if the engine's last use were a write at its stage: the first
+    // barrier then waits for it and makes it visible.
+    external.state.writeStage = ref.stage;
+    external.state.writeAccess = ref.access & kWriteAccess;
+    external.state.layout = ref.layout;
+    owned_[slot] = std::make_unique<gpu::Image>(context_, external);
+    owned_[slot]->setSampledLayout(state == InputState::LeaveGeneral ? VK_IMAGE_LAYOUT_GENERAL
+                                   : sampleableInPlace(ref.layout)   ? ref.layout
+                                                                     : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    wrapped_[slot] = owned_[slot].get();
+  }
+}
+
+void EngineImages::handBack(gpu::Recorder& recorder) {
+  for (std::size_t slot = 0; slot < owned_.size(); ++slot) {
+    if (!owned_[slot]) continue;
+    gpu::Image& image = *owned_[slot];
+    const ImageRef& ref = given_[slot];
+    if (state_ == InputState::Restore) {
+      // The engine's next barrier starts from ref.stage: one from the
+      // library's reads to that stage chains the two. Reads in that very
+      // stage (compute) in an unchanged layout need none.
+      const VkPipelineStageFlags2 stage = ref.stage == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT
+                                                                                : ref.stage;
+      const bool covered = image.sync().layout == ref.layout &&
+                           (stage & (VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT));
+      if (!covered) recorder.handOver(image, ref.layout, stage, ref.access);
+    }
+    owned_[slot].reset();
+    wrapped_[slot] = nullptr;
+  }
+  recorder.flush();
+}
+
+}  // namespace bounce::gi

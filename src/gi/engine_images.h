@@ -1,0 +1,63 @@
+// The engine's images as the library takes them each frame. Each input has
+// a family of formats it accepts; record() checks every input against its
+// family and the render size before recording anything (gi::Error naming
+// the input, what it takes and what it was given, formats and layouts by
+// their Vulkan names), wraps each as a gpu::Image that starts from the state
+// the engine says it is in (so the first barrier waits for the engine's
+// last use and keeps its contents), and after the library's passes hands
+// each back as ContextDesc::inputState asks.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "bounce/gi.h"
+#include "gpu/context.h"
+#include "gpu/recorder.h"
+#include "gpu/resources.h"
+
+namespace bounce::gi {
+
+enum class Input : std::size_t { ViewZ, NormalRoughness, BaseColorMetallic, Motion, Direct, Emissive, Environment, Count };
+
+struct InputFamily {
+  Input input;
+  const char* name;  // as in FrameInputs: "viewZ"
+  std::span<const VkFormat> formats;
+  bool optional;      // may be absent (image VK_NULL_HANDLE)
+  bool renderSized;   // must cover the render size (the environment need not)
+};
+std::span<const InputFamily> inputFamilies();
+const InputFamily& inputFamily(Input input);
+
+// "VK_FORMAT_R32_SFLOAT or VK_FORMAT_R16_SFLOAT"
+std::string formatList(std::span<const VkFormat> formats);
+
+class EngineImages {
+ public:
+  explicit EngineImages(gpu::Context& context) : context_(context) {}
+
+  // Checks every input of `frame` (throws Error naming the first bad one)
+  // and wraps them, reading in place when the layout allows (LeaveGeneral:
+  // in GENERAL).
+  void take(const FrameInputs& frame, InputState state);
+  bool has(Input input) const { return wrapped_[std::size_t(input)] != nullptr; }
+  gpu::Image& operator[](Input input) { return *wrapped_[std::size_t(input)]; }
+
+  // Records what hands the inputs back after the library's last read of
+  // them (Restore: their layouts and the stage and access the engine gave;
+  // LeaveGeneral: GENERAL, as the library left them), then forgets them.
+  void handBack(gpu::Recorder& recorder);
+
+ private:
+  gpu::Context& context_;
+  InputState state_ = InputState::Restore;
+  std::array<ImageRef, std::size_t(Input::Count)> given_{};
+  std::array<std::unique_ptr<gpu::Image>, std::size_t(Input::Count)> owned_;
+  std::array<gpu::Image*, std::size_t(Input::Count)> wrapped_{};  // shared when two inputs are one image
+};
+
+}  // namespace bounce::gi

@@ -1,0 +1,113 @@
+#include "gi/image_table.h"
+
+#include <stdexcept>
+
+#include "bounce/gi.h"
+
+namespace bounce::gi {
+
+const char* resolutionName(Resolution resolution) {
+  switch (resolution) {
+    case Resolution::Full:
+      return "full";
+    case Resolution::Half:
+      return "half";
+    case Resolution::Pyramid:
+      return "pyramid";
+  }
+  return "?";
+}
+
+Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level) {
+  const auto divide = [](std::uint32_t size, std::uint32_t shift) {
+    return std::uint32_t((std::uint64_t(size) + (std::uint64_t(1) << shift) - 1) >> shift);
+  };
+  switch (resolution) {
+    case Resolution::Full:
+      return renderSize;
+    case Resolution::Half:
+      return {divide(renderSize.width, 1), divide(renderSize.height, 1)};
+    case Resolution::Pyramid:
+      return {divide(renderSize.width, level), divide(renderSize.height, level)};
+  }
+  return renderSize;
+}
+
+struct ImageSet::Entry {
+  std::unique_ptr<gpu::HistoryImage> history;
+  std::vector<std::unique_ptr<gpu::Image>> images;  // one, or a pyramid's levels
+};
+
+ImageSet::ImageSet(gpu::Context& context, gpu::MemoryArena& arena, std::span<const ImageSpec> table, Extent maxSize,
+                   std::uint32_t pyramidLevels)
+    : context_(context), arena_(arena), table_(table), maxSize_(maxSize), pyramidLevels_(pyramidLevels) {
+  entries_.resize(table.size());
+  for (std::size_t i = 0; i < table.size(); ++i)
+    if (!table[i].debug) make(i);
+}
+
+ImageSet::~ImageSet() = default;
+
+void ImageSet::make(std::size_t index) {
+  const ImageSpec& spec = table_[index];
+  auto entry = std::make_unique<Entry>();
+  const auto desc = [&](std::string name, Extent size) {
+    return gpu::ImageDesc{
+        .name = std::move(name), .width = size.width, .height = size.height, .format = spec.format, .visualize = spec.view};
+  };
+  if (spec.resolution == Resolution::Pyramid) {
+    if (spec.history) throw std::logic_error("gi: a pyramid image cannot keep history");
+    for (std::uint32_t level = 1; level <= pyramidLevels_; ++level)
+      entry->images.push_back(std::make_unique<gpu::Image>(
+          context_, desc(std::string(spec.name) + std::to_string(level), extentOf(spec.resolution, maxSize_, level)),
+          &arena_));
+  } else if (spec.history) {
+    entry->history = std::make_unique<gpu::HistoryImage>(
+        context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_);
+  } else {
+    entry->images.push_back(
+        std::make_unique<gpu::Image>(context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_));
+  }
+  entries_[index] = std::move(entry);
+}
+
+void ImageSet::makeDebugImages() {
+  for (std::size_t i = 0; i < table_.size(); ++i)
+    if (!entries_[i]) make(i);
+}
+
+gpu::Image& ImageSet::current(std::size_t index, std::uint64_t frameIndex) {
+  Entry& entry = *entries_.at(index);
+  return entry.history ? entry.history->current(frameIndex) : *entry.images.at(0);
+}
+
+gpu::Image& ImageSet::previous(std::size_t index, std::uint64_t frameIndex) {
+  Entry& entry = *entries_.at(index);
+  if (!entry.history) throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' keeps no history");
+  return entry.history->previous(frameIndex);
+}
+
+gpu::Image& ImageSet::level(std::size_t index, std::uint32_t level) {
+  Entry& entry = *entries_.at(index);
+  if (level == 0 || level > entry.images.size())
+    throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' has no level " +
+                           std::to_string(level));
+  return *entry.images[level - 1];
+}
+
+std::vector<ImageSet::Listed> ImageSet::list(std::uint64_t frameIndex) {
+  std::vector<Listed> listed;
+  for (std::size_t i = 0; i < table_.size(); ++i) {
+    if (!entries_[i]) continue;
+    const ImageSpec& spec = table_[i];
+    if (spec.resolution == Resolution::Pyramid) {
+      for (std::uint32_t level = 1; level <= entries_[i]->images.size(); ++level)
+        listed.push_back({std::string(spec.name) + std::to_string(level), &this->level(i, level), &spec});
+    } else {
+      listed.push_back({std::string(spec.name), &current(i, frameIndex), &spec});
+    }
+  }
+  return listed;
+}
+
+}  // namespace bounce::gi

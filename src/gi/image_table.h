@@ -1,0 +1,89 @@
+// The declarative table of a GI unit's images (the frame's common images,
+// each branch's): name, resolution, format, whether it keeps history, how
+// to look at it, what it holds. From one table come the allocation (an
+// ImageSet, in the context's memory arena), GiContext::images(), the stage
+// dumps' visualisation, and the image tables of docs/passes.md (a test
+// compares them). A unit indexes its table with its own enum, so a name
+// cannot be misspelled at a use.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/resources.h"
+
+namespace bounce::gi {
+
+// How large an image is for a render size (the context's largest when allocating).
+enum class Resolution {
+  Full,     // the render size
+  Half,     // ceil(size / 2): one reservoir per 2x2 pixels
+  Pyramid,  // levels 1..n of a 2x2 -> 1 reduction: level k is ceil(size / 2^k)
+};
+const char* resolutionName(Resolution resolution);  // "full", "half", "pyramid"
+
+struct ImageSpec {
+  std::string_view name;  // "gi.diffuse.gathered0"; a pyramid's levels append 1..n
+  Resolution resolution;
+  VkFormat format;
+  bool history;  // two images, this frame's and the last one's, swapping by frame index
+  gpu::Visualize view;
+  std::string_view purpose;
+  bool debug = false;  // made on the first frame whose stages are captured, and only shown then
+};
+
+struct Extent {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+};
+// The size of an image of `resolution` for a render size (a pyramid's `level`).
+Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level = 1);
+
+// The images of one table, made for the largest render size.
+class ImageSet {
+ public:
+  // `pyramidLevels`: levels of each Pyramid entry (at least 1 if the table has one).
+  ImageSet(gpu::Context& context, gpu::MemoryArena& arena, std::span<const ImageSpec> table, Extent maxSize,
+           std::uint32_t pyramidLevels = 0);
+  ~ImageSet();
+  ImageSet(const ImageSet&) = delete;
+  ImageSet& operator=(const ImageSet&) = delete;
+
+  // Entry `index`: the image (history: this frame's), the last frame's
+  // (history only), and a pyramid's level 1..levels.
+  gpu::Image& current(std::size_t index, std::uint64_t frameIndex);
+  gpu::Image& previous(std::size_t index, std::uint64_t frameIndex);
+  gpu::Image& level(std::size_t index, std::uint32_t level);
+  std::uint32_t pyramidLevels() const { return pyramidLevels_; }
+
+  // Makes the debug entries (those with ImageSpec::debug); later calls do nothing.
+  void makeDebugImages();
+
+  struct Listed {
+    std::string name;
+    gpu::Image* image;
+    const ImageSpec* spec;
+  };
+  // Every image made, this frame's for history entries, pyramids level by level.
+  std::vector<Listed> list(std::uint64_t frameIndex);
+  std::span<const ImageSpec> table() const { return table_; }
+
+ private:
+  struct Entry;
+  void make(std::size_t index);
+  gpu::Context& context_;
+  gpu::MemoryArena& arena_;
+  std::span<const ImageSpec> table_;
+  Extent maxSize_;
+  std::uint32_t pyramidLevels_;
+  std::vector<std::unique_ptr<Entry>> entries_;
+};
+
+}  // namespace bounce::gi
