@@ -119,7 +119,14 @@ void settingsFiles(CorpusBuilder& corpus) {
     settings(info.key + "_null", file(nullptr), key + ": got a JSON null");
     settings(info.key + "_word", file("banana"), "invalid value \"banana\" for " + key);
     if (info.type.starts_with("uint") || info.type.starts_with("float")) {
-      settings(info.key + "_negative", file(-1), "for " + key);
+      gi::Settings probe;
+      bool negativeAccepted = true;  // a scale may be negative (it flips an axis)
+      try {
+        gi::applySetting(probe, info.key, "-1");
+      } catch (const std::exception&) {
+        negativeAccepted = false;
+      }
+      if (!negativeAccepted) settings(info.key + "_negative", file(-1), "for " + key);
       settings(info.key + "_huge", file(1e30), "for " + key);
     }
   }

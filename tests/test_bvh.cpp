@@ -18,6 +18,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "test_shaders.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
@@ -690,7 +691,7 @@ TEST_F(GpuBvhTest, AlphaHookMakesMaskedTrianglesTransparent) {
   bvh.setInstances(instances);
   GpuBvh gpuBvh(context(), bvh, 1);
   BvhRayTracer opaque(context());
-  BvhRayTracer alphaTested(context(), bvhTraceRaysPassDesc("tests.bvh_alpha_check", "tests/bvh_alpha_check"));
+  BvhRayTracer alphaTested(context(), bvhTraceRaysPassDesc("tests.bvh_alpha_check", "tests/bvh_alpha_check", tests::shaders()));
   std::vector<BvhRay> rays;
   for (int i = 0; i < 16; ++i) {
     const glm::vec3 origin(-0.8f + 0.1f * float(i), 0.37f - 0.05f * float(i), 0.0f);

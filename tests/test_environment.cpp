@@ -2,6 +2,7 @@
 // the CPU (shaders/shared/equirect.glsl, sky.glsl), the sky's scaling and the
 // map preparation (src/render/environment), and the GPU bake and prefiltered
 // chain on lavapipe with validation on.
+#include "gi/gi_shaders.h"
 #include "render/environment.h"
 
 #include <gtest/gtest.h>
@@ -19,9 +20,10 @@
 #include "gpu/recorder.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
-#include "render/environment.glsl"
+#include "gpuio/gpu_images.h"
 #include "shared/brdf.glsl"
 #include "shared/color.glsl"
+#include "shared/environment.glsl"
 #include "shared/equirect.glsl"
 #include "shared/rng.glsl"
 #include "shared/sky.glsl"
@@ -455,7 +457,7 @@ class EnvironmentGpu : public testing::GpuTest {
     context().submitAndWait([&](gpu::Recorder& recorder) { environment.record(recorder); });
   }
 
-  // One mip level of an image, copied by render/env_downsample (which copies
+  // One mip level of an image, copied by gi.environment.downsample (which copies
   // when input and output sizes agree) into an image of its own and read back.
   io::ImageF readLevel(gpu::Image& image, std::uint32_t level) {
     if (!copyPass_)
@@ -463,7 +465,8 @@ class EnvironmentGpu : public testing::GpuTest {
           context(),
           gpu::PassDesc{
               .name = "tests.environment_read_level",
-              .shader = "render/env_downsample",
+              .shader = "gi/environment/downsample",
+              .shaders = gi::shaders(),
               .resources = {
                   {"gIn_Source", gpu::Access::Read, VK_FORMAT_UNDEFINED, "a level", gpu::ResourceKind::SampledImage},
                   {"gOut_Destination", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "its copy"}}});
@@ -474,7 +477,7 @@ class EnvironmentGpu : public testing::GpuTest {
       recorder.dispatch(*copyPass_, copy.width(), copy.height(),
                         {{"gIn_Source", image, gpu::MipLevel{level}}, {"gOut_Destination", copy}});
     });
-    return gpu::readbackImage(context(), copy);
+    return gpuio::readbackImage(context(), copy);
   }
 
   std::filesystem::path writeMap(const std::string& name, const io::ImageF& map) {
@@ -679,7 +682,7 @@ TEST_F(EnvironmentGpu, OnlyTheFirstRecordRecordsWork) {
   });
   ASSERT_FALSE(first.empty());
   EXPECT_EQ(first.front().pass, "render.sky_bake");
-  EXPECT_EQ(first.back().pass, "render.env_prefilter");
+  EXPECT_EQ(first.back().pass, "gi.environment.prefilter");
   EXPECT_TRUE(second.empty());
 }
 

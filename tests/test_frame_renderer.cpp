@@ -13,6 +13,7 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
+#include "gpuio/gpu_images.h"
 #include "render/frame_types.glsl"
 #include "shared/brdf.glsl"
 #include "shared/intersect.glsl"
@@ -85,9 +86,9 @@ class FrameRendererTest : public testing::GpuTest {
       loop.endFrame();
       loop.finish();
       frames.push_back(
-          {gpu::readbackImage(context(), renderer.viewZ()), gpu::readbackImage(context(), renderer.normalRoughness()),
-           gpu::readbackImage(context(), renderer.geometricNormal()), gpu::readbackImage(context(), renderer.motion()),
-           gpu::readbackImage(context(), renderer.direct()), gpu::readbackImage(context(), renderer.ids())});
+          {gpuio::readbackImage(context(), renderer.viewZ()), gpuio::readbackImage(context(), renderer.normalRoughness()),
+           gpuio::readbackImage(context(), renderer.geometricNormal()), gpuio::readbackImage(context(), renderer.motion()),
+           gpuio::readbackImage(context(), renderer.direct()), gpuio::readbackImage(context(), renderer.ids())});
     }
     return frames;
   }
@@ -163,8 +164,8 @@ TEST_F(FrameRendererTest, NodesScaledFarFromOneAreDrawnAndUndrawableOnesWarnedAb
   EXPECT_NE(warnings[0].find(": node 1 'flat'"), std::string::npos) << warnings[0];
   EXPECT_EQ(warnings[0].find("floor"), std::string::npos) << warnings[0];
   // The middle of the image sees the floor where the analytic plane y = 0 is.
-  const io::ImageF viewZ = gpu::readbackImage(context(), renderer.viewZ());
-  const io::ImageF normal = gpu::readbackImage(context(), renderer.normalRoughness());
+  const io::ImageF viewZ = gpuio::readbackImage(context(), renderer.viewZ());
+  const io::ImageF normal = gpuio::readbackImage(context(), renderer.normalRoughness());
   const shared::GpuCamera camera = gpuCamera(pose, kWidth, kHeight);
   const int x = int(kWidth) / 2, y = int(kHeight) / 2;
   const glm::vec3 d = rayThrough(camera, x, y);

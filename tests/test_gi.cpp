@@ -8,21 +8,25 @@
 // Averages: one frame's image mean is too noisy to show a bias of a few per
 // cent (ReSTIR keeps samples for many frames), so bias checks average the
 // output over many frames.
+#include "render/render_shaders.h"
 #include "bounce/gi.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
+#include "gi/frame_constants.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/error.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
+#include "gpuio/gpu_images.h"
 #include "metrics/image_metrics.h"
 #include "render/frame_renderer.h"
-#include "render/gi_inputs.h"
+#include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
 #include "scene/builtin_scenes.h"
 #include "shared/color.glsl"
@@ -106,7 +110,7 @@ class GiTest : public testing::GpuTest {
   struct Run {
     std::unique_ptr<scene::Scene> scene;  // the renderer keeps a reference to it
     std::unique_ptr<render::FrameRenderer> renderer;
-    std::unique_ptr<GiContext> gi;
+    std::unique_ptr<render::GiBridge> gi;
     std::unique_ptr<gpu::FrameLoop> loop;
     render::FrameView previous{};
     std::uint64_t frames = 0;
@@ -120,7 +124,7 @@ class GiTest : public testing::GpuTest {
     Run run;
     run.scene = std::make_unique<scene::Scene>(s);
     run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene, options);
-    run.gi = std::make_unique<GiContext>(context(), width, height, settings);
+    run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = width, .maxHeight = height}, settings);
     run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
     run.jitter = jitter;
     return run;
@@ -132,7 +136,7 @@ class GiTest : public testing::GpuTest {
     const std::uint64_t index = run.loop->frameIndex();
     const render::FrameView view{camera, 0.0f, cut || run.frames == 0};
     run.renderer->record(recorder, index, view);
-    run.gi->record(recorder, render::giFrameInputs(*run.renderer, index, view, run.previous, run.jitter));
+    run.gi->record(recorder, *run.renderer, index, view, run.previous, {.jitter = run.jitter});
     run.loop->endFrame();
     run.previous = view;
     ++run.frames;
@@ -144,7 +148,7 @@ class GiTest : public testing::GpuTest {
 
   io::ImageF indirect(Run& run) {
     run.loop->finish();
-    return rgb(gpu::readbackImage(context(), run.gi->indirectDiffuse()));
+    return rgb(gpuio::readbackImage(context(), run.gi->indirectDiffuse()));
   }
 
   // The mean of the indirect diffuse over `frames` more frames of `camera`.
@@ -173,11 +177,9 @@ class GiTest : public testing::GpuTest {
     Run run = start(blackFloorWith(emitter), {}, w, h);
     advance(run, camera, 20u);
     const io::ImageF mean = averageIndirect(run, camera, 60);
-    const io::ImageF viewZ = gpu::readbackImage(context(), run.renderer->viewZ());
-    const io::ImageF normals = gpu::readbackImage(context(), run.renderer->normalRoughness());
-    const Camera c = render::giCamera(camera, w, h, glm::vec2(0.0f));
-    const shared::ScreenView view{c.worldToView, glm::inverse(c.worldToView),
-                                  glm::vec4(1.0f / c.viewToClip[0][0], 1.0f / c.viewToClip[1][1], 0.0f, 0.0f)};
+    const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
+    const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
+    const shared::ScreenView view = screenView(render::giCamera(camera, w, h, glm::vec2(0.0f)), "camera");
     glm::dvec3 expected(0.0), actual(0.0);
     int count = 0;
     for (int y = 0; y < int(h); ++y)
@@ -236,7 +238,8 @@ io::ImageF referenceIndirectDiffuse(gpu::Context& context, const scene::Scene& s
                                     const scene::CameraPose& camera, std::uint32_t width, std::uint32_t height,
                                     std::uint32_t spp) {
   std::uint32_t hash = 2166136261u;
-  for (std::uint32_t word : gpu::findShader("render/reference_path")) hash = (hash ^ word) * 16777619u;
+  for (std::uint32_t word : gpu::findShader(render::shaders(), "render/reference_path"))
+    hash = (hash ^ word) * 16777619u;
   char key[160];
   std::snprintf(key, sizeof key, "%s_%ux%u_%u_%.3f_%.3f_%.3f_%08x.exr", name.c_str(), width, height, spp,
                 camera.position.x, camera.position.y, camera.position.z, hash);
@@ -360,21 +363,24 @@ TEST_F(GiTest, MeanMatchesTheReferenceWhenAllLitSurfacesAreOnScreen) {
 // Every shader runs in two variants (shaders/gpu/constant_block.glsl):
 // lavapipe, as in CI, takes the one whose constant blocks are storage
 // buffers; GPUs the one with uniform blocks. Both must make the same frames.
+// The variable BOUNCE_CONSTANT_BLOCKS picks the variant of the renderer's
+// context and of the one the library opens on its device alike.
 TEST_F(GiTest, UniformAndStorageConstantBlocksRenderTheSameFrames) {
   const scene::Scene cornell = scene::makeBuiltinScene("cornell");
   std::vector<io::ImageF> frames;
   for (const bool storage : {true, false}) {
+    ::setenv("BOUNCE_CONSTANT_BLOCKS", storage ? "storage" : "uniform", 1);
     gpu::ContextOptions options;
     options.validation = true;
     options.printValidationMessages = false;
-    options.constantsInStorageBuffers = storage;
     context_ = std::make_unique<gpu::Context>(options);  // TearDown checks the last one's messages
     ASSERT_EQ(context().constantsInStorageBuffers(), storage);
     {
       Run run = start(cornell, {}, 32, 24);
       advance(run, cornellFront(), 4u);
-      frames.push_back(rgb(gpu::readbackImage(context(), run.gi->composite())));
+      frames.push_back(rgb(gpuio::readbackImage(context(), run.gi->composite())));
     }
+    ::unsetenv("BOUNCE_CONSTANT_BLOCKS");
     EXPECT_TRUE(context().validationMessages().empty()) << context().validationMessages().front();
   }
   float largest = 0.0f, difference = 0.0f;
@@ -390,9 +396,9 @@ TEST_F(GiTest, AStaticCameraIsStable) {
   const scene::Scene cornell = scene::makeBuiltinScene("cornell");
   Run run = start(cornell, {}, kSmallWidth, kSmallHeight);
   advance(run, cornellFront(), 64u);
-  const std::vector<float> before = metrics::luminance(rgb(gpu::readbackImage(context(), run.gi->composite())));
+  const std::vector<float> before = metrics::luminance(rgb(gpuio::readbackImage(context(), run.gi->composite())));
   advance(run, cornellFront(), 1u);
-  const std::vector<float> after = metrics::luminance(rgb(gpu::readbackImage(context(), run.gi->composite())));
+  const std::vector<float> after = metrics::luminance(rgb(gpuio::readbackImage(context(), run.gi->composite())));
   const double change = metrics::relativeChange(before, after);
   std::printf("static camera: mean relative change of the frame after 64 frames %.4f\n", change);
   EXPECT_LT(change, 0.02);
@@ -400,8 +406,8 @@ TEST_F(GiTest, AStaticCameraIsStable) {
 }
 
 // History length (the filter's alpha) after each frame.
-std::vector<float> historyLengths(gpu::Context& context, GiContext& gi, const io::ImageF& viewZ) {
-  const io::ImageF filtered = gpu::readbackImage(context, gi.indirectDiffuse());
+std::vector<float> historyLengths(gpu::Context& context, render::GiBridge& gi, const io::ImageF& viewZ) {
+  const io::ImageF filtered = gpuio::readbackImage(context, gi.indirectDiffuse());
   std::vector<float> lengths;
   for (int y = 0; y < filtered.height; ++y)
     for (int x = 0; x < filtered.width; ++x)
@@ -413,7 +419,7 @@ TEST_F(GiTest, ACameraCutDropsEveryHistory) {
   const scene::Scene cornell = scene::makeBuiltinScene("cornell");
   Run run = start(cornell, {}, kSmallWidth, kSmallHeight);
   advance(run, cornellFront(), 10u);
-  const io::ImageF viewZ = gpu::readbackImage(context(), run.renderer->viewZ());
+  const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
   for (float frames : historyLengths(context(), *run.gi, viewZ)) ASSERT_EQ(frames, 10.0f);
   advance(run, cornellFront(), true);
   run.loop->finish();
@@ -427,22 +433,20 @@ TEST_F(GiTest, AFastTurnKeepsHistoryOnlyWhereTheSameSurfaceIsSeen) {
   Run run = start(cornell, {}, kSmallWidth, kSmallHeight);
   const scene::CameraPose before = cornellFront();
   advance(run, before, 20u);
-  const io::ImageF viewZBefore = gpu::readbackImage(context(), run.renderer->viewZ());
+  const io::ImageF viewZBefore = gpuio::readbackImage(context(), run.renderer->viewZ());
   // Turned and moved 1.5 m sideways in one frame: the boxes uncover what was
   // behind them, and the screen edge brings in new surfaces.
   scene::CameraPose after = before;
   after.position.x += 1.5f;
   after.target.x -= 1.0f;
   advance(run, after, 1u);
-  const io::ImageF viewZ = gpu::readbackImage(context(), run.renderer->viewZ());
-  const io::ImageF filtered = gpu::readbackImage(context(), run.gi->indirectDiffuse());
+  const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
+  const io::ImageF filtered = gpuio::readbackImage(context(), run.gi->indirectDiffuse());
   // Which pixels show a surface the previous frame saw, worked out on the CPU.
-  const auto screenView = [](const scene::CameraPose& p) {
-    const Camera c = render::giCamera(p, kSmallWidth, kSmallHeight, glm::vec2(0.0f));
-    return shared::ScreenView{c.worldToView, glm::inverse(c.worldToView),
-                              glm::vec4(1.0f / c.viewToClip[0][0], 1.0f / c.viewToClip[1][1], 0.0f, 0.0f)};
+  const auto viewOf = [](const scene::CameraPose& p) {
+    return screenView(render::giCamera(p, kSmallWidth, kSmallHeight, glm::vec2(0.0f)), "camera");
   };
-  const shared::ScreenView now = screenView(after), then = screenView(before);
+  const shared::ScreenView now = viewOf(after), then = viewOf(before);
   const glm::vec2 size(kSmallWidth, kSmallHeight);
   int seenBefore = 0, seenBeforeAndKept = 0, uncovered = 0, uncoveredAndReset = 0;
   for (int y = 0; y < int(kSmallHeight); ++y)
@@ -478,42 +482,77 @@ TEST_F(GiTest, BadInputsAreRefusedWithTheirNames) {
   gpu::Recorder& recorder = run.loop->beginFrame();
   const render::FrameView view{cornellFront(), 0.0f, true};
   run.renderer->record(recorder, 0, view);
-  const FrameInputs good = render::giFrameInputs(*run.renderer, 0, view, view, false);
+  const FrameInputs good = render::rendererInputs(*run.renderer, 0, view, view).inputs;
   const auto refused = [&](FrameInputs inputs, const std::string& words) {
     try {
-      run.gi->record(recorder, inputs);
-    } catch (const std::invalid_argument& e) {
+      run.gi->library().record(recorder.commandBuffer(), inputs);
+    } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
       return;
     }
     ADD_FAILURE() << "accepted inputs that lack: " << words;
   };
   FrameInputs missing = good;
-  missing.motion = nullptr;
-  refused(missing, "motion is missing");
+  missing.motion = {};
+  refused(missing, "frame input motion is missing");
+  FrameInputs noView = good;
+  noView.direct.view = VK_NULL_HANDLE;
+  refused(noView, "frame input direct is missing (its view is VK_NULL_HANDLE)");
   FrameInputs wrongFormat = good;
-  wrongFormat.viewZ = &run.renderer->direct();
-  refused(wrongFormat, "viewZ");
+  wrongFormat.viewZ = render::imageRef(run.renderer->direct());
+  refused(wrongFormat,
+          "frame input viewZ has the format VK_FORMAT_R16G16B16A16_SFLOAT; viewZ takes VK_FORMAT_R32_SFLOAT or "
+          "VK_FORMAT_R16_SFLOAT");
+  FrameInputs packedDirect = good;  // not taken yet (docs/known-issues.md)
+  packedDirect.direct.format = VK_FORMAT_B10G11R11_UFLOAT_PACK32;
+  refused(packedDirect, "direct has the format VK_FORMAT_B10G11R11_UFLOAT_PACK32; direct takes "
+                        "VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT");
+  FrameInputs wrongAlbedo = good;
+  wrongAlbedo.baseColorMetallic.format = VK_FORMAT_B8G8R8A8_UNORM;
+  refused(wrongAlbedo, "baseColorMetallic has the format VK_FORMAT_B8G8R8A8_UNORM; baseColorMetallic takes "
+                       "VK_FORMAT_R8G8B8A8_UNORM or VK_FORMAT_R8G8B8A8_SRGB");
   gpu::Image small(context(), {.name = "small", .width = 8, .height = 8, .format = VK_FORMAT_R32_SFLOAT});
   FrameInputs wrongSize = good;
-  wrongSize.viewZ = &small;
-  refused(wrongSize, "8x8");
+  wrongSize.viewZ = render::imageRef(small);
+  wrongSize.viewZ.layout = VK_IMAGE_LAYOUT_GENERAL;
+  refused(wrongSize, "frame input viewZ is 8x8, smaller than the render size 64x48");
+  FrameInputs undefinedLayout = good;
+  undefinedLayout.normalRoughness.layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  refused(undefinedLayout, "normalRoughness is in VK_IMAGE_LAYOUT_UNDEFINED");
+  FrameInputs tooLarge = good;
+  tooLarge.width = kSmallWidth + 1;
+  refused(tooLarge, "render size 65x48");
   FrameInputs notFinite = good;
-  notFinite.camera.worldToView[3][0] = std::nanf("");
+  notFinite.camera.worldToView[12] = std::nanf("");
   refused(notFinite, "finite");
   FrameInputs asymmetric = good;
-  asymmetric.camera.viewToClip[2][0] = 0.25f;
+  asymmetric.camera.viewToClip[8] = 0.25f;
   refused(asymmetric, "symmetric");
   FrameInputs noEnvironment = good;
   noEnvironment.environmentSampler = VK_NULL_HANDLE;
-  refused(noEnvironment, "environment");
+  refused(noEnvironment, "environmentSampler is missing");
   run.loop->endFrame();
   run.loop->finish();
-  EXPECT_THROW(GiContext(context(), 0, 10), std::invalid_argument);
-  EXPECT_THROW(GiContext(context(), 20000, 10), std::invalid_argument);
+  const Device device = render::giDevice(context());
+  const auto refusedContext = [&](const ContextDesc& desc, const Settings& settings, const std::string& words,
+                                   const Device& on) {
+    try {
+      GiContext gi(on, desc, settings);
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "made a context despite: " << words;
+  };
+  refusedContext({.maxWidth = 0, .maxHeight = 10}, {}, "0x10", device);
+  refusedContext({.maxWidth = 20000, .maxHeight = 10}, {}, "20000x10", device);
+  refusedContext({.maxWidth = 16, .maxHeight = 16, .framesInFlight = 0}, {}, "framesInFlight 0", device);
   Settings bad;
   bad.diffuse.resolveReservoirs = 7;
-  EXPECT_THROW(GiContext(context(), 16, 16, bad), std::invalid_argument);
+  refusedContext({.maxWidth = 16, .maxHeight = 16}, bad, "resolve_reservoirs", device);
+  Device noDevice = device;
+  noDevice.device = VK_NULL_HANDLE;
+  refusedContext({.maxWidth = 16, .maxHeight = 16}, {}, "Device::device (VkDevice) is VK_NULL_HANDLE", noDevice);
 }
 
 TEST_F(GiTest, WithoutReuseOrDiffuseThoseStagesDoNotRun) {
@@ -533,8 +572,8 @@ TEST_F(GiTest, WithoutReuseOrDiffuseThoseStagesDoNotRun) {
     off.diffuse.enabled = false;
     Run run = start(cornell, off, kSmallWidth, kSmallHeight);
     advance(run, cornellFront(), 3u);
-    const io::ImageF direct = rgb(gpu::readbackImage(context(), run.renderer->direct()));
-    const io::ImageF composite = rgb(gpu::readbackImage(context(), run.gi->composite()));
+    const io::ImageF direct = rgb(gpuio::readbackImage(context(), run.renderer->direct()));
+    const io::ImageF composite = rgb(gpuio::readbackImage(context(), run.gi->composite()));
     EXPECT_EQ(direct.pixels, composite.pixels) << "without indirect diffuse the frame is the direct light";
     for (const gpu::PassTiming& t : run.loop->timings().summary())
       EXPECT_EQ(t.pass.find("gi.diffuse."), std::string::npos) << t.pass;

@@ -32,8 +32,9 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
+#include "gpuio/gpu_images.h"
 #include "render/frame_renderer.h"
-#include "render/gi_inputs.h"
+#include "render/gi_bridge.h"
 #include "scene/builtin_scenes.h"
 #include "shared/color.glsl"
 #include "test_meshes.h"
@@ -134,9 +135,9 @@ bool finite(float value) { return std::isfinite(value); }
 // Names the first non-finite value of every image the library keeps
 // (empty when all are finite). Reservoirs are checked field by field as
 // shared/reservoir.glsl stores them: position, radiance, M and W.
-std::string firstNonFinite(gpu::Context& context, GiContext& gi) {
-  std::vector<NamedImage> images = gi.images();
-  for (const NamedImage& named : images) {
+std::string firstNonFinite(gpu::Context& context, render::GiBridge& gi) {
+  const std::vector<render::GiBridge::Named> images = gi.images();
+  for (const render::GiBridge::Named& named : images) {
     gpu::Image& image = *named.image;
     const std::size_t pixels = std::size_t(image.width()) * image.height();
     const auto where = [&](std::size_t i, const char* what) {
@@ -166,7 +167,7 @@ std::string firstNonFinite(gpu::Context& context, GiContext& gi) {
       }
       continue;
     }
-    const io::ImageF values = gpu::readbackImage(context, image);
+    const io::ImageF values = gpuio::readbackImage(context, image);
     for (std::size_t i = 0; i < values.pixels.size(); ++i)
       if (!finite(values.pixels[i])) return where(i / values.channelCount(), "value");
   }
@@ -206,7 +207,7 @@ class GiNanTest : public testing::GpuTest {
   struct Run {
     std::unique_ptr<scene::Scene> scene;
     std::unique_ptr<render::FrameRenderer> renderer;
-    std::unique_ptr<GiContext> gi;
+    std::unique_ptr<render::GiBridge> gi;
     std::unique_ptr<gpu::FrameLoop> loop;
     render::FrameView previous{};
     std::uint32_t frames = 0;
@@ -217,7 +218,7 @@ class GiNanTest : public testing::GpuTest {
     run.scene = std::make_unique<scene::Scene>(scene::makeBuiltinScene("cornell"));
     run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene,
                                                            testing::smallRendererOptions(*run.scene, kWidth, kHeight));
-    run.gi = std::make_unique<GiContext>(context(), kWidth, kHeight);
+    run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight});
     run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
     return run;
   }
@@ -232,9 +233,7 @@ class GiNanTest : public testing::GpuTest {
     if (beforeRenderer) beforeRenderer(recorder);
     run.renderer->record(recorder, index, view);
     if (afterRenderer) afterRenderer(recorder);
-    FrameInputs inputs = render::giFrameInputs(*run.renderer, index, view, run.previous, false);
-    inputs.emissive = &run.renderer->emissive();
-    run.gi->record(recorder, inputs);
+    run.gi->record(recorder, *run.renderer, index, view, run.previous, {.separateEmissive = true});
     run.loop->endFrame();
     run.previous = view;
     ++run.frames;
@@ -242,7 +241,7 @@ class GiNanTest : public testing::GpuTest {
 
   io::ImageF composite(Run& run) {
     run.loop->finish();
-    return gpu::readbackImage(context(), run.gi->composite());
+    return gpuio::readbackImage(context(), run.gi->composite());
   }
 
   gpu::Image& target(Run& run, Input input) {

@@ -56,6 +56,9 @@ std::vector<ExpectedField> expectedFields() {
        [](const Settings& s) { return double(s.diffuse.offscreenEnvironmentVisibility); }},
       {"diffuse.variance_clipping_gamma", [](const Settings& s) { return double(s.diffuse.varianceClippingGamma); }},
       {"diffuse.temporal_filter_frames", [](const Settings& s) { return double(s.diffuse.temporalFilterFrames); }},
+      {"input.motion_units", [](const Settings& s) { return double(s.input.motionUnits); }},
+      {"input.motion_scale_x", [](const Settings& s) { return double(s.input.motionScaleX); }},
+      {"input.motion_scale_y", [](const Settings& s) { return double(s.input.motionScaleY); }},
       {"restir", [](const Settings& s) { return double(s.restir); }},
       {"seed", [](const Settings& s) { return double(s.seed); }},
   };
@@ -71,7 +74,14 @@ std::vector<std::string> allKeys() {
 // the first of a few numbers that the key's range admits.
 std::string otherValidValue(const SettingInfo& info) {
   if (info.type == "bool") return info.defaultValue == "on" ? "off" : "on";
-  if (info.type.starts_with("enum")) return info.defaultValue == "luminance" ? "color-length" : "luminance";
+  if (info.type.starts_with("enum")) {  // "enum: a|b|...": the first value that is not the default
+    std::string values = info.type.substr(info.type.find(' ') + 1) + "|";
+    for (std::size_t bar = values.find('|'); bar != std::string::npos; bar = values.find('|')) {
+      const std::string value = values.substr(0, bar);
+      if (value != info.defaultValue) return value;
+      values.erase(0, bar + 1);
+    }
+  }
   for (const char* candidate : {"1", "2", "0.5", "0"}) {
     if (candidate == info.defaultValue) continue;
     try {

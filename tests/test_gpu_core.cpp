@@ -3,6 +3,9 @@
 
 #include <glm/glm.hpp>
 
+#include "gi/frame_passes.h"
+#include "gi/gi_shaders.h"
+#include "gpu/constants_layout.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
@@ -11,6 +14,9 @@
 #include "gpu/recorder.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
+#include "gpuio/gpu_images.h"
+#include "render/render_shaders.h"
+#include "test_shaders.h"
 
 namespace bounce::testing {
 namespace {
@@ -20,16 +26,23 @@ using gpu::GpuError;
 
 constexpr std::uint32_t kSize = 32;
 
+// The push constants of tests/barrier_probe_write.
+struct ProbeParams {
+  glm::vec4 value;
+};
+
 gpu::PassDesc writeProbeDesc() {
   return {.name = "tests.barrier_probe_write",
           .shader = "tests/barrier_probe_write",
+          .shaders = tests::shaders(),
           .resources = {{"gOut_Value", Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "constant"}},
-          .pushConstantSize = sizeof(glm::vec4)};
+          .constants = {BOUNCE_CONSTANTS_LAYOUT("", ProbeParams, value)}};
 }
 
 gpu::PassDesc readProbeDesc() {
   return {.name = "tests.barrier_probe_read",
           .shader = "tests/barrier_probe_read",
+          .shaders = tests::shaders(),
           .resources = {{"gIn_Value", Access::Read, VK_FORMAT_R16G16B16A16_SFLOAT, "source"},
                         {"gOut_Copy", Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "copy"}}};
 }
@@ -69,11 +82,37 @@ TEST_F(GpuCore, WrongFormatAccessKindAndPushSizeAreRejected) {
   desc.resources[0].kind = gpu::ResourceKind::StorageBuffer;
   expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"storage buffer", "storage image"});
   desc = writeProbeDesc();
-  desc.pushConstantSize = 8;
-  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"push constants", "16"});
+  desc.constants[0].size = 8;
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"push constants", "8", "16"});
   desc = readProbeDesc();
   desc.resources.pop_back();
   expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"gOut_Copy", "not declared"});
+}
+
+// Constant layouts are checked like bindings: a host struct whose members
+// sit elsewhere than the shader's, or are named or counted differently, or
+// a block without a declared layout, is refused naming the member.
+TEST_F(GpuCore, ConstantLayoutsMustMatchTheShaderMemberByMember) {
+  gpu::PassDesc desc = writeProbeDesc();
+  desc.constants.clear();
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"push constants", "no declared layout"});
+  desc = writeProbeDesc();
+  desc.constants[0].members[0].name = "colour";
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"ProbeParams", "'colour'", "'value'"});
+  desc = writeProbeDesc();
+  desc.constants[0].members[0].offset = 4;
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"'value'", "byte 4", "byte 0"});
+  desc = writeProbeDesc();
+  desc.constants[0].members.push_back({"extra", 16, 4});
+  desc.constants[0].size = 20;
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"'extra'", "not in the shader"});
+  desc = gi::storeHistoryPass();
+  desc.constants.clear();
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); },
+                 {"gi.store_history", "'gIn_Frame'", "no declared layout"});
+  desc = gi::storeHistoryPass();
+  std::swap(desc.constants[0].members[0], desc.constants[0].members[1]);
+  expectGpuError([&] { gpu::ComputePass pass(context(), desc); }, {"gIn_Frame", "GiFrameConstants", "previousView"});
 }
 
 TEST_F(GpuCore, DispatchRejectsUnknownMissingAndMisformattedBinds) {
@@ -87,7 +126,7 @@ TEST_F(GpuCore, DispatchRejectsUnknownMissingAndMisformattedBinds) {
         [&] {
           r.dispatch(read, kSize, kSize, {{"gIn_Value", wrong}, {"gOut_Copy", b}});
         },
-        {"wrong", "r32f"});
+        {"'gIn_Value' is declared VK_FORMAT_R16G16B16A16_SFLOAT", "image 'wrong' is VK_FORMAT_R32_SFLOAT"});
   });
 }
 
@@ -108,7 +147,7 @@ glm::vec4 writeThenCopy(gpu::Context& context, bool autoBarriers, glm::vec4 valu
     r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, value);
     r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
   });
-  io::ImageF result = gpu::readbackImage(context, copy);
+  io::ImageF result = gpuio::readbackImage(context, copy);
   return {result.at(5, 7, 0), result.at(5, 7, 1), result.at(5, 7, 2), result.at(5, 7, 3)};
 }
 
@@ -140,7 +179,7 @@ TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {
     loop.endFrame();
   }
   loop.finish();
-  EXPECT_EQ(gpu::readbackImage(context(), copy).at(1, 1, 0), float(kFrames - 1));
+  EXPECT_EQ(gpuio::readbackImage(context(), copy).at(1, 1, 0), float(kFrames - 1));
 
   auto rows = loop.timings().summary();
   ASSERT_EQ(rows.size(), 2u);
@@ -156,7 +195,7 @@ TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {
   ASSERT_EQ(captures.size(), 2u);
   for (const gpu::CapturedStage& c : captures) {
     EXPECT_EQ(c.frame, 3u);
-    EXPECT_EQ(gpu::texelsToImage(c.image, c.texels->mapped()).at(4, 4, 0), 3.0f) << c.pass;
+    EXPECT_EQ(gpuio::texelsToImage(c.image, c.texels.data()).at(4, 4, 0), 3.0f) << c.pass;
   }
   EXPECT_EQ(captures[0].binding, "gOut_Value");
   EXPECT_EQ(captures[1].binding, "gOut_Copy");
@@ -170,8 +209,8 @@ TEST_F(GpuCore, UploadAndReadbackRoundTripEveryFormat) {
     io::ImageF pixels(13, 5, gpu::channelNames(format));
     for (std::size_t i = 0; i < pixels.pixels.size(); ++i)
       pixels.pixels[i] = format == VK_FORMAT_R32_UINT ? float(i * 3) : float(i % 256) / 255.0f;
-    gpu::uploadImage(context(), image, pixels);
-    io::ImageF back = gpu::readbackImage(context(), image);
+    gpuio::uploadImage(context(), image, pixels);
+    io::ImageF back = gpuio::readbackImage(context(), image);
     ASSERT_EQ(back.pixels.size(), pixels.pixels.size()) << info.name;
     const float tolerance = format == VK_FORMAT_R16G16_SFLOAT || format == VK_FORMAT_R16G16B16A16_SFLOAT ? 5e-4f
                             : format == VK_FORMAT_R8G8B8A8_UNORM                                         ? 1e-6f
@@ -193,7 +232,8 @@ TEST_F(GpuCore, HistoryImagesAlternateByFrameParity) {
 TEST_F(GpuCore, BadImageSizesAreClearErrors) {
   expectGpuError([&] { gpu::Image image(context(), {"empty", 0, 4, VK_FORMAT_R32_SFLOAT}); }, {"empty", "0x4"});
   expectGpuError([&] { gpu::Image image(context(), {"huge", 1u << 30, 4, VK_FORMAT_R32_SFLOAT}); }, {"huge"});
-  expectGpuError([&] { gpu::findShader("no/such_shader"); }, {"no/such_shader", "render/direct_light"});
+  expectGpuError([&] { gpu::findShader(render::shaders(), "no/such_shader"); },
+                 {"no/such_shader", "render/direct_light"});
 }
 
 }  // namespace
@@ -209,10 +249,11 @@ TEST_F(GpuCore, OneImageBoundTwiceNeedsNoHandWrittenBarrier) {
   gpu::Image image(context(), {"chain", 16, 8, VK_FORMAT_R16G16B16A16_SFLOAT, gpu::Visualize::Radiance, 3});
   io::ImageF pixels(16, 8, {"R", "G", "B", "A"});
   for (float& v : pixels.pixels) v = 0.5f;
-  gpu::uploadImage(context(), image, pixels);
+  gpuio::uploadImage(context(), image, pixels);
   gpu::ComputePass downsample(
       context(), {.name = "tests.downsample_in_place",
-                  .shader = "render/env_downsample",
+                  .shader = "gi/environment/downsample",
+                  .shaders = gi::shaders(),
                   .resources = {{"gIn_Source", gpu::Access::Read, VK_FORMAT_UNDEFINED, "level k - 1",
                                  gpu::ResourceKind::SampledImage},
                                 {"gOut_Destination", gpu::Access::Write, VK_FORMAT_R16G16B16A16_SFLOAT, "level k"}}});

@@ -5,10 +5,12 @@
 
 #include <spirv/unified1/spirv.hpp>
 
+#include "gi/gi_shaders.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/error.h"
 #include "gpu/spirv_reflect.h"
 #include "gpu/timing.h"
+#include "render/render_shaders.h"
 
 namespace bounce::testing {
 namespace {
@@ -20,12 +22,14 @@ const gpu::ReflectedBinding& bindingNamed(const gpu::ShaderReflection& r, const 
 }
 
 TEST(Reflection, ReadsNamesBindingsKindsFormatsAccessAndSizes) {
-  gpu::ShaderReflection r = gpu::reflectShader(gpu::findShader("render/direct_light"), "render/direct_light");
+  gpu::ShaderReflection r =
+      gpu::reflectShader(gpu::findShader(render::shaders(), "render/direct_light"), "render/direct_light");
   const gpu::ReflectedBinding& frame = bindingNamed(r, "gIn_Frame");
   EXPECT_EQ(frame.kind, gpu::ResourceKind::UniformBuffer);
   EXPECT_EQ(frame.binding, 0u);
   // The variant for CPU drivers has the same constant block as a read-only storage buffer.
-  const gpu::ShaderReflection storage = gpu::reflectShader(gpu::findShader("render/direct_light", true), "storage");
+  const gpu::ShaderReflection storage =
+      gpu::reflectShader(gpu::findShader(render::shaders(), "render/direct_light", true), "storage");
   EXPECT_EQ(bindingNamed(storage, "gIn_Frame").kind, gpu::ResourceKind::StorageBuffer);
   EXPECT_FALSE(bindingNamed(storage, "gIn_Frame").writable);
   EXPECT_EQ(bindingNamed(storage, "gIn_Frame").binding, 0u);
@@ -48,14 +52,29 @@ TEST(Reflection, ReadsNamesBindingsKindsFormatsAccessAndSizes) {
   EXPECT_EQ(r.localSize[0], 8u);
   EXPECT_EQ(r.localSize[1], 8u);
 
-  gpu::ShaderReflection copy = gpu::reflectShader(gpu::findShader("gpu/copy_bandwidth"), "gpu/copy_bandwidth");
-  EXPECT_GT(copy.pushConstantSize, 0u);
+  // Block layouts, member by member: push constants, and a uniform block
+  // whose one member is a struct (described by that struct's members).
+  const gpu::ShaderReflection spatial =
+      gpu::reflectShader(gpu::findShader(gi::shaders(), "gi/diffuse/spatial_reuse"), "gi/diffuse/spatial_reuse");
+  EXPECT_EQ(spatial.pushConstantSize, 12u);
+  ASSERT_EQ(spatial.pushConstantMembers.size(), 3u);
+  EXPECT_EQ(spatial.pushConstantMembers[1].name, "samples");
+  EXPECT_EQ(spatial.pushConstantMembers[1].offset, 4u);
+  EXPECT_EQ(spatial.pushConstantMembers[2].name, "passIndex");
+  EXPECT_EQ(spatial.pushConstantMembers[2].size, 4u);
+  const gpu::ReflectedBinding& frameBlock = bindingNamed(spatial, "gIn_Frame");
+  ASSERT_GE(frameBlock.members.size(), 3u);
+  EXPECT_EQ(frameBlock.members[0].name, "view");
+  EXPECT_EQ(frameBlock.members[1].name, "previousView");
+  EXPECT_EQ(frameBlock.members[1].offset, frameBlock.members[0].size);
+  EXPECT_EQ(frameBlock.members[2].name, "renderSize");
+  EXPECT_EQ(frameBlock.members[2].size, 8u);
 }
 
 TEST(Reflection, RejectsGarbage) {
   std::vector<std::uint32_t> words = {0x12345678u, 0, 0, 0, 0};
   EXPECT_THROW(gpu::reflectShader(words, "garbage"), gpu::GpuError);
-  std::span<const std::uint32_t> real = gpu::findShader("render/direct_light");
+  std::span<const std::uint32_t> real = gpu::findShader(render::shaders(), "render/direct_light");
   // Walk to the first instruction boundary past the middle, and to an
   // instruction of several words, so the cuts below land where intended.
   std::size_t boundary = 5, longInstruction = 0;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "gpu/constants_layout.h"
+#include "test_shaders.h"
 #include "gpu/pass.h"
 #include "gpu/recorder.h"
 #include "gpu/transfer.h"
@@ -12,6 +14,11 @@
 
 namespace bounce::testing {
 namespace {
+
+// The push constants of the check shader: how many queries it answers.
+struct CheckParams {
+  std::uint32_t count;
+};
 
 using shared::SharedMathCheckInput;
 using shared::SharedMathCheckOutput;
@@ -53,10 +60,11 @@ TEST_F(SharedMathOnGpu, MatchesCpuOnThousandsOfRandomInputs) {
       context(),
       {.name = "tests.shared_math_check",
        .shader = "tests/shared_math_check",
+       .shaders = tests::shaders(),
        .resources = {{"gIn_Inputs", gpu::Access::Read, VK_FORMAT_UNDEFINED, "inputs", gpu::ResourceKind::StorageBuffer},
                      {"gOut_Outputs", gpu::Access::Write, VK_FORMAT_UNDEFINED, "results",
                       gpu::ResourceKind::StorageBuffer}},
-       .pushConstantSize = sizeof(std::uint32_t)});
+       .constants = {BOUNCE_CONSTANTS_LAYOUT("", CheckParams, count)}});
   context().submitAndWait([&](gpu::Recorder& r) {
     r.dispatch(pass, kCount, 1, {{"gIn_Inputs", inputBuffer}, {"gOut_Outputs", outputBuffer}}, kCount);
   });

@@ -7,11 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <glm/gtc/type_ptr.hpp>
 #include <limits>
 #include <vector>
 
 #include "render/frame_renderer.h"
-#include "render/gi_inputs.h"
+#include "render/gi_bridge.h"
 #include "shared/reservoir.glsl"
 #include "shared/rng.glsl"
 #include "shared/screen_view.glsl"
@@ -270,8 +271,10 @@ TEST(ScreenView, AgreesWithTheRenderersCamera) {
   const std::uint32_t width = 320, height = 180;
   const vec2 size(width, height), jitter(0.31f, -0.27f);
   const gi::Camera camera = render::giCamera(pose, width, height, jitter);
-  const ScreenView view{camera.worldToView, glm::inverse(camera.worldToView),
-                        vec4(1.0f / camera.viewToClip[0][0], 1.0f / camera.viewToClip[1][1], jitter.x, jitter.y)};
+  const mat4 worldToView = glm::make_mat4(camera.worldToView);
+  const mat4 viewToClip = glm::make_mat4(camera.viewToClip);
+  const ScreenView view{worldToView, glm::inverse(worldToView),
+                        vec4(1.0f / viewToClip[0][0], 1.0f / viewToClip[1][1], jitter.x, jitter.y)};
   const GpuCamera rays = render::gpuCamera(pose, width, height);
   const vec3 forward = normalize(pose.target - pose.position);
   for (const vec2 pixel : {vec2(0, 0), vec2(319, 179), vec2(160, 90), vec2(17, 150)}) {

@@ -6,14 +6,21 @@
 
 #include <cmath>
 
+#include "gpu/constants_layout.h"
 #include "gpu/pass.h"
 #include "gpu/recorder.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
 #include "shared/color.glsl"
+#include "test_shaders.h"
 
 namespace bounce::render {
 namespace {
+
+// The push constants of the check shader: how many queries it answers.
+struct CheckParams {
+  std::uint32_t count;
+};
 
 scene::Texture randomTexture(int width, int height, bool srgb, unsigned seed) {
   scene::Texture t;
@@ -97,6 +104,7 @@ TEST_F(TextureAtlasGpu, SamplesMatchTheCpuMipChains) {
   gpu::ComputePass pass(context(),
                         {.name = "tests.atlas_sample_check",
                          .shader = "tests/atlas_sample_check",
+                         .shaders = tests::shaders(),
                          .resources = {{"gIn_TextureAtlas", gpu::Access::Read, VK_FORMAT_UNDEFINED, "atlas",
                                         gpu::ResourceKind::SampledImage},
                                        {"gIn_TextureAtlasEntries", gpu::Access::Read, VK_FORMAT_UNDEFINED, "entries",
@@ -105,7 +113,7 @@ TEST_F(TextureAtlasGpu, SamplesMatchTheCpuMipChains) {
                                         gpu::ResourceKind::StorageBuffer},
                                        {"gOut_Results", gpu::Access::Write, VK_FORMAT_UNDEFINED, "results",
                                         gpu::ResourceKind::StorageBuffer}},
-                         .pushConstantSize = sizeof(std::uint32_t)});
+                         .constants = {BOUNCE_CONSTANTS_LAYOUT("", CheckParams, count)}});
   const std::uint32_t count = std::uint32_t(gpuQueries.size());
   context().submitAndWait([&](gpu::Recorder& r) {
     r.dispatch(pass, count, 1,
