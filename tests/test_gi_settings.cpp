@@ -12,9 +12,15 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "gi/diffuse/diffuse_branch.h"
+#include "gi/frame_passes.h"
+#include "gi/image_table.h"
+#include "gpu/format.h"
 
 namespace bounce::gi {
 namespace {
@@ -469,24 +475,61 @@ TEST(GiSettings, DocsListEveryKeyWithItsTypeAndDefault) {
 // The library's promise to engines: it never sees a scene. Its sources,
 // public headers and shaders may include gpu/, io/, shared math and their
 // own files, never the renderer, the scene importer or the app.
-TEST(GiLayering, TheLibraryIncludesNoSceneRendererOrAppCode) {
+// Each layer includes only what is below it (docs/architecture.md): gpu/
+// nothing of io/ (image files), gi/ and the public headers nothing of the
+// renderer, scenes, files or tools, and the public headers nothing of src/.
+TEST(GiLayering, EachLayerIncludesOnlyWhatIsBelowIt) {
   namespace fs = std::filesystem;
   const fs::path root(BOUNCE_SOURCE_DIR);
+  const std::vector<const char*> aboveGi = {"\"render/", "\"scene/", "\"app/", "\"metrics/", "\"io/", "\"gpuio/"};
+  struct Rule {
+    const char* dir;
+    std::vector<const char*> forbidden;
+  };
+  std::vector<const char*> publicForbidden = aboveGi;
+  publicForbidden.insert(publicForbidden.end(), {"\"gpu/", "\"gi/", "\"shared/", "<glm/"});
+  const Rule rules[] = {{"src/gpu", {"\"io/", "\"gpuio/", "\"gi/", "\"render/", "\"scene/", "\"app/"}},
+                        {"src/gi", aboveGi},
+                        {"shaders/gi", aboveGi},
+                        {"include/bounce", publicForbidden}};
   int scanned = 0;
-  for (const char* dir : {"src/gi", "include/bounce", "shaders/gi"}) {
-    ASSERT_TRUE(fs::is_directory(root / dir)) << dir;
-    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root / dir)) {
+  for (const Rule& rule : rules) {
+    ASSERT_TRUE(fs::is_directory(root / rule.dir)) << rule.dir;
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root / rule.dir)) {
       if (!entry.is_regular_file()) continue;
       ++scanned;
       std::ifstream file(entry.path());
       std::string line;
       for (int number = 1; std::getline(file, line); ++number) {
         if (line.rfind("#include", 0) != 0) continue;
-        for (const char* forbidden : {"\"render/", "\"scene/", "\"app/", "\"metrics/"})
+        for (const char* forbidden : rule.forbidden)
           EXPECT_EQ(line.find(forbidden), std::string::npos)
-              << entry.path().string() << ":" << number << " includes a layer above gi/: " << line;
+              << entry.path().string() << ":" << number << " includes what its layer may not: " << line;
       }
     }
   }
-  EXPECT_GT(scanned, 10);
+  EXPECT_GT(scanned, 40);
 }
+
+namespace bounce::gi {
+
+// docs/passes.md lists every image of the library as the tables in the code
+// declare it (the tables make the images; the docs must not drift from them).
+TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
+  std::ifstream docs(std::string(BOUNCE_SOURCE_DIR) + "/docs/passes.md");
+  ASSERT_TRUE(docs) << "docs/passes.md is missing";
+  std::set<std::string> rows;
+  for (std::string line; std::getline(docs, line);)
+    if (line.rfind("| `gi.", 0) == 0) rows.insert(line);
+  std::string missing;
+  for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable()})
+    for (const ImageSpec& spec : table) {
+      const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
+                              gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +
+                              (spec.debug ? "debug views only; " : "") + std::string(spec.purpose) + " |";
+      if (!rows.contains(row)) missing += row + "\n";
+    }
+  EXPECT_TRUE(missing.empty()) << "docs/passes.md lacks these rows (or has them otherwise):\n" << missing;
+}
+
+}  // namespace bounce::gi

@@ -105,6 +105,9 @@ int runBench(const BenchOptions& options) {
         *settings);
   checkDeviceMemoryFits(*context, options.width, options.height);
   std::fprintf(report, "scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
+  if (gi)
+    std::fprintf(report, "GI library: %.1f MiB of device memory at %ux%u\n",
+                 double(gi->library().memoryBytes()) / double(1 << 20), options.width, options.height);
   const scene::CameraPose camera = scene::defaultCameraPath(scene)->pose(0.0f);
 
   std::unique_ptr<CopyBandwidthProbe> copy;
