@@ -1,10 +1,11 @@
 // Screen-space visibility: marches a segment through this frame's depth
-// buffer. The including shader includes gi/gi_common.glsl and
-// gi/gbuffer.glsl first. The march reads depths raw, without
-// usableViewZ's bit test (3 % of the resolve's time on an H100, at 48
-// steps a pixel): whatever a driver makes of a NaN or infinite depth, a
-// step can only answer visible, occluded or left the screen, so a broken
-// depth can change one decision, never make a value non-finite.
+// buffer: gi.store_history's copy of it, gIn_MarchDepth (r32f, 0 where the
+// engine's viewZ is unusable), which the including shader declares after
+// including gi/gi_common.glsl. A storage image of the library's own, read
+// with imageLoad: the engine's viewZ through the texture path made the
+// resolve 7 % slower on an H100. A step can only answer visible, occluded
+// or left the screen, so a broken depth can change one decision, never make
+// a value non-finite.
 //
 // A step is blocked when the segment there lies behind the depth buffer's
 // surface by more than a sliver and by less than that surface's thickness
@@ -12,6 +13,8 @@
 // the diffuse branch): thin objects do not cast shadows forever behind themselves.
 #ifndef BOUNCE_GI_SCREEN_TRACE_GLSL
 #define BOUNCE_GI_SCREEN_TRACE_GLSL
+
+float marchViewZ(ivec2 texel) { return imageLoad(gIn_MarchDepth, texel).x; }
 
 const float kVisible = 1.0f;
 const float kOccluded = 0.0f;
@@ -28,7 +31,7 @@ float screenVisibility(vec3 from, vec3 to, uint steps, float jitter, float thick
     vec3 projected = projectViewPoint(gIn_Frame.frame.view, mix(start, end, t), fullSize());
     ivec2 texel = ivec2(floor(projected.xy));
     if (projected.z <= 0.0f || !insideFull(texel)) return kLeftScreen;
-    float sceneViewZ = gbufferRawViewZ(texel);
+    float sceneViewZ = marchViewZ(texel);
     if (sceneViewZ <= 0.0f) continue;  // sky: nothing in the way
     float behind = projected.z - sceneViewZ;
     if (behind > 0.01f * sceneViewZ && behind < thickness * sceneViewZ) return kOccluded;
@@ -58,9 +61,9 @@ float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, 
     if (projected.z <= 0.0f) return offscreenVisibility;
     if (!insideFull(texel)) {
       ivec2 edge = clamp(texel, ivec2(0), size - 1);
-      return gbufferRawViewZ(edge) <= 0.0f ? kVisible : offscreenVisibility;
+      return marchViewZ(edge) <= 0.0f ? kVisible : offscreenVisibility;
     }
-    float sceneViewZ = gbufferRawViewZ(texel);
+    float sceneViewZ = marchViewZ(texel);
     if (sceneViewZ <= 0.0f) return kVisible;
     float behind = projected.z - sceneViewZ;
     if (behind > 0.01f * sceneViewZ && behind < thickness * sceneViewZ) return kOccluded;

@@ -29,6 +29,7 @@ struct FrameState {
   bool usableHistory;  // ... and it may be reused (no cut, same render size)
   gpu::Image& previousComposite;  // last frame's composite: the light the next bounce gathers
   gpu::Image& previousSurface;    // last frame's viewZ and normals (gi.store_history)
+  gpu::Image& marchDepth;         // this frame's viewZ as visibility marches read it (gi.store_history)
   bool capturing;                 // this frame's stages are captured: debug passes run too
 };
 

@@ -1,6 +1,6 @@
 // The passes GiContext records around the branches, and the images they
 // keep: gi.store_history (this frame's depth and normals, for the next
-// frame) before them, gi.composite (the frame) after them.
+// frame, and the depth the visibility marches read) before them, gi.composite (the frame) after them.
 // Shaders: shaders/gi/store_history.comp, shaders/gi/composite.comp.
 #pragma once
 
@@ -15,7 +15,7 @@ gpu::PassDesc storeHistoryPass();
 gpu::PassDesc compositePass();
 
 // The frame's own images, in the order of frameImageTable().
-enum FrameImage : std::size_t { kHistorySurface, kComposite, kFrameImageCount };
+enum FrameImage : std::size_t { kHistorySurface, kMarchDepth, kComposite, kFrameImageCount };
 std::span<const ImageSpec> frameImageTable();
 
 }  // namespace bounce::gi

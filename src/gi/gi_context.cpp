@@ -33,6 +33,8 @@ using namespace gpu::formats;
 constexpr ImageSpec kFrameImages[] = {
     {"gi.history_surface", Resolution::Full, kRg32ui, true, gpu::Visualize::Raw,
      "viewZ bits and octahedral normal of every pixel, for the next frame"},
+    {"gi.march_depth", Resolution::Full, kR32f, false, gpu::Visualize::Range,
+     "this frame's viewZ (0 where unusable) in the library's own storage image: what visibility marches read"},
     {"gi.composite", Resolution::Full, kRgba16f, true, gpu::Visualize::Radiance,
      "the frame, linear HDR: direct light + remodulated indirect light; next frame's light source"},
 };
@@ -174,7 +176,8 @@ struct GiContext::Impl {
     const FrameGroup group(*frameConstants, engine[Input::ViewZ], engine[Input::NormalRoughness],
                            context->nearestSampler());
     recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
-                      {{"gOut_Surface", frameImages.current(kHistorySurface, f)}});
+                      {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
+                       {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)}});
 
     const FrameState state{.recorder = recorder,
                            .group = group,
@@ -187,6 +190,7 @@ struct GiContext::Impl {
                            .usableHistory = usableHistory,
                            .previousComposite = frameImages.previous(kComposite, f),
                            .previousSurface = frameImages.previous(kHistorySurface, f),
+                           .marchDepth = frameImages.current(kMarchDepth, f),
                            .capturing = frame.captureStages};
     for (const std::unique_ptr<Branch>& branch : branches) branch->record(state);
 

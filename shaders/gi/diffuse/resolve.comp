@@ -11,14 +11,16 @@
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
-#include "gi/screen_trace.glsl"
 #include "shared/reservoir.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
 layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
-layout(set = 0, binding = 6, rgba16f) writeonly uniform image2D gOut_Diffuse;
+layout(set = 0, binding = 6, r32f) readonly uniform image2D gIn_MarchDepth;
+layout(set = 0, binding = 7, rgba16f) writeonly uniform image2D gOut_Diffuse;
+
+#include "gi/screen_trace.glsl"
 
 // The reservoirs a pixel evaluates: where their surfaces are.
 struct Owner {

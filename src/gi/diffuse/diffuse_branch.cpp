@@ -182,7 +182,11 @@ void DiffuseBranch::record(const FrameState& frame) {
 
   gpu::Image& resolved = images_.current(kResolved, f);
   recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
-                    {constants, {"gIn_Reservoir0", *final0}, {"gIn_Reservoir1", *final1}, {"gOut_Diffuse", resolved}});
+                    {constants,
+                     {"gIn_Reservoir0", *final0},
+                     {"gIn_Reservoir1", *final1},
+                     {"gIn_MarchDepth", frame.marchDepth},
+                     {"gOut_Diffuse", resolved}});
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
                     {constants,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},

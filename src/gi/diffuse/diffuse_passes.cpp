@@ -107,7 +107,8 @@ gpu::PassDesc spatialReusePass() {
 gpu::PassDesc resolvePass() {
   return pass("gi.diffuse.resolve", "gi/diffuse/resolve", GroupPart::Surfaces,
               join(reservoirs("gIn", Access::Read, "this frame's final reservoirs"),
-                   {{"gOut_Diffuse", Access::Write, kRgba16f, "indirect diffuse, demodulated, unfiltered"}}));
+                   {{"gIn_MarchDepth", Access::Read, kR32f, "the depth the visibility marches test against"},
+                    {"gOut_Diffuse", Access::Write, kRgba16f, "indirect diffuse, demodulated, unfiltered"}}));
 }
 
 gpu::PassDesc temporalFilterPass() {
