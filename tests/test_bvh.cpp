@@ -284,6 +284,17 @@ glm::mat4 placement(glm::vec3 translation, float angle, glm::vec3 axis, glm::vec
          glm::scale(glm::mat4(1.0f), scale);
 }
 
+// One mesh: the triangle (0,0,0), (1,0,0), (0,1,0); one default material.
+scene::Scene oneTriangleScene() {
+  scene::Scene s;
+  s.materials.resize(1);
+  scene::Mesh triangle;
+  triangle.positions = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  triangle.indices = {0, 1, 2};
+  s.meshes.push_back(triangle);
+  return s;
+}
+
 std::vector<scene::Instance> proceduralInstances() {
   return {
       {0, 0, placement({0.0f, 1.0f, 0.0f}, 0.0f, {0, 1, 0}, glm::vec3(1.0f))},
@@ -441,12 +452,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 // CPU traversal
 
 TEST(SceneBvh, KnownHitOnAScaledInstance) {
-  scene::Scene s;
-  s.materials.resize(1);
-  scene::Mesh triangle;
-  triangle.positions = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
-  triangle.indices = {0, 1, 2};
-  s.meshes.push_back(triangle);
+  const scene::Scene s = oneTriangleScene();
   SceneBvh bvh(s);
   const std::vector<scene::Instance> instances = {
       {0, 0, placement({0.0f, 0.0f, -4.0f}, 0.0f, {0, 1, 0}, {2.0f, 4.0f, 3.0f})}};
@@ -472,12 +478,7 @@ TEST(SceneBvh, KnownHitOnAScaledInstance) {
 // such instances used to be left out as if singular. Only transforms with no
 // inverse in floats are left out now, and they are listed.
 TEST(SceneBvh, InstancesScaledFarFromOneAreTracedAndOnlyUninvertibleOnesLeftOut) {
-  scene::Scene s;
-  s.materials.resize(1);
-  scene::Mesh triangle;
-  triangle.positions = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
-  triangle.indices = {0, 1, 2};
-  s.meshes.push_back(triangle);
+  const scene::Scene s = oneTriangleScene();
   SceneBvh bvh(s);
   const std::vector<scene::Instance> instances = {
       {0, 0, placement({100.0f, 0.0f, -10.0f}, 0.0f, {0, 1, 0}, glm::vec3(1e15f))},  // 1e15 m wide

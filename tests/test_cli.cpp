@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bounce/version.h"
 #include "io/image_io.h"
 #include "process.h"
 
@@ -528,7 +529,7 @@ TEST(CliHardening, MistypedCommandsNameTheClosestAndVersionIsTheProjects) {
   EXPECT_NE(r.output.find("unknown command 'rendr'; did you mean 'render'?"), std::string::npos) << r.output;
   const auto version = runArgs({"--version"});
   EXPECT_EQ(version.exitCode, 0);
-  EXPECT_EQ(version.output, std::string("bounce ") + BOUNCE_VERSION + "\n");
+  EXPECT_EQ(version.output, std::string("bounce ") + BOUNCE_VERSION_STRING + "\n");
 }
 
 TEST(CliHardening, CompareExitsOneForADifferenceAndTwoForTrouble) {

@@ -41,6 +41,16 @@ Scene twoNodeScene() {
   return scene;
 }
 
+// What validate() says of a scene: its error, or "no error".
+std::string messageOf(const Scene& scene) {
+  try {
+    validate(scene);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 void expectNear(const glm::vec3& a, const glm::vec3& b, float tolerance = 1e-5f) {
   EXPECT_NEAR(a.x, b.x, tolerance);
   EXPECT_NEAR(a.y, b.y, tolerance);
@@ -107,14 +117,6 @@ TEST(Scene, CubicSplineUsesTangents) {
 }
 
 TEST(Scene, ValidateNamesTheProblem) {
-  const auto messageOf = [](const Scene& scene) -> std::string {
-    try {
-      validate(scene);
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-    return "no error";
-  };
   EXPECT_EQ(messageOf(twoNodeScene()), "no error");
 
   Scene badIndex = twoNodeScene();
@@ -190,14 +192,6 @@ TEST(Scene, AMillionNodeChainIsValidatedAndPlacedInLinearTime) {
 // Lights whose radiance would overflow 32-bit floats are refused by name;
 // at the limit they are accepted.
 TEST(Scene, LightsBeyondTheStrengthLimitAreRefusedByName) {
-  const auto messageOf = [](const Scene& scene) -> std::string {
-    try {
-      validate(scene);
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-    return "no error";
-  };
   Scene lit = twoNodeScene();
   Light lamp;
   lamp.name = "lamp";

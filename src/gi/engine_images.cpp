@@ -8,6 +8,14 @@
 namespace bounce::gi {
 namespace {
 
+struct InputFamily {
+  Input input;
+  const char* name;  // as in FrameInputs: "viewZ"
+  std::span<const VkFormat> formats;
+  bool optional;     // may be absent (image VK_NULL_HANDLE)
+  bool renderSized;  // must cover the render size (the environment need not)
+};
+
 constexpr VkFormat kViewZ[] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16_SFLOAT};
 constexpr VkFormat kNormalRoughness[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_A2B10G10R10_UNORM_PACK32};
 constexpr VkFormat kBaseColorMetallic[] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R8G8B8A8_SRGB};
@@ -65,9 +73,17 @@ std::string size(std::uint32_t width, std::uint32_t height) {
 
 }  // namespace
 
-std::span<const InputFamily> inputFamilies() { return kFamilies; }
-
-const InputFamily& inputFamily(Input input) { return kFamilies[std::size_t(input)]; }
+ImageRef libraryRef(const gpu::Image& image) {
+  return {.image = image.handle(),
+          .view = image.view(),
+          .format = image.format(),
+          .width = image.width(),
+          .height = image.height(),
+          .mipLevels = image.desc().mipLevels,
+          .layout = VK_IMAGE_LAYOUT_GENERAL,
+          .stage = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+          .access = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
+}
 
 std::string formatList(std::span<const VkFormat> formats) {
   std::string list;

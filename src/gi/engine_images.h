@@ -23,18 +23,12 @@ namespace bounce::gi {
 
 enum class Input : std::size_t { ViewZ, NormalRoughness, BaseColorMetallic, Motion, Direct, Emissive, Environment, Count };
 
-struct InputFamily {
-  Input input;
-  const char* name;  // as in FrameInputs: "viewZ"
-  std::span<const VkFormat> formats;
-  bool optional;      // may be absent (image VK_NULL_HANDLE)
-  bool renderSized;   // must cover the render size (the environment need not)
-};
-std::span<const InputFamily> inputFamilies();
-const InputFamily& inputFamily(Input input);
-
 // "VK_FORMAT_R32_SFLOAT or VK_FORMAT_R16_SFLOAT"
 std::string formatList(std::span<const VkFormat> formats);
+
+// An image of the library as the engine may use it (LibraryImage's
+// contract): layout GENERAL, last written by a compute shader.
+ImageRef libraryRef(const gpu::Image& image);
 
 class EngineImages {
  public:

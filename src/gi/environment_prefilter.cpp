@@ -240,18 +240,7 @@ FrameResults EnvironmentPrefilter::collect() {
   return results;
 }
 
-ImageRef EnvironmentPrefilter::output() const {
-  const gpu::Image& image = *impl_->radiance;
-  return {.image = image.handle(),
-          .view = image.view(),
-          .format = image.format(),
-          .width = image.width(),
-          .height = image.height(),
-          .mipLevels = image.desc().mipLevels,
-          .layout = VK_IMAGE_LAYOUT_GENERAL,
-          .stage = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-          .access = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
-}
+ImageRef EnvironmentPrefilter::output() const { return libraryRef(*impl_->radiance); }
 
 VkSampler EnvironmentPrefilter::sampler() const { return impl_->sampler; }
 std::uint32_t EnvironmentPrefilter::mipLevels() const { return impl_->radiance->desc().mipLevels; }

@@ -40,19 +40,6 @@ constexpr ImageSpec kFrameImages[] = {
 };
 static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per FrameImage");
 
-// A library image as the engine may use it: GENERAL, last written by a compute shader.
-ImageRef libraryRef(gpu::Image& image) {
-  return {.image = image.handle(),
-          .view = image.view(),
-          .format = image.format(),
-          .width = image.width(),
-          .height = image.height(),
-          .mipLevels = image.desc().mipLevels,
-          .layout = VK_IMAGE_LAYOUT_GENERAL,
-          .stage = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-          .access = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
-}
-
 }  // namespace
 
 std::span<const ImageSpec> frameImageTable() { return kFrameImages; }

@@ -19,6 +19,28 @@ std::string declaredNames(const PassDesc& desc) {
   return list;
 }
 
+// A copy between `image` and `buffer` of `region` (its mip level's whole
+// extent where width or height is 0), checked to lie inside the image and,
+// from region.bufferOffset, inside the buffer; `fail` makes the error.
+template <class Fail>
+VkBufferImageCopy checkedCopy(const Image& image, const Buffer& buffer, const ImageRegion& region, const Fail& fail) {
+  if (region.mipLevel >= image.desc().mipLevels || region.layer >= image.desc().layers)
+    throw fail("mip level or layer out of range");
+  const std::uint32_t levelWidth = image.mipWidth(region.mipLevel);
+  const std::uint32_t levelHeight = image.mipHeight(region.mipLevel);
+  const std::uint32_t width = region.width ? region.width : levelWidth;
+  const std::uint32_t height = region.height ? region.height : levelHeight;
+  if (region.x + width > levelWidth || region.y + height > levelHeight) throw fail("region outside the image");
+  const VkDeviceSize bytes = VkDeviceSize(width) * height * formatInfo(image.format()).bytesPerPixel;
+  if (region.bufferOffset + bytes > buffer.size()) throw fail("buffer is too small");
+  VkBufferImageCopy copy{};
+  copy.bufferOffset = region.bufferOffset;
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, region.mipLevel, region.layer, 1};
+  copy.imageOffset = {std::int32_t(region.x), std::int32_t(region.y), 0};
+  copy.imageExtent = {width, height, 1};
+  return copy;
+}
+
 }  // namespace
 
 Recorder::Recorder(Context& context, VkCommandBuffer commandBuffer, TimestampSink* timestamps)
@@ -273,27 +295,13 @@ void Recorder::copyBufferToImage(Buffer& source, Image& destination) {
 }
 
 void Recorder::copyBufferToImage(Buffer& source, Image& destination, const ImageRegion& region) {
-  const auto fail = [&](const std::string& why) {
+  const VkBufferImageCopy copy = checkedCopy(destination, source, region, [&](const std::string& why) {
     return GpuError("upload to '" + destination.name() + "' from '" + source.name() + "': " + why);
-  };
-  if (region.mipLevel >= destination.desc().mipLevels || region.layer >= destination.desc().layers)
-    throw fail("mip level or layer out of range");
-  const std::uint32_t levelWidth = destination.mipWidth(region.mipLevel);
-  const std::uint32_t levelHeight = destination.mipHeight(region.mipLevel);
-  const std::uint32_t width = region.width ? region.width : levelWidth;
-  const std::uint32_t height = region.height ? region.height : levelHeight;
-  if (region.x + width > levelWidth || region.y + height > levelHeight) throw fail("region outside the image");
-  const VkDeviceSize bytes = VkDeviceSize(width) * height * formatInfo(destination.format()).bytesPerPixel;
-  if (region.bufferOffset + bytes > source.size()) throw fail("buffer is too small");
+  });
   require(source.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_READ_BIT, false);
   require(destination.sync(), destination.handle(), destination.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
           kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT, true);
   flushBarriers();
-  VkBufferImageCopy copy{};
-  copy.bufferOffset = region.bufferOffset;
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, region.mipLevel, region.layer, 1};
-  copy.imageOffset = {std::int32_t(region.x), std::int32_t(region.y), 0};
-  copy.imageExtent = {width, height, 1};
   vkCmdCopyBufferToImage(cmd_, source.handle(), destination.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
 }
 
@@ -302,28 +310,14 @@ void Recorder::copyImageToBuffer(Image& source, Buffer& destination) {
 }
 
 void Recorder::copyImageToBuffer(Image& source, Buffer& destination, const ImageRegion& region) {
-  const auto fail = [&](const std::string& why) {
+  const VkBufferImageCopy copy = checkedCopy(source, destination, region, [&](const std::string& why) {
     return GpuError("readback of '" + source.name() + "' into '" + destination.name() + "': " + why);
-  };
-  if (region.mipLevel >= source.desc().mipLevels || region.layer >= source.desc().layers)
-    throw fail("mip level or layer out of range");
-  const std::uint32_t levelWidth = source.mipWidth(region.mipLevel);
-  const std::uint32_t levelHeight = source.mipHeight(region.mipLevel);
-  const std::uint32_t width = region.width ? region.width : levelWidth;
-  const std::uint32_t height = region.height ? region.height : levelHeight;
-  if (region.x + width > levelWidth || region.y + height > levelHeight) throw fail("region outside the image");
-  const VkDeviceSize bytes = VkDeviceSize(width) * height * formatInfo(source.format()).bytesPerPixel;
-  if (region.bufferOffset + bytes > destination.size()) throw fail("buffer is too small");
+  });
   require(source.sync(), source.handle(), source.desc().mipLevels, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kTransfer,
           VK_ACCESS_2_TRANSFER_READ_BIT, false);
   require(destination.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kTransfer, VK_ACCESS_2_TRANSFER_WRITE_BIT,
           true);
   flushBarriers();
-  VkBufferImageCopy copy{};
-  copy.bufferOffset = region.bufferOffset;
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, region.mipLevel, region.layer, 1};
-  copy.imageOffset = {std::int32_t(region.x), std::int32_t(region.y), 0};
-  copy.imageExtent = {width, height, 1};
   vkCmdCopyImageToBuffer(cmd_, source.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, destination.handle(), 1, &copy);
 }
 

@@ -73,7 +73,6 @@ gpu::CapturedStage capturedStage(gi::CapturedStage&& stage, std::uint64_t frame)
           .texels = std::move(stage.texels)};
 }
 
-gi::Visualization toVisualization(gpu::Visualize view) { return gi::Visualization(int(view)); }
 gpu::Visualize fromVisualization(gi::Visualization view) { return gpu::Visualize(int(view)); }
 static_assert(int(gpu::Visualize::Heat) == int(gi::Visualization::Heat) &&
                   int(gpu::Visualize::Radiance) == int(gi::Visualization::Radiance) &&

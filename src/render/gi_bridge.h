@@ -39,7 +39,6 @@ void tookBack(gpu::Image& image, const gi::ImageRef& given);
 // (`frame`: the frame index to file it under).
 gpu::CapturedStage capturedStage(gi::CapturedStage&& stage, std::uint64_t frame);
 
-gi::Visualization toVisualization(gpu::Visualize view);
 gpu::Visualize fromVisualization(gi::Visualization view);
 
 // The gi::Camera of a pose rendered at width x height with `jitter` (pixels).
