@@ -116,9 +116,9 @@ bool sampleEmissiveLight(LightSampling lights, vec3 u, vec3 receiver, out Emissi
   float s = sqrt(u.x);
   vec2 barycentrics = vec2(s * (1.0f - u.y), s * u.y);
   // Where the point is first, so that it is shaded as seen from the receiver.
-  uvec4 triangle = gIn_BvhTriangles.items[entry.y];
-  vec3 objectPosition = barycentricMix(gIn_BvhPositions.items[triangle.x].xyz, gIn_BvhPositions.items[triangle.y].xyz,
-                                       gIn_BvhPositions.items[triangle.z].xyz, barycentrics);
+  uvec4 triangle = bvhTriangle(entry.y);
+  vec3 objectPosition = barycentricMix(bvhVertexPosition(triangle.x), bvhVertexPosition(triangle.y),
+                                       bvhVertexPosition(triangle.z), barycentrics);
   vec3 position = transformPoint(gIn_Instances.items[entry.x].objectToWorld, objectPosition);
   vec3 toPoint = position - receiver;
   vec3 direction = dot(toPoint, toPoint) > 0.0f ? normalize(toPoint) : vec3(0.0f, 0.0f, -1.0f);

@@ -34,7 +34,7 @@ vec2 vertexTexcoord(uint vertex) {
 vec3 barycentricMix(vec3 a, vec3 b, vec3 c, vec2 bary) { return a * (1.0f - bary.x - bary.y) + b * bary.x + c * bary.y; }
 vec2 barycentricMix(vec2 a, vec2 b, vec2 c, vec2 bary) { return a * (1.0f - bary.x - bary.y) + b * bary.x + c * bary.y; }
 
-uint triangleMaterial(uint triangle) { return gIn_BvhTriangles.items[triangle].w & 0x7fffffffu; }
+uint triangleMaterial(uint triangle) { return bvhTriangle(triangle).w & 0x7fffffffu; }
 
 // Alpha-masked triangles are transparent where base-colour alpha is below the
 // cutoff. Sampled at mip 0: shadow and primary rays must agree on the
@@ -44,7 +44,7 @@ bool sceneAlphaTest(uint instance, uint triangle, vec2 barycentrics) {
   if (material.emissive.w < 0.0f) return true;
   float alpha = material.baseColorFactor.w;
   if (material.textures.x != kNoTexture) {
-    uvec4 t = gIn_BvhTriangles.items[triangle];
+    uvec4 t = bvhTriangle(triangle);
     vec2 uv = barycentricMix(vertexTexcoord(t.x), vertexTexcoord(t.y), vertexTexcoord(t.z), barycentrics);
     alpha *= sampleAtlas(material.textures.x, uv, -100.0f).w;
   }
@@ -69,13 +69,13 @@ struct SceneSurface {
 
 SceneSurface resolveSurface(BvhHit hit, vec3 direction, float coneWidth) {
   GpuInstance instance = gIn_Instances.items[hit.instance];
-  uvec4 triangle = gIn_BvhTriangles.items[hit.triangle];
+  uvec4 triangle = bvhTriangle(hit.triangle);
   GpuMaterial material = gIn_Materials.items[triangle.w & 0x7fffffffu];
   vec2 bary = hit.barycentrics;
 
-  vec3 p0 = gIn_BvhPositions.items[triangle.x].xyz;
-  vec3 p1 = gIn_BvhPositions.items[triangle.y].xyz;
-  vec3 p2 = gIn_BvhPositions.items[triangle.z].xyz;
+  vec3 p0 = bvhVertexPosition(triangle.x);
+  vec3 p1 = bvhVertexPosition(triangle.y);
+  vec3 p2 = bvhVertexPosition(triangle.z);
   vec3 objectPosition = barycentricMix(p0, p1, p2, bary);
   vec3 position = transformPoint(instance.objectToWorld, objectPosition);
 
