@@ -27,6 +27,7 @@
 #include "metrics/image_metrics.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
+#include "render/scene_bridge.h"
 #include "render/reference_renderer.h"
 #include "scene/builtin_scenes.h"
 #include "shared/color.glsl"
@@ -118,13 +119,14 @@ class GiTest : public testing::GpuTest {
   };
 
   Run start(const scene::Scene& s, const Settings& settings, std::uint32_t width, std::uint32_t height,
-            bool jitter = false) {
+            bool jitter = false, gi::SceneBridge bridge = {}) {
     render::FrameRendererOptions options = testing::smallRendererOptions(s, width, height);
     options.jitter = jitter;
     Run run;
     run.scene = std::make_unique<scene::Scene>(s);
     run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene, options);
-    run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = width, .maxHeight = height}, settings);
+    run.gi = std::make_unique<render::GiBridge>(
+        context(), ContextDesc{.maxWidth = width, .maxHeight = height, .sceneBridge = std::move(bridge)}, settings);
     run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
     run.jitter = jitter;
     return run;
@@ -209,6 +211,77 @@ TEST_F(GiTest, FloorBeforeAnEmittingWallGetsTheWallsFormFactor) {
 
 TEST_F(GiTest, FloorUnderASmallLampGetsTheLampsFormFactor) {
   checkFloor(kLamp, testing::cameraAt({0.0f, 1.6f, 4.0f}, {0.0f, 1.2f, -1.0f}, 75.0f), 0.12f);
+}
+
+// --- seeing beyond the screen: the scene bridge
+
+// A closed room of black walls whose only light is the wall behind the
+// camera, which faces it and sees the opposite wall: nothing lit is on
+// screen. Screen space alone finds (almost) no indirect light; through the
+// renderer's BVH bridge the wall in view gets the emitting wall's form
+// factor (one bounce: every other surface is black).
+TEST_F(GiTest, TheBvhBridgeFindsLightBehindTheCamera) {
+  const glm::vec3 radiance(1.0f, 0.8f, 0.6f);
+  scene::Scene s;
+  s.name = "room-lit-behind";
+  s.hasSun = false;
+  s.materials = {material(glm::vec3(0.0f)), material(glm::vec3(0.0f), radiance)};
+  // Walls of a 4 x 4 x 4 room, each facing inwards; the last (z = +2, facing -Z) emits.
+  const Emitter back{{2.0f, 0.0f, 2.0f}, {-4.0f, 0.0f, 0.0f}, {0.0f, 4.0f, 0.0f}, radiance};
+  const std::pair<scene::Mesh, std::uint32_t> walls[] = {
+      {rectangle({-2.0f, 0.0f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 4.0f, 0.0f}), 0},   // front, facing +Z
+      {rectangle({-2.0f, 0.0f, -2.0f}, {0.0f, 0.0f, 4.0f}, {4.0f, 0.0f, 0.0f}), 0},   // floor, facing +Y
+      {rectangle({-2.0f, 4.0f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 4.0f}), 0},   // ceiling, facing -Y
+      {rectangle({-2.0f, 0.0f, -2.0f}, {0.0f, 4.0f, 0.0f}, {0.0f, 0.0f, 4.0f}), 0},   // left, facing +X
+      {rectangle({2.0f, 0.0f, -2.0f}, {0.0f, 0.0f, 4.0f}, {0.0f, 4.0f, 0.0f}), 0},    // right, facing -X
+      {rectangle(back.corner, back.u, back.v), 1},
+  };
+  for (const auto& [mesh, materialIndex] : walls) {
+    s.meshes.push_back(mesh);
+    s.meshes.back().material = materialIndex;
+    scene::Node node;
+    node.meshes = {std::uint32_t(s.meshes.size() - 1)};
+    s.nodes.push_back(node);
+    s.roots.push_back(std::uint32_t(s.nodes.size() - 1));
+  }
+  constexpr std::uint32_t kWidth = 96, kHeight = 64;
+  const float fovY = 60.0f;
+  const scene::CameraPose camera = testing::cameraAt({0.0f, 2.0f, 1.8f}, {0.0f, 2.0f, -2.0f}, fovY);
+  // The form factor of the emitting wall at the points of the front wall the
+  // central pixels show (pinhole through pixel centres, the wall 3.8 away).
+  const float tanHalf = std::tan(glm::radians(fovY) * 0.5f), aspect = float(kWidth) / float(kHeight);
+  const auto centralMean = [&](const io::ImageF& image, bool expected) {
+    double sum = 0.0;
+    int count = 0;
+    for (std::uint32_t y = kHeight / 4; y < 3 * kHeight / 4; ++y)
+      for (std::uint32_t x = kWidth / 4; x < 3 * kWidth / 4; ++x) {
+        if (expected) {
+          const float ndcX = (float(x) + 0.5f) / float(kWidth) * 2.0f - 1.0f;
+          const float ndcY = 1.0f - (float(y) + 0.5f) / float(kHeight) * 2.0f;
+          const glm::vec3 onWall(ndcX * tanHalf * aspect * 3.8f, 2.0f + ndcY * tanHalf * 3.8f, -2.0f);
+          // floorIrradianceOverPi is written for a +Y receiver: turn the scene so the wall is the floor.
+          const auto turn = [](glm::vec3 p) { return glm::vec3(p.x, p.z + 2.0f, -p.y); };
+          const Emitter turned{turn(back.corner), glm::vec3(back.u.x, back.u.z, -back.u.y),
+                               glm::vec3(back.v.x, back.v.z, -back.v.y), back.radiance};
+          sum += shared::luminance(floorIrradianceOverPi(turned, turn(onWall)));
+        } else {
+          sum += shared::luminance(glm::vec3(image.at(int(x), int(y), 0), image.at(int(x), int(y), 1),
+                                              image.at(int(x), int(y), 2)));
+        }
+        ++count;
+      }
+    return sum / count;
+  };
+  const double expected = centralMean(io::ImageF(), true);
+  ASSERT_GT(expected, 0.05);
+  Run screen = start(s, Settings{}, kWidth, kHeight);
+  advance(screen, camera, 12u);
+  const double screenOnly = centralMean(averageIndirect(screen, camera, 4), false);
+  Run hybrid = start(s, Settings{}, kWidth, kHeight, false, render::bvhSceneBridge());
+  advance(hybrid, camera, 12u);
+  const double withBridge = centralMean(averageIndirect(hybrid, camera, 4), false);
+  EXPECT_LT(screenOnly, 0.3 * expected) << "screen space should not see the wall behind the camera";
+  EXPECT_NEAR(withBridge / expected, 1.0, 0.15) << "expected " << expected << ", screen only " << screenOnly;
 }
 
 // --- cornell against the reference path tracer

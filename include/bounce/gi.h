@@ -28,6 +28,7 @@
 // nothing into the command buffer.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -86,6 +87,65 @@ struct ImageRef {
   VkAccessFlags2 access = VK_ACCESS_2_NONE;
 };
 
+// A buffer of the engine's as it is when record() is called: `size` bytes
+// from its start, and the stage and access of the engine's last write to it
+// (the library's first read waits for that write). The library only reads
+// it, in compute shaders: the engine's next write must wait for
+// VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT reads.
+struct BufferRef {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceSize size = 0;
+  VkPipelineStageFlags2 stage = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 access = VK_ACCESS_2_NONE;
+};
+
+// --- The scene bridge: how the library sees beyond the screen.
+// The library's shaders that trace rays call a few functions
+// (shaders/gi/scene_bridge.glsl lists them: closest hit, any hit, the direct
+// light leaving a hit) that the engine implements in GLSL, in a file its
+// build compiles the library's shaders with (CMake: bounce_scene_bridge()).
+// The bridge "none" (the default) traces nothing: pure screen space.
+// docs/integration.md, "A scene bridge", walks through writing one.
+// Bridge data is read from storage buffers (constants too: a std140 block
+// declared `readonly buffer`) and sampled images.
+enum class SceneResourceKind { StorageBuffer, SampledImage };
+
+// One resource the bridge's GLSL declares, by the name it has there.
+struct SceneResourceDecl {
+  std::string name;  // e.g. "gIn_BvhNodes"
+  SceneResourceKind kind = SceneResourceKind::StorageBuffer;
+  std::string purpose;
+};
+
+// One of the library's shaders compiled with the bridge (the table
+// bounce_scene_bridge() generates holds them): SPIR-V words, by the
+// library's name for the shader ("gi/diffuse/gather") and by how its
+// constant blocks are declared (the library picks the variant it runs).
+struct ShaderCode {
+  const char* name = nullptr;
+  bool constantsInStorageBuffers = false;
+  const std::uint32_t* words = nullptr;
+  std::size_t wordCount = 0;
+};
+
+struct SceneBridge {
+  std::string name = "none";  // shown in logs and errors: "bvh"
+  // Every shader of the library compiled with the bridge; empty: the
+  // library's own, which trace nothing.
+  std::vector<ShaderCode> shaders;
+  std::vector<SceneResourceDecl> resources;
+};
+
+// What a bridge resource is bound to this frame: a buffer (BufferRef) or a
+// sampled image (ImageRef in GENERAL or SHADER_READ_ONLY_OPTIMAL layout,
+// read in place, and a sampler).
+struct SceneResource {
+  std::string name;
+  BufferRef buffer;
+  ImageRef image;
+  VkSampler sampler = VK_NULL_HANDLE;
+};
+
 // A camera as engines keep it: column-major 4x4 matrices (m[column * 4 +
 // row], as glm and GLSL store them). Views are right-handed and look down -Z
 // with +Y up; the projection must be a symmetric perspective (what
@@ -135,6 +195,9 @@ struct FrameInputs {
   // Copy every pass's output of this frame for debugging; collect() returns
   // the copies once the frame has run.
   bool captureStages = false;
+  // Every resource ContextDesc::sceneBridge declares, bound for this frame
+  // (none for the bridge "none").
+  std::vector<SceneResource> sceneResources;
 };
 
 // What the library does with the engine's input images after its passes.
@@ -156,6 +219,7 @@ struct ContextDesc {
   std::uint32_t framesInFlight = 2;
   bool timestamps = true;  // time every pass (collect() returns the times)
   InputState inputState = InputState::Restore;
+  SceneBridge sceneBridge;  // "none": screen space only
 };
 
 // How an image of the library is best looked at (bounce --dump-stages uses it).

@@ -20,13 +20,30 @@ enum class TargetFunction : std::uint32_t {
   ColorLength = 1,  // length of the RGB vector (the seed's choice)
 };
 
+// How the resolve tests whether a sample is visible from the pixel that
+// evaluates it. World rays need a scene bridge (ContextDesc::sceneBridge);
+// with the bridge "none" every choice is Screen.
+enum class Visibility : std::uint32_t {
+  Screen = 0,  // a march through this frame's depth buffer alone (thickness guessed)
+  World = 1,   // an any-hit ray through the scene bridge for every sample
+  Hybrid = 2,  // the march; a world ray where it cannot decide (left the screen, passed behind a surface)
+};
+
 struct DiffuseSettings {
   bool enabled = true;
 
   // --- sample gathering (half resolution): candidates per pixel and source
   std::uint32_t screenCandidates = 6;       // random pixels of the previous composited frame
   std::uint32_t brightCandidates = 2;       // picks among the brightest pixels of that frame
-  std::uint32_t environmentCandidates = 2;  // uniform hemisphere directions into the environment
+  std::uint32_t environmentCandidates = 2;  // uniform hemisphere directions into the environment (no bridge)
+  // With a scene bridge that traces, environment candidates give way to
+  // rays: cosine-distributed directions marched through the depth buffer
+  // first and continued through the bridge where the screen cannot decide;
+  // what they hit is shaded by the bridge (direct light, emission) and the
+  // radiance cache, or read from the last frame where it was on screen; a
+  // ray that truly misses sees the environment.
+  std::uint32_t rayCandidates = 2;
+  std::uint32_t rayScreenSteps = 8;  // depth-buffer march steps before a ray goes to the bridge (0: world at once)
   std::uint32_t brightPixels = 64;          // the reduction pyramid stops at about this many pixels
   float environmentMip = 1.0f;              // prefiltered environment level the samples read
   TargetFunction target = TargetFunction::Luminance;
@@ -54,6 +71,12 @@ struct DiffuseSettings {
   // --- resolve (full resolution) with deferred screen-space visibility
   std::uint32_t resolveReservoirs = 4;  // neighbouring half-resolution reservoirs each pixel evaluates (1..4)
   std::uint32_t visibilitySteps = 12;   // ray-march steps from the pixel to each sample (0 = no visibility test)
+  Visibility visibility = Visibility::Hybrid;
+  // Temporal and spatial reuse test a reused sample's visibility from the
+  // reusing pixel with an any-hit ray through the bridge, so that reuse
+  // adds no bias from occlusion (ReSTIR GI's unbiased reuse; costs a ray
+  // per reused neighbour). Needs a bridge that traces.
+  bool reuseVisibility = false;
   float visibilityThickness = 0.03f;    // surfaces are this fraction of their viewZ thick
   // Environment samples count as visible where their screen-space march
   // meets the sky (a background pixel, or the screen's edge where it shows
@@ -84,8 +107,23 @@ struct InputSettings {
   float motionScaleY = 1.0f;
 };
 
+// The world-space radiance cache (docs/gi.md, "The radiance cache"): what
+// world rays of the scene bridge find off screen is lit by it, so light
+// bounces more than once without rays that recurse. Used only with a scene
+// bridge that traces.
+struct CacheSettings {
+  bool enabled = true;
+  std::uint32_t memoryMib = 64;  // device memory for the cells at most (capacity: a power of two)
+  float cellSize = 0.02f;        // a cell's edge as a fraction of its distance to the camera (rounded to 2^k)
+  std::uint32_t updateRays = 65536;  // rays per frame from cells world hits used, at most
+  std::uint32_t historySamples = 64;  // a cell's value averages at most this many samples
+  std::uint32_t maxAge = 64;          // cells nobody used for this many frames are evicted
+  std::uint32_t injectStride = 4;     // the screen fills cells from one pixel of every stride x stride block
+};
+
 struct Settings {
   DiffuseSettings diffuse;
+  CacheSettings cache;
   InputSettings input;
   // false: no temporal and no spatial reuse (gathering, resolve and filters
   // stay): the baseline every reuse comparison is made against.

@@ -11,6 +11,9 @@
 // surface by more than a sliver and by less than that surface's thickness
 // (`thickness`, a fraction of its viewZ: gi.diffuse.visibility_thickness for
 // the diffuse branch): thin objects do not cast shadows forever behind themselves.
+// With `strict` the march does not assume anything beyond that: a step
+// farther behind a surface than its thickness ends it undecided
+// (kLeftScreen), for a world ray to settle (gi.diffuse.visibility hybrid).
 #ifndef BOUNCE_GI_SCREEN_TRACE_GLSL
 #define BOUNCE_GI_SCREEN_TRACE_GLSL
 
@@ -20,9 +23,18 @@ const float kVisible = 1.0f;
 const float kOccluded = 0.0f;
 const float kLeftScreen = -1.0f;  // the march left the screen (or passed behind the camera) before deciding
 
+// Whether a march step `behind` a depth-buffer surface at sceneViewZ ends
+// the march; `occluded` says how (true: blocked, false: undecided).
+bool behindEnds(float behind, float sceneViewZ, float thickness, bool strict, out bool occluded) {
+  occluded = false;
+  if (behind <= 0.01f * sceneViewZ) return false;
+  occluded = behind < thickness * sceneViewZ;
+  return occluded || strict;
+}
+
 // Marches `steps` points evenly from `from` to `to` (ends excluded, start
 // offset by `jitter` in [0,1) to trade banding for noise).
-float screenVisibility(vec3 from, vec3 to, uint steps, float jitter, float thickness) {
+float screenVisibility(vec3 from, vec3 to, uint steps, float jitter, float thickness, bool strict) {
   vec3 start = toViewSpace(gIn_Frame.frame.view, from);
   vec3 end = toViewSpace(gIn_Frame.frame.view, to);
   for (uint i = 0u; i < steps; ++i) {
@@ -33,8 +45,9 @@ float screenVisibility(vec3 from, vec3 to, uint steps, float jitter, float thick
     if (projected.z <= 0.0f || !insideFull(texel)) return kLeftScreen;
     float sceneViewZ = marchViewZ(texel);
     if (sceneViewZ <= 0.0f) continue;  // sky: nothing in the way
-    float behind = projected.z - sceneViewZ;
-    if (behind > 0.01f * sceneViewZ && behind < thickness * sceneViewZ) return kOccluded;
+    bool occluded;
+    if (behindEnds(projected.z - sceneViewZ, sceneViewZ, thickness, strict, occluded))
+      return occluded ? kOccluded : kLeftScreen;
   }
   return kVisible;
 }
@@ -48,7 +61,7 @@ float screenVisibility(vec3 from, vec3 to, uint steps, float jitter, float thick
 // beyond: it gets `offscreenVisibility` (gi.diffuse.offscreen_environment_visibility).
 // Without this, rooms leak the sky through their off-screen walls.
 float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float thickness,
-                            float offscreenVisibility) {
+                            float offscreenVisibility, bool strict) {
   const float kFarthest = 64.0f;  // in multiples of the pixel's viewZ
   ivec2 size = ivec2(fullSize());
   vec3 start = toViewSpace(gIn_Frame.frame.view, from);
@@ -65,10 +78,52 @@ float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, 
     }
     float sceneViewZ = marchViewZ(texel);
     if (sceneViewZ <= 0.0f) return kVisible;
-    float behind = projected.z - sceneViewZ;
-    if (behind > 0.01f * sceneViewZ && behind < thickness * sceneViewZ) return kOccluded;
+    bool occluded;
+    if (behindEnds(projected.z - sceneViewZ, sceneViewZ, thickness, strict, occluded))
+      return occluded ? kOccluded : offscreenVisibility;
   }
   return offscreenVisibility;  // still over surfaces after the longest march
+}
+
+// A gather ray through the depth buffer: what screen space can say about the
+// first surface along origin + t * direction.
+struct ScreenRay {
+  bool hit;        // it met a depth-buffer surface: the one at `texel`
+  ivec2 texel;
+  float vouched;   // undecided: up to here the ray is known to be free (world rays go on from here)
+};
+
+// Marches `steps` points spaced more widely with distance (as
+// environmentVisibility) up to 64 viewZ. A step that falls behind the depth
+// buffer by less than `thickness` right after one in front of it hit that
+// surface; one farther behind (a surface of unknown thickness), one off
+// screen, and the end of the march leave the ray undecided. Points in front
+// of the depth buffer, or over the sky, are free space: anything there
+// would show in the pixel.
+ScreenRay screenRay(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float thickness) {
+  const float kFarthest = 64.0f;
+  ScreenRay ray;
+  ray.hit = false;
+  ray.texel = ivec2(0);
+  ray.vouched = 0.0f;
+  vec3 start = toViewSpace(gIn_Frame.frame.view, from);
+  vec3 step = toViewSpace(gIn_Frame.frame.view, from + direction) - start;
+  for (uint i = 0u; i < steps; ++i) {
+    float t = (float(i) + jitter) / float(steps);
+    float distance = viewZ * (0.02f + kFarthest * t * t);
+    vec3 projected = projectViewPoint(gIn_Frame.frame.view, start + step * distance, fullSize());
+    ivec2 texel = ivec2(floor(projected.xy));
+    if (projected.z <= 0.0f || !insideFull(texel)) return ray;
+    float sceneViewZ = marchViewZ(texel);
+    float behind = sceneViewZ > 0.0f ? projected.z - sceneViewZ : -1.0f;
+    if (behind > 0.01f * sceneViewZ) {
+      ray.hit = behind < thickness * sceneViewZ;
+      ray.texel = texel;
+      return ray;
+    }
+    ray.vouched = distance;
+  }
+  return ray;
 }
 
 #endif

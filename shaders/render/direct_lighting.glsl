@@ -31,15 +31,15 @@ float rangeWindow(float distanceSquared, float range) {
 vec3 directLighting(vec3 position, vec3 shadowOrigin, vec3 normal, vec3 geometricNormal, vec3 toViewer,
                     vec3 baseColor, float metallic, float roughness) {
   vec3 radiance = vec3(0.0f);
-  float sunIlluminance = gIn_Frame.frame.sunDirection.w;
-  vec3 toSun = gIn_Frame.frame.sunDirection.xyz;
+  float sunIlluminance = SCENE_FRAME.frame.sunDirection.w;
+  vec3 toSun = SCENE_FRAME.frame.sunDirection.xyz;
   if (sunIlluminance > 0.0f && dot(geometricNormal, toSun) > 0.0f) {
     vec3 f = materialBrdfCosine(normal, toViewer, toSun, baseColor, metallic, roughness);
     if (any(greaterThan(f, vec3(0.0f))) && !bvhTraceAny(shadowOrigin, toSun, 0.0f, 1e30f))
-      radiance += f * sunIlluminance * gIn_Frame.frame.sunColor.xyz;
+      radiance += f * sunIlluminance * SCENE_FRAME.frame.sunColor.xyz;
   }
 
-  uint lightCount = uint(gIn_Frame.frame.sunColor.w);
+  uint lightCount = uint(SCENE_FRAME.frame.sunColor.w);
   for (uint i = 0u; i < lightCount; ++i) {
     GpuLight light = gIn_Lights.items[i];
     uint type = uint(light.positionType.w);

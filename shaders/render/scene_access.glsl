@@ -3,26 +3,43 @@
 // its alpha test. Included by every pass that traces rays into the scene, so
 // the bindings and the alpha-test rule are written once.
 //
-// Bindings 0-5 are taken here and the BVH's follow from 6
-// (BVH_FIRST_BINDING); a pass's own bindings start at 16.
+// Bindings SCENE_FIRST_BINDING + 0..5 are taken here and the BVH's follow
+// from + 6 (BVH_FIRST_BINDING); a pass's own bindings start at 16. A shader
+// that has bindings of its own there (the GI library's, through the scene
+// bridge, shaders/render/scene_bridge/) defines SCENE_FIRST_BINDING
+// (default 0), SCENE_FRAME, the name of the frame block (default
+// gIn_Frame), and SCENE_FRAME_STORAGE (default CONSTANT_BLOCK) before
+// including this file.
 #ifndef BOUNCE_RENDER_SCENE_ACCESS_GLSL
 #define BOUNCE_RENDER_SCENE_ACCESS_GLSL
+
+#ifndef SCENE_FIRST_BINDING
+#define SCENE_FIRST_BINDING 0
+#endif
+#ifndef SCENE_FRAME
+#define SCENE_FRAME gIn_Frame
+#endif
+// How the frame block is stored: the pass's constant block, or (the bridge)
+// a storage buffer, which needs no declared layout on the host.
+#ifndef SCENE_FRAME_STORAGE
+#define SCENE_FRAME_STORAGE CONSTANT_BLOCK
+#endif
 
 #include "gpu/constant_block.glsl"
 #include "render/frame_types.glsl"
 #include "shared/packing.glsl"
 
-layout(set = 0, binding = 0, std140) CONSTANT_BLOCK FrameBlock { FrameConstants frame; } gIn_Frame;
-layout(set = 0, binding = 1, std430) readonly buffer Materials { GpuMaterial items[]; } gIn_Materials;
-layout(set = 0, binding = 2, std430) readonly buffer Instances { GpuInstance items[]; } gIn_Instances;
+layout(set = 0, binding = SCENE_FIRST_BINDING + 0, std140) SCENE_FRAME_STORAGE SceneFrameBlock { FrameConstants frame; } SCENE_FRAME;
+layout(set = 0, binding = SCENE_FIRST_BINDING + 1, std430) readonly buffer Materials { GpuMaterial items[]; } gIn_Materials;
+layout(set = 0, binding = SCENE_FIRST_BINDING + 2, std430) readonly buffer Instances { GpuInstance items[]; } gIn_Instances;
 // Per vertex: x = octahedral normal, y = octahedral tangent whose lowest bit
 // is the bitangent sign (1 = negative), z/w = texcoord as float bits.
-layout(set = 0, binding = 3, std430) readonly buffer VertexAttributes { uvec4 items[]; } gIn_VertexAttributes;
-#define TEXTURE_ATLAS_BINDING 4
+layout(set = 0, binding = SCENE_FIRST_BINDING + 3, std430) readonly buffer VertexAttributes { uvec4 items[]; } gIn_VertexAttributes;
+#define TEXTURE_ATLAS_BINDING (SCENE_FIRST_BINDING + 4)
 #include "render/texture_atlas.glsl"
 
 bool sceneAlphaTest(uint instance, uint triangle, vec2 barycentrics);
-#define BVH_FIRST_BINDING 6
+#define BVH_FIRST_BINDING (SCENE_FIRST_BINDING + 6)
 #define BVH_ALPHA_TEST(instance, triangle, barycentrics) sceneAlphaTest(instance, triangle, barycentrics)
 #include "render/bvh_trace.glsl"
 

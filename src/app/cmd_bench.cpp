@@ -101,7 +101,8 @@ int runBench(const BenchOptions& options) {
         *context,
         gi::ContextDesc{.maxWidth = options.width,
                         .maxHeight = options.height,
-                        .framesInFlight = render::FrameRenderer::kFramesInFlight},
+                        .framesInFlight = render::FrameRenderer::kFramesInFlight,
+                        .sceneBridge = giSceneBridge(options.gi)},
         *settings);
   checkDeviceMemoryFits(*context, options.width, options.height);
   std::fprintf(report, "scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());

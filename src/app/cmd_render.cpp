@@ -139,7 +139,8 @@ int runRender(const RenderOptions& options) {
         *context,
         gi::ContextDesc{.maxWidth = shot.width,
                         .maxHeight = shot.height,
-                        .framesInFlight = render::FrameRenderer::kFramesInFlight},
+                        .framesInFlight = render::FrameRenderer::kFramesInFlight,
+                        .sceneBridge = giSceneBridge(options.gi)},
         settings);
   }
   checkDeviceMemoryFits(*context, shot.width, shot.height);

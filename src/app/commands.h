@@ -79,6 +79,7 @@ struct GiOptions {
   std::string settingsFile;
   std::vector<std::pair<std::string, std::string>> overrides;  // key, value, in command-line order
   std::uint32_t warmup = 16;  // frames rendered (and thrown away) at the first camera before the first output frame
+  std::string sceneBridge = "bvh";  // how the GI sees beyond the screen: none or bvh (render/scene_bridge.h)
 };
 // `warmup`: whether the command offers --gi-warmup (bench has its own --warmup).
 void addGiOptions(CLI::App& command, GiOptions& options, bool warmup = true);
@@ -87,6 +88,8 @@ bool giEnabled(const GiOptions& options);
 void warnIgnoredGiOptions(const GiOptions& options);
 // The settings: defaults, then the file, then the flags; validated.
 gi::Settings giSettings(const GiOptions& options);
+// The scene bridge the options ask for (none: screen space only).
+gi::SceneBridge giSceneBridge(const GiOptions& options);
 // The library's message for the first --gi.KEY flag in argv whose key is not
 // a setting (naming the closest keys), or "" when every one is known. CLI11
 // alone would only say the argument was not expected.

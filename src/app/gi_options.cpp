@@ -5,12 +5,19 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "render/scene_bridge.h"
 
 namespace bounce::app {
 
 void addGiOptions(CLI::App& command, GiOptions& options, bool warmup) {
   command.add_option("--gi", options.mode, "Global illumination: diffuse (the GI library's indirect diffuse) or off")
       ->check(CLI::IsMember({"diffuse", "off"}))
+      ->capture_default_str();
+  command
+      .add_option("--scene-bridge", options.sceneBridge,
+                  "How the GI sees beyond the screen: bvh (rays through the renderer's BVH, a radiance cache) or none "
+                  "(screen space only, what an engine that hands over a G-buffer alone gets)")
+      ->check(CLI::IsMember({"bvh", "none"}))
       ->capture_default_str();
   command
       .add_option("--gi-settings", options.settingsFile,
@@ -36,6 +43,10 @@ void addGiOptions(CLI::App& command, GiOptions& options, bool warmup) {
 }
 
 bool giEnabled(const GiOptions& options) { return options.mode == "diffuse"; }
+
+gi::SceneBridge giSceneBridge(const GiOptions& options) {
+  return options.sceneBridge == "bvh" ? render::bvhSceneBridge() : gi::SceneBridge{};
+}
 
 void warnIgnoredGiOptions(const GiOptions& options) {
   if (giEnabled(options)) return;

@@ -13,6 +13,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "bounce/gi.h"
+#include "gi/cache/radiance_cache.h"
 #include "gi/diffuse/diffuse_branch.h"
 #include "gi/engine_images.h"
 #include "gi/frame_constants.h"
@@ -20,6 +21,7 @@
 #include "gi/image_table.h"
 #include "gi/library_device.h"
 #include "gi/pass_log.h"
+#include "gi/scene_bridge.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
 #include "gpu/recorder.h"
@@ -71,9 +73,11 @@ struct GiContext::Impl {
   ContextDesc desc;
   Settings settings;
   std::unique_ptr<gpu::Context> context;
+  SceneBridgeBinding scene;
   gpu::MemoryArena arena;
   ImageSet frameImages;
   std::unique_ptr<gpu::Buffer> frameConstants;
+  RadianceCache cache;
   std::vector<std::unique_ptr<Branch>> branches;
   gpu::ComputePass storeHistory, compositor;
   EngineImages engine;
@@ -89,14 +93,23 @@ struct GiContext::Impl {
       : desc(d),
         settings(s),
         context(openLibraryContext(device)),
+        scene(*context, d.sceneBridge),
         arena(*context),
         frameImages(*context, arena, kFrameImages, {d.maxWidth, d.maxHeight}),
         frameConstants(std::make_unique<gpu::Buffer>(*context, "gi.frame_constants", sizeof(shared::GiFrameConstants),
                                                      gpu::BufferUsage::DeviceLocal, &arena)),
+        cache(*context, arena, {d.maxWidth, d.maxHeight}, settings, scene),
         storeHistory(*context, storeHistoryPass()),
         compositor(*context, compositePass()),
         engine(*context) {
-    branches.push_back(std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings));
+    const DiffuseSettings& diffuse = settings.diffuse;
+    // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
+    if (diffuse.enabled && scene.traces() && diffuse.screenCandidates + diffuse.brightCandidates +
+                                                     diffuse.rayCandidates == 0)
+      throw Error("gi: gi.diffuse.screen_candidates, bright_candidates and ray_candidates are all 0 with the scene "
+                  "bridge '" + scene.name() + "': every reservoir would stay empty");
+    branches.push_back(
+        std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings, scene, cache));
     for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
       logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps));
   }
@@ -144,6 +157,7 @@ struct GiContext::Impl {
   void record(VkCommandBuffer commandBuffer, const FrameInputs& frame) {
     if (commandBuffer == VK_NULL_HANDLE) throw Error("gi: record() needs a command buffer in the recording state");
     check(frame);
+    scene.take(frame);
     engine.take(frame, desc.inputState);
 
     const Extent size{frame.width, frame.height};
@@ -179,7 +193,10 @@ struct GiContext::Impl {
                            .previousSurface = frameImages.previous(kHistorySurface, f),
                            .marchDepth = frameImages.current(kMarchDepth, f),
                            .capturing = frame.captureStages};
+    const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
+    cache.recordBegin(state, glm::value_ptr(cameraPosition), diffuse().previousResult(f));
     for (const std::unique_ptr<Branch>& branch : branches) branch->record(state);
+    cache.recordEnd(state);
 
     gpu::Image& direct = engine[Input::Direct];
     const VkSampler nearest = context->nearestSampler();
@@ -210,7 +227,7 @@ struct GiContext::Impl {
   }
 
   std::vector<ImageSet*> imageSets() {
-    std::vector<ImageSet*> sets = {&frameImages};
+    std::vector<ImageSet*> sets = {&frameImages, &cache.images()};
     for (const std::unique_ptr<Branch>& branch : branches) sets.push_back(&branch->images());
     return sets;
   }

@@ -36,35 +36,47 @@ constexpr std::string_view kKeyPrefix = "gi.";
 template <typename T>
 struct Member {
   T DiffuseSettings::*diffuse = nullptr;
+  T CacheSettings::*cache = nullptr;
   T InputSettings::*input = nullptr;
   T Settings::*top = nullptr;
 
   T& of(Settings& settings) const {
-    return diffuse ? settings.diffuse.*diffuse : input ? settings.input.*input : settings.*top;
+    return diffuse ? settings.diffuse.*diffuse
+           : cache ? settings.cache.*cache
+           : input ? settings.input.*input
+                   : settings.*top;
   }
   const T& of(const Settings& settings) const {
-    return diffuse ? settings.diffuse.*diffuse : input ? settings.input.*input : settings.*top;
+    return diffuse ? settings.diffuse.*diffuse
+           : cache ? settings.cache.*cache
+           : input ? settings.input.*input
+                   : settings.*top;
   }
 };
 
 template <typename T>
 constexpr Member<T> inDiffuse(T DiffuseSettings::*member) {
-  return {member, nullptr, nullptr};
+  return {member, nullptr, nullptr, nullptr};
+}
+
+template <typename T>
+constexpr Member<T> inCache(T CacheSettings::*member) {
+  return {nullptr, member, nullptr, nullptr};
 }
 
 template <typename T>
 constexpr Member<T> inInput(T InputSettings::*member) {
-  return {nullptr, member, nullptr};
+  return {nullptr, nullptr, member, nullptr};
 }
 
 template <typename T>
 constexpr Member<T> inSettings(T Settings::*member) {
-  return {nullptr, nullptr, member};
+  return {nullptr, nullptr, nullptr, member};
 }
 
 // The alternative held also says the field's type, so type and member cannot disagree.
 using Field = std::variant<Member<bool>, Member<std::uint32_t>, Member<float>, Member<TargetFunction>,
-                           Member<MotionUnits>>;
+                           Member<MotionUnits>, Member<Visibility>>;
 
 // Numeric range; unused for bool and enum fields.
 struct Bounds {
@@ -108,6 +120,12 @@ constexpr std::array kEnumNames<TargetFunction>{
     EnumName<TargetFunction>{TargetFunction::ColorLength, "color-length"},
 };
 template <>
+constexpr std::array kEnumNames<Visibility>{
+    EnumName<Visibility>{Visibility::Screen, "screen"},
+    EnumName<Visibility>{Visibility::World, "world"},
+    EnumName<Visibility>{Visibility::Hybrid, "hybrid"},
+};
+template <>
 constexpr std::array kEnumNames<MotionUnits>{
     EnumName<MotionUnits>{MotionUnits::Pixels, "pixels"},
     EnumName<MotionUnits>{MotionUnits::Uv, "uv"},
@@ -124,7 +142,14 @@ constexpr std::array kEntries{
     Entry{"diffuse.bright_candidates", inDiffuse(&DiffuseSettings::brightCandidates), closed(0, 64),
           "initial candidates per pixel picked among the brightest pixels of the previous frame"},
     Entry{"diffuse.environment_candidates", inDiffuse(&DiffuseSettings::environmentCandidates), closed(0, 64),
-          "initial candidates per pixel from uniform hemisphere directions into the environment"},
+          "initial candidates per pixel from uniform hemisphere directions into the environment (without a scene "
+          "bridge; with one, ray candidates take their place)"},
+    Entry{"diffuse.ray_candidates", inDiffuse(&DiffuseSettings::rayCandidates), closed(0, 64),
+          "with a scene bridge: initial candidates per pixel from cosine-distributed rays, marched through the "
+          "depth buffer, then traced through the bridge where the screen cannot decide"},
+    Entry{"diffuse.ray_screen_steps", inDiffuse(&DiffuseSettings::rayScreenSteps), closed(0, 64),
+          "with a scene bridge: depth-buffer march steps of a ray candidate before it continues through the bridge "
+          "(0: straight to the bridge)"},
     Entry{"diffuse.bright_pixels", inDiffuse(&DiffuseSettings::brightPixels), closed(1, 4096),
           "the brightness reduction pyramid stops at about this many pixels to pick bright candidates from"},
     Entry{"diffuse.environment_mip", inDiffuse(&DiffuseSettings::environmentMip), closed(0, 16),
@@ -158,6 +183,12 @@ constexpr std::array kEntries{
           "resolve: neighbouring half-resolution reservoirs each full-resolution pixel evaluates"},
     Entry{"diffuse.visibility_steps", inDiffuse(&DiffuseSettings::visibilitySteps), closed(0, 256),
           "resolve: screen-space ray-march steps from the pixel to each sample (0: no visibility test)"},
+    Entry{"diffuse.visibility", inDiffuse(&DiffuseSettings::visibility), kNoBounds,
+          "resolve: how a sample's visibility is tested: screen (depth-buffer march), world (an any-hit ray through "
+          "the scene bridge) or hybrid (the march, and a world ray where it cannot decide); without a bridge, screen"},
+    Entry{"diffuse.reuse_visibility", inDiffuse(&DiffuseSettings::reuseVisibility), kNoBounds,
+          "temporal and spatial reuse test each reused sample's visibility with an any-hit ray through the scene "
+          "bridge (unbiased reuse; without a bridge, ignored)"},
     Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
           "resolve: surfaces are assumed this fraction of their viewZ thick"},
     Entry{"diffuse.offscreen_environment_visibility", inDiffuse(&DiffuseSettings::offscreenEnvironmentVisibility),
@@ -168,6 +199,20 @@ constexpr std::array kEntries{
           "temporal filter: history is clipped to mean +- gamma * sigma of the 3x3 neighbourhood"},
     Entry{"diffuse.temporal_filter_frames", inDiffuse(&DiffuseSettings::temporalFilterFrames), closed(1, 1024),
           "temporal filter: the longest history it accumulates, in frames"},
+    Entry{"cache.enabled", inCache(&CacheSettings::enabled), kNoBounds,
+          "the world-space radiance cache lights what world rays hit off screen (more bounces; needs a scene bridge)"},
+    Entry{"cache.memory_mib", inCache(&CacheSettings::memoryMib), closed(1, 128),
+          "radiance cache: device memory for its cells at most, in MiB"},
+    Entry{"cache.cell_size", inCache(&CacheSettings::cellSize), closed(0.0005, 0.5),
+          "radiance cache: a cell's edge as a fraction of its distance to the camera (rounded to a power of two)"},
+    Entry{"cache.update_rays", inCache(&CacheSettings::updateRays), closed(0, 1 << 21),
+          "radiance cache: rays per frame from the cells world hits used, at most"},
+    Entry{"cache.history_samples", inCache(&CacheSettings::historySamples), closed(1, 4096),
+          "radiance cache: a cell's value averages at most this many samples (fewer: follows light changes faster)"},
+    Entry{"cache.max_age", inCache(&CacheSettings::maxAge), closed(1, 1 << 20),
+          "radiance cache: cells nobody used for this many frames are evicted"},
+    Entry{"cache.inject_stride", inCache(&CacheSettings::injectStride), closed(1, 64),
+          "radiance cache: the screen fills cells from one pixel of every stride x stride block of the last frame"},
     Entry{"input.motion_units", inInput(&InputSettings::motionUnits), kNoBounds,
           "what the engine's motion vectors are in: pixels, or uv (fractions of the render size)"},
     Entry{"input.motion_scale_x", inInput(&InputSettings::motionScaleX), closed(-1e6, 1e6),

@@ -159,6 +159,16 @@ std::uint32_t PassDesc::pushConstantSize() const {
   return 0;
 }
 
+void declareUsed(PassDesc& desc, std::span<const ResourceDecl> optional, bool constantsInStorageBuffers) {
+  const ShaderReflection reflection =
+      reflectShader(findShader(desc.shaders, desc.shader, constantsInStorageBuffers), desc.shader);
+  for (const ResourceDecl& resource : optional) {
+    const bool used = std::any_of(reflection.bindings.begin(), reflection.bindings.end(),
+                                  [&](const ReflectedBinding& b) { return b.name == resource.name; });
+    if (used) desc.resources.push_back(resource);
+  }
+}
+
 ComputePass::ComputePass(Context& context, PassDesc desc) : context_(context), desc_(std::move(desc)) {
   std::span<const std::uint32_t> spirv = findShader(desc_.shaders, desc_.shader, context.constantsInStorageBuffers());
   reflection_ = reflectShader(spirv, desc_.shader);

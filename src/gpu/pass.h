@@ -62,6 +62,12 @@ struct PassDesc {
   std::uint32_t pushConstantSize() const;
 };
 
+// Resources a shared shader file declares but a given pass's shader may not
+// use (SPIR-V keeps no unused binding, and a declaration without a binding
+// is refused): appends to `desc` those of `optional` the shader has.
+// `constantsInStorageBuffers`: the variant whose bindings are looked at.
+void declareUsed(PassDesc& desc, std::span<const ResourceDecl> optional, bool constantsInStorageBuffers);
+
 class ComputePass {
  public:
   ComputePass(Context& context, PassDesc desc);

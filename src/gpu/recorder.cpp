@@ -139,6 +139,15 @@ void Recorder::writeTimestamp(bool begin, const std::string& passName) {
   if (!begin) timestamps_->passes.push_back(passName);
 }
 
+std::vector<Bind> bindsDeclaredBy(const ComputePass& pass, std::span<const Bind> binds) {
+  std::vector<Bind> declared;
+  for (const Bind& bind : binds)
+    if (std::any_of(pass.desc().resources.begin(), pass.desc().resources.end(),
+                    [&](const ResourceDecl& d) { return d.name == bind.name; }))
+      declared.push_back(bind);
+  return declared;
+}
+
 void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint32_t height, std::span<const Bind> binds,
                         const void* pushConstants, std::size_t pushConstantBytes) {
   dispatch(pass, width, height, std::span<const Bind>(), binds, pushConstants, pushConstantBytes);

@@ -54,6 +54,10 @@ struct Bind {
   std::uint32_t mipLevel = kAllMips;
 };
 
+// The binds of `binds` whose names `pass` declares (for shared lists, see
+// declareUsed in gpu/pass.h).
+std::vector<Bind> bindsDeclaredBy(const ComputePass& pass, std::span<const Bind> binds);
+
 // Where texels of one upload land: a rectangle of one mip level of one layer.
 struct ImageRegion {
   std::uint32_t mipLevel = 0;

@@ -111,7 +111,14 @@ Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsag
   context.nameObject(VK_OBJECT_TYPE_BUFFER, std::uint64_t(buffer_), name_);
 }
 
+Buffer::Buffer(Context& context, const ExternalBuffer& external)
+    : context_(context), name_(external.name), size_(external.size), buffer_(external.buffer), sync_(external.state),
+      owned_(false) {
+  if (!buffer_ || size_ == 0) throw GpuError("buffer '" + name_ + "': no buffer handle or size given");
+}
+
 Buffer::~Buffer() {
+  if (!owned_) return;
   VkDevice device = context_.device();
   vkDestroyBuffer(device, buffer_, nullptr);
   if (memory_) {

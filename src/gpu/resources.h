@@ -80,10 +80,20 @@ enum class BufferUsage {
   Readback,     // host-visible and cached, written by the GPU, read by the CPU
 };
 
+// Another's buffer (an engine's), used without owning it: in the state
+// `state` says, `size` bytes from its start.
+struct ExternalBuffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceSize size = 0;
+  std::string name;
+  SyncState state;
+};
+
 class Buffer {
  public:
   // Device-local buffers may come from an arena; host-visible ones get their own memory.
   Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsage usage, MemoryArena* arena = nullptr);
+  Buffer(Context& context, const ExternalBuffer& external);
   ~Buffer();
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
@@ -105,6 +115,7 @@ class Buffer {
   std::uint32_t memoryType_ = 0;
   void* mapped_ = nullptr;
   SyncState sync_;
+  bool owned_ = true;  // false: another's buffer (ExternalBuffer)
 };
 
 struct ImageDesc {

@@ -5,6 +5,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gpu/timing.h"
+#include "render/scene_bridge.h"
 
 namespace bounce::render {
 namespace {
@@ -91,7 +92,9 @@ gi::Camera giCamera(const scene::CameraPose& pose, std::uint32_t width, std::uin
 }
 
 GiBridge::GiBridge(gpu::Context& context, const gi::ContextDesc& desc, const gi::Settings& settings)
-    : context_(context), library_(std::make_unique<gi::GiContext>(giDevice(context), desc, settings)) {}
+    : context_(context),
+      library_(std::make_unique<gi::GiContext>(giDevice(context), desc, settings)),
+      tracesScene_(!desc.sceneBridge.shaders.empty()) {}
 
 GiBridge::~GiBridge() = default;
 
@@ -155,8 +158,14 @@ RendererInputs rendererInputs(FrameRenderer& renderer, std::uint64_t frameIndex,
 
 void GiBridge::record(gpu::Recorder& recorder, FrameRenderer& renderer, std::uint64_t frameIndex,
                       const FrameView& view, const FrameView& previous, const GiFrameOptions& options) {
-  const RendererInputs made = rendererInputs(renderer, frameIndex, view, previous, options);
+  RendererInputs made = rendererInputs(renderer, frameIndex, view, previous, options);
+  SceneResources scene;
+  if (tracesScene_) {
+    scene = bvhSceneResources(renderer, frameIndex);
+    made.inputs.sceneResources = scene.resources;
+  }
   record(recorder, made.inputs, made.images);
+  sceneBuffersRead(scene.buffers);
 }
 
 void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, std::span<gpu::Image* const> images) {

@@ -71,6 +71,8 @@ class GiBridge {
   // Records the library's frame into the recorder's command buffer, after
   // `renderer` recorded frame `frameIndex` with `view`; `previous` is the
   // view of the frame before (ignored on a cut or for the first frame).
+  // With the scene bridge "bvh" (render/scene_bridge.h) the renderer's
+  // scene goes along.
   void record(gpu::Recorder& recorder, FrameRenderer& renderer, std::uint64_t frameIndex, const FrameView& view,
               const FrameView& previous, const GiFrameOptions& options = {});
   // The same with inputs made by hand: `images` are the gpu::Images the
@@ -95,6 +97,7 @@ class GiBridge {
 
   gpu::Context& context_;
   std::unique_ptr<gi::GiContext> library_;
+  bool tracesScene_;  // made with bvhSceneBridge(): each frame hands it the renderer's scene
   struct Wrapper {
     std::unique_ptr<gpu::Image> image;
     gpu::SyncState handedOut;  // the state the library left it in

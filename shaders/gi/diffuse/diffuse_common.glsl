@@ -31,11 +31,20 @@ struct DiffuseConstants {
   float visibilityThickness;  // surfaces are this fraction of their viewZ thick
   float varianceClippingGamma;
   float temporalFilterFrames;  // the longest history the temporal filter accumulates
+  uint rayCandidates;          // cosine-distributed ray candidates (0 without a bridge that traces)
+  uint rayScreenSteps;         // depth-buffer march steps before a ray goes to the bridge
+  uint visibilityMode;         // gi::Visibility (Screen without a bridge that traces)
+  uint reuseVisibility;        // 1: reuse tests reused samples with world any-hit rays
 };
 
 #ifdef __cplusplus
 }  // namespace bounce::shared
 #else
+// gi::Visibility
+const uint kVisibilityScreen = 0u;
+const uint kVisibilityWorld = 1u;
+const uint kVisibilityHybrid = 2u;
+
 layout(set = 0, binding = 3, std140) CONSTANT_BLOCK DiffuseBlock { DiffuseConstants diffuse; } gIn_DiffuseConstants;
 #endif
 

@@ -8,7 +8,15 @@
 //   bright       random picks among the brightest pixels of that frame;
 //   environment  uniform directions of the hemisphere, radiance from the
 //                prefiltered environment at mip gi.diffuse.environment_mip.
-// Visibility is not tested here (gi.diffuse.resolve does it).
+//   ray          (with a scene bridge that traces, in place of environment
+//                candidates) cosine-distributed directions, marched through
+//                the depth buffer and continued through the bridge from the
+//                last point the screen vouched for; a hit on last frame's
+//                screen takes that pixel's radiance, one off it is shaded by
+//                the bridge and the radiance cache; a true miss sees the
+//                environment.
+// Visibility of screen and bright candidates is not tested here
+// (gi.diffuse.resolve does it); ray candidates are visible by construction.
 //
 // Weights are generalized RIS with pdfs per unit solid angle at the shaded
 // point x: a uniformly chosen pixel is a point y on last frame's surfaces
@@ -20,7 +28,10 @@
 // cannot be a bright candidate at all. Which pixels are listed is known
 // exactly: entry (i, j) of the last level holds the brightest pixel of the
 // tile (i, j) * 2^z. Environment candidates sample
-// directions to the sky, a domain of their own. Each candidate's weight is
+// directions to the sky, a domain of their own. Ray candidates sample
+// directions (pdf cos / pi); a point on last frame's screen can come from
+// either kind, so the screen techniques count rays and rays count the
+// screen techniques where they hit such a point. Each candidate's weight is
 // p-hat / (sum over techniques of count * pdf); the reservoir's W is then
 // weightSum / p-hat(chosen), with M = 1.
 #include "gi/gi_common.glsl"
@@ -38,6 +49,14 @@ layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_Brightest;
 layout(set = 0, binding = 7) uniform sampler2D gIn_Environment;
 layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
+layout(set = 0, binding = 10, r32f) readonly uniform image2D gIn_MarchDepth;
+
+#include "gi/screen_trace.glsl"
+#define CACHE_FIRST_BINDING 24
+#include "gi/cache/radiance_cache.glsl"
+#define SCENE_BRIDGE_FIRST_BINDING 32
+#include "gi/scene_bridge.glsl"
+#include "gi/world_rays.glsl"
 
 const float kMaxFootprintStretch = 5.0f;
 
@@ -86,6 +105,44 @@ float toSolidAngle(float areaPdf, vec3 pointPosition, vec3 pointNormal, vec3 x, 
   return cosine > 0.0f ? areaPdf * max(distance2, minimumDistance * minimumDistance) / cosine : 0.0f;
 }
 
+// The point techniques' share of a point's density at x: screen candidates,
+// and bright candidates where the pixel is on the list (`listed`).
+float pointTechniques(float screenPdf, bool listed) {
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  ivec2 brightSize = ivec2(d.brightLevelSize);
+  float brightPerScreen = fullSize().x * fullSize().y / float(brightSize.x * brightSize.y);
+  return float(d.screenCandidates) * screenPdf +
+         (listed ? float(d.brightCandidates) * screenPdf * brightPerScreen : 0.0f);
+}
+
+// Whether `source` is the pixel the bright list holds for its tile.
+bool listedBright(ivec2 source) {
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  if (d.brightCandidates == 0u) return false;
+  ivec2 brightSize = ivec2(d.brightLevelSize);
+  vec4 entry = imageLoad(gIn_Brightest, min(source >> int(d.brightLevel), brightSize - 1));
+  return entry.w > 0.0f && ivec2(entry.yz) == source;
+}
+
+// The pixel of last frame's screen that shows `position`, if one does (the
+// point a screen candidate could have picked); -1 otherwise.
+ivec2 previousPixelOf(vec3 position, vec3 normal) {
+  if (gIn_DiffuseConstants.diffuse.screenCandidates + gIn_DiffuseConstants.diffuse.brightCandidates == 0u)
+    return ivec2(-1);  // no last frame to read (or to have sampled from)
+  vec3 projected = projectToScreen(gIn_Frame.frame.previousView, position, fullSize());
+  ivec2 pixel = ivec2(floor(projected.xy));
+  if (projected.z <= 0.0f || !insideFull(pixel)) return ivec2(-1);
+  Surface shown = historySurfaceAt(pixel, imageLoad(gPrev_Surface, pixel).xy);
+  if (shown.viewZ <= 0.0f || abs(shown.viewZ - projected.z) > 0.02f * projected.z || dot(shown.normal, normal) < 0.5f)
+    return ivec2(-1);
+  return pixel;
+}
+
+// The density of ray candidates at direction `direction` from x, per unit solid angle.
+float rayTechnique(vec3 normal, vec3 direction) {
+  return float(gIn_DiffuseConstants.diffuse.rayCandidates) * max(dot(normal, direction), 0.0f) * kInvPi;
+}
+
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideHalf(halfPixel)) return;
@@ -102,13 +159,8 @@ void main() {
   uint rng = giSeed(uvec2(halfPixel), kSaltGather);
   DiffuseConstants d = gIn_DiffuseConstants.diffuse;
   uint target = d.targetFunction;
-  float screenCount = float(d.screenCandidates);
-  float brightCount = float(d.brightCandidates);
   float environmentCount = float(d.environmentCandidates);
   ivec2 brightSize = ivec2(d.brightLevelSize);
-  uint brightLevel = d.brightLevel;
-  // A bright entry is one of brightSize.x * brightSize.y; a screen pixel one of all of them.
-  float brightPerScreen = fullSize().x * fullSize().y / float(brightSize.x * brightSize.y);
   // Points closer than this are the shaded surface itself (or a pixel away).
   float minimumDistance = 1e-3f * x.viewZ;
   // Below this distance the inverse-square law is clamped (toSolidAngle).
@@ -136,14 +188,65 @@ void main() {
     float pHat = targetPdf(candidate, x.position, x.normal, target);
     float screenPdf = toSolidAngle(point.areaPdf, point.position, point.normal, x.position, nearField);
     if (pHat <= 0.0f || screenPdf <= 0.0f) continue;
-    // Balance heuristic between the two point techniques.
-    bool listed = bright;
-    if (!bright && brightCount > 0.0f) {
-      vec4 entry = imageLoad(gIn_Brightest, min(source >> int(brightLevel), brightSize - 1));
-      listed = entry.w > 0.0f && ivec2(entry.yz) == source;
-    }
-    float techniques = screenCount * screenPdf + (listed ? brightCount * screenPdf * brightPerScreen : 0.0f);
+    // Balance heuristic between the point techniques and the rays.
+    float techniques = pointTechniques(screenPdf, bright || listedBright(source)) +
+                       rayTechnique(x.normal, normalize(point.position - x.position));
     reservoirStream(r, point.position, point.normal, point.radiance, 0u, pHat / techniques, 0.0f, choice);
+  }
+
+  if (kSceneBridgeTraces) {
+    vec3 t, b;
+    buildOrthonormalBasis(x.normal, t, b);
+    vec3 origin = rayOrigin(x.position, x.normal, x.viewZ);
+    for (uint i = 0u; i < d.rayCandidates; ++i) {
+      vec3 local = sampleCosineHemisphere(vec2(rngUniform(rng), rngUniform(rng)));
+      float choice = rngUniform(rng);
+      float jitter = rngUniform(rng);
+      vec3 direction = normalize(t * local.x + b * local.y + x.normal * local.z);
+      float pdf = rayTechnique(x.normal, direction);
+      if (pdf <= 0.0f) continue;
+      // Screen space first: a surface it hits that last frame showed is read from there.
+      ScreenRay screen = screenRay(origin, direction, x.viewZ, d.rayScreenSteps, jitter, d.visibilityThickness);
+      ivec2 shown = ivec2(-1);
+      if (screen.hit) {
+        Surface y = gbufferSurface(screen.texel);
+        if (y.viewZ > 0.0f) shown = previousPixelOf(y.position, y.normal);
+      }
+      vec3 position, normal, radiance;
+      uint flags = 0u;
+      if (shown.x < 0) {
+        SceneHit hit = sceneTraceClosest(origin + direction * screen.vouched, direction, 3.0e38f);
+        if (!hit.hit) {
+          radiance = sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), d.environmentMip).xyz);
+          position = direction;
+          normal = x.normal;
+          flags = kReservoirEnvironment;
+        } else {
+          position = hit.position;
+          normal = hit.normal;
+          shown = previousPixelOf(hit.position, hit.normal);
+          radiance = shown.x >= 0 ? vec3(0.0f) : offscreenHitRadiance(hit, direction);
+        }
+      }
+      float techniques = pdf;
+      if (shown.x >= 0) {
+        ScreenPoint point = screenPoint(shown);
+        if (!point.valid) continue;
+        position = point.position;
+        normal = point.normal;
+        radiance = point.radiance;
+        techniques += pointTechniques(toSolidAngle(point.areaPdf, point.position, point.normal, x.position, nearField),
+                                      listedBright(shown));
+      }
+      Reservoir candidate = emptyReservoir();
+      candidate.position = position;
+      candidate.normal = normal;
+      candidate.radiance = radiance;
+      candidate.flags = flags | kReservoirHasSample;
+      float pHat = targetPdf(candidate, x.position, x.normal, target);
+      if (pHat <= 0.0f) continue;
+      reservoirStream(r, position, normal, radiance, flags, pHat / techniques, 0.0f, choice);
+    }
   }
 
   vec3 tangent, bitangent;

@@ -4,8 +4,10 @@
 // evaluates the samples of up to four neighbouring half-resolution
 // reservoirs at its own surface: radiance * cos / pi * W, times the
 // reconnection Jacobian from the reservoir's surface to this one, times the
-// sample's visibility by a short screen-space march (the deferred
-// visibility test of seed 001), and averages them. Reservoirs of another
+// sample's visibility (the deferred visibility test of seed 001) as
+// gi.diffuse.visibility says: a short screen-space march, an any-hit ray
+// through the scene bridge, or the march and a ray where it cannot decide;
+// and averages them. Reservoirs of another
 // surface (depth or normal too different) are left out. Demodulated: the
 // result is what a white Lambert surface would reflect.
 #include "gi/gi_common.glsl"
@@ -21,6 +23,9 @@ layout(set = 0, binding = 6, r32f) readonly uniform image2D gIn_MarchDepth;
 layout(set = 0, binding = 7, rgba16f) writeonly uniform image2D gOut_Diffuse;
 
 #include "gi/screen_trace.glsl"
+#define SCENE_BRIDGE_FIRST_BINDING 32
+#include "gi/scene_bridge.glsl"
+#include "gi/world_rays.glsl"
 
 // The reservoirs a pixel evaluates: where their surfaces are.
 struct Owner {
@@ -45,17 +50,33 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
   if (cosine <= 0.0f || targetPdf(r, x.position, x.normal, 0u) <= 0.0f) return vec3(0.0f);
   DiffuseConstants d = gIn_DiffuseConstants.diffuse;
   uint steps = d.visibilitySteps;
+  uint mode = d.visibilityMode;
+  bool world = kSceneBridgeTraces && mode == kVisibilityWorld;
+  bool hybrid = kSceneBridgeTraces && mode == kVisibilityHybrid;
   float scale = 1.0f;
   if (reservoirIsEnvironment(r)) {
-    if (steps > 0u)
-      scale = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, d.visibilityThickness,
-                                    d.offscreenEnvironmentVisibility);
+    // Screen space cannot prove the sky open (a sky pixel shows only that
+    // the camera's ray there is free): in hybrid mode it only finds what blocks.
+    float screen = steps > 0u && !world ? environmentVisibility(x.position, direction, x.viewZ, steps, jitter,
+                                                               d.visibilityThickness,
+                                                               hybrid ? kLeftScreen : d.offscreenEnvironmentVisibility,
+                                                               false)
+                                        : kLeftScreen;
+    if (hybrid && screen != kOccluded) screen = kLeftScreen;
+    if (steps > 0u || world || hybrid) scale = screen >= 0.0f ? screen : worldDirectionOpen(x.position, x.normal, x.viewZ,
+                                                                                   direction) ? 1.0f : 0.0f;
   } else {
     scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian, d.jacobian != 0u && !owner.exact);
     if (scale <= 0.0f) return vec3(0.0f);
-    // A sample beyond the screen's edge cannot be tested: counted visible.
-    if (steps > 0u && screenVisibility(x.position, r.position, steps, jitter, d.visibilityThickness) == kOccluded)
-      return vec3(0.0f);
+    float visible = world || (hybrid && steps == 0u) ? kLeftScreen
+                    : steps > 0u ? screenVisibility(x.position, r.position, steps, jitter, d.visibilityThickness, hybrid)
+                                 : kVisible;
+    // Screen-only: a sample beyond the screen's edge cannot be tested, and counts as visible.
+    if (visible == kLeftScreen)
+      visible = kSceneBridgeTraces && (world || hybrid) && !worldSegmentVisible(x.position, x.normal, x.viewZ, r.position)
+                    ? kOccluded
+                    : kVisible;
+    if (visible == kOccluded) return vec3(0.0f);
   }
   return r.radiance * (cosine * kInvPi * r.W * scale);
 }

@@ -65,23 +65,26 @@ std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels)
 struct DiffuseBranch::Passes {
   gpu::ComputePass brightPixels, brightReduce, gather, temporalReuse, spatialReuse, resolve, temporalFilter;
   std::vector<std::unique_ptr<gpu::ComputePass>> reservoirViews;  // made on the first captured frame
-  explicit Passes(gpu::Context& context)
+  Passes(gpu::Context& context, const SceneBridgeBinding& scene)
       : brightPixels(context, brightPixelsPass()),
         brightReduce(context, brightPixelsReducePass()),
-        gather(context, gatherPass()),
-        temporalReuse(context, temporalReusePass()),
-        spatialReuse(context, spatialReusePass()),
-        resolve(context, resolvePass()),
+        gather(context, scene.adapt(gatherPass(), gatherRayResources())),
+        temporalReuse(context, scene.adapt(temporalReusePass())),
+        spatialReuse(context, scene.adapt(spatialReusePass())),
+        resolve(context, scene.adapt(resolvePass())),
         temporalFilter(context, temporalFilterPass()) {}
 };
 
-DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings)
+DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
+                             const SceneBridgeBinding& scene, const RadianceCache& cache)
     : context_(context),
+      scene_(scene),
+      cache_(cache),
       settings_(settings),
       images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels)),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.diffuse.constants", sizeof(shared::DiffuseConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
-      passes_(std::make_unique<Passes>(context)) {}
+      passes_(std::make_unique<Passes>(context, scene)) {}
 
 DiffuseBranch::~DiffuseBranch() = default;
 
@@ -129,7 +132,6 @@ void DiffuseBranch::record(const FrameState& frame) {
   // Without last frame's composite there is nothing on screen to gather from.
   c.screenCandidates = frame.hasHistory ? d.screenCandidates : 0u;
   c.brightCandidates = frame.hasHistory ? d.brightCandidates : 0u;
-  c.environmentCandidates = d.environmentCandidates;
   c.targetFunction = std::uint32_t(d.target);
   c.resolveReservoirs = d.resolveReservoirs;
   c.visibilitySteps = d.visibilitySteps;
@@ -144,6 +146,12 @@ void DiffuseBranch::record(const FrameState& frame) {
   c.visibilityThickness = d.visibilityThickness;
   c.varianceClippingGamma = d.varianceClippingGamma;
   c.temporalFilterFrames = float(d.temporalFilterFrames);
+  const bool traces = scene_.traces();
+  c.rayCandidates = traces ? d.rayCandidates : 0u;
+  c.environmentCandidates = traces ? 0u : d.environmentCandidates;
+  c.rayScreenSteps = d.rayScreenSteps;
+  c.visibilityMode = traces ? std::uint32_t(d.visibility) : std::uint32_t(Visibility::Screen);
+  c.reuseVisibility = traces && d.reuseVisibility ? 1u : 0u;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
 
@@ -166,14 +174,18 @@ void DiffuseBranch::record(const FrameState& frame) {
 
   gpu::Image& gathered0 = images_.current(kGathered0, f);
   gpu::Image& gathered1 = images_.current(kGathered1, f);
-  recorder.dispatch(passes_->gather, half.width, half.height, frame.group.binds(),
-                    {constants,
+  std::vector<gpu::Bind> gatherBinds = scene_.binds(passes_->gather, {constants,
                      {"gPrev_Composite", frame.previousComposite},
                      {"gPrev_Surface", frame.previousSurface},
                      {"gIn_Brightest", images_.level(kBrightLevels, levels)},
                      {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
+                     {"gIn_MarchDepth", frame.marchDepth},
                      {"gOut_Reservoir0", gathered0},
                      {"gOut_Reservoir1", gathered1}});
+  const std::vector<gpu::Bind> cache = cache_.binds();
+  gatherBinds.insert(gatherBinds.end(), cache.begin(), cache.end());
+  recorder.dispatch(passes_->gather, half.width, half.height, frame.group.binds(),
+                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->gather, gatherBinds)));
   if (frame.capturing) viewReservoirs(frame, 0, gathered0, gathered1);
 
   gpu::Image* final0 = &gathered0;
@@ -182,11 +194,11 @@ void DiffuseBranch::record(const FrameState& frame) {
 
   gpu::Image& resolved = images_.current(kResolved, f);
   recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
-                    {constants,
-                     {"gIn_Reservoir0", *final0},
-                     {"gIn_Reservoir1", *final1},
-                     {"gIn_MarchDepth", frame.marchDepth},
-                     {"gOut_Diffuse", resolved}});
+                    std::span<const gpu::Bind>(scene_.binds(passes_->resolve, {constants,
+                                                    {"gIn_Reservoir0", *final0},
+                                                    {"gIn_Reservoir1", *final1},
+                                                    {"gIn_MarchDepth", frame.marchDepth},
+                                                    {"gOut_Diffuse", resolved}})));
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
                     {constants,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
@@ -213,7 +225,7 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
   gpu::Image& spatialOut0 = feedback ? images_.current(kReservoirs0, f) : images_.current(kTransient0, f);
   gpu::Image& spatialOut1 = feedback ? images_.current(kReservoirs1, f) : images_.current(kTransient1, f);
   recorder.dispatch(passes_->temporalReuse, half.width, half.height, frame.group.binds(),
-                    {constants,
+                    std::span<const gpu::Bind>(scene_.binds(passes_->temporalReuse, {constants,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
                      {"gPrev_Surface", frame.previousSurface},
                      {"gIn_Reservoir0", *final0},
@@ -221,17 +233,17 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
                      {"gPrev_Reservoir0", images_.previous(kReservoirs0, f)},
                      {"gPrev_Reservoir1", images_.previous(kReservoirs1, f)},
                      {"gOut_Reservoir0", temporalOut0},
-                     {"gOut_Reservoir1", temporalOut1}});
+                     {"gOut_Reservoir1", temporalOut1}})));
   if (frame.capturing) viewReservoirs(frame, 1, temporalOut0, temporalOut1);
   const auto spatialPass = [&](gpu::Image& in0, gpu::Image& in1, gpu::Image& out0, gpu::Image& out1,
                                const SpatialReuseParams& params) {
-    recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),
-                      {constants,
-                       {"gIn_Reservoir0", in0},
-                       {"gIn_Reservoir1", in1},
-                       {"gOut_Reservoir0", out0},
-                       {"gOut_Reservoir1", out1}},
-                      params);
+    const std::vector<gpu::Bind> binds = scene_.binds(passes_->spatialReuse, {constants,
+                                                                              {"gIn_Reservoir0", in0},
+                                                                              {"gIn_Reservoir1", in1},
+                                                                              {"gOut_Reservoir0", out0},
+                                                                              {"gOut_Reservoir1", out1}});
+    recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(), std::span<const gpu::Bind>(binds), &params,
+                      sizeof params);
   };
   gpu::Image& spatial0 = images_.current(kSpatial0, f);
   gpu::Image& spatial1 = images_.current(kSpatial1, f);

@@ -15,6 +15,8 @@
 
 #include "bounce/gi_settings.h"
 #include "gi/branch.h"
+#include "gi/cache/radiance_cache.h"
+#include "gi/scene_bridge.h"
 
 namespace bounce::gi {
 
@@ -45,13 +47,17 @@ std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels)
 
 class DiffuseBranch final : public Branch {
  public:
-  DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings);
+  // `scene`: the bridge the gather, reuse and resolve trace through (it outlives the branch).
+  DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
+                const SceneBridgeBinding& scene, const RadianceCache& cache);
   ~DiffuseBranch() override;
 
   std::string_view name() const override { return "diffuse"; }
   ImageSet& images() override { return images_; }
   void record(const FrameState& frame) override;
   gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kFiltered, frameIndex); }
+  // Last frame's result (what the radiance cache is filled from).
+  gpu::Image& previousResult(std::uint64_t frameIndex) { return images_.previous(kFiltered, frameIndex); }
   std::vector<gpu::PassDesc> passes() const override;
 
  private:
@@ -60,6 +66,8 @@ class DiffuseBranch final : public Branch {
   void viewReservoirs(const FrameState& frame, std::size_t after, gpu::Image& first, gpu::Image& second);
 
   gpu::Context& context_;
+  const SceneBridgeBinding& scene_;
+  const RadianceCache& cache_;
   Settings settings_;
   ImageSet images_;
   std::unique_ptr<gpu::Buffer> constants_;

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "gi/cache/radiance_cache.h"
 #include "gi/frame_constants.h"
 #include "gi/gi_shaders.h"
 #include "gpu/constants_layout.h"
@@ -27,7 +28,8 @@ gpu::ConstantsDecl diffuseConstantsLayout() {
                                  resolveReservoirs, visibilitySteps, jacobian, temporalMaxM, temporalDepthTolerance,
                                  temporalCosNormalTolerance, environmentMip, spatialCosNormalTolerance,
                                  spatialPlaneTolerance, offscreenEnvironmentVisibility, visibilityThickness,
-                                 varianceClippingGamma, temporalFilterFrames);
+                                 varianceClippingGamma, temporalFilterFrames, rayCandidates, rayScreenSteps,
+                                 visibilityMode, reuseVisibility);
 }
 ResourceDecl previousSurface() {
   return {"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"};
@@ -81,13 +83,22 @@ gpu::PassDesc brightPixelsReducePass() {
 }
 
 gpu::PassDesc gatherPass() {
-  return pass("gi.diffuse.gather", "gi/diffuse/gather", GroupPart::Surfaces,
-              join({{"gPrev_Composite", Access::Read, kRgba16f, "radiance of screen candidates"},
-                    previousSurface(),
-                    {"gIn_Brightest", Access::Read, kRgba32f, "the bright-pixel pyramid's last level"},
-                    {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED, "prefiltered sky for environment candidates",
-                     ResourceKind::SampledImage}},
-                   reservoirs("gOut", Access::Write, "fresh reservoirs")));
+  gpu::PassDesc desc =
+      pass("gi.diffuse.gather", "gi/diffuse/gather", GroupPart::Surfaces,
+           join({{"gPrev_Composite", Access::Read, kRgba16f, "radiance of screen candidates"},
+                 previousSurface(),
+                 {"gIn_Brightest", Access::Read, kRgba32f, "the bright-pixel pyramid's last level"},
+                 {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED,
+                  "prefiltered sky for environment candidates and rays that miss", ResourceKind::SampledImage}},
+                reservoirs("gOut", Access::Write, "fresh reservoirs")));
+  desc.constants.push_back(cacheConstantsLayout());
+  return desc;
+}
+
+std::vector<gpu::ResourceDecl> gatherRayResources() {
+  std::vector<ResourceDecl> resources = {{"gIn_MarchDepth", Access::Read, kR32f, "the depth ray candidates march through"}};
+  for (const ResourceDecl& d : cacheResources()) resources.push_back(d);
+  return resources;
 }
 
 gpu::PassDesc temporalReusePass() {

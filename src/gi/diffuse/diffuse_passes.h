@@ -17,6 +17,10 @@ namespace bounce::gi {
 gpu::PassDesc brightPixelsPass();
 gpu::PassDesc brightPixelsReducePass();
 gpu::PassDesc gatherPass();
+// What the gather's ray candidates add when a scene bridge traces: the
+// march depth and the radiance cache (SceneBridgeBinding::adapt declares
+// those the shader uses).
+std::vector<gpu::ResourceDecl> gatherRayResources();
 gpu::PassDesc temporalReusePass();
 gpu::PassDesc spatialReusePass();
 gpu::PassDesc resolvePass();

@@ -1,0 +1,36 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.cache.inject: the radiance cache filled for free from what the screen
+// already knows. One pixel of every stride x stride block of the last frame
+// (a different one each frame) adds its filtered indirect diffuse
+// (demodulated: exactly the cells' quantity) to the cell of its surface.
+// Cells filled here are marked used this frame without being listed for an
+// update ray: the screen keeps them current.
+#include "gi/gi_common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#define CACHE_FIRST_BINDING 4
+#include "gi/cache/radiance_cache.glsl"
+layout(set = 0, binding = 11, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 12, rgba16f) readonly uniform image2D gPrev_Diffuse;
+
+const uint kSaltCacheInject = 0x696eu;
+
+void main() {
+  CacheConstants c = gIn_CacheConstants.cache;
+  if (c.enabled == 0u || !historyUsable()) return;
+  uint stride = c.injectStride;
+  uint rng = giSeed(uvec2(gl_GlobalInvocationID.xy), kSaltCacheInject);
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy * stride) +
+                ivec2(min(uvec2(rngUniform(rng) * float(stride), rngUniform(rng) * float(stride)), uvec2(stride - 1u)));
+  if (!insideFull(pixel)) return;
+  Surface y = historySurfaceAt(pixel, imageLoad(gPrev_Surface, pixel).xy);
+  if (y.viewZ <= 0.0f) return;
+  vec4 diffuse = imageLoad(gPrev_Diffuse, pixel);
+  if (diffuse.w < 1.0f) return;  // no history behind it yet: too noisy to keep
+  uint slot = cacheFindOrMake(cacheKey(y.position, y.normal), y.position, y.normal);
+  if (slot == kCacheNoCell) return;
+  atomicExchange(gCache_Touched.items[slot], c.frame);
+  cacheAddSample(slot, diffuse.xyz);
+}

@@ -1,0 +1,45 @@
+// Rays beyond the screen through the scene bridge, as the diffuse branch
+// casts them: where they start, visibility of a sample from a surface, and
+// the radiance a world hit sends back. The including shader includes
+// gi/gi_common.glsl and gi/scene_bridge.glsl first and, when it binds the
+// radiance cache, gi/cache/radiance_cache.glsl (RADIANCE_CACHE defined);
+// every function is only called where kSceneBridgeTraces holds.
+#ifndef BOUNCE_GI_WORLD_RAYS_GLSL
+#define BOUNCE_GI_WORLD_RAYS_GLSL
+
+// How far a ray starts off its surface: grows with distance from the
+// camera and from the origin, so float precision keeps up (the renderer's
+// offsetOrigin rule; the library has no geometric normal, so along the
+// shading normal).
+float rayOffset(vec3 position, float viewZ) { return 2e-4f * max(1.0f, viewZ) + 1e-4f * length(position); }
+vec3 rayOrigin(vec3 position, vec3 normal, float viewZ) { return position + normal * rayOffset(position, viewZ); }
+
+// Whether nothing lies between the surface at `from` and the point `to` on
+// another surface (the ray stops short of it by its own offset).
+bool worldSegmentVisible(vec3 from, vec3 normal, float viewZ, vec3 to) {
+  vec3 origin = rayOrigin(from, normal, viewZ);
+  vec3 d = to - origin;
+  float length2 = dot(d, d);
+  if (!(length2 > 0.0f)) return true;
+  float len = sqrt(length2);
+  float end = len * (1.0f - 1e-3f) - 2.0f * rayOffset(to, viewZ);
+  return end <= 0.0f || !sceneTraceAny(origin, d / len, end);
+}
+
+// Whether the environment is reached from `from` along `direction`.
+bool worldDirectionOpen(vec3 from, vec3 normal, float viewZ, vec3 direction) {
+  return !sceneTraceAny(rayOrigin(from, normal, viewZ), direction, 3.0e38f);
+}
+
+// The radiance a world hit sends back along the ray, off screen: its
+// emission, the direct light the bridge computes, and the light arriving
+// by more bounces from the radiance cache (none without it).
+vec3 offscreenHitRadiance(SceneHit hit, vec3 direction) {
+  vec3 radiance = hit.emission + sceneDirectRadiance(hit, -direction);
+#ifdef RADIANCE_CACHE
+  radiance += hit.diffuseAlbedo * cacheQuery(hit.position, hit.normal);
+#endif
+  return sanitizeRadiance(radiance);
+}
+
+#endif

@@ -1,0 +1,197 @@
+#include "gi/cache/radiance_cache.h"
+
+#include <bit>
+
+#include <glm/glm.hpp>
+
+#include "gi/cache/cache_types.glsl"
+#include "gi/frame_constants.h"
+#include "gi/gi_shaders.h"
+#include "gpu/constants_layout.h"
+#include "gpu/format.h"
+#include "gpu/recorder.h"
+
+namespace bounce::gi {
+namespace {
+
+using gpu::Access;
+using gpu::ResourceDecl;
+using gpu::ResourceKind;
+using namespace gpu::formats;
+
+enum CacheImage : std::size_t { kCacheRadianceView, kCacheCellsView, kCacheImageCount };
+
+constexpr ImageSpec kImages[] = {
+    {"gi.cache.radiance", Resolution::Full, kRgba16f, false, gpu::Visualize::Radiance,
+     "each pixel's radiance-cache cell value: what a world ray hitting there is lit with (captured frames only)",
+     true},
+    {"gi.cache.cells", Resolution::Full, kRgba8, false, gpu::Visualize::Color,
+     "each cache cell in a colour of its own; the top bar: share of the slots in use (captured frames only)", true},
+};
+static_assert(std::size(kImages) == kCacheImageCount, "one table entry per CacheImage");
+
+ResourceDecl buffer(const char* name, Access access, const char* purpose) {
+  return {name, access, VK_FORMAT_UNDEFINED, purpose, ResourceKind::StorageBuffer};
+}
+
+// A cache pass: the frame constants (binding 0), its own resources, and the
+// cache (from binding 4) as far as the shader uses it (declareUsed; the update
+// pass's through the bridge's adapt()).
+gpu::PassDesc cachePass(const char* name, const char* shader, GroupPart group, std::vector<ResourceDecl> own,
+                        bool declareCache = true) {
+  std::vector<ResourceDecl> resources = frameGroupDecls(group);
+  resources.insert(resources.end(), own.begin(), own.end());
+  gpu::PassDesc desc{.name = name,
+                     .shader = shader,
+                     .shaders = shaders(),
+                     .resources = std::move(resources),
+                     .constants = {frameConstantsLayout(), cacheConstantsLayout()}};
+  if (declareCache) gpu::declareUsed(desc, cacheResources(), false);
+  return desc;
+}
+
+gpu::PassDesc injectPass() {
+  return cachePass("gi.cache.inject", "gi/cache/inject", GroupPart::Constants,
+                   {{"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"},
+                    {"gPrev_Diffuse", Access::Read, kRgba16f, "last frame's filtered indirect diffuse"}});
+}
+
+gpu::PassDesc updatePass(bool declareCache = true) {
+  return cachePass("gi.cache.update", "gi/cache/update", GroupPart::Constants,
+                   {{"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED, "what update rays that miss see",
+                     ResourceKind::SampledImage}},
+                   declareCache);
+}
+
+gpu::PassDesc resolvePass() {
+  gpu::PassDesc desc{.name = "gi.cache.resolve",
+                     .shader = "gi/cache/resolve",
+                     .shaders = shaders(),
+                     .constants = {cacheConstantsLayout()}};
+  gpu::declareUsed(desc, cacheResources(), false);
+  return desc;
+}
+
+gpu::PassDesc viewPass() {
+  return cachePass("gi.cache.view", "gi/cache/view", GroupPart::Surfaces,
+                   {{"gOut_CacheRadiance", Access::Write, kRgba16f, "each pixel's cell value"},
+                    {"gOut_CacheCells", Access::Write, kRgba8, "each cell a colour; occupancy bar on top"}});
+}
+
+}  // namespace
+
+std::uint32_t cacheCapacity(std::uint32_t memoryMib) {
+  const std::uint64_t cells = (std::uint64_t(memoryMib) << 20) / kCacheBytesPerCell;
+  return std::uint32_t(std::bit_floor(std::max<std::uint64_t>(cells, 1)));
+}
+
+std::vector<gpu::ResourceDecl> cacheResources() {
+  return {{"gIn_CacheConstants", Access::Read, VK_FORMAT_UNDEFINED, "the radiance cache's settings this frame",
+           ResourceKind::UniformBuffer},
+          buffer("gCache_Keys", Access::ReadWrite, "radiance cache: each slot's key checksum (0: empty)"),
+          buffer("gCache_Cells", Access::ReadWrite, "radiance cache: where each cell was made"),
+          buffer("gCache_Accumulators", Access::ReadWrite, "radiance cache: this frame's samples per cell"),
+          buffer("gCache_Radiance", Access::ReadWrite, "radiance cache: each cell's value"),
+          buffer("gCache_Touched", Access::ReadWrite, "radiance cache: the last frame each cell was used"),
+          buffer("gCache_Updates", Access::ReadWrite, "radiance cache: cells to update this frame, live cells")};
+}
+
+gpu::ConstantsDecl cacheConstantsLayout() {
+  return BOUNCE_CONSTANTS_LAYOUT("gIn_CacheConstants", shared::CacheConstants, cameraPosition, capacity, enabled,
+                                 frame, updateBudget, cellSize, historyFrames, maxAge, injectStride, environmentMip);
+}
+
+struct RadianceCache::Passes {
+  gpu::ComputePass inject, resolve;
+  std::unique_ptr<gpu::ComputePass> update;  // with a bridge that traces only
+  std::unique_ptr<gpu::ComputePass> view;    // made on the first captured frame
+  Passes(gpu::Context& context, const SceneBridgeBinding& scene)
+      : inject(context, injectPass()), resolve(context, resolvePass()) {
+    if (scene.traces())
+      update = std::make_unique<gpu::ComputePass>(context, scene.adapt(updatePass(false), cacheResources()));
+  }
+};
+
+RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
+                             const SceneBridgeBinding& scene)
+    : context_(context),
+      scene_(scene),
+      settings_(settings.cache),
+      capacity_(cacheCapacity(settings.cache.memoryMib)),
+      images_(context, arena, kImages, maxSize) {
+  const auto make = [&](const char* name, std::uint64_t bytes) {
+    return std::make_unique<gpu::Buffer>(context, name, bytes, gpu::BufferUsage::DeviceLocal, &arena);
+  };
+  constants_ = make("gi.cache.constants", sizeof(shared::CacheConstants));
+  keys_ = make("gi.cache.keys", std::uint64_t(capacity_) * 4);
+  cells_ = make("gi.cache.cells", std::uint64_t(capacity_) * 16);
+  accumulators_ = make("gi.cache.accumulators", std::uint64_t(capacity_) * 16);
+  radiance_ = make("gi.cache.radiance", std::uint64_t(capacity_) * 16);
+  touched_ = make("gi.cache.touched", std::uint64_t(capacity_) * 4);
+  updates_ = make("gi.cache.updates", (2 + std::uint64_t(settings_.updateRays)) * 4);
+  passes_ = std::make_unique<Passes>(context, scene);
+}
+
+RadianceCache::~RadianceCache() = default;
+
+std::vector<gpu::Bind> RadianceCache::binds() const {
+  return {{"gIn_CacheConstants", *constants_}, {"gCache_Keys", *keys_},       {"gCache_Cells", *cells_},
+          {"gCache_Accumulators", *accumulators_}, {"gCache_Radiance", *radiance_}, {"gCache_Touched", *touched_},
+          {"gCache_Updates", *updates_}};
+}
+
+std::vector<gpu::PassDesc> RadianceCache::passes() const { return {injectPass(), updatePass(), resolvePass(), viewPass()}; }
+
+void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosition[3], gpu::Image& previousDiffuse) {
+  gpu::Recorder& recorder = frame.recorder;
+  if (frame_ == 0)
+    for (gpu::Buffer* b : {keys_.get(), cells_.get(), accumulators_.get(), radiance_.get(), touched_.get(),
+                           updates_.get()})
+      recorder.fillBuffer(*b, 0u);
+  ++frame_;
+  shared::CacheConstants c{};
+  c.cameraPosition = glm::vec4(cameraPosition[0], cameraPosition[1], cameraPosition[2], 1.0f);
+  c.capacity = capacity_;
+  c.enabled = settings_.enabled && scene_.traces() ? 1u : 0u;
+  c.frame = frame_;
+  c.updateBudget = settings_.updateRays;
+  c.cellSize = settings_.cellSize;
+  c.historyFrames = float(settings_.historySamples);
+  c.maxAge = settings_.maxAge;
+  c.injectStride = settings_.injectStride;
+  c.environmentMip = 1.0f;
+  recorder.updateBuffer(*constants_, &c, sizeof c);
+  if (!c.enabled || !frame.usableHistory) return;
+  const std::uint32_t stride = settings_.injectStride;
+  std::vector<gpu::Bind> binds = this->binds();
+  binds.insert(binds.end(), {{"gPrev_Surface", frame.previousSurface}, {"gPrev_Diffuse", previousDiffuse}});
+  recorder.dispatch(passes_->inject, (frame.renderSize.width + stride - 1) / stride,
+                    (frame.renderSize.height + stride - 1) / stride, frame.group.binds(GroupPart::Constants),
+                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->inject, binds)));
+}
+
+void RadianceCache::recordEnd(const FrameState& frame) {
+  if (!settings_.enabled || !scene_.traces()) return;
+  gpu::Recorder& recorder = frame.recorder;
+  std::vector<gpu::Bind> binds = this->binds();
+  binds.push_back({"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler});
+  const std::vector<gpu::Bind> bridged = scene_.binds(*passes_->update, {});
+  binds.insert(binds.end(), bridged.begin(), bridged.end());
+  recorder.dispatch(*passes_->update, std::max(settings_.updateRays, 1u), 1, frame.group.binds(GroupPart::Constants),
+                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->update, binds)));
+  recorder.dispatch(passes_->resolve, capacity_, 1,
+                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->resolve, this->binds())));
+  if (frame.capturing) {
+    if (!passes_->view) {
+      passes_->view = std::make_unique<gpu::ComputePass>(context_, viewPass());
+      images_.makeDebugImages();
+    }
+    std::vector<gpu::Bind> viewBinds = this->binds();
+    viewBinds.insert(viewBinds.end(), {{"gOut_CacheRadiance", images_.current(kCacheRadianceView, frame.frameIndex)},
+                                       {"gOut_CacheCells", images_.current(kCacheCellsView, frame.frameIndex)}});
+    recorder.dispatch(*passes_->view, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+                      std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->view, viewBinds)));
+  }
+}
+
+}  // namespace bounce::gi

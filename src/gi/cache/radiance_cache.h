@@ -1,0 +1,65 @@
+// The world-space radiance cache (shaders/gi/cache/radiance_cache.glsl;
+// docs/gi.md, "The radiance cache"): a hash grid in device buffers, shared
+// by the branches whose world rays it lights. Its passes, in frame order:
+//   gi.cache.inject    the last frame's filtered indirect diffuse into the cells of its surfaces
+//   (the branches query it: gi.diffuse.gather's world hits)
+//   gi.cache.update    a ray from every cell queried this frame (up to a budget)
+//   gi.cache.resolve   samples into values, eviction of cells unused for max_age frames
+//   gi.cache.view      captured frames: each pixel's cell value and cell layout, occupancy
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bounce/gi_settings.h"
+#include "gi/branch.h"
+#include "gi/image_table.h"
+#include "gi/scene_bridge.h"
+#include "gpu/pass.h"
+#include "gpu/resources.h"
+
+namespace bounce::gi {
+
+// Bytes a cell takes in the cache's buffers (key, cell, accumulator, value, last use).
+constexpr std::uint64_t kCacheBytesPerCell = 4 + 16 + 16 + 16 + 4;
+// Cells the cache holds within `memoryMib`: the largest power of two that fits.
+std::uint32_t cacheCapacity(std::uint32_t memoryMib);
+
+// The declarations a pass that queries the cache adds (it includes
+// gi/cache/radiance_cache.glsl), and the layout of gIn_CacheConstants.
+std::vector<gpu::ResourceDecl> cacheResources();
+gpu::ConstantsDecl cacheConstantsLayout();
+
+class RadianceCache {
+ public:
+  RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
+                const SceneBridgeBinding& scene);
+  ~RadianceCache();
+
+  std::uint32_t capacity() const { return capacity_; }
+  ImageSet& images() { return images_; }
+
+  // Before the branches: clears the cache on the first frame, sets this
+  // frame's constants, fills cells from `previousDiffuse` (last frame's
+  // filtered indirect diffuse).
+  void recordBegin(const FrameState& frame, const float cameraPosition[3], gpu::Image& previousDiffuse);
+  // After the branches' queries: update rays, resolve, and the view on captured frames.
+  void recordEnd(const FrameState& frame);
+  // The binds of cacheResources() for a pass that queries the cache.
+  std::vector<gpu::Bind> binds() const;
+  std::vector<gpu::PassDesc> passes() const;
+
+ private:
+  struct Passes;
+  gpu::Context& context_;
+  const SceneBridgeBinding& scene_;
+  CacheSettings settings_;
+  std::uint32_t capacity_;
+  ImageSet images_;
+  std::unique_ptr<gpu::Buffer> constants_, keys_, cells_, accumulators_, radiance_, touched_, updates_;
+  std::unique_ptr<Passes> passes_;
+  std::uint32_t frame_ = 0;  // frames since the cache was cleared
+};
+
+}  // namespace bounce::gi
