@@ -15,6 +15,7 @@
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
+#include "gi/diffuse/reuse_visibility.glsl"
 #include "shared/reservoir.glsl"
 #include "shared/sampling.glsl"
 
@@ -75,7 +76,8 @@ void main() {
       if (dot(neighbour.normal, x.normal) < d.spatialCosNormalTolerance) continue;
       if (abs(dot(x.normal, neighbour.position - x.position)) > d.spatialPlaneTolerance * viewZ) continue;
       Reservoir candidate = unpackReservoir(imageLoad(gIn_Reservoir0, neighbourHalf), imageLoad(gIn_Reservoir1, neighbourHalf));
-      float scale = reuseJacobian(candidate, neighbour.position, x.position, kMaxSpatialJacobian, jacobian);
+      float scale = reuseJacobian(candidate, neighbour.position, x.position, kMaxSpatialJacobian, jacobian) *
+                    reuseVisibility(candidate, x);
       reservoirStream(merged, candidate.position, candidate.normal, candidate.radiance, candidate.flags,
                       targetPdf(candidate, x.position, x.normal, target) * candidate.W * candidate.M * scale,
                       candidate.M, choice);
@@ -86,9 +88,11 @@ void main() {
     }
     // Own M always counts: the chosen sample has p-hat > 0 here.
     float confidence = own.M;
+    // With unbiased reuse, a neighbour counts only if it could have seen the chosen sample.
     for (uint i = 0u; i < neighbours; ++i)
       if (canHandOver(merged, neighbourPositions[i], neighbourNormals[i], x.position, kMaxSpatialJacobian, jacobian,
-                      target))
+                      target) &&
+          reuseVisibility(merged, Surface(neighbourPositions[i], neighbourNormals[i], viewZ)) > 0.0f)
         confidence += neighbourM[i];
     reservoirFinalize(merged, targetPdf(merged, x.position, x.normal, target), confidence);
     // The confidence handed on (to the next pass and the next frame) is every

@@ -11,6 +11,7 @@
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
+#include "gi/diffuse/reuse_visibility.glsl"
 #include "shared/reservoir.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -54,8 +55,9 @@ void main() {
         reservoirStream(merged, fresh.position, fresh.normal, fresh.radiance, fresh.flags,
                         targetPdf(fresh, x.position, x.normal, target) * fresh.W * fresh.M, fresh.M, rngUniform(rng));
         reservoirStream(merged, history.position, history.normal, history.radiance, history.flags,
-                        targetPdf(history, x.position, x.normal, target) * history.W * history.M, history.M,
-                        rngUniform(rng));
+                        targetPdf(history, x.position, x.normal, target) * history.W * history.M *
+                            reuseVisibility(history, x),
+                        history.M, rngUniform(rng));
         reservoirFinalize(merged, targetPdf(merged, x.position, x.normal, target), merged.M);
         packReservoir(merged, first, second);
       }
