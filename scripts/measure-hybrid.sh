@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Screen-only against hybrid (the renderer's BVH scene bridge) against the
+# reference path tracer: the numbers of docs/quality.md, "Seeing beyond the
+# screen". Needs a GPU (hours on lavapipe).
+#
+#   scripts/measure-hybrid.sh OUT_DIR [SCENES_DIR]
+#
+# For cornell, pillars, sun-room and (when SCENES_DIR has them) Sponza and
+# the Breakfast Room at 640x360, at the default view and at frame 32 of the
+# orbit path: the reference (REFERENCE_SPP samples, default 1024), then
+# `bounce render` after 32 frames with --scene-bridge none and bvh (and bvh
+# without reuse), each compared: indirect-diffuse mean / reference and
+# relMSE, whole-frame relMSE and HDR-FLIP. Writes OUT_DIR/summary.md.
+set -euo pipefail
+out=${1:?usage: scripts/measure-hybrid.sh OUT_DIR [SCENES_DIR]}
+scenes_dir=${2:-}
+bounce=${BOUNCE:-./build/bounce}
+spp=${REFERENCE_SPP:-1024}
+size=(--width "${WIDTH:-640}" --height "${HEIGHT:-360}")
+mkdir -p "$out"
+summary="$out/summary.md"
+: > "$summary"
+
+entries=("cornell|cornell|" "pillars|pillars|" "sun-room|sun-room|")
+if [ -n "$scenes_dir" ]; then
+  [ -f "$scenes_dir/sponza/Sponza.gltf" ] &&
+    entries+=("sponza|$scenes_dir/sponza/Sponza.gltf|--sun-elevation 75 --sun-azimuth 100")
+  [ -f "$scenes_dir/breakfast_room/BreakfastRoom.gltf" ] &&
+    entries+=("breakfast|$scenes_dir/breakfast_room/BreakfastRoom.gltf|--sun-elevation 25 --sun-azimuth 70")
+fi
+
+field() { "$bounce" compare "$1" "$2" | awk -v key="$3" '$1 == key { print ($1 == "mean" ? $NF : $1 == "FLIP" ? $3 : $2) }'; }
+
+echo "| scene | view | indirect mean / ref: none, hybrid | indirect relMSE: none, hybrid, hybrid no reuse | frame relMSE: none, hybrid | frame FLIP: none, hybrid |" >> "$summary"
+echo "|---|---|---|---|---|---|" >> "$summary"
+for entry in "${entries[@]}"; do
+  IFS='|' read -r name scene lighting <<< "$entry"
+  for view in front orbit32; do
+    dir="$out/$name-$view"
+    mkdir -p "$dir"
+    camera=()
+    frame=0000
+    [ "$view" = orbit32 ] && camera=(--camera orbit) && frame=0032
+    # shellcheck disable=SC2086
+    "$bounce" reference "$scene" "${size[@]}" $lighting "${camera[@]}" ${camera:+--frame 32} --spp "$spp" --seed 7 \
+      --out "$dir/ref.exr" > "$dir/ref.log"
+    frames=1
+    [ "$view" = orbit32 ] && frames=33
+    for mode in none bvh bvh-noreuse; do
+      flags=(--scene-bridge "${mode%-noreuse}")
+      [ "$mode" = bvh-noreuse ] && flags+=(--gi.restir off)
+      # shellcheck disable=SC2086
+      "$bounce" render "$scene" "${size[@]}" $lighting "${camera[@]}" "${flags[@]}" --gi-warmup 32 --frames $frames \
+        --hdr --out "$dir/$mode" > "$dir/$mode.log"
+    done
+    id() { echo "$dir/$1/frames/frame$frame.indirect-diffuse.exr"; }
+    fr() { echo "$dir/$1/frames/frame$frame.exr"; }
+    printf '| %s | %s | %s, %s | %s, %s, %s | %s, %s | %s, %s |\n' "$name" "$view" \
+      "$(field "$dir/ref.indirect-diffuse.exr" "$(id none)" mean)" "$(field "$dir/ref.indirect-diffuse.exr" "$(id bvh)" mean)" \
+      "$(field "$dir/ref.indirect-diffuse.exr" "$(id none)" relMSE)" "$(field "$dir/ref.indirect-diffuse.exr" "$(id bvh)" relMSE)" \
+      "$(field "$dir/ref.indirect-diffuse.exr" "$(id bvh-noreuse)" relMSE)" \
+      "$(field "$dir/ref.exr" "$(fr none)" relMSE)" "$(field "$dir/ref.exr" "$(fr bvh)" relMSE)" \
+      "$(field "$dir/ref.exr" "$(fr none)" FLIP)" "$(field "$dir/ref.exr" "$(fr bvh)" FLIP)" >> "$summary"
+  done
+done
+cat "$summary"
