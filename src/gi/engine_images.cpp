@@ -85,6 +85,23 @@ ImageRef libraryRef(const gpu::Image& image) {
           .access = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
 }
 
+gpu::ExternalImage engineImage(const ImageRef& ref, std::string name) {
+  gpu::ExternalImage external{.image = ref.image,
+                              .view = ref.view,
+                              .desc = {.name = std::move(name),
+                                       .width = ref.width,
+                                       .height = ref.height,
+                                       .format = ref.format,
+                                       .mipLevels = ref.mipLevels,
+                                       .storage = false}};
+  // As if the engine's last use were a write at its stage: the first
+  // barrier then waits for it and makes it visible.
+  external.state.writeStage = ref.stage;
+  external.state.writeAccess = ref.access & kWriteAccess;
+  external.state.layout = ref.layout;
+  return external;
+}
+
 std::string formatList(std::span<const VkFormat> formats) {
   std::string list;
   for (std::size_t i = 0; i < formats.size(); ++i)
@@ -142,20 +159,7 @@ void EngineImages::take(const FrameInputs& frame, InputState state) {
       wrapped_[slot] = wrapped_[std::size_t(same->input)];
       continue;
     }
-    gpu::ExternalImage external{.image = ref.image,
-                                .view = ref.view,
-                                .desc = {.name = std::string("engine.") + family.name,
-                                         .width = ref.width,
-                                         .height = ref.height,
-                                         .format = ref.format,
-                                         .mipLevels = ref.mipLevels,
-                                         .storage = false}};
-    // As if the engine's last use were a write at its stage: the first
-    // barrier then waits for it and makes it visible.
-    external.state.writeStage = ref.stage;
-    external.state.writeAccess = ref.access & kWriteAccess;
-    external.state.layout = ref.layout;
-    owned_[slot] = std::make_unique<gpu::Image>(context_, external);
+    owned_[slot] = std::make_unique<gpu::Image>(context_, engineImage(ref, std::string("engine.") + family.name));
     owned_[slot]->setSampledLayout(state == InputState::LeaveGeneral ? VK_IMAGE_LAYOUT_GENERAL
                                    : sampleableInPlace(ref.layout)   ? ref.layout
                                                                      : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

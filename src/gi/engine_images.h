@@ -26,6 +26,10 @@ enum class Input : std::size_t { ViewZ, NormalRoughness, BaseColorMetallic, Moti
 // "VK_FORMAT_R32_SFLOAT or VK_FORMAT_R16_SFLOAT"
 std::string formatList(std::span<const VkFormat> formats);
 
+// One of the engine's images, read by the library (not written), starting
+// from the state `ref` gives.
+gpu::ExternalImage engineImage(const ImageRef& ref, std::string name);
+
 // An image of the library as the engine may use it (LibraryImage's
 // contract): layout GENERAL, last written by a compute shader.
 ImageRef libraryRef(const gpu::Image& image);

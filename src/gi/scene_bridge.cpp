@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <set>
 
+#include "gi/engine_images.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
 
@@ -96,18 +97,7 @@ void SceneBridgeBinding::take(const FrameInputs& frame) {
         throw Error(what + " is in " + gpu::layoutName(ref.layout) +
                     "; the library samples bridge images in place, in GENERAL or SHADER_READ_ONLY_OPTIMAL");
       if (!given->sampler) throw Error(what + " has no sampler");
-      gpu::ExternalImage external{.image = ref.image,
-                                  .view = ref.view,
-                                  .desc = {.name = "bridge." + decl.name,
-                                           .width = ref.width,
-                                           .height = ref.height,
-                                           .format = ref.format,
-                                           .mipLevels = ref.mipLevels,
-                                           .storage = false}};
-      external.state.writeStage = ref.stage;
-      external.state.writeAccess = ref.access & kWriteAccess;
-      external.state.layout = ref.layout;
-      images[i] = std::make_unique<gpu::Image>(context_, external);
+      images[i] = std::make_unique<gpu::Image>(context_, engineImage(ref, "bridge." + decl.name));
       images[i]->setSampledLayout(ref.layout);
       samplers[i] = given->sampler;
     } else {
