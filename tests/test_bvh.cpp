@@ -327,75 +327,56 @@ TEST(BvhLayout, LeafReferencesRoundTrip) {
 
 struct LayoutWalk {
   std::vector<int> nodeVisits;  // per node of the array walked
-  std::vector<int> itemVisits;  // per leaf item (corner record or instance record)
-  std::uint32_t deepestInterior = 0;
+  std::vector<int> itemVisits;  // per leaf item (triangle or instance record)
+  std::uint32_t deepestLeaf = 0;
 };
 
-// The exact bounds of a leaf's items, checking them on the way.
-using LeafBounds = std::function<Aabb(std::uint32_t first, std::uint32_t count)>;
-
-glm::vec3 nodeSteps(const BvhNode& node) {
-  return {glm::uintBitsToFloat((node.exponents & 255u) << 23), glm::uintBitsToFloat(((node.exponents >> 8) & 255u) << 23),
-          glm::uintBitsToFloat(((node.exponents >> 16) & 255u) << 23)};
-}
+// Checks a leaf's stored box against its items.
+using LeafCheck = std::function<void(const Aabb& box, std::uint32_t first, std::uint32_t count)>;
 
 // Walks the tree below interior node `index` (at `depth`; root = 0),
-// checking that each child box the node decodes (bvhChildBox) holds the
-// child's exact bounds and is at most a step or two larger on each side
-// (plus leafPadding times the size of a leaf's box, for leaves padded by
-// the builder);
-// that a non-root node has at least two children and empty slots (inverted
-// boxes) come last; that leaves hold 1..maxLeafSize items; and that the
-// first interior child directly follows its parent. Counts visits; returns
-// the exact bounds of everything below.
+// checking that the box a node stores for an interior child is exactly that
+// child's bounds (the union of the child's own two boxes), that leaves hold
+// 1..maxLeafSize items, that only a root has empty slots (inverted boxes),
+// and that a left interior child directly follows its parent. Counts visits;
+// returns the node's bounds.
 Aabb walkNode(const std::vector<BvhNode>& nodes, std::uint32_t index, std::uint32_t depth, std::uint32_t maxLeafSize,
-              const LeafBounds& leafBounds, float leafPadding, LayoutWalk& walk) {
+              const LeafCheck& leafCheck, LayoutWalk& walk) {
   if (index >= nodes.size()) {
     ADD_FAILURE() << "node " << index << " out of range";
     return {};
   }
   ++walk.nodeVisits[index];
-  walk.deepestInterior = std::max(walk.deepestInterior, depth);
   const BvhNode& node = nodes[index];
-  const glm::vec3 step = nodeSteps(node);
+  const Aabb boxes[2] = {{node.leftMin, node.leftMax}, {node.rightMin, node.rightMax}};
+  const std::uint32_t children[2] = {node.left, node.right};
   Aabb bounds;
-  std::uint32_t used = 0;
-  bool firstInterior = true;
-  for (std::uint32_t slot = 0; slot < shared::kBvhWidth; ++slot) {
-    const std::uint32_t child = node.children[int(slot)];
-    glm::vec3 lower, upper;
-    shared::bvhChildBox(node, slot, lower, upper);
+  for (int side = 0; side < 2; ++side) {
+    const std::uint32_t child = children[side];
+    bounds.extend(boxes[side]);
     if (child == kBvhInvalidIndex) {
-      EXPECT_TRUE(glm::all(glm::greaterThan(lower, upper))) << "node " << index << ": an empty slot is inverted";
-      continue;
-    }
-    EXPECT_EQ(used++, slot) << "node " << index << ": empty slots come last";
-    Aabb exact;
-    glm::vec3 slack = 2.0f * step;
-    if (shared::bvhIsLeaf(child)) {
+      EXPECT_EQ(depth, 0u) << "node " << index << ": only a root has empty slots";
+      EXPECT_TRUE(sameBox(boxes[side], Aabb{})) << "node " << index << ": an empty slot has an inverted box";
+    } else if (shared::bvhIsLeaf(child)) {
       const std::uint32_t first = shared::bvhLeafFirst(child), count = shared::bvhLeafCount(child);
       EXPECT_LE(count, maxLeafSize) << "node " << index;
-      if (std::size_t(first) + count > walk.itemVisits.size()) {
-        ADD_FAILURE() << "node " << index << ": leaf items " << first << " + " << count << " out of range";
-        continue;
+      walk.deepestLeaf = std::max(walk.deepestLeaf, depth + 1);
+      for (std::uint32_t item = first; item < first + count; ++item) {
+        if (item >= walk.itemVisits.size()) {
+          ADD_FAILURE() << "node " << index << ": leaf item " << item << " out of range";
+          return bounds;
+        }
+        ++walk.itemVisits[item];
       }
-      for (std::uint32_t item = first; item < first + count; ++item) ++walk.itemVisits[item];
-      exact = leafBounds(first, count);
-      slack += leafPadding * (glm::abs(exact.min) + glm::abs(exact.max) + (exact.max - exact.min));
+      leafCheck(boxes[side], first, count);
     } else {
-      if (firstInterior) {
-        EXPECT_EQ(child, index + 1) << "the first interior child directly follows its parent";
+      if (side == 0) {
+        EXPECT_EQ(child, index + 1) << "a left interior child directly follows its parent";
       }
-      firstInterior = false;
-      exact = walkNode(nodes, child, depth + 1, maxLeafSize, leafBounds, leafPadding, walk);
+      EXPECT_TRUE(sameBox(walkNode(nodes, child, depth + 1, maxLeafSize, leafCheck, walk), boxes[side]))
+          << "node " << index << " stores node " << child << "'s bounds";
     }
-    EXPECT_TRUE(Aabb({lower, upper}).contains(exact)) << "node " << index << " slot " << slot << " holds its child";
-    EXPECT_TRUE(glm::all(glm::lessThanEqual(exact.min - lower, slack)) &&
-                glm::all(glm::lessThanEqual(upper - exact.max, slack)))
-        << "node " << index << " slot " << slot << ": and is at most a step or two larger";
-    bounds.extend(exact);
   }
-  EXPECT_GE(used, depth == 0 ? 0u : 2u) << "node " << index;
   return bounds;
 }
 
@@ -434,43 +415,51 @@ void expectValidTraversalLayout(const SceneBvh& bvh, std::size_t meshCount) {
       continue;
     }
     // Leaves reference corner records.
-    const LeafBounds triangleBounds = [&](std::uint32_t first, std::uint32_t count) {
-      Aabb items;
+    const LeafCheck trianglesInLeaf = [&](const Aabb& box, std::uint32_t first, std::uint32_t count) {
       const bool inMesh = first >= firstRecord + begin && first + count <= firstRecord + end;
       EXPECT_TRUE(inMesh) << "mesh " << m << "'s BLAS reaches only its triangles";
-      if (!inMesh) return items;
+      if (!inMesh) return;
+      Aabb items;
       for (std::uint32_t k = first; k < first + count; ++k)
         for (int c = 0; c < 3; ++c) items.extend(glm::vec3(corner(k - firstRecord, c)));
-      return items;
+      EXPECT_TRUE(sameBox(items, box)) << "a leaf's box is exactly its triangles' (from record " << first << ")";
     };
-    const Aabb bounds =
-        walkNode(bvh.blasNodes(), bvh.blasRoot(m), 0, shared::kBvhMaxLeafSize, triangleBounds, 0.0f, blas);
+    const Aabb bounds = walkNode(bvh.blasNodes(), bvh.blasRoot(m), 0, shared::kBvhMaxLeafSize, trianglesInLeaf, blas);
     EXPECT_TRUE(sameBox(bounds, bvh.meshBounds(m))) << "mesh " << m;
   }
   expectEachVisitedOnce(blas.nodeVisits, "BLAS node");
   expectEachVisitedOnce(std::vector<int>(blas.itemVisits.begin() + firstRecord, blas.itemVisits.end()), "triangle");
   EXPECT_EQ(std::count(blas.itemVisits.begin(), blas.itemVisits.begin() + firstRecord, 0), firstRecord)
       << "leaves reference corner records only";
-  EXPECT_LT(blas.deepestInterior, shared::kBvhMaxDepth / 2) << "the stack bound's count of interior levels";
+  if (!triangles.empty()) {
+    EXPECT_EQ(blas.deepestLeaf, std::max(bvh.blasDepth(), 1u)) << "a tree of one leaf is a root with one slot";
+  }
+  EXPECT_LE(blas.deepestLeaf, shared::kBvhMaxDepth);
 
   LayoutWalk tlas{std::vector<int>(bvh.tlasNodes().size()), std::vector<int>(bvh.instances().size())};
-  // The box of the instance's BLAS in world space (the TLAS pads it by 1e-6 of its size).
-  const LeafBounds instanceBounds = [&](std::uint32_t first, std::uint32_t) {
+  const LeafCheck instanceInLeaf = [&](const Aabb& box, std::uint32_t first, std::uint32_t) {
+    if (first >= bvh.instances().size()) return;
     const BvhInstance& record = bvh.instances()[first];
     const Aabb object = bvh.meshBounds(record.info.y);
     Aabb world;
-    for (int c = 0; c < 8; ++c)
-      world.extend(shared::bvhTransformPoint(record.objectToWorld,
-                                             glm::vec3(c & 1 ? object.max.x : object.min.x,
-                                                       c & 2 ? object.max.y : object.min.y,
-                                                       c & 4 ? object.max.z : object.min.z)));
-    return world;
+    for (int corner = 0; corner < 8; ++corner)
+      world.extend(shared::bvhTransformPoint(
+          record.objectToWorld, glm::vec3(corner & 1 ? object.max.x : object.min.x,
+                                          corner & 2 ? object.max.y : object.min.y,
+                                          corner & 4 ? object.max.z : object.min.z)));
+    EXPECT_TRUE(box.contains(world)) << "instance record " << first << ": its leaf box holds its BLAS's box";
+    const glm::vec3 slack = (glm::abs(world.min) + glm::abs(world.max) + (world.max - world.min)) * 1e-5f;
+    EXPECT_TRUE(glm::all(glm::lessThanEqual(world.min - box.min, slack)) &&
+                glm::all(glm::lessThanEqual(box.max - world.max, slack)))
+        << "instance record " << first << ": and is barely larger";
   };
-  const Aabb tlasBounds = walkNode(bvh.tlasNodes(), 0, 0, 1, instanceBounds, 2e-6f, tlas);
-  EXPECT_TRUE(bvh.tlasBounds().contains(tlasBounds));
+  const Aabb tlasBounds = walkNode(bvh.tlasNodes(), 0, 0, 1, instanceInLeaf, tlas);
+  EXPECT_TRUE(sameBox(tlasBounds, bvh.tlasBounds()));
   expectEachVisitedOnce(tlas.nodeVisits, "TLAS node");
   expectEachVisitedOnce(tlas.itemVisits, "instance record");
-  EXPECT_LT(tlas.deepestInterior, shared::kBvhMaxDepth / 2);
+  if (!bvh.instances().empty()) {
+    EXPECT_EQ(tlas.deepestLeaf, std::max(bvh.tlasDepth(), 1u));
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -708,68 +697,13 @@ TEST(SceneBvh, InstancesScaledFarFromOneAreTracedAndOnlyUninvertibleOnesLeftOut)
   EXPECT_NEAR(small.t, 20.0f, 1e-4f);
   EXPECT_NEAR(small.barycentrics.x, 0.2f, 1e-4f);
 
-  expectValidTraversalLayout(bvh, s.meshes.size());
-
   bvh.setInstances(std::span(instances).first(2));
   EXPECT_TRUE(bvh.untraceableInstances().empty()) << "each call lists its own";
 }
 
-// A node's empty slots have boxes inverted by 255 steps, which the slab
-// test's widening of the far distance makes up for a ray from a billion
-// units away: entering one must be a no-op (its reference kBvhInvalidIndex
-// read as a leaf would reach items out of range, and at() throws here).
-TEST(SceneBvh, EmptySlotsAreNeverEntered) {
-  const scene::Scene s = oneTriangleScene();
-  SceneBvh bvh(s);
-  bvh.setInstances(std::vector<scene::Instance>{{0, 0, glm::mat4(1.0f)}});
-  ASSERT_EQ(bvh.blasNodes()[0].children[1], kBvhInvalidIndex);
-  ASSERT_EQ(bvh.tlasNodes()[0].children[1], kBvhInvalidIndex);
-  // Passes (-128, 0, 0) at t = 1e9: beside the triangle, inside the empty slots' boxes once widened.
-  const glm::vec3 origin(-1e9f - 128.0f, -1e9f, -1e9f), direction(1.0f);
-  glm::vec3 lower, upper;
-  shared::bvhChildBox(bvh.blasNodes()[0], 1, lower, upper);
-  ASSERT_LT(shared::bvhIntersectBox(origin, shared::bvhSafeInverse(direction), lower, upper, 0.0f, 1e30f), kNoHit)
-      << "the ray must be one whose slab test enters the empty slot's box";
-  BvhHit hit;
-  ASSERT_NO_THROW(hit = bvh.traceClosest(origin, direction, 0.0f, 1e30f));
-  EXPECT_EQ(hit.t, bvh.traceClosestBruteForce(origin, direction, 0.0f, 1e30f).t);
-  EXPECT_NO_THROW(bvh.traceAny(origin, direction, 0.0f, 1e30f));
-}
-
-// Child boxes are quantized in steps of at least a unit in the last place
-// of the node's origin: far from the origin a finer step would round away,
-// and empty slots would no longer decode to inverted boxes.
-TEST(SceneBvh, QuantizedBoxesHoldFarAwayAndFlatGeometry) {
-  scene::Scene s;
-  s.materials.resize(1);
-  scene::Mesh far, flat;
-  for (int i = 0; i < 2; ++i) {
-    const glm::vec3 corner(1e9f, 3e8f * float(i), -2e9f);  // a unit in the last place of 1e9 is 64
-    far.positions.insert(far.positions.end(), {corner, corner + glm::vec3(1e3f, 0, 0), corner + glm::vec3(0, 1e3f, 0)});
-    far.indices.insert(far.indices.end(), {std::uint32_t(3 * i), std::uint32_t(3 * i + 1), std::uint32_t(3 * i + 2)});
-  }
-  for (int i = 0; i < 40; ++i) {  // every triangle in the plane z = 1e10, where a unit in the last place is 2048
-    const glm::vec3 corner(0.25f * float(i), 0.0f, 1e10f);
-    flat.positions.insert(flat.positions.end(), {corner, corner + glm::vec3(0.2f, 0, 0), corner + glm::vec3(0, 0.2f, 0)});
-    flat.indices.insert(flat.indices.end(), {std::uint32_t(3 * i), std::uint32_t(3 * i + 1), std::uint32_t(3 * i + 2)});
-  }
-  s.meshes = {far, flat};
-  SceneBvh bvh(s);
-  bvh.setInstances(std::vector<scene::Instance>{{0, 0, glm::mat4(1.0f)}, {1, 1, glm::mat4(1.0f)}});
-  expectValidTraversalLayout(bvh, s.meshes.size());
-  const BvhHit farHit = bvh.traceClosest({1e9f + 128.0f, 128.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 1e30f);
-  EXPECT_EQ(farHit.instance, 0u);
-  EXPECT_FLOAT_EQ(farHit.t, 2e9f);
-  const BvhHit flatHit = bvh.traceClosest({5.05f, 0.05f, 0.0f}, {0.0f, 0.0f, 1.0f}, 0.0f, 1e30f);
-  EXPECT_EQ(flatHit.instance, 1u);
-  EXPECT_FLOAT_EQ(flatHit.t, 1e10f);
-  EXPECT_EQ(bvh.sourceTriangle(flatHit.triangle), 20u);
-}
-
-// The stack holds up to three waiting children per interior node on the
-// path through the TLAS and then through one BLAS (docs/bvh.md): here both
-// levels are deep and the rays wait at nearly every node, more than one
-// level's bound allows.
+// The stack holds one waiting child per depth of the TLAS and then of one
+// BLAS (docs/bvh.md): here both levels are deep and the rays wait at nearly
+// every level, more levels together than either tree has alone.
 TEST(SceneBvh, DeepTreesOnBothLevelsFitTheStack) {
   const scene::Scene s = deepStripScene();
   SceneBvh bvh(s);
@@ -808,16 +742,14 @@ TEST(SceneBvh, EmptySceneHasAnEmptyRootThatNoRayEnters) {
   expectValidTraversalLayout(bvh, s.meshes.size());
   ASSERT_EQ(bvh.tlasNodes().size(), 1u);
   const BvhNode& root = bvh.tlasNodes()[0];
-  EXPECT_EQ(root.children, glm::uvec4(kBvhInvalidIndex));
+  EXPECT_EQ(root.left, kBvhInvalidIndex);
+  EXPECT_EQ(root.right, kBvhInvalidIndex);
   for (const glm::vec3 direction : {glm::vec3(1, 0, 0), glm::vec3(0, 0, -1), glm::vec3(0.3f, -0.2f, 0.9f)}) {
     EXPECT_EQ(bvh.traceClosest(glm::vec3(0.0f), direction, 0.0f, 1e30f).t, kNoHit);
     EXPECT_FALSE(bvh.traceAny(glm::vec3(0.0f), direction, 0.0f, 1e30f));
-    for (std::uint32_t slot = 0; slot < shared::kBvhWidth; ++slot) {
-      glm::vec3 lower, upper;
-      shared::bvhChildBox(root, slot, lower, upper);
-      EXPECT_EQ(shared::bvhIntersectBox(glm::vec3(0.0f), shared::bvhSafeInverse(direction), lower, upper, -1e30f, 1e30f),
-                kNoHit);
-    }
+    const glm::vec3 inverse = shared::bvhSafeInverse(direction);
+    EXPECT_EQ(shared::bvhIntersectBox(glm::vec3(0.0f), inverse, root.leftMin, root.leftMax, -1e30f, 1e30f), kNoHit);
+    EXPECT_EQ(shared::bvhIntersectBox(glm::vec3(0.0f), inverse, root.rightMin, root.rightMax, -1e30f, 1e30f), kNoHit);
   }
 }
 

@@ -36,18 +36,6 @@ struct BvhStackEntry {
   float t;
 };
 
-// One compare-exchange of the sorting network that orders a node's slots by entry distance.
-void bvhOrderPair(INOUT(float) tA, INOUT(uint) nodeA, INOUT(float) tB, INOUT(uint) nodeB) {
-  if (tB < tA) {
-    float t = tA;
-    tA = tB;
-    tB = t;
-    uint node = nodeA;
-    nodeA = nodeB;
-    nodeB = node;
-  }
-}
-
 // Hits count in (tMin, tMax); returns whether one was accepted (an any-hit
 // ray stops at the first). hit.t is the far end of the interval while
 // walking and shrinks with every accepted hit.
@@ -72,11 +60,7 @@ bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, floa
   uint tlasEntries = 0u;             // while in a BLAS: the stack entries below this are the TLAS's
   BvhStackEntry stack[kBvhStackSize];
   uint stackSize = 0u;
-  // A child reference; kBvhInvalidIndex: nothing to enter here. An empty
-  // slot's box is inverted by only 255 steps, which the slab test's widening
-  // of the far distance can make up for a distant ray origin; its reference
-  // kBvhInvalidIndex then makes entering it a no-op.
-  uint node = 0u;
+  uint node = 0u;  // a child reference; kBvhInvalidIndex: nothing to enter here
   bool found = false;
   for (;;) {
     while (!bvhIsLeaf(node)) {
@@ -85,30 +69,16 @@ bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, floa
         interior = BVH_BLAS_NODE(node);
       else
         interior = BVH_TLAS_NODE(node);
-      float t[kBvhWidth];
-      uint child[kBvhWidth];
-      for (uint slot = 0u; slot < kBvhWidth; ++slot) {
-        vec3 lower;
-        vec3 upper;
-        bvhChildBox(interior, slot, lower, upper);
-        t[slot] = bvhIntersectBox(origin, inverseDirection, lower, upper, tMin, hit.t);
-        child[slot] = interior.children[slot];
+      float tLeft = bvhIntersectBox(origin, inverseDirection, interior.leftMin, interior.leftMax, tMin, hit.t);
+      float tRight = bvhIntersectBox(origin, inverseDirection, interior.rightMin, interior.rightMax, tMin, hit.t);
+      // The nearer child next; the farther one, if entered too, waits.
+      bool leftFirst = tLeft <= tRight;
+      if (tLeft < kNoHit && tRight < kNoHit) {
+        BVH_CHECK_STACK(stackSize);
+        stack[stackSize] = BvhStackEntry(leftFirst ? interior.right : interior.left, leftFirst ? tRight : tLeft);
+        ++stackSize;
       }
-      // Nearest first (missed slots, at kNoHit, last): visit it next, and
-      // push the others the ray enters, farthest first, to be popped nearest first.
-      bvhOrderPair(t[0], child[0], t[1], child[1]);
-      bvhOrderPair(t[2], child[2], t[3], child[3]);
-      bvhOrderPair(t[0], child[0], t[2], child[2]);
-      bvhOrderPair(t[1], child[1], t[3], child[3]);
-      bvhOrderPair(t[1], child[1], t[2], child[2]);
-      for (uint slot = kBvhWidth - 1u; slot > 0u; --slot) {
-        if (t[slot] < kNoHit) {
-          BVH_CHECK_STACK(stackSize);
-          stack[stackSize] = BvhStackEntry(child[slot], t[slot]);
-          ++stackSize;
-        }
-      }
-      node = t[0] < kNoHit ? child[0] : kBvhInvalidIndex;
+      node = min(tLeft, tRight) < kNoHit ? (leftFirst ? interior.left : interior.right) : kBvhInvalidIndex;
     }
     if (node != kBvhInvalidIndex) {
       if (instance == kBvhInvalidIndex) {

@@ -17,24 +17,22 @@
 namespace bounce::shared {
 #endif
 
-// An interior node of a 4-wide BVH with its children's boxes quantized to
-// 8 bits per coordinate, so a visit is one 64-byte fetch. Child c's box is
-//   lower = origin + byte c of (lower x, lower y, lower z) * step
-//   upper = origin + byte c of (upper x, upper y, upper z) * step
-// (bvhChildBox), where each axis' step is a power of two whose float
-// exponent bits are a byte of `exponents`; the builder rounds outwards, so
-// the decoded box always holds the child. children are child references
-// (bvhIsLeaf and friends below): an interior node's index in the same
-// array, or a leaf's items (corner records for a BLAS, instance records for
-// the TLAS). Every tree starts at an interior node. A slot without a child
-// has an inverted box (lower bytes 255, upper bytes 0) and the reference
-// kBvhInvalidIndex, which the walk treats as nothing to enter.
+// An interior node with both children's boxes, so a visit is one 64-byte
+// fetch. left and right are child references (bvhIsLeaf and friends below):
+// an interior node's index in the same array, or a leaf's items (triangles
+// for a BLAS, instance records for the TLAS). Every tree starts at an
+// interior node; a slot without a child (a tree of one leaf, or of nothing)
+// has an inverted box (min > max), which no ray enters, and the reference
+// kBvhInvalidIndex.
 struct BvhNode {
-  vec3 origin;
-  uint exponents;  // x | y << 8 | z << 16
-  uvec4 bounds0;   // lower x, lower y, lower z, upper x: child c in byte c of each
-  uvec4 bounds1;   // upper y, upper z, unused, unused
-  uvec4 children;
+  vec3 leftMin;
+  uint left;
+  vec3 leftMax;
+  uint right;
+  vec3 rightMin;
+  uint unused0;
+  vec3 rightMax;
+  uint unused1;
 };
 
 // One placed mesh as the TLAS leaves see it. Records are stored in TLAS leaf
@@ -77,16 +75,12 @@ struct BvhTraceRaysParams {
 #endif
 
 BOUNCE_SHARED_BEGIN
-// Deepest leaf of the binary tree each level is built as (root = depth 0);
-// the builder falls back to median splits to stay within it. The 4-wide
-// node of a binary node holds its grandchildren (or a child that is a leaf),
-// so interior wide nodes sit at even binary depths below kBvhMaxDepth: at
-// most kBvhMaxDepth / 2 on any path. The walk keeps at most three waiting
-// children per interior node on its path (docs/bvh.md), so the TLAS's
-// entries and then one BLAS's never need more than kBvhStackSize.
+// Deepest leaf of any BVH level (root = depth 0); the builder falls back to
+// median splits to stay within it. The walk keeps at most one waiting child
+// per depth of each level (docs/bvh.md), so the TLAS's entries and then one
+// BLAS's never need more than kBvhStackSize.
 const uint kBvhMaxDepth = 32u;
-const uint kBvhWidth = 4u;
-const uint kBvhStackSize = 2u * (kBvhWidth - 1u) * (kBvhMaxDepth / 2u);
+const uint kBvhStackSize = 2u * kBvhMaxDepth;
 
 // A child reference with this bit set is a leaf: its first item in the bits
 // above kBvhLeafCountBits, its item count minus one in those below. So a
@@ -109,22 +103,6 @@ uint bvhLeafReference(uint first, uint count) { return kBvhLeafBit | (first << k
 bool bvhIsLeaf(uint reference) { return (reference & kBvhLeafBit) != 0u; }
 uint bvhLeafFirst(uint reference) { return (reference & ~kBvhLeafBit) >> kBvhLeafCountBits; }
 uint bvhLeafCount(uint reference) { return (reference & (kBvhMaxLeafSize - 1u)) + 1u; }
-
-// Byte c of each of a node's packed words.
-vec3 bvhChildBytes(uint x, uint y, uint z, uint child) {
-  uint shift = 8u * child;
-  return vec3(float((x >> shift) & 255u), float((y >> shift) & 255u), float((z >> shift) & 255u));
-}
-
-// The box of a node's child slot, decoded as the builder checked it: the
-// step times the byte is exact (a power of two times an integer below 256),
-// so the one rounding is the addition, here and on every device.
-void bvhChildBox(BvhNode node, uint child, OUT(vec3) lower, OUT(vec3) upper) {
-  vec3 step = vec3(uintBitsToFloat((node.exponents & 255u) << 23), uintBitsToFloat(((node.exponents >> 8) & 255u) << 23),
-                   uintBitsToFloat(((node.exponents >> 16) & 255u) << 23));
-  lower = node.origin + bvhChildBytes(node.bounds0.x, node.bounds0.y, node.bounds0.z, child) * step;
-  upper = node.origin + bvhChildBytes(node.bounds0.w, node.bounds1.x, node.bounds1.y, child) * step;
-}
 
 // 1 / direction, with zero components nudged to +-1e-20 first, so the slab
 // test never multiplies 0 by infinity (which would make NaN).

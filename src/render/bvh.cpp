@@ -243,131 +243,69 @@ bool finiteMatrix(const glm::mat4& m) {
   return true;
 }
 
-// The float exponent bits of the steps a node quantizes its child boxes in:
-// from 1 (the smallest normal step) to kMaxStepExponent, where 255 steps
-// still fit a float.
-constexpr std::uint32_t kMaxStepExponent = 254 - 8;
-
-float stepOf(std::uint32_t exponent) { return glm::uintBitsToFloat(exponent << 23); }
-
-// The smallest step exponent whose 255 steps span `extent` and whose step is
-// at least a unit in the last place of `origin`: a finer step would add
-// nothing, and an empty slot (lower byte 255, upper byte 0) would no longer
-// decode to an inverted box.
-std::uint32_t firstStepExponent(float origin, float extent) {
-  const float ulp = std::nextafter(std::abs(origin), std::numeric_limits<float>::infinity()) - std::abs(origin);
-  const float finest = std::max(extent / 255.0f, ulp);
-  int exponent = 0;
-  std::frexp(finest, &exponent);  // finest < 2^exponent
-  return std::uint32_t(std::clamp(exponent + 127, 1, int(kMaxStepExponent)));
-}
-
-// Sets a node's origin, steps and child boxes (slots beyond boxes.size()
-// stay empty) so that each box bvhChildBox decodes holds the child's box
-// and is at most about a step larger on each side.
-void quantizeChildBoxes(BvhNode& node, std::span<const Aabb> boxes) {
-  Aabb all;
-  for (const Aabb& box : boxes) all.extend(box);
-  node.origin = boxes.empty() ? glm::vec3(0.0f) : all.min;
-  node.exponents = 0;
-  glm::uvec3 lower(0), upper(0);  // per axis: four bytes, child c in byte c
-  for (int axis = 0; axis < 3; ++axis) {
-    const float origin = node.origin[axis];
-    const float extent = boxes.empty() ? 0.0f : all.max[axis] - all.min[axis];
-    std::uint32_t exponent = firstStepExponent(origin, extent);
-    for (;; ++exponent) {
-      if (exponent > kMaxStepExponent) throw std::invalid_argument("BVH: a node's boxes span more than a float holds");
-      const float step = stepOf(exponent);
-      // The same float arithmetic as bvhChildBox.
-      const auto decode = [&](std::uint32_t q) { return origin + float(q) * step; };
-      std::uint32_t lowerBytes = 0, upperBytes = 0;
-      bool fits = true;
-      for (std::uint32_t c = 0; c < shared::kBvhWidth && fits; ++c) {
-        std::uint32_t low = 255, high = 0;
-        if (c < boxes.size()) {
-          low = std::uint32_t(std::clamp(std::floor((double(boxes[c].min[axis]) - origin) / step), 0.0, 255.0));
-          while (low > 0 && decode(low) > boxes[c].min[axis]) --low;
-          high = std::uint32_t(std::clamp(std::ceil((double(boxes[c].max[axis]) - origin) / step), 0.0, 256.0));
-          while (high <= 255 && decode(high) < boxes[c].max[axis]) ++high;
-          fits = high <= 255;
-        }
-        lowerBytes |= low << (8 * c);
-        upperBytes |= high << (8 * c);
-      }
-      if (!fits) continue;
-      lower[axis] = lowerBytes;
-      upper[axis] = upperBytes;
-      node.exponents |= exponent << (8 * axis);
-      break;
-    }
-  }
-  node.bounds0 = glm::uvec4(lower, upper.x);
-  node.bounds1 = glm::uvec4(upper.y, upper.z, 0u, 0u);
-}
-
-// The traversal layout of a binary tree (docs/bvh.md): one 4-wide node per
-// interior binary node at an even depth, holding that node's grandchildren
-// (a child that is a leaf stands for itself), depth first with the root
-// first and the first interior child right after its parent. Node indices
-// start at firstNode, leaf items at firstItem. A tree of one leaf gets a
-// root with one slot, a tree of nothing a root with none, so every walk
-// starts at an interior node.
+// The traversal layout of a binary tree (docs/bvh.md): one BvhNode per
+// interior node, holding both children's boxes and references, depth first
+// with the root first and a left interior child right after its parent.
+// Node indices start at firstNode, leaf items at firstItem. A tree of one
+// leaf gets a root whose right slot is empty, a tree of nothing a root with
+// two empty slots, so every walk starts at an interior node.
 class TraversalLayout {
  public:
   TraversalLayout(const Bvh& bvh, std::uint32_t firstNode, std::uint32_t firstItem)
       : bvh_(bvh), firstNode_(firstNode), firstItem_(firstItem) {}
 
   std::vector<BvhNode> nodes() && {
-    if (bvh_.nodes.empty())
-      place({});
-    else if (bvh_.nodes[0].count > 0)
-      place({0});
-    else
-      place(slotsOf(0));
+    if (bvh_.nodes.empty()) {
+      nodes_.push_back({});
+      setChild(0, 0, Aabb{}, kBvhInvalidIndex);
+      setChild(0, 1, Aabb{}, kBvhInvalidIndex);
+    } else if (bvh_.nodes[0].count > 0) {
+      nodes_.push_back({});
+      setChild(0, 0, bounds(bvh_.nodes[0]), reference(0));
+      setChild(0, 1, Aabb{}, kBvhInvalidIndex);
+    } else {
+      place(0);
+    }
     return std::move(nodes_);
   }
 
  private:
-  // The binary nodes the wide node of interior binary node `index` holds.
-  std::vector<std::uint32_t> slotsOf(std::uint32_t index) const {
-    std::vector<std::uint32_t> slots;
-    for (std::uint32_t child = bvh_.nodes[index].leftFirst; child < bvh_.nodes[index].leftFirst + 2; ++child) {
-      if (bvh_.nodes[child].count > 0) {
-        slots.push_back(child);
-      } else {
-        slots.push_back(bvh_.nodes[child].leftFirst);
-        slots.push_back(bvh_.nodes[child].leftFirst + 1);
-      }
-    }
-    return slots;
-  }
+  static Aabb bounds(const BvhBuildNode& node) { return {node.boundsMin, node.boundsMax}; }
 
-  // The reference a wide node stores for binary node `index`, placing its subtree first if it is interior.
+  // The reference a parent stores for binary node `index`, placing its subtree first if it is interior.
   std::uint32_t reference(std::uint32_t index) {
     const BvhBuildNode& node = bvh_.nodes[index];
-    if (node.count == 0) return place(slotsOf(index));
+    if (node.count == 0) return place(index);
     if (firstItem_ + node.leftFirst >= shared::kBvhMaxLeafFirst || node.count > shared::kBvhMaxLeafSize)
       throw std::invalid_argument("BVH: a leaf of " + std::to_string(node.count) + " items from item " +
                                   std::to_string(firstItem_ + node.leftFirst) + " does not fit a child reference");
     return shared::bvhLeafReference(firstItem_ + node.leftFirst, node.count);
   }
 
-  // Places a wide node over these binary nodes and, after it, their subtrees; returns its global index.
-  std::uint32_t place(const std::vector<std::uint32_t>& slots) {
-    const auto position = std::uint32_t(nodes_.size());
-    if (firstNode_ + position >= shared::kBvhLeafBit) throw std::invalid_argument("BVH: too many nodes for a reference");
+  // Places interior binary node `index` and, after it, its subtree; returns its global index.
+  std::uint32_t place(std::uint32_t index) {
+    const auto slot = std::uint32_t(nodes_.size());
+    if (firstNode_ + slot >= shared::kBvhLeafBit) throw std::invalid_argument("BVH: too many nodes for a reference");
     nodes_.push_back({});
-    glm::uvec4 children(kBvhInvalidIndex);
-    std::vector<Aabb> boxes;
-    for (std::size_t slot = 0; slot < slots.size(); ++slot) {
-      children[int(slot)] = reference(slots[slot]);  // may grow nodes_: index it afterwards
-      const BvhBuildNode& node = bvh_.nodes[slots[slot]];
-      boxes.push_back({node.boundsMin, node.boundsMax});
+    for (std::uint32_t side = 0; side < 2; ++side) {
+      const std::uint32_t child = bvh_.nodes[index].leftFirst + side;
+      const std::uint32_t childReference = reference(child);  // may grow nodes_: index it afterwards
+      setChild(slot, side, bounds(bvh_.nodes[child]), childReference);
     }
-    BvhNode& node = nodes_[position];
-    quantizeChildBoxes(node, boxes);
-    node.children = children;
-    return firstNode_ + position;
+    return firstNode_ + slot;
+  }
+
+  void setChild(std::uint32_t slot, std::uint32_t side, const Aabb& box, std::uint32_t childReference) {
+    BvhNode& node = nodes_[slot];
+    if (side == 0) {
+      node.leftMin = box.min;
+      node.leftMax = box.max;
+      node.left = childReference;
+    } else {
+      node.rightMin = box.min;
+      node.rightMax = box.max;
+      node.right = childReference;
+    }
   }
 
   const Bvh& bvh_;
