@@ -45,25 +45,27 @@ struct BvhStackEntry {
 // (one instance) moves the ray into that instance's object space, not
 // renormalised, so t along it is t along the world ray, and the BLAS's
 // entries go on the same stack above the TLAS's; when they are used up, the
-// ray goes back to world space. Each round descends through interior nodes
-// until it reaches a leaf or finds nothing to enter ("while-while", Aila and
-// Laine 2009: a warp's threads descend together, then test leaves together).
+// ray goes back to world space. Each round takes one step down the tree
+// and, if that reaches a leaf, enters its instance or tests its triangles;
+// then, if that leads nowhere, takes the next subtree from the stack
+// ("if-if", Aila and Laine 2009: on Sponza's incoherent rays faster than
+// descending to a leaf before testing leaves, "while-while"). The walk keeps
+// few values live (the world-space inverse direction is worked out again on
+// leaving a BLAS; no found flag): that, too, measured faster (docs/bvh.md).
 bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, float tMin, float tMax, bool anyHit,
                  OUT(BvhHit) hit) {
   hit = BvhHit(tMax, kBvhInvalidIndex, kBvhInvalidIndex, vec2(0.0f));
-  vec3 worldInverseDirection = bvhSafeInverse(worldDirection);
   // The ray in the space of the level being walked.
   vec3 origin = worldOrigin;
   vec3 direction = worldDirection;
-  vec3 inverseDirection = worldInverseDirection;
+  vec3 inverseDirection = bvhSafeInverse(worldDirection);
   uint instance = kBvhInvalidIndex;  // the caller's index of the instance whose BLAS is walked; invalid in the TLAS
   uint tlasEntries = 0u;             // while in a BLAS: the stack entries below this are the TLAS's
   BvhStackEntry stack[kBvhStackSize];
   uint stackSize = 0u;
   uint node = 0u;  // a child reference; kBvhInvalidIndex: nothing to enter here
-  bool found = false;
   for (;;) {
-    while (!bvhIsLeaf(node)) {
+    if (!bvhIsLeaf(node)) {
       BvhNode interior;
       if (instance != kBvhInvalidIndex)
         interior = BVH_BLAS_NODE(node);
@@ -79,19 +81,21 @@ bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, floa
         ++stackSize;
       }
       node = min(tLeft, tRight) < kNoHit ? (leftFirst ? interior.left : interior.right) : kBvhInvalidIndex;
+      // An interior child is the next round's step; a leaf is tested in this one.
+      if (!bvhIsLeaf(node)) continue;
+    }
+    if (node != kBvhInvalidIndex && instance == kBvhInvalidIndex) {
+      // A TLAS leaf holds one instance.
+      BvhInstance record = BVH_INSTANCE(bvhLeafFirst(node));
+      origin = bvhTransformPoint(record.worldToObject, worldOrigin);
+      direction = bvhTransformVector(record.worldToObject, worldDirection);
+      inverseDirection = bvhSafeInverse(direction);
+      instance = record.info.z;
+      tlasEntries = stackSize;
+      node = record.info.x;
+      continue;
     }
     if (node != kBvhInvalidIndex) {
-      if (instance == kBvhInvalidIndex) {
-        // A TLAS leaf holds one instance.
-        BvhInstance record = BVH_INSTANCE(bvhLeafFirst(node));
-        origin = bvhTransformPoint(record.worldToObject, worldOrigin);
-        direction = bvhTransformVector(record.worldToObject, worldDirection);
-        inverseDirection = bvhSafeInverse(direction);
-        instance = record.info.z;
-        tlasEntries = stackSize;
-        node = record.info.x;
-        continue;
-      }
       uint first = bvhLeafFirst(node);
       uint end = first + bvhLeafCount(node);
       for (uint record = first; record < end; ++record) {
@@ -107,27 +111,29 @@ bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, floa
         if ((floatBitsToUint(p0.w) & kBvhAlphaMaskedBit) != 0u && !(BVH_ALPHA_TEST(instance, triangle, barycentrics)))
           continue;
         hit = BvhHit(t, instance, triangle, barycentrics);
-        found = true;
         if (anyHit) return true;
       }
     }
     // Next: the nearest waiting subtree the ray enters before the closest
     // hit so far. When a BLAS's entries are used up, back to the TLAS.
-    node = kBvhInvalidIndex;
-    while (node == kBvhInvalidIndex) {
+    bool popped = false;
+    while (!popped) {
       if (instance != kBvhInvalidIndex && stackSize == tlasEntries) {
         origin = worldOrigin;
         direction = worldDirection;
-        inverseDirection = worldInverseDirection;
+        inverseDirection = bvhSafeInverse(worldDirection);
         instance = kBvhInvalidIndex;
       }
       if (stackSize == 0u) break;
       --stackSize;
-      if (stack[stackSize].t <= hit.t) node = stack[stackSize].node;
+      popped = stack[stackSize].t <= hit.t;
+      node = stack[stackSize].node;
     }
-    if (node == kBvhInvalidIndex) break;
+    if (!popped) break;
   }
-  if (!found) hit = BvhHit(kNoHit, kBvhInvalidIndex, kBvhInvalidIndex, vec2(0.0f));
+  // Only an accepted hit sets the instance.
+  bool found = hit.instance != kBvhInvalidIndex;
+  if (!found) hit.t = kNoHit;
   return found;
 }
 
