@@ -37,7 +37,6 @@ namespace {
 
 using shared::kBvhAlphaMaskedBit;
 using shared::kBvhInvalidIndex;
-using shared::kBvhMaxDepth;
 using shared::kNoHit;
 
 // How many items a subtree whose root is at `depth` can hold when every
