@@ -1,5 +1,6 @@
 // Tests of the BVH (src/render/bvh.h, gpu_bvh.h, shaders/render/bvh_trace.glsl):
-// builder invariants and SAH decisions on the CPU; CPU and GPU traversal
+// builder invariants and SAH decisions on the CPU; the traversal layout's
+// invariants (child boxes in their parent, triangles in leaf order); CPU and GPU traversal
 // against brute force over every triangle, on a procedural scene of 100k+
 // triangles with transformed instances (and Sponza when it is available);
 // alpha masking through the shader hook; and the per-frame TLAS upload
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <numeric>
 #include <random>
@@ -41,7 +43,7 @@ using shared::kNoHit;
 // Builder
 
 Aabb box(glm::vec3 min, glm::vec3 max) { return {min, max}; }
-Aabb nodeBox(const BvhNode& node) { return {node.boundsMin, node.boundsMax}; }
+Aabb nodeBox(const BvhBuildNode& node) { return {node.boundsMin, node.boundsMax}; }
 
 bool sameBox(const Aabb& a, const Aabb& b) { return a.min == b.min && a.max == b.max; }
 
@@ -70,7 +72,7 @@ void expectValidBvh(const Bvh& bvh, std::span<const Aabb> items, const BvhBuildO
     stack.pop_back();
     ASSERT_LT(visit.node, bvh.nodes.size());
     ASSERT_EQ(nodeSeen[visit.node]++, 0) << "node " << visit.node << " is reachable twice";
-    const BvhNode& node = bvh.nodes[visit.node];
+    const BvhBuildNode& node = bvh.nodes[visit.node];
     if (node.count == 0) {
       ASSERT_LT(node.leftFirst + 1, bvh.nodes.size());
       Aabb children = nodeBox(bvh.nodes[node.leftFirst]);
@@ -130,8 +132,8 @@ TEST(BvhBuild, SahSeparatesTwoDistantClusters) {
   const Bvh bvh = buildBvh(boxes);
   expectValidBvh(bvh, boxes);
   ASSERT_EQ(bvh.nodes[0].count, 0u);
-  const BvhNode& a = bvh.nodes[bvh.nodes[0].leftFirst];
-  const BvhNode& b = bvh.nodes[bvh.nodes[0].leftFirst + 1];
+  const BvhBuildNode& a = bvh.nodes[bvh.nodes[0].leftFirst];
+  const BvhBuildNode& b = bvh.nodes[bvh.nodes[0].leftFirst + 1];
   const float lowMax = std::min(a.boundsMax.x, b.boundsMax.x);
   const float highMin = std::max(a.boundsMin.x, b.boundsMin.x);
   EXPECT_LT(lowMax, 10.0f) << "one child holds exactly the cluster near x = 0";
@@ -309,6 +311,158 @@ std::vector<scene::Instance> proceduralInstances() {
 }
 
 // ---------------------------------------------------------------------------
+// The traversal layout: SceneBvh's arrays as the GPU reads them
+
+TEST(BvhLayout, LeafReferencesRoundTrip) {
+  for (const std::uint32_t first : {0u, 1u, 12345u, shared::kBvhMaxLeafFirst - 1})
+    for (std::uint32_t count = 1; count <= shared::kBvhMaxLeafSize; ++count) {
+      const std::uint32_t reference = shared::bvhLeafReference(first, count);
+      EXPECT_TRUE(shared::bvhIsLeaf(reference));
+      EXPECT_EQ(shared::bvhLeafFirst(reference), first);
+      EXPECT_EQ(shared::bvhLeafCount(reference), count);
+    }
+  EXPECT_FALSE(shared::bvhIsLeaf(0u));
+  EXPECT_FALSE(shared::bvhIsLeaf(shared::kBvhLeafBit - 1)) << "every node index below the leaf bit is a node";
+}
+
+struct LayoutWalk {
+  std::vector<int> nodeVisits;  // per node of the array walked
+  std::vector<int> itemVisits;  // per leaf item (triangle or instance record)
+  std::uint32_t deepestLeaf = 0;
+};
+
+// Checks a leaf's stored box against its items.
+using LeafCheck = std::function<void(const Aabb& box, std::uint32_t first, std::uint32_t count)>;
+
+// Walks the tree below interior node `index` (at `depth`; root = 0),
+// checking that the box a node stores for an interior child is exactly that
+// child's bounds (the union of the child's own two boxes), that leaves hold
+// 1..maxLeafSize items, that only a root has empty slots (inverted boxes),
+// and that a left interior child directly follows its parent. Counts visits;
+// returns the node's bounds.
+Aabb walkNode(const std::vector<BvhNode>& nodes, std::uint32_t index, std::uint32_t depth, std::uint32_t maxLeafSize,
+              const LeafCheck& leafCheck, LayoutWalk& walk) {
+  if (index >= nodes.size()) {
+    ADD_FAILURE() << "node " << index << " out of range";
+    return {};
+  }
+  ++walk.nodeVisits[index];
+  const BvhNode& node = nodes[index];
+  const Aabb boxes[2] = {{node.leftMin, node.leftMax}, {node.rightMin, node.rightMax}};
+  const std::uint32_t children[2] = {node.left, node.right};
+  Aabb bounds;
+  for (int side = 0; side < 2; ++side) {
+    const std::uint32_t child = children[side];
+    bounds.extend(boxes[side]);
+    if (child == kBvhInvalidIndex) {
+      EXPECT_EQ(depth, 0u) << "node " << index << ": only a root has empty slots";
+      EXPECT_TRUE(sameBox(boxes[side], Aabb{})) << "node " << index << ": an empty slot has an inverted box";
+    } else if (shared::bvhIsLeaf(child)) {
+      const std::uint32_t first = shared::bvhLeafFirst(child), count = shared::bvhLeafCount(child);
+      EXPECT_LE(count, maxLeafSize) << "node " << index;
+      walk.deepestLeaf = std::max(walk.deepestLeaf, depth + 1);
+      for (std::uint32_t item = first; item < first + count; ++item) {
+        if (item >= walk.itemVisits.size()) {
+          ADD_FAILURE() << "node " << index << ": leaf item " << item << " out of range";
+          return bounds;
+        }
+        ++walk.itemVisits[item];
+      }
+      leafCheck(boxes[side], first, count);
+    } else {
+      if (side == 0) {
+        EXPECT_EQ(child, index + 1) << "a left interior child directly follows its parent";
+      }
+      EXPECT_TRUE(sameBox(walkNode(nodes, child, depth + 1, maxLeafSize, leafCheck, walk), boxes[side]))
+          << "node " << index << " stores node " << child << "'s bounds";
+    }
+  }
+  return bounds;
+}
+
+void expectEachVisitedOnce(const std::vector<int>& visits, const char* what) {
+  for (std::size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], 1) << what << " " << i;
+}
+
+// Every promise of the arrays the GPU reads: after the vertex positions,
+// each triangle's corners copied from them in leaf order (with its material
+// word and index in the w of the first two); each BLAS and the TLAS a tree of
+// interior nodes whose stored child boxes are exactly the children's bounds,
+// reaching every node and every item once; no leaf deeper than the stack
+// bound assumes.
+void expectValidTraversalLayout(const SceneBvh& bvh, std::size_t meshCount) {
+  const std::vector<glm::uvec4>& triangles = bvh.triangles();
+  const std::vector<glm::vec4>& positions = bvh.positions();
+  const std::uint32_t firstRecord = bvh.firstCornerRecord();
+  ASSERT_GE(3 * firstRecord, bvh.vertexCount());
+  ASSERT_LT(3 * firstRecord, bvh.vertexCount() + 3) << "corner records follow the vertices";
+  ASSERT_EQ(positions.size(), 3 * (firstRecord + triangles.size()));
+  const auto corner = [&](std::uint32_t triangle, int c) { return positions[3 * (firstRecord + triangle) + c]; };
+  for (std::uint32_t t = 0; t < triangles.size(); ++t) {
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(glm::vec3(corner(t, c)), glm::vec3(positions[triangles[t][c]])) << "triangle " << t << " corner " << c;
+    ASSERT_EQ(glm::floatBitsToUint(corner(t, 0).w), triangles[t].w) << "triangle " << t;
+    ASSERT_EQ(glm::floatBitsToUint(corner(t, 1).w), t);
+    ASSERT_EQ(corner(t, 2).w, 1.0f);
+  }
+
+  LayoutWalk blas{std::vector<int>(bvh.blasNodes().size()), std::vector<int>(firstRecord + triangles.size())};
+  for (std::size_t m = 0; m < meshCount; ++m) {
+    const std::uint32_t begin = bvh.meshFirstTriangle(m), end = bvh.meshFirstTriangle(m + 1);
+    if (begin == end) {
+      EXPECT_EQ(bvh.blasRoot(m), kBvhInvalidIndex);
+      EXPECT_TRUE(bvh.meshBounds(m).empty());
+      continue;
+    }
+    // Leaves reference corner records.
+    const LeafCheck trianglesInLeaf = [&](const Aabb& box, std::uint32_t first, std::uint32_t count) {
+      const bool inMesh = first >= firstRecord + begin && first + count <= firstRecord + end;
+      EXPECT_TRUE(inMesh) << "mesh " << m << "'s BLAS reaches only its triangles";
+      if (!inMesh) return;
+      Aabb items;
+      for (std::uint32_t k = first; k < first + count; ++k)
+        for (int c = 0; c < 3; ++c) items.extend(glm::vec3(corner(k - firstRecord, c)));
+      EXPECT_TRUE(sameBox(items, box)) << "a leaf's box is exactly its triangles' (from record " << first << ")";
+    };
+    const Aabb bounds = walkNode(bvh.blasNodes(), bvh.blasRoot(m), 0, shared::kBvhMaxLeafSize, trianglesInLeaf, blas);
+    EXPECT_TRUE(sameBox(bounds, bvh.meshBounds(m))) << "mesh " << m;
+  }
+  expectEachVisitedOnce(blas.nodeVisits, "BLAS node");
+  expectEachVisitedOnce(std::vector<int>(blas.itemVisits.begin() + firstRecord, blas.itemVisits.end()), "triangle");
+  EXPECT_EQ(std::count(blas.itemVisits.begin(), blas.itemVisits.begin() + firstRecord, 0), firstRecord)
+      << "leaves reference corner records only";
+  if (!triangles.empty()) {
+    EXPECT_EQ(blas.deepestLeaf, std::max(bvh.blasDepth(), 1u)) << "a tree of one leaf is a root with one slot";
+  }
+  EXPECT_LE(blas.deepestLeaf, shared::kBvhMaxDepth);
+
+  LayoutWalk tlas{std::vector<int>(bvh.tlasNodes().size()), std::vector<int>(bvh.instances().size())};
+  const LeafCheck instanceInLeaf = [&](const Aabb& box, std::uint32_t first, std::uint32_t) {
+    if (first >= bvh.instances().size()) return;
+    const BvhInstance& record = bvh.instances()[first];
+    const Aabb object = bvh.meshBounds(record.info.y);
+    Aabb world;
+    for (int corner = 0; corner < 8; ++corner)
+      world.extend(shared::bvhTransformPoint(
+          record.objectToWorld, glm::vec3(corner & 1 ? object.max.x : object.min.x,
+                                          corner & 2 ? object.max.y : object.min.y,
+                                          corner & 4 ? object.max.z : object.min.z)));
+    EXPECT_TRUE(box.contains(world)) << "instance record " << first << ": its leaf box holds its BLAS's box";
+    const glm::vec3 slack = (glm::abs(world.min) + glm::abs(world.max) + (world.max - world.min)) * 1e-5f;
+    EXPECT_TRUE(glm::all(glm::lessThanEqual(world.min - box.min, slack)) &&
+                glm::all(glm::lessThanEqual(box.max - world.max, slack)))
+        << "instance record " << first << ": and is barely larger";
+  };
+  const Aabb tlasBounds = walkNode(bvh.tlasNodes(), 0, 0, 1, instanceInLeaf, tlas);
+  EXPECT_TRUE(sameBox(tlasBounds, bvh.tlasBounds()));
+  expectEachVisitedOnce(tlas.nodeVisits, "TLAS node");
+  expectEachVisitedOnce(tlas.itemVisits, "instance record");
+  if (!bvh.instances().empty()) {
+    EXPECT_EQ(tlas.deepestLeaf, std::max(bvh.tlasDepth(), 1u));
+  }
+}
+
+// ---------------------------------------------------------------------------
 // Rays and the brute-force reference
 
 glm::vec3 rayOrigin(const BvhRay& r) { return {r.originTMin.x, r.originTMin.y, r.originTMin.z}; }
@@ -320,9 +474,9 @@ glm::vec3 rayDirection(const BvhRay& r) { return {r.directionTMax.x, r.direction
 std::vector<BvhRay> makeRays(const SceneBvh& bvh, std::size_t count, float originSpread, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  const BvhNode& root = bvh.tlasNodes()[0];
-  const glm::vec3 centre = (root.boundsMin + root.boundsMax) * 0.5f;
-  const glm::vec3 half = (root.boundsMax - root.boundsMin) * 0.5f * originSpread;
+  const Aabb bounds = bvh.tlasBounds();
+  const glm::vec3 centre = bounds.centroid();
+  const glm::vec3 half = (bounds.max - bounds.min) * 0.5f * originSpread;
   std::vector<BvhRay> rays;
   for (std::size_t i = 0; i < count; ++i) {
     const glm::vec3 origin = centre + half * glm::vec3(2 * unit(rng) - 1, 2 * unit(rng) - 1, 2 * unit(rng) - 1);
@@ -451,12 +605,58 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 // ---------------------------------------------------------------------------
 // CPU traversal
 
+// Deep trees on both levels, and rays that wait at nearly every level of
+// both: a mesh of triangles in the planes x = 2^i (each covering the half
+// y + z >= 1 of the unit square [0, 1]^2 in y and z), which the SAH splits
+// a few triangles at a time, so the BLAS is about 20 levels deep; and
+// instances of it scaled by 2^j in y and z, whose boxes nest the same way,
+// so the TLAS is as deep. A ray down the x axis at y = z = 0.75 is inside
+// every box of both levels but outside every triangle (in instance j's
+// object space it runs at y = z = 0.75 / 2^j); one at y = z = 1.5 hits
+// instance 1 (scale 2) only.
+scene::Scene deepStripScene() {
+  scene::Scene s;
+  s.name = "deep strip";
+  s.materials.resize(1);
+  scene::Mesh strip;
+  for (int i = 0; i < 60; ++i) {
+    const float x = std::ldexp(1.0f, i);
+    const auto first = std::uint32_t(strip.positions.size());
+    strip.positions.insert(strip.positions.end(), {{x, 1.0f, 0.0f}, {x, 0.0f, 1.0f}, {x, 1.0f, 1.0f}});
+    strip.indices.insert(strip.indices.end(), {first, first + 1, first + 2});
+  }
+  s.meshes.push_back(strip);
+  return s;
+}
+
+std::vector<scene::Instance> deepStripInstances() {
+  std::vector<scene::Instance> instances;
+  for (int j = 1; j <= 60; ++j) {
+    const float scale = std::ldexp(1.0f, j);
+    instances.push_back({0, j, placement(glm::vec3(0.0f), 0.0f, {0, 1, 0}, {1.0f, scale, scale})});
+  }
+  return instances;
+}
+
+std::vector<BvhRay> deepStripRays() {
+  std::vector<BvhRay> rays;
+  for (const float offset : {0.75f, 1.5f}) {
+    rays.push_back({glm::vec4(-1.0f, offset, offset, 0.0f), glm::vec4(1.0f, 0.0f, 0.0f, 1e30f)});
+    rays.push_back({glm::vec4(1e18f, offset, offset, 0.0f), glm::vec4(-1.0f, 0.0f, 0.0f, 1e30f)});
+  }
+  return rays;
+}
+
 TEST(SceneBvh, KnownHitOnAScaledInstance) {
   const scene::Scene s = oneTriangleScene();
   SceneBvh bvh(s);
   const std::vector<scene::Instance> instances = {
       {0, 0, placement({0.0f, 0.0f, -4.0f}, 0.0f, {0, 1, 0}, {2.0f, 4.0f, 3.0f})}};
   bvh.setInstances(instances);
+  // Both trees are one leaf: each is a root with one slot.
+  expectValidTraversalLayout(bvh, s.meshes.size());
+  EXPECT_EQ(bvh.blasNodes().size(), 1u);
+  EXPECT_EQ(bvh.tlasNodes().size(), 1u);
   // World triangle (0,0,-4), (2,0,-4), (0,4,-4); the ray goes down -Z through
   // (0.5, 1, 0) with a direction of length 2, so it hits at t = 2 with
   // u = 0.5 / 2 and v = 1 / 4.
@@ -501,6 +701,35 @@ TEST(SceneBvh, InstancesScaledFarFromOneAreTracedAndOnlyUninvertibleOnesLeftOut)
   EXPECT_TRUE(bvh.untraceableInstances().empty()) << "each call lists its own";
 }
 
+// The stack holds one waiting child per depth of the TLAS and then of one
+// BLAS (docs/bvh.md): here both levels are deep and the rays wait at nearly
+// every level, more levels together than either tree has alone.
+TEST(SceneBvh, DeepTreesOnBothLevelsFitTheStack) {
+  const scene::Scene s = deepStripScene();
+  SceneBvh bvh(s);
+  bvh.setInstances(deepStripInstances());
+  expectValidTraversalLayout(bvh, s.meshes.size());
+  std::cout << "depth: BLAS " << bvh.blasDepth() << ", TLAS " << bvh.tlasDepth() << "\n";
+  EXPECT_GT(bvh.blasDepth() + bvh.tlasDepth(), shared::kBvhMaxDepth) << "deeper together than one level's bound";
+  const std::vector<BvhRay> rays = deepStripRays();
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const BvhRay& ray = rays[i];
+    const BvhHit expected =
+        bvh.traceClosestBruteForce(rayOrigin(ray), rayDirection(ray), ray.originTMin.w, ray.directionTMax.w);
+    // The CPU traversal throws when its stack is full.
+    const BvhHit hit = bvh.traceClosest(rayOrigin(ray), rayDirection(ray), ray.originTMin.w, ray.directionTMax.w);
+    EXPECT_EQ(hit.t, expected.t) << "ray " << i;
+    EXPECT_EQ(hit.instance, expected.instance) << "ray " << i;
+    EXPECT_EQ(hit.triangle, expected.triangle) << "ray " << i;
+    EXPECT_EQ(bvh.traceAny(rayOrigin(ray), rayDirection(ray), ray.originTMin.w, ray.directionTMax.w),
+              expected.t < kNoHit);
+    EXPECT_EQ(expected.t < kNoHit, i >= 2) << "ray " << i;
+    if (expected.t < kNoHit) {
+      EXPECT_EQ(expected.instance, 0u) << "only the instance of scale 2 is hit";
+    }
+  }
+}
+
 TEST(SceneBvh, EmptySceneHasAnEmptyRootThatNoRayEnters) {
   scene::Scene s;
   s.materials.resize(1);
@@ -509,12 +738,18 @@ TEST(SceneBvh, EmptySceneHasAnEmptyRootThatNoRayEnters) {
   const std::vector<scene::Instance> instances = {{0, 0, glm::mat4(1.0f)}};
   bvh.setInstances(instances);
   EXPECT_TRUE(bvh.instances().empty());
+  EXPECT_TRUE(bvh.tlasBounds().empty());
+  expectValidTraversalLayout(bvh, s.meshes.size());
   ASSERT_EQ(bvh.tlasNodes().size(), 1u);
+  const BvhNode& root = bvh.tlasNodes()[0];
+  EXPECT_EQ(root.left, kBvhInvalidIndex);
+  EXPECT_EQ(root.right, kBvhInvalidIndex);
   for (const glm::vec3 direction : {glm::vec3(1, 0, 0), glm::vec3(0, 0, -1), glm::vec3(0.3f, -0.2f, 0.9f)}) {
     EXPECT_EQ(bvh.traceClosest(glm::vec3(0.0f), direction, 0.0f, 1e30f).t, kNoHit);
-    EXPECT_EQ(shared::bvhIntersectBox(glm::vec3(0.0f), shared::bvhSafeInverse(direction), bvh.tlasNodes()[0].boundsMin,
-                                      bvh.tlasNodes()[0].boundsMax, -1e30f, 1e30f),
-              kNoHit);
+    EXPECT_FALSE(bvh.traceAny(glm::vec3(0.0f), direction, 0.0f, 1e30f));
+    const glm::vec3 inverse = shared::bvhSafeInverse(direction);
+    EXPECT_EQ(shared::bvhIntersectBox(glm::vec3(0.0f), inverse, root.leftMin, root.leftMax, -1e30f, 1e30f), kNoHit);
+    EXPECT_EQ(shared::bvhIntersectBox(glm::vec3(0.0f), inverse, root.rightMin, root.rightMax, -1e30f, 1e30f), kNoHit);
   }
 }
 
@@ -524,6 +759,7 @@ TEST(SceneBvh, FlattenedArraysAreConsistent) {
   const std::vector<scene::Instance> instances = proceduralInstances();
   bvh.setInstances(instances);
   EXPECT_EQ(bvh.instances().size(), instances.size() - 2) << "empty mesh and singular transform left out";
+  expectValidTraversalLayout(bvh, s.meshes.size());
   EXPECT_EQ(bvh.blasRoot(4), kBvhInvalidIndex);
   EXPECT_LE(bvh.blasDepth(), shared::kBvhMaxDepth);
   std::size_t triangleTotal = 0;
@@ -635,8 +871,19 @@ std::vector<BvhTraceResult> traceOnGpu(gpu::Context& context, BvhRayTracer& trac
 
 glm::vec2 resultBarycentrics(const BvhTraceResult& r) { return {r.tBarycentrics.y, r.tBarycentrics.z}; }
 
-void expectGpuMatches(gpu::Context& context, BvhRayTracer& tracer, GpuBvh& gpuBvh, const std::vector<BvhRay>& rays,
-                      const std::vector<Reference>& refs) {
+// The hit triangle's material, as render.bvh_trace_rays reports it.
+void expectMaterialReported(const SceneBvh& bvh, const BvhTraceResult& result, std::size_t rayIndex) {
+  const bool hit = result.tBarycentrics.x < kNoHit;
+  if (hit && result.ids.y >= bvh.triangles().size()) {
+    ADD_FAILURE() << "ray " << rayIndex << ": triangle " << result.ids.y << " out of range";
+    return;
+  }
+  EXPECT_EQ(result.ids.z, hit ? bvh.triangles()[result.ids.y].w & ~kBvhAlphaMaskedBit : kBvhInvalidIndex)
+      << "ray " << rayIndex;
+}
+
+void expectGpuMatches(gpu::Context& context, BvhRayTracer& tracer, const SceneBvh& bvh, GpuBvh& gpuBvh,
+                      const std::vector<BvhRay>& rays, const std::vector<Reference>& refs) {
   auto start = std::chrono::steady_clock::now();
   const std::vector<BvhTraceResult> closestResults = traceOnGpu(context, tracer, gpuBvh, rays, BvhTraceMode::Closest);
   std::cout << tracer.pass().name() << ", closest, " << rays.size() << " rays: " << secondsSince(start) * 1e3
@@ -646,6 +893,7 @@ void expectGpuMatches(gpu::Context& context, BvhRayTracer& tracer, GpuBvh& gpuBv
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const BvhTraceResult& c = closestResults[i];
     expectClosestAgrees(refs[i], c.tBarycentrics.x, c.ids.x, c.ids.y, resultBarycentrics(c), i, closest);
+    expectMaterialReported(bvh, c, i);
     EXPECT_EQ(c.tBarycentrics.w, 0.0f) << "closest-hit rays do not set the blocked flag";
     const BvhTraceResult& a = anyResults[i];
     expectAnyAgrees(refs[i], a.tBarycentrics.w == 1.0f, resultBarycentrics(a), i, any);
@@ -668,7 +916,27 @@ TEST_F(GpuBvhTest, TraceRaysMatchesBruteForce) {
   GpuBvh gpuBvh(context(), bvh, 2);
   BvhRayTracer tracer(context());
   const std::vector<BvhRay> rays = makeRays(bvh, 1500, 1.3f, 31);
-  expectGpuMatches(context(), tracer, gpuBvh, rays, bruteForceAll(bvh, rays));
+  expectGpuMatches(context(), tracer, bvh, gpuBvh, rays, bruteForceAll(bvh, rays));
+}
+
+TEST_F(GpuBvhTest, DeepTreesOnBothLevelsFitTheStack) {
+  const scene::Scene s = deepStripScene();
+  SceneBvh bvh(s);
+  bvh.setInstances(deepStripInstances());
+  GpuBvh gpuBvh(context(), bvh, 1);
+  BvhRayTracer tracer(context());
+  const std::vector<BvhRay> rays = deepStripRays();
+  const std::vector<BvhTraceResult> closest = traceOnGpu(context(), tracer, gpuBvh, rays, BvhTraceMode::Closest);
+  const std::vector<BvhTraceResult> any = traceOnGpu(context(), tracer, gpuBvh, rays, BvhTraceMode::Any);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const BvhRay& ray = rays[i];
+    const BvhHit expected =
+        bvh.traceClosestBruteForce(rayOrigin(ray), rayDirection(ray), ray.originTMin.w, ray.directionTMax.w);
+    EXPECT_EQ(closest[i].tBarycentrics.x, expected.t) << "ray " << i;
+    EXPECT_EQ(closest[i].ids.x, expected.instance) << "ray " << i;
+    EXPECT_EQ(closest[i].ids.y, expected.triangle) << "ray " << i;
+    EXPECT_EQ(any[i].tBarycentrics.w, expected.t < kNoHit ? 1.0f : 0.0f) << "ray " << i;
+  }
 }
 
 TEST_F(GpuBvhTest, AlphaHookMakesMaskedTrianglesTransparent) {
@@ -721,7 +989,7 @@ TEST_F(GpuBvhTest, AlphaHookMakesMaskedTrianglesTransparent) {
   GpuBvh bigGpuBvh(context(), bigBvh, 1);
   const std::vector<BvhRay> randomRays = makeRays(bigBvh, 600, 1.3f, 32);
   const BvhAlphaTest rejectAll = [](std::uint32_t, std::uint32_t, glm::vec2) { return false; };
-  expectGpuMatches(context(), alphaTested, bigGpuBvh, randomRays, bruteForceAll(bigBvh, randomRays, rejectAll));
+  expectGpuMatches(context(), alphaTested, bigBvh, bigGpuBvh, randomRays, bruteForceAll(bigBvh, randomRays, rejectAll));
   const std::vector<BvhTraceResult> cut =
       traceOnGpu(context(), alphaTested, bigGpuBvh, randomRays, BvhTraceMode::Closest);
   for (const BvhTraceResult& r : cut) {
@@ -804,6 +1072,7 @@ TEST_F(GpuBvhTest, SponzaMatchesBruteForceOnCpuAndGpu) {
   const scene::Scene sponza = scene::loadGltf(path, {.warn = [](const std::string&) {}});
   std::cout << "Sponza load: " << secondsSince(start) << " s\n";
   SceneBvh bvh(sponza);
+  expectValidTraversalLayout(bvh, sponza.meshes.size());
   std::cout << "Sponza BLAS build, " << sponza.meshes.size() << " meshes, " << bvh.triangles().size()
             << " triangles: " << bvh.blasBuildSeconds() * 1e3 << " ms (depth " << bvh.blasDepth() << ")\n";
   start = std::chrono::steady_clock::now();
@@ -829,9 +1098,11 @@ TEST_F(GpuBvhTest, SponzaMatchesBruteForceOnCpuAndGpu) {
   BvhRayTracer tracer(context());
   const std::vector<BvhTraceResult> results = traceOnGpu(context(), tracer, gpuBvh, rays, BvhTraceMode::Closest);
   Agreement gpuClosest;
-  for (std::size_t i = 0; i < rays.size(); ++i)
+  for (std::size_t i = 0; i < rays.size(); ++i) {
     expectClosestAgrees(refs[i], results[i].tBarycentrics.x, results[i].ids.x, results[i].ids.y,
                         resultBarycentrics(results[i]), i, gpuClosest);
+    expectMaterialReported(bvh, results[i], i);
+  }
   EXPECT_LE(gpuClosest.excused, int(rays.size()) / 200);
   const std::vector<BvhTraceResult> anyResults = traceOnGpu(context(), tracer, gpuBvh, rays, BvhTraceMode::Any);
   Agreement gpuAny;

@@ -1,7 +1,7 @@
 // The BVH's GPU data and its ray-box / ray-triangle tests, shared by the host
-// (C++: the builder, the CPU reference traversal) and the shaders
-// (render/bvh_trace.glsl), so both agree on the layout and on the arithmetic.
-// Layout and algorithms: docs/bvh.md.
+// (C++: the builder, the CPU traversal) and the shaders (render/bvh_trace.glsl),
+// so both agree on the layout and on the arithmetic. The traversal itself is
+// shared too: render/bvh_traverse.glsl. Layout and algorithms: docs/bvh.md.
 //
 // Buffer structs are vec4s and uvec4s, except BvhNode, whose vec3 + uint
 // pairs pack into 16 bytes identically in std430 and in C++ (glm::vec3 is
@@ -17,16 +17,22 @@
 namespace bounce::shared {
 #endif
 
-// A node: 32 bytes. count == 0: interior node whose children are
-// leftFirst and leftFirst + 1 (always adjacent). count > 0: leaf holding
-// items leftFirst .. leftFirst + count - 1 (triangles for a BLAS, instance
-// records for the TLAS). An empty tree is one node with inverted bounds
-// (min > max), which no ray enters.
+// An interior node with both children's boxes, so a visit is one 64-byte
+// fetch. left and right are child references (bvhIsLeaf and friends below):
+// an interior node's index in the same array, or a leaf's items (triangles
+// for a BLAS, instance records for the TLAS). Every tree starts at an
+// interior node; a slot without a child (a tree of one leaf, or of nothing)
+// has an inverted box (min > max), which no ray enters, and the reference
+// kBvhInvalidIndex.
 struct BvhNode {
-  vec3 boundsMin;
-  uint leftFirst;
-  vec3 boundsMax;
-  uint count;
+  vec3 leftMin;
+  uint left;
+  vec3 leftMax;
+  uint right;
+  vec3 rightMin;
+  uint unused0;
+  vec3 rightMax;
+  uint unused1;
 };
 
 // One placed mesh as the TLAS leaves see it. Records are stored in TLAS leaf
@@ -34,7 +40,7 @@ struct BvhNode {
 struct BvhInstance {
   vec4 worldToObject[3];  // rows of a 3x4 affine matrix
   vec4 objectToWorld[3];  // rows of a 3x4 affine matrix
-  uvec4 info;             // x = BLAS root node, y = mesh index, z = caller's instance index, w unused
+  uvec4 info;             // x = BLAS root node (interior), y = mesh index, z = caller's instance index, w unused
 };
 
 // What a ray hit. t is measured along the world-space direction as given
@@ -56,7 +62,8 @@ struct BvhRay {
 
 struct BvhTraceResult {
   vec4 tBarycentrics;  // x = t (kNoHit: missed), yz = barycentrics, w = 1 if an any-hit ray was blocked, else 0
-  uvec4 ids;           // x = instance (caller's index), y = triangle, zw unused
+  uvec4 ids;           // x = instance (caller's index), y = triangle, z = its material index, w unused
+                       // (kBvhInvalidIndex where missed)
 };
 
 struct BvhTraceRaysParams {
@@ -68,10 +75,21 @@ struct BvhTraceRaysParams {
 #endif
 
 BOUNCE_SHARED_BEGIN
-// Deepest leaf of any BVH level (root = depth 0). Traversal keeps one stack
-// entry per level at most, so a stack of this size can never overflow; the
-// builder falls back to median splits to stay within it.
+// Deepest leaf of any BVH level (root = depth 0); the builder falls back to
+// median splits to stay within it. The walk keeps at most one waiting child
+// per depth of each level (docs/bvh.md), so the TLAS's entries and then one
+// BLAS's never need more than kBvhStackSize.
 const uint kBvhMaxDepth = 32u;
+const uint kBvhStackSize = 2u * kBvhMaxDepth;
+
+// A child reference with this bit set is a leaf: its first item in the bits
+// above kBvhLeafCountBits, its item count minus one in those below. So a
+// leaf holds 1 .. kBvhMaxLeafSize items and the first item is below
+// kBvhMaxLeafFirst; without it, the reference is an interior node's index.
+const uint kBvhLeafBit = 0x80000000u;
+const uint kBvhLeafCountBits = 2u;
+const uint kBvhMaxLeafSize = 1u << kBvhLeafCountBits;
+const uint kBvhMaxLeafFirst = kBvhLeafBit >> kBvhLeafCountBits;
 
 // Set in a triangle's w when its material is alpha-masked (glTF MASK or BLEND):
 // a hit on it must pass the alpha test before it counts.
@@ -80,6 +98,11 @@ const uint kBvhInvalidIndex = 0xffffffffu;
 
 const uint kBvhTraceClosest = 0u;
 const uint kBvhTraceAny = 1u;
+
+uint bvhLeafReference(uint first, uint count) { return kBvhLeafBit | (first << kBvhLeafCountBits) | (count - 1u); }
+bool bvhIsLeaf(uint reference) { return (reference & kBvhLeafBit) != 0u; }
+uint bvhLeafFirst(uint reference) { return (reference & ~kBvhLeafBit) >> kBvhLeafCountBits; }
+uint bvhLeafCount(uint reference) { return (reference & (kBvhMaxLeafSize - 1u)) + 1u; }
 
 // 1 / direction, with zero components nudged to +-1e-20 first, so the slab
 // test never multiplies 0 by infinity (which would make NaN).
@@ -133,20 +156,6 @@ bool bvhIntersectTriangle(vec3 origin, vec3 direction, vec3 p0, vec3 p1, vec3 p2
   t = hitT;
   barycentrics = vec2(u, v);
   return true;
-}
-
-// One interior-node step of the front-to-back walk, shared by both levels
-// and by the CPU twin: x = the child to visit next, y = the farther child to
-// push (kBvhInvalidIndex where a child's box is missed); x is invalid when
-// neither box is hit within (tMin, tMax).
-uvec2 bvhChildrenInOrder(BvhNode a, BvhNode b, uint left, vec3 origin, vec3 inverseDirection, float tMin,
-                         float tMax) {
-  float tA = bvhIntersectBox(origin, inverseDirection, a.boundsMin, a.boundsMax, tMin, tMax);
-  float tB = bvhIntersectBox(origin, inverseDirection, b.boundsMin, b.boundsMax, tMin, tMax);
-  if (tA < kNoHit && tB < kNoHit) return tA <= tB ? uvec2(left, left + 1u) : uvec2(left + 1u, left);
-  if (tA < kNoHit) return uvec2(left, kBvhInvalidIndex);
-  if (tB < kNoHit) return uvec2(left + 1u, kBvhInvalidIndex);
-  return uvec2(kBvhInvalidIndex, kBvhInvalidIndex);
 }
 
 vec3 bvhTransformPoint(const vec4 rows[3], vec3 p) {

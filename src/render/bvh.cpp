@@ -9,12 +9,34 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+// The CPU runs the shader's traversal: render/bvh_traverse.glsl, with the
+// data reached through a BvhTraversalData instead of storage buffers.
+namespace bounce::shared {
+struct BvhTraversalData {
+  const std::vector<BvhNode>& tlasNodes;
+  const std::vector<BvhNode>& blasNodes;
+  const std::vector<BvhInstance>& instances;
+  const std::vector<vec4>& positions;
+  const render::BvhAlphaTest& alphaTest;
+};
+}  // namespace bounce::shared
+// Checked access: a reference out of range throws instead of reading past an array.
+#define BVH_SCENE_PARAMETER const BvhTraversalData &scene,
+#define BVH_TLAS_NODE(node) scene.tlasNodes.at(node)
+#define BVH_BLAS_NODE(node) scene.blasNodes.at(node)
+#define BVH_INSTANCE(record) scene.instances.at(record)
+#define BVH_POSITION(index) scene.positions.at(index)
+#define BVH_ALPHA_TEST(instance, triangle, barycentrics) \
+  (!scene.alphaTest || scene.alphaTest(instance, triangle, barycentrics))
+#define BVH_CHECK_STACK(size) \
+  if ((size) == kBvhStackSize) throw std::logic_error("BVH traversal stack overflow: the depth bound failed")
+#include "render/bvh_traverse.glsl"
+
 namespace bounce::render {
 namespace {
 
 using shared::kBvhAlphaMaskedBit;
 using shared::kBvhInvalidIndex;
-using shared::kBvhMaxDepth;
 using shared::kNoHit;
 
 // How many items a subtree whose root is at `depth` can hold when every
@@ -86,7 +108,7 @@ class Builder {
       bounds.extend(items_[item]);
       centroidBounds.extend(centroids_[item]);
     }
-    BvhNode& node = bvh_.nodes[nodeIndex];
+    BvhBuildNode& node = bvh_.nodes[nodeIndex];
     node.boundsMin = bounds.min;
     node.boundsMax = bounds.max;
     node.leftFirst = first;
@@ -220,10 +242,75 @@ bool finiteMatrix(const glm::mat4& m) {
   return true;
 }
 
-BvhNode emptyRoot() {
-  const float big = std::numeric_limits<float>::max();
-  return {glm::vec3(big), 0u, glm::vec3(-big), 0u};
-}
+// The traversal layout of a binary tree (docs/bvh.md): one BvhNode per
+// interior node, holding both children's boxes and references, depth first
+// with the root first and a left interior child right after its parent.
+// Node indices start at firstNode, leaf items at firstItem. A tree of one
+// leaf gets a root whose right slot is empty, a tree of nothing a root with
+// two empty slots, so every walk starts at an interior node.
+class TraversalLayout {
+ public:
+  TraversalLayout(const Bvh& bvh, std::uint32_t firstNode, std::uint32_t firstItem)
+      : bvh_(bvh), firstNode_(firstNode), firstItem_(firstItem) {}
+
+  std::vector<BvhNode> nodes() && {
+    if (bvh_.nodes.empty()) {
+      nodes_.push_back({});
+      setChild(0, 0, Aabb{}, kBvhInvalidIndex);
+      setChild(0, 1, Aabb{}, kBvhInvalidIndex);
+    } else if (bvh_.nodes[0].count > 0) {
+      nodes_.push_back({});
+      setChild(0, 0, bounds(bvh_.nodes[0]), reference(0));
+      setChild(0, 1, Aabb{}, kBvhInvalidIndex);
+    } else {
+      place(0);
+    }
+    return std::move(nodes_);
+  }
+
+ private:
+  static Aabb bounds(const BvhBuildNode& node) { return {node.boundsMin, node.boundsMax}; }
+
+  // The reference a parent stores for binary node `index`, placing its subtree first if it is interior.
+  std::uint32_t reference(std::uint32_t index) {
+    const BvhBuildNode& node = bvh_.nodes[index];
+    if (node.count == 0) return place(index);
+    if (firstItem_ + node.leftFirst >= shared::kBvhMaxLeafFirst || node.count > shared::kBvhMaxLeafSize)
+      throw std::invalid_argument("BVH: a leaf of " + std::to_string(node.count) + " items from item " +
+                                  std::to_string(firstItem_ + node.leftFirst) + " does not fit a child reference");
+    return shared::bvhLeafReference(firstItem_ + node.leftFirst, node.count);
+  }
+
+  // Places interior binary node `index` and, after it, its subtree; returns its global index.
+  std::uint32_t place(std::uint32_t index) {
+    const auto slot = std::uint32_t(nodes_.size());
+    if (firstNode_ + slot >= shared::kBvhLeafBit) throw std::invalid_argument("BVH: too many nodes for a reference");
+    nodes_.push_back({});
+    for (std::uint32_t side = 0; side < 2; ++side) {
+      const std::uint32_t child = bvh_.nodes[index].leftFirst + side;
+      const std::uint32_t childReference = reference(child);  // may grow nodes_: index it afterwards
+      setChild(slot, side, bounds(bvh_.nodes[child]), childReference);
+    }
+    return firstNode_ + slot;
+  }
+
+  void setChild(std::uint32_t slot, std::uint32_t side, const Aabb& box, std::uint32_t childReference) {
+    BvhNode& node = nodes_[slot];
+    if (side == 0) {
+      node.leftMin = box.min;
+      node.leftMax = box.max;
+      node.left = childReference;
+    } else {
+      node.rightMin = box.min;
+      node.rightMax = box.max;
+      node.right = childReference;
+    }
+  }
+
+  const Bvh& bvh_;
+  std::uint32_t firstNode_, firstItem_;
+  std::vector<BvhNode> nodes_;
+};
 
 BvhHit noHit() { return {kNoHit, kBvhInvalidIndex, kBvhInvalidIndex, glm::vec2(0.0f)}; }
 
@@ -254,7 +341,16 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
   std::size_t vertexTotal = 0;
   for (const scene::Mesh& mesh : scene.meshes) vertexTotal += mesh.positions.size();
   if (vertexTotal >= kBvhInvalidIndex) throw scene::SceneError(scene.name + ": too many vertices for 32-bit indices");
-  positions_.reserve(vertexTotal);
+  std::size_t triangleTotal = 0;
+  for (const scene::Mesh& mesh : scene.meshes) triangleTotal += mesh.indices.size() / 3;
+  vertexCount_ = std::uint32_t(vertexTotal);
+  // Corner records start at a multiple of three entries, after the vertices.
+  firstCornerRecord_ = (vertexCount_ + 2) / 3;
+  if (firstCornerRecord_ + triangleTotal > shared::kBvhMaxLeafFirst)
+    throw scene::SceneError(scene.name + ": too many triangles and vertices for the BVH's leaf references");
+  positions_.reserve(3 * (firstCornerRecord_ + triangleTotal));
+  std::vector<glm::vec4> cornerRecords;
+  cornerRecords.reserve(3 * triangleTotal);
 
   blasRoots_.assign(scene.meshes.size(), kBvhInvalidIndex);
   meshFirstTriangle_.reserve(scene.meshes.size() + 1);
@@ -285,25 +381,33 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
     }
     const auto firstTriangle = std::uint32_t(triangles_.size());
     meshFirstTriangle_.push_back(firstTriangle);
-    if (triangleCount == 0) continue;
+    if (triangleCount == 0) {
+      meshBounds_.emplace_back();
+      continue;
+    }
 
     const Bvh blas = buildBvh(triangleBounds);
-    const auto nodeOffset = std::uint32_t(blasNodes_.size());
-    for (BvhNode node : blas.nodes) {
-      node.leftFirst += node.count == 0 ? nodeOffset : firstTriangle;
+    const auto root = std::uint32_t(blasNodes_.size());
+    for (const BvhNode& node : TraversalLayout(blas, root, firstCornerRecord_ + firstTriangle).nodes())
       blasNodes_.push_back(node);
-    }
     for (const std::uint32_t t : blas.itemOrder) {
       const std::uint32_t* index = &mesh.indices[3 * std::size_t(t)];
+      const auto triangle = std::uint32_t(triangles_.size());
       triangles_.emplace_back(index[0] + vertexOffset, index[1] + vertexOffset, index[2] + vertexOffset, materialBits);
+      cornerRecords.emplace_back(mesh.positions[index[0]], glm::uintBitsToFloat(materialBits));
+      cornerRecords.emplace_back(mesh.positions[index[1]], glm::uintBitsToFloat(triangle));
+      cornerRecords.emplace_back(mesh.positions[index[2]], 1.0f);
       sourceTriangle_.push_back(t);
     }
-    blasRoots_[m] = nodeOffset;
+    blasRoots_[m] = root;
+    meshBounds_.push_back({blas.nodes[0].boundsMin, blas.nodes[0].boundsMax});
     blasDepth_ = std::max(blasDepth_, blas.depth);
   }
   meshFirstTriangle_.push_back(std::uint32_t(triangles_.size()));
+  positions_.resize(3 * std::size_t(firstCornerRecord_), glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  positions_.insert(positions_.end(), cornerRecords.begin(), cornerRecords.end());
   blasBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  tlasNodes_ = {emptyRoot()};
+  setInstances({});
 }
 
 void SceneBvh::setInstances(std::span<const scene::Instance> instances) {
@@ -329,13 +433,16 @@ void SceneBvh::setInstances(std::span<const scene::Instance> instances) {
     rows3x4(objectToWorld, record.objectToWorld);
     record.info = glm::uvec4(root, std::uint32_t(instance.mesh), std::uint32_t(i), 0u);
     records.push_back(record);
-    bounds.push_back(transformBounds(objectToWorld, blasNodes_[root].boundsMin, blasNodes_[root].boundsMax));
+    const Aabb& objectBounds = meshBounds_[std::size_t(instance.mesh)];
+    bounds.push_back(transformBounds(objectToWorld, objectBounds.min, objectBounds.max));
   }
-  // One instance per leaf: an instance costs a transform and a BLAS root, far more than a triangle.
+  // One instance per leaf: an instance costs a transform and a BLAS root, far
+  // more than a triangle, and the traversal enters a TLAS leaf's one instance.
   const Bvh tlas = buildBvh(bounds, {.maxLeafSize = 1});
   instances_.clear();
   for (const std::uint32_t item : tlas.itemOrder) instances_.push_back(records[item]);
-  tlasNodes_ = tlas.nodes.empty() ? std::vector<BvhNode>{emptyRoot()} : tlas.nodes;
+  tlasNodes_ = TraversalLayout(tlas, 0, 0).nodes();
+  tlasBounds_ = tlas.nodes.empty() ? Aabb{} : Aabb{tlas.nodes[0].boundsMin, tlas.nodes[0].boundsMax};
   tlasDepth_ = tlas.depth;
 }
 
@@ -345,97 +452,10 @@ bool SceneBvh::acceptHit(std::uint32_t instance, std::uint32_t triangle, glm::ve
   return alphaTest(instance, triangle, barycentrics);
 }
 
-// Mirrors bvhTraverseBlas in bvh_trace.glsl step by step (same visiting
-// order, same tests), so CPU and GPU agree hit for hit.
-bool SceneBvh::traceBlas(const BvhInstance& instance, glm::vec3 worldOrigin, glm::vec3 worldDirection, float tMin,
-                         bool anyHit, const BvhAlphaTest& alphaTest, BvhHit& hit) const {
-  // Not renormalised, so t along the object-space ray is t along the world ray.
-  const glm::vec3 origin = shared::bvhTransformPoint(instance.worldToObject, worldOrigin);
-  const glm::vec3 direction = shared::bvhTransformVector(instance.worldToObject, worldDirection);
-  const glm::vec3 inverseDirection = shared::bvhSafeInverse(direction);
-  const std::uint32_t root = instance.info.x;
-  const std::uint32_t instanceIndex = instance.info.z;
-  const BvhNode& rootNode = blasNodes_[root];
-  if (shared::bvhIntersectBox(origin, inverseDirection, rootNode.boundsMin, rootNode.boundsMax, tMin, hit.t) >= kNoHit)
-    return false;
-  bool found = false;
-  std::uint32_t stack[kBvhMaxDepth];
-  std::uint32_t stackSize = 0;
-  std::uint32_t nodeIndex = root;
-  for (;;) {
-    const BvhNode& node = blasNodes_[nodeIndex];
-    if (node.count == 0) {
-      const glm::uvec2 next = shared::bvhChildrenInOrder(blasNodes_[node.leftFirst], blasNodes_[node.leftFirst + 1],
-                                                         node.leftFirst, origin, inverseDirection, tMin, hit.t);
-      if (next.x != kBvhInvalidIndex) {
-        if (next.y != kBvhInvalidIndex) {
-          if (stackSize == kBvhMaxDepth)
-            throw std::logic_error("BLAS traversal stack overflow: the depth bound failed");
-          stack[stackSize++] = next.y;
-        }
-        nodeIndex = next.x;
-        continue;
-      }
-    } else {
-      for (std::uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k) {
-        const glm::uvec4& triangle = triangles_[k];
-        float t = 0.0f;
-        glm::vec2 barycentrics(0.0f);
-        if (!shared::bvhIntersectTriangle(origin, direction, glm::vec3(positions_[triangle.x]),
-                                          glm::vec3(positions_[triangle.y]), glm::vec3(positions_[triangle.z]), tMin,
-                                          hit.t, t, barycentrics))
-          continue;
-        if (!acceptHit(instanceIndex, k, barycentrics, alphaTest)) continue;
-        hit = {t, instanceIndex, k, barycentrics};
-        found = true;
-        if (anyHit) return true;
-      }
-    }
-    if (stackSize == 0) break;
-    nodeIndex = stack[--stackSize];
-  }
-  return found;
-}
-
 bool SceneBvh::trace(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax, bool anyHit,
                      const BvhAlphaTest& alphaTest, BvhHit& hit) const {
-  // hit.t doubles as the far end of the interval: it shrinks with every hit.
-  hit = noHit();
-  hit.t = tMax;
-  const glm::vec3 inverseDirection = shared::bvhSafeInverse(direction);
-  const BvhNode& root = tlasNodes_[0];
-  bool found = false;
-  if (shared::bvhIntersectBox(origin, inverseDirection, root.boundsMin, root.boundsMax, tMin, tMax) < kNoHit) {
-    std::uint32_t stack[kBvhMaxDepth];
-    std::uint32_t stackSize = 0;
-    std::uint32_t nodeIndex = 0;
-    for (;;) {
-      const BvhNode& node = tlasNodes_[nodeIndex];
-      if (node.count == 0) {
-        const glm::uvec2 next = shared::bvhChildrenInOrder(tlasNodes_[node.leftFirst], tlasNodes_[node.leftFirst + 1],
-                                                           node.leftFirst, origin, inverseDirection, tMin, hit.t);
-        if (next.x != kBvhInvalidIndex) {
-          if (next.y != kBvhInvalidIndex) {
-            if (stackSize == kBvhMaxDepth)
-              throw std::logic_error("TLAS traversal stack overflow: the depth bound failed");
-            stack[stackSize++] = next.y;
-          }
-          nodeIndex = next.x;
-          continue;
-        }
-      } else {
-        for (std::uint32_t k = node.leftFirst; k < node.leftFirst + node.count; ++k) {
-          if (!traceBlas(instances_[k], origin, direction, tMin, anyHit, alphaTest, hit)) continue;
-          if (anyHit) return true;
-          found = true;
-        }
-      }
-      if (stackSize == 0) break;
-      nodeIndex = stack[--stackSize];
-    }
-  }
-  if (!found) hit = noHit();
-  return found;
+  const shared::BvhTraversalData data{tlasNodes_, blasNodes_, instances_, positions_, alphaTest};
+  return shared::bvhTraverse(data, origin, direction, tMin, tMax, anyHit, hit);
 }
 
 BvhHit SceneBvh::traceClosest(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,

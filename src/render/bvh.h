@@ -2,8 +2,9 @@
 // and the two-level scene BVH the renderer traces on the GPU (one BLAS per
 // mesh, built once in object space; one TLAS over the instances, rebuilt
 // every frame because nodes animate). Everything here is CPU-side; the data
-// is laid out exactly as render/bvh_trace.glsl reads it, and a CPU traversal
-// mirrors that shader so tests can check it against brute force.
+// is laid out exactly as render/bvh_trace.glsl reads it, and the CPU runs
+// the shader's own traversal (render/bvh_traverse.glsl) so tests can check
+// it against brute force.
 // Layout, build and traversal: docs/bvh.md.
 #pragma once
 
@@ -25,7 +26,7 @@ using shared::BvhHit;
 using shared::BvhInstance;
 using shared::BvhNode;
 
-static_assert(sizeof(BvhNode) == 32, "BvhNode must match its std430 layout");
+static_assert(sizeof(BvhNode) == 64, "BvhNode must match its std430 layout");
 static_assert(sizeof(BvhInstance) == 112, "BvhInstance must match its std430 layout");
 
 struct Aabb {
@@ -54,17 +55,29 @@ struct Aabb {
 };
 
 struct BvhBuildOptions {
-  std::uint32_t binCount = 16;                    // SAH bins per axis (all three axes are tried)
-  std::uint32_t maxLeafSize = 4;                  // leaves hold 1..maxLeafSize items; the SAH decides below that
+  std::uint32_t binCount = 16;                         // SAH bins per axis (all three axes are tried)
+  std::uint32_t maxLeafSize = shared::kBvhMaxLeafSize;  // leaves hold 1..maxLeafSize items; the SAH decides below that
   std::uint32_t maxDepth = shared::kBvhMaxDepth;  // deepest leaf (root = 0); median splits keep to it
   float traversalCost = 1.0f;                     // SAH cost of visiting an interior node ...
   float intersectionCost = 1.0f;                  // ... relative to intersecting one item
 };
 
-// A flattened BVH. Leaves address items through itemOrder: leaf slot i holds
-// item itemOrder[i]. Zero items give no nodes at all.
+// A node of the binary tree buildBvh makes. count == 0: interior node whose
+// children are leftFirst and leftFirst + 1; count > 0: leaf of leaf slots
+// leftFirst .. leftFirst + count - 1. Bounds are the exact union of the
+// children's or the items'. (The GPU reads BvhNodes, made from these by
+// SceneBvh: each holds its two children's boxes.)
+struct BvhBuildNode {
+  glm::vec3 boundsMin{0.0f};
+  std::uint32_t leftFirst = 0;
+  glm::vec3 boundsMax{0.0f};
+  std::uint32_t count = 0;
+};
+
+// A flattened binary BVH. Leaves address items through itemOrder: leaf slot
+// i holds item itemOrder[i]. Zero items give no nodes at all.
 struct Bvh {
-  std::vector<BvhNode> nodes;            // root at 0; children of an interior node are adjacent
+  std::vector<BvhBuildNode> nodes;       // root at 0; children of an interior node are adjacent
   std::vector<std::uint32_t> itemOrder;  // a permutation of 0 .. itemCount - 1
   std::uint32_t depth = 0;               // of the deepest leaf
 };
@@ -102,20 +115,34 @@ class SceneBvh {
   const std::vector<std::size_t>& untraceableInstances() const { return untraceable_; }
 
   // --- The arrays uploaded to the GPU (render/bvh_trace.glsl) ---
-  // Every mesh's BLAS, concatenated: interior leftFirst and leaf leftFirst are global indices.
+  // Every mesh's BLAS, concatenated: child references are global (node
+  // indices into this array, leaves' corner records in positions()).
   const std::vector<BvhNode>& blasNodes() const { return blasNodes_; }
   // Per triangle in BLAS leaf order: global vertex indices i0, i1, i2 and
   // w = material index | kBvhAlphaMaskedBit for Mask and Blend materials.
   const std::vector<glm::uvec4>& triangles() const { return triangles_; }
-  // Object-space vertex positions of all meshes, concatenated in mesh order (w = 1).
+  // Object-space vertex positions of all meshes, concatenated in mesh order
+  // (w = 1), the first vertexCount() entries; then, from 3 * firstCornerRecord(),
+  // one corner record per triangle in BLAS leaf order: its three corners
+  // (triangle k's at 3 * (firstCornerRecord() + k) + 0, 1, 2), copied so that
+  // the traversal reads a leaf's triangles without going through their
+  // indices. In a corner record the first corner's w holds the triangle's w
+  // word (material | alpha bit) and the second's the triangle's index, as
+  // float bits; the third's w = 1. BLAS leaves reference corner records.
   const std::vector<glm::vec4>& positions() const { return positions_; }
+  std::uint32_t vertexCount() const { return vertexCount_; }
+  std::uint32_t firstCornerRecord() const { return firstCornerRecord_; }
   // Instances in the TLAS, in TLAS leaf order.
   const std::vector<BvhInstance>& instances() const { return instances_; }
-  // Never empty: a scene with nothing to hit has one inverted (empty) root.
+  // Root at 0, never empty: a scene with nothing to hit has a root with two empty slots.
   const std::vector<BvhNode>& tlasNodes() const { return tlasNodes_; }
+  // The world box of the instances in the TLAS (empty when there are none).
+  Aabb tlasBounds() const { return tlasBounds_; }
 
   // Where mesh m's BLAS root is in blasNodes(), or kBvhInvalidIndex for a mesh without triangles.
   std::uint32_t blasRoot(std::size_t mesh) const { return blasRoots_[mesh]; }
+  // Mesh m's object-space box (that of its triangles; empty for a mesh without any).
+  Aabb meshBounds(std::size_t mesh) const { return meshBounds_[mesh]; }
   // The triangles of mesh m are triangles()[meshFirstTriangle(m) .. meshFirstTriangle(m + 1) - 1]
   // (in BLAS leaf order); m may be the mesh count, which gives the total.
   std::uint32_t meshFirstTriangle(std::size_t mesh) const { return meshFirstTriangle_[mesh]; }
@@ -123,11 +150,12 @@ class SceneBvh {
   std::uint32_t sourceTriangle(std::uint32_t triangle) const { return sourceTriangle_[triangle]; }
   // How many instances the last setInstances call was given (including those left out of the TLAS).
   std::size_t instanceCount() const { return instanceCount_; }
+  // The deepest leaf of any BLAS, and of the TLAS (root = 0).
   std::uint32_t blasDepth() const { return blasDepth_; }
   std::uint32_t tlasDepth() const { return tlasDepth_; }
   double blasBuildSeconds() const { return blasBuildSeconds_; }
 
-  // --- CPU traversal, the twin of bvh_trace.glsl, and brute force to check both ---
+  // --- CPU traversal (the shader's, render/bvh_traverse.glsl), and brute force to check both ---
   // Closest hit in (tMin, tMax); t = kNoHit when nothing was hit.
   BvhHit traceClosest(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,
                       const BvhAlphaTest& alphaTest = {}) const;
@@ -143,9 +171,6 @@ class SceneBvh {
                                          const BvhAlphaTest& alphaTest = {}) const;
 
  private:
-  // Returns true when a hit was recorded (and, for any-hit rays, stops there).
-  bool traceBlas(const BvhInstance& instance, glm::vec3 origin, glm::vec3 direction, float tMin, bool anyHit,
-                 const BvhAlphaTest& alphaTest, BvhHit& hit) const;
   bool trace(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax, bool anyHit, const BvhAlphaTest& alphaTest,
              BvhHit& hit) const;
   bool acceptHit(std::uint32_t instance, std::uint32_t triangle, glm::vec2 barycentrics,
@@ -155,11 +180,15 @@ class SceneBvh {
   std::vector<glm::uvec4> triangles_;
   std::vector<glm::vec4> positions_;
   std::vector<std::uint32_t> blasRoots_;
+  std::vector<Aabb> meshBounds_;
   std::vector<std::uint32_t> meshFirstTriangle_;
   std::vector<std::uint32_t> sourceTriangle_;
   std::vector<BvhInstance> instances_;
   std::vector<BvhNode> tlasNodes_;
+  Aabb tlasBounds_;
   std::vector<std::size_t> untraceable_;
+  std::uint32_t vertexCount_ = 0;
+  std::uint32_t firstCornerRecord_ = 0;
   std::size_t instanceCount_ = 0;
   std::uint32_t blasDepth_ = 0;
   std::uint32_t tlasDepth_ = 0;

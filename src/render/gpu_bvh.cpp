@@ -35,8 +35,9 @@ GpuBvh::GpuBvh(gpu::Context& context, const SceneBvh& bvh, std::uint32_t framesI
     : context_(context), bvh_(bvh) {
   if (framesInFlight == 0) throw gpu::GpuError("GpuBvh needs at least one frame slot");
   instanceCapacity_ = std::max<std::size_t>(1, bvh.instanceCount());
-  // A binary tree with one instance per leaf has 2n - 1 nodes.
-  tlasNodeCapacity_ = 2 * instanceCapacity_ - 1;
+  // A binary tree with one instance per leaf has n - 1 interior nodes, and
+  // the traversal layout keeps one node per interior node (one for n <= 1).
+  tlasNodeCapacity_ = instanceCapacity_;
   checkCapacity();
 
   blasNodes_ = uploadArray(context, "bvh.blas_nodes", bvh.blasNodes());
@@ -86,7 +87,7 @@ void GpuBvh::updateInstances(gpu::Recorder& recorder, std::uint32_t frameSlot) {
 std::vector<gpu::ResourceDecl> GpuBvh::traceResources() {
   return {bufferDecl("gIn_BvhNodes", "BVH: every mesh's BLAS nodes"),
           bufferDecl("gIn_BvhTriangles", "BVH: triangle vertex indices, material | alpha-mask bit"),
-          bufferDecl("gIn_BvhPositions", "BVH: object-space vertex positions"),
+          bufferDecl("gIn_BvhPositions", "BVH: object-space vertex positions, then each triangle's corners"),
           bufferDecl("gIn_BvhInstances", "BVH: instance transforms and BLAS roots, this frame"),
           bufferDecl("gIn_BvhTlasNodes", "BVH: the TLAS over the instances, this frame")};
 }
@@ -104,7 +105,7 @@ gpu::PassDesc bvhTraceRaysPassDesc(std::string name, std::string shader,
   std::vector<gpu::ResourceDecl> resources = {
       bufferDecl("gIn_Rays", "origin, tMin, direction, tMax per ray"),
       {"gOut_Results", gpu::Access::Write, VK_FORMAT_UNDEFINED,
-       "t, barycentrics, blocked flag, instance, triangle per ray", gpu::ResourceKind::StorageBuffer}};
+       "t, barycentrics, blocked flag, instance, triangle, material per ray", gpu::ResourceKind::StorageBuffer}};
   for (const gpu::ResourceDecl& decl : GpuBvh::traceResources()) resources.push_back(decl);
   return {.name = std::move(name),
           .shader = std::move(shader),

@@ -52,7 +52,7 @@ class GpuBvh {
   // for every earlier frame's reads, so no frame sees a half-written TLAS.
   void updateInstances(gpu::Recorder& recorder, std::uint32_t frameSlot);
 
-  // The declarations of bvh_trace.glsl's five bindings, for a pass that includes it.
+  // The declarations of bvh_trace.glsl's BVH_BINDING_COUNT bindings, for a pass that includes it.
   static std::vector<gpu::ResourceDecl> traceResources();
   // The matching binds.
   void appendBinds(std::vector<gpu::Bind>& binds);
