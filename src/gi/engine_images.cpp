@@ -62,11 +62,6 @@ bool sampleableInPlace(VkImageLayout layout) {
          layout == VK_IMAGE_LAYOUT_READ_ONLY_OPTIMAL;
 }
 
-constexpr VkAccessFlags2 kWriteAccess =
-    VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
-    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_WRITE_BIT |
-    VK_ACCESS_2_MEMORY_WRITE_BIT;
-
 std::string size(std::uint32_t width, std::uint32_t height) {
   return std::to_string(width) + "x" + std::to_string(height);
 }
@@ -97,7 +92,7 @@ gpu::ExternalImage engineImage(const ImageRef& ref, std::string name) {
   // As if the engine's last use were a write at its stage: the first
   // barrier then waits for it and makes it visible.
   external.state.writeStage = ref.stage;
-  external.state.writeAccess = ref.access & kWriteAccess;
+  external.state.writeAccess = ref.access & gpu::kWriteAccessFlags;
   external.state.layout = ref.layout;
   return external;
 }

@@ -10,10 +10,6 @@
 namespace bounce::gi {
 namespace {
 
-constexpr VkAccessFlags2 kWriteAccess =
-    VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
-    VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_WRITE_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-
 gpu::ResourceKind kindOf(SceneResourceKind kind) {
   switch (kind) {
     case SceneResourceKind::StorageBuffer: return gpu::ResourceKind::StorageBuffer;
@@ -105,7 +101,7 @@ void SceneBridgeBinding::take(const FrameInputs& frame) {
       if (!ref.buffer || ref.size == 0) throw Error(what + " is a buffer; its handle or size is missing");
       gpu::ExternalBuffer external{.buffer = ref.buffer, .size = ref.size, .name = "bridge." + decl.name};
       external.state.writeStage = ref.stage;
-      external.state.writeAccess = ref.access & kWriteAccess;
+      external.state.writeAccess = ref.access & gpu::kWriteAccessFlags;
       buffers[i] = std::make_unique<gpu::Buffer>(context_, external);
     }
   }

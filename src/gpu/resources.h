@@ -16,6 +16,13 @@ namespace bounce::gpu {
 
 class Context;
 
+// Every access flag that writes: what of another's last use (an engine's
+// stage and access) a first barrier must wait for and make visible.
+inline constexpr VkAccessFlags2 kWriteAccessFlags =
+    VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_WRITE_BIT |
+    VK_ACCESS_2_MEMORY_WRITE_BIT;
+
 // What the GPU last did to a resource, as far as recorded commands go.
 struct SyncState {
   VkPipelineStageFlags2 writeStage = VK_PIPELINE_STAGE_2_NONE;  // last write not yet waited for by all

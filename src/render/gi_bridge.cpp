@@ -10,10 +10,6 @@
 namespace bounce::render {
 namespace {
 
-constexpr VkAccessFlags2 kWriteAccess = VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
-                                        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT |
-                                        VK_ACCESS_2_HOST_WRITE_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
-
 // What LibraryImage promises about every library image after record().
 gpu::SyncState libraryState() {
   gpu::SyncState state;
@@ -57,7 +53,7 @@ void tookBack(gpu::Image& image, const gi::ImageRef& given) {
   // The library chained its reads into given.stage (or, reading in compute
   // without a transition, left them for a barrier from compute to cover).
   state.writeStage = given.stage | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-  state.writeAccess = given.access & kWriteAccess;
+  state.writeAccess = given.access & gpu::kWriteAccessFlags;
   state.readStages = VK_PIPELINE_STAGE_2_NONE;
   state.visibleTo = VK_ACCESS_2_NONE;
 }
