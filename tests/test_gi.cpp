@@ -240,9 +240,9 @@ TEST_F(GiTest, TheBvhBridgeFindsLightBehindTheCamera) {
     s.meshes.push_back(mesh);
     s.meshes.back().material = materialIndex;
     scene::Node node;
-    node.meshes = {std::uint32_t(s.meshes.size() - 1)};
+    node.meshes = {int(s.meshes.size()) - 1};
     s.nodes.push_back(node);
-    s.roots.push_back(std::uint32_t(s.nodes.size() - 1));
+    s.roots.push_back(int(s.nodes.size()) - 1);
   }
   constexpr std::uint32_t kWidth = 96, kHeight = 64;
   const float fovY = 60.0f;

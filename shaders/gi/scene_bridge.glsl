@@ -7,10 +7,10 @@
 // scene bridge", walks through writing one; shaders/render/scene_bridge/ is
 // the renderer's, over its BVH.
 //
-// The including shader includes gi/gi_common.glsl first and defines
-//   SCENE_BRIDGE_FIRST_BINDING   the first binding of set 0 the bridge may
-//                                use (its resources go from there up; the
-//                                host finds them by name, SceneBridge::resources)
+// The including shader includes gi/gi_common.glsl first. The bridge's
+// resources take set 0 from SCENE_BRIDGE_FIRST_BINDING up (32, above every
+// library pass's own bindings; the host finds them by name,
+// SceneBridge::resources).
 // The implementation defines
 //   const bool kSceneBridgeTraces            false: every function below is a stub the
 //                                            library never calls (screen space only)
@@ -26,9 +26,7 @@
 #ifndef BOUNCE_GI_SCENE_BRIDGE_GLSL
 #define BOUNCE_GI_SCENE_BRIDGE_GLSL
 
-#ifndef SCENE_BRIDGE_FIRST_BINDING
-#error "define SCENE_BRIDGE_FIRST_BINDING before including gi/scene_bridge.glsl"
-#endif
+#define SCENE_BRIDGE_FIRST_BINDING 32
 
 // What a closest-hit ray found.
 struct SceneHit {

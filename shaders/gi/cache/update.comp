@@ -17,7 +17,6 @@ layout(local_size_x = 64) in;
 #define CACHE_FIRST_BINDING 4
 #include "gi/cache/radiance_cache.glsl"
 layout(set = 0, binding = 11) uniform sampler2D gIn_Environment;
-#define SCENE_BRIDGE_FIRST_BINDING 32
 #include "gi/scene_bridge.glsl"
 #include "gi/world_rays.glsl"
 

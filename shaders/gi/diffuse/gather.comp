@@ -54,7 +54,6 @@ layout(set = 0, binding = 10, r32f) readonly uniform image2D gIn_MarchDepth;
 #include "gi/screen_trace.glsl"
 #define CACHE_FIRST_BINDING 24
 #include "gi/cache/radiance_cache.glsl"
-#define SCENE_BRIDGE_FIRST_BINDING 32
 #include "gi/scene_bridge.glsl"
 #include "gi/world_rays.glsl"
 

@@ -23,7 +23,6 @@ layout(set = 0, binding = 6, r32f) readonly uniform image2D gIn_MarchDepth;
 layout(set = 0, binding = 7, rgba16f) writeonly uniform image2D gOut_Diffuse;
 
 #include "gi/screen_trace.glsl"
-#define SCENE_BRIDGE_FIRST_BINDING 32
 #include "gi/scene_bridge.glsl"
 #include "gi/world_rays.glsl"
 

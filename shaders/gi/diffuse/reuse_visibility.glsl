@@ -8,7 +8,6 @@
 #ifndef BOUNCE_GI_REUSE_VISIBILITY_GLSL
 #define BOUNCE_GI_REUSE_VISIBILITY_GLSL
 
-#define SCENE_BRIDGE_FIRST_BINDING 32
 #include "gi/scene_bridge.glsl"
 #include "gi/world_rays.glsl"
 #include "shared/reservoir.glsl"

@@ -117,6 +117,7 @@ RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Ext
     : context_(context),
       scene_(scene),
       settings_(settings.cache),
+      environmentMip_(settings.diffuse.environmentMip),
       capacity_(cacheCapacity(settings.cache.memoryMib)),
       images_(context, arena, kImages, maxSize) {
   const auto make = [&](const char* name, std::uint64_t bytes) {
@@ -159,7 +160,7 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
   c.historyFrames = float(settings_.historySamples);
   c.maxAge = settings_.maxAge;
   c.injectStride = settings_.injectStride;
-  c.environmentMip = 1.0f;
+  c.environmentMip = environmentMip_;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   if (!c.enabled || !frame.usableHistory) return;
   const std::uint32_t stride = settings_.injectStride;

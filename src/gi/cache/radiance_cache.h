@@ -55,6 +55,7 @@ class RadianceCache {
   gpu::Context& context_;
   const SceneBridgeBinding& scene_;
   CacheSettings settings_;
+  float environmentMip_;  // what update rays that miss read: the level the diffuse branch's rays read
   std::uint32_t capacity_;
   ImageSet images_;
   std::unique_ptr<gpu::Buffer> constants_, keys_, cells_, accumulators_, radiance_, touched_, updates_;
