@@ -128,9 +128,9 @@ gpu::PassDesc temporalFilterPass() {
                {"gIn_Diffuse", Access::Read, kRgba16f, "this frame's resolve"},
                previousSurface(),
                {"gPrev_Filtered", Access::Read, kRgba16f, "last frame's output (alpha: history length)"},
-               {"gPrev_Moments", Access::Read, kRg32f, "last frame's luminance moments"},
+               {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
                {"gOut_Filtered", Access::Write, kRgba16f, "indirect diffuse, filtered; alpha: history length"},
-               {"gOut_Moments", Access::Write, kRg32f, "first and second moments of the luminance over the history"}});
+               {"gOut_Moments", Access::Write, kRgba32f, "luminance moments: mean and mean square over the history, mean of the fast history"}});
 }
 
 gpu::PassDesc reservoirViewPass(const std::string& after) {
