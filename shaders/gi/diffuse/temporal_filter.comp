@@ -91,7 +91,9 @@ void main() {
     float reach = d.varianceClippingGamma * sigma;
     float historyLuminance = luminance(history);
     float clipped = clamp(historyLuminance, max(moments.z - reach, 0.0f), moments.z + reach);
-    history = historyLuminance > 0.0f ? history * (clipped / historyLuminance) : current;
+    // A black history raised by the clamp turns grey; taking `current` in its
+    // place would count this frame in full where it should count 1 / frames.
+    history = historyLuminance > 0.0f ? history * (clipped / historyLuminance) : vec3(clipped);
   } else {
     moments = fresh;
   }
