@@ -166,6 +166,32 @@ TEST_F(GpuCore, AutomaticBarriersMakeTheSamePairCorrectAndSilent) {
   EXPECT_EQ(copied, glm::vec4(0.25f, 0.5f, 2.0f, 7.0f));
 }
 
+// A pass that reads and writes an image in place (Access::ReadWrite) has
+// written it: the next read must wait for that write, like after a write.
+TEST_F(GpuCore, AReadAfterAReadWriteDispatchWaitsForItsWrite) {
+  gpu::ComputePass write(context(), writeProbeDesc());
+  gpu::ComputePass add(context(), {.name = "tests.barrier_probe_add",
+                                   .shader = "tests/barrier_probe_add",
+                                   .shaders = tests::shaders(),
+                                   .resources = {{"gInOut_Value", Access::ReadWrite, VK_FORMAT_R16G16B16A16_SFLOAT,
+                                                  "plus the constant"}},
+                                   .constants = {BOUNCE_CONSTANTS_LAYOUT("", ProbeParams, value)}});
+  gpu::ComputePass read(context(), readProbeDesc());
+  gpu::Image source(context(), probeImage("probe.source")), copy(context(), probeImage("probe.copy"));
+  context().submitAndWait([&](gpu::Recorder& r) {
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, glm::vec4(1.0f));
+    r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+  });
+  context().submitAndWait([&](gpu::Recorder& r) {
+    r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+    r.dispatch(add, kSize, kSize, {{"gInOut_Value", source}}, glm::vec4(2.0f));
+    r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+  });
+  EXPECT_EQ(gpuio::readbackImage(context(), copy).at(2, 3, 0), 3.0f);
+  // The fixture fails the test on any validation message (a missing barrier
+  // is SYNC-HAZARD-READ-AFTER-WRITE).
+}
+
 TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {
   gpu::ComputePass write(context(), writeProbeDesc());
   gpu::ComputePass read(context(), readProbeDesc());

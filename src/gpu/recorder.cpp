@@ -106,7 +106,10 @@ void Recorder::require(SyncState& state, VkImage image, std::uint32_t mipLevels,
     state.writeStage = stage;
     state.writeAccess = access & (VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT);
     state.readStages = writes ? VK_PIPELINE_STAGE_2_NONE : stage;
-    state.visibleTo = access;
+    // What this command writes is visible to no later access yet (a
+    // read-write access reads before it writes); a transition's barrier
+    // made it visible to this access.
+    state.visibleTo = writes ? VK_ACCESS_2_NONE : access;
   } else {
     state.readStages |= stage;
     if (hazard || state.writeStage == VK_PIPELINE_STAGE_2_NONE) state.visibleTo |= access;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdio>
 #include <string>
 
 #include "gpu/context.h"
@@ -9,6 +10,27 @@
 #include "gpu/format.h"
 
 namespace bounce::gpu {
+namespace {
+
+// Binds memory to an image; a device that runs out (some drivers commit
+// memory only here) is told in the terms a user can act on.
+void bindImageMemory(Context& context, VkImage image, VkDeviceMemory memory, VkDeviceSize offset,
+                     const std::string& name) {
+  const VkResult result = vkBindImageMemory(context.device(), image, memory, offset);
+  if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY) {
+    constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+    char message[256];
+    std::snprintf(message, sizeof message,
+                  "image '%s': out of memory binding it: %.1f GiB of device memory are held already, the largest "
+                  "heap of %s has %.1f GiB",
+                  name.c_str(), double(context.deviceLocalBytesInUse()) / kGiB, context.deviceInfo().name.c_str(),
+                  double(context.largestDeviceLocalHeap()) / kGiB);
+    throw GpuError(message);
+  }
+  check(result, ("vkBindImageMemory '" + name + "'").c_str());
+}
+
+}  // namespace
 
 MemoryArena::MemoryArena(Context& context, VkDeviceSize maxBlock) : context_(context), maxBlock_(maxBlock) {}
 
@@ -177,7 +199,7 @@ Image::Image(Context& context, const ImageDesc& desc, MemoryArena* arena) : cont
       vkDestroyImage(device, image_, nullptr);
       throw;
     }
-    check(vkBindImageMemory(device, image_, allocation.memory, allocation.offset), "vkBindImageMemory");
+    bindImageMemory(context, image_, allocation.memory, allocation.offset, desc.name);
   } else {
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     alloc.allocationSize = requirements.size;
@@ -190,7 +212,7 @@ Image::Image(Context& context, const ImageDesc& desc, MemoryArena* arena) : cont
     allocated_ = alloc.allocationSize;
     memoryType_ = alloc.memoryTypeIndex;
     context.trackAllocation(memoryType_, std::int64_t(allocated_));
-    check(vkBindImageMemory(device, image_, memory_, 0), "vkBindImageMemory");
+    bindImageMemory(context, image_, memory_, 0, desc.name);
   }
 
   VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
