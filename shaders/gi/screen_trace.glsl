@@ -88,24 +88,24 @@ float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, 
 // A gather ray through the depth buffer: what screen space can say about the
 // first surface along origin + t * direction.
 struct ScreenRay {
-  bool hit;        // it met a depth-buffer surface: the one at `texel`
+  bool hit;  // it met a depth-buffer surface: the one at `texel`
   ivec2 texel;
-  float vouched;   // undecided: up to here the ray is known to be free (world rays go on from here)
 };
 
 // Marches `steps` points spaced more widely with distance (as
 // environmentVisibility) up to 64 viewZ. A step that falls behind the depth
 // buffer by less than `thickness` right after one in front of it hit that
 // surface; one farther behind (a surface of unknown thickness), one off
-// screen, and the end of the march leave the ray undecided. Points in front
-// of the depth buffer, or over the sky, are free space: anything there
-// would show in the pixel.
+// screen, and the end of the march leave the ray undecided. An undecided
+// ray vouches for no part of its path: the steps are far apart, and a thin
+// surface between two free steps (a chair leg, a window frame) would be
+// jumped; a world ray from the start measured 20 % less light leaking
+// through them on sun-room than one from the last free step.
 ScreenRay screenRay(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float thickness) {
   const float kFarthest = 64.0f;
   ScreenRay ray;
   ray.hit = false;
   ray.texel = ivec2(0);
-  ray.vouched = 0.0f;
   vec3 start = toViewSpace(gIn_Frame.frame.view, from);
   vec3 step = toViewSpace(gIn_Frame.frame.view, from + direction) - start;
   for (uint i = 0u; i < steps; ++i) {
@@ -121,7 +121,6 @@ ScreenRay screenRay(vec3 from, vec3 direction, float viewZ, uint steps, float ji
       ray.texel = texel;
       return ray;
     }
-    ray.vouched = distance;
   }
   return ray;
 }

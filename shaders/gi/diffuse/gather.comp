@@ -10,8 +10,8 @@
 //                prefiltered environment at mip gi.diffuse.environment_mip.
 //   ray          (with a scene bridge that traces, in place of environment
 //                candidates) cosine-distributed directions, marched through
-//                the depth buffer and continued through the bridge from the
-//                last point the screen vouched for; a hit on last frame's
+//                the depth buffer and, where that cannot decide, traced
+//                through the bridge from the start; a hit on last frame's
 //                screen takes that pixel's radiance, one off it is shaded by
 //                the bridge and the radiance cache; a true miss sees the
 //                environment.
@@ -52,6 +52,7 @@ layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir
 layout(set = 0, binding = 10, r32f) readonly uniform image2D gIn_MarchDepth;
 
 #include "gi/screen_trace.glsl"
+#include "gi/diffuse/previous_screen.glsl"
 #define CACHE_FIRST_BINDING 24
 #include "gi/cache/radiance_cache.glsl"
 #include "gi/scene_bridge.glsl"
@@ -121,20 +122,6 @@ bool listedBright(ivec2 source) {
   ivec2 brightSize = ivec2(d.brightLevelSize);
   vec4 entry = imageLoad(gIn_Brightest, min(source >> int(d.brightLevel), brightSize - 1));
   return entry.w > 0.0f && ivec2(entry.yz) == source;
-}
-
-// The pixel of last frame's screen that shows `position`, if one does (the
-// point a screen candidate could have picked); -1 otherwise.
-ivec2 previousPixelOf(vec3 position, vec3 normal) {
-  if (gIn_DiffuseConstants.diffuse.screenCandidates + gIn_DiffuseConstants.diffuse.brightCandidates == 0u)
-    return ivec2(-1);  // no last frame to read (or to have sampled from)
-  vec3 projected = projectToScreen(gIn_Frame.frame.previousView, position, fullSize());
-  ivec2 pixel = ivec2(floor(projected.xy));
-  if (projected.z <= 0.0f || !insideFull(pixel)) return ivec2(-1);
-  Surface shown = historySurfaceAt(pixel, imageLoad(gPrev_Surface, pixel).xy);
-  if (shown.viewZ <= 0.0f || abs(shown.viewZ - projected.z) > 0.02f * projected.z || dot(shown.normal, normal) < 0.5f)
-    return ivec2(-1);
-  return pixel;
 }
 
 // The density of ray candidates at direction `direction` from x, per unit solid angle.
@@ -214,7 +201,7 @@ void main() {
       vec3 position, normal, radiance;
       uint flags = 0u;
       if (shown.x < 0) {
-        SceneHit hit = sceneTraceClosest(origin + direction * screen.vouched, direction, 3.0e38f);
+        SceneHit hit = sceneTraceClosest(origin, direction, 3.0e38f);
         if (!hit.hit) {
           radiance = sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), d.environmentMip).xyz);
           position = direction;

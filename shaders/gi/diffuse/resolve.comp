@@ -5,9 +5,10 @@
 // reservoirs at its own surface: radiance * cos / pi * W, times the
 // reconnection Jacobian from the reservoir's surface to this one, times the
 // sample's visibility (the deferred visibility test of seed 001) as
-// gi.diffuse.visibility says: a short screen-space march, an any-hit ray
-// through the scene bridge, or the march and a ray where it cannot decide;
-// and averages them. Reservoirs of another
+// gi.diffuse.visibility says: a short screen-space march (screen), an
+// any-hit ray through the scene bridge (world), or the march, trusting
+// gi.diffuse.sample_visibility's ray from the reservoir's own surface where
+// the march cannot decide (hybrid); and averages them. Reservoirs of another
 // surface (depth or normal too different) are left out. Demodulated: the
 // result is what a white Lambert surface would reflect.
 #include "gi/gi_common.glsl"
@@ -49,32 +50,29 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
   if (cosine <= 0.0f || targetPdf(r, x.position, x.normal, 0u) <= 0.0f) return vec3(0.0f);
   DiffuseConstants d = gIn_DiffuseConstants.diffuse;
   uint steps = d.visibilitySteps;
-  uint mode = d.visibilityMode;
-  bool world = kSceneBridgeTraces && mode == kVisibilityWorld;
-  bool hybrid = kSceneBridgeTraces && mode == kVisibilityHybrid;
+  bool world = kSceneBridgeTraces && d.visibilityMode == kVisibilityWorld;
+  // Hybrid: what the march cannot decide was settled by the reservoir's
+  // own world ray (gi.diffuse.sample_visibility), a pixel or two away.
+  bool hybrid = kSceneBridgeTraces && d.visibilityMode == kVisibilityHybrid;
   float scale = 1.0f;
   if (reservoirIsEnvironment(r)) {
     // Screen space cannot prove the sky open (a sky pixel shows only that
-    // the camera's ray there is free): in hybrid mode it only finds what blocks.
-    float screen = steps > 0u && !world ? environmentVisibility(x.position, direction, x.viewZ, steps, jitter,
-                                                               d.visibilityThickness,
-                                                               hybrid ? kLeftScreen : d.offscreenEnvironmentVisibility,
-                                                               false)
-                                        : kLeftScreen;
-    if (hybrid && screen != kOccluded) screen = kLeftScreen;
-    if (steps > 0u || world || hybrid) scale = screen >= 0.0f ? screen : worldDirectionOpen(x.position, x.normal, x.viewZ,
-                                                                                   direction) ? 1.0f : 0.0f;
+    // the camera's ray there is free): with a bridge it only finds what blocks.
+    if (world) {
+      scale = worldDirectionOpen(x.position, x.normal, x.viewZ, direction) ? 1.0f : 0.0f;
+    } else if (steps > 0u) {
+      float screen = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, d.visibilityThickness,
+                                           hybrid ? kLeftScreen : d.offscreenEnvironmentVisibility, false);
+      scale = hybrid ? (screen == kOccluded ? 0.0f : 1.0f) : screen;
+    }
   } else {
     scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian, d.jacobian != 0u && !owner.exact);
     if (scale <= 0.0f) return vec3(0.0f);
-    float visible = world || (hybrid && steps == 0u) ? kLeftScreen
+    float visible = world ? (worldSegmentVisible(x.position, x.normal, x.viewZ, r.position) ? kVisible : kOccluded)
                     : steps > 0u ? screenVisibility(x.position, r.position, steps, jitter, d.visibilityThickness, hybrid)
                                  : kVisible;
-    // Screen-only: a sample beyond the screen's edge cannot be tested, and counts as visible.
-    if (visible == kLeftScreen)
-      visible = kSceneBridgeTraces && (world || hybrid) && !worldSegmentVisible(x.position, x.normal, x.viewZ, r.position)
-                    ? kOccluded
-                    : kVisible;
+    // Screen-only: a sample beyond the screen's edge cannot be tested, and
+    // counts as visible; hybrid: its reservoir's world ray found it visible.
     if (visible == kOccluded) return vec3(0.0f);
   }
   return r.radiance * (cosine * kInvPi * r.W * scale);

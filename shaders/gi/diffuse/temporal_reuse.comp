@@ -7,7 +7,11 @@
 // re-weighed by its p-hat at this frame's surface; its M is capped so old
 // samples cannot crowd out new light. On a camera cut, the first frame, or
 // a disocclusion (or motion that is not finite), the fresh reservoir passes
-// through.
+// through. A reused sample whose surface last frame's screen shows takes
+// the radiance it sends now (last frame's composite there), as ReSTIR DI
+// evaluates its lights anew: a stored radiance would hold back every
+// change of light, and every bounce the feedback adds, for as long as the
+// sample lives.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
@@ -24,8 +28,10 @@ layout(set = 0, binding = 8, rgba32ui) readonly uniform uimage2D gPrev_Reservoir
 layout(set = 0, binding = 9, rgba32ui) readonly uniform uimage2D gPrev_Reservoir1;
 layout(set = 0, binding = 10, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 11, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
+layout(set = 0, binding = 12, rgba16f) readonly uniform image2D gPrev_Composite;
 
 #include "gi/motion.glsl"
+#include "gi/diffuse/previous_screen.glsl"
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
@@ -51,6 +57,10 @@ void main() {
         Reservoir fresh = unpackReservoir(first, second);
         Reservoir history = unpackReservoir(imageLoad(gPrev_Reservoir0, previousHalf), imageLoad(gPrev_Reservoir1, previousHalf));
         history.M = min(history.M, d.temporalMaxM);
+        if (reservoirHasSample(history) && !reservoirIsEnvironment(history)) {
+          ivec2 shown = previousPixelOf(history.position, history.normal);
+          if (shown.x >= 0) history.radiance = sanitizeRadiance(imageLoad(gPrev_Composite, shown).xyz);
+        }
         Reservoir merged = emptyReservoir();
         reservoirStream(merged, fresh.position, fresh.normal, fresh.radiance, fresh.flags,
                         targetPdf(fresh, x.position, x.normal, target) * fresh.W * fresh.M, fresh.M, rngUniform(rng));

@@ -64,6 +64,8 @@ std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels)
 
 struct DiffuseBranch::Passes {
   gpu::ComputePass brightPixels, brightReduce, gather, temporalReuse, spatialReuse, resolve, temporalFilter;
+  // Only with a bridge that traces (its shader has nothing to do without one).
+  std::unique_ptr<gpu::ComputePass> sampleVisibility;
   std::vector<std::unique_ptr<gpu::ComputePass>> reservoirViews;  // made on the first captured frame
   Passes(gpu::Context& context, const SceneBridgeBinding& scene)
       : brightPixels(context, brightPixelsPass()),
@@ -72,7 +74,10 @@ struct DiffuseBranch::Passes {
         temporalReuse(context, scene.adapt(temporalReusePass())),
         spatialReuse(context, scene.adapt(spatialReusePass())),
         resolve(context, scene.adapt(resolvePass())),
-        temporalFilter(context, temporalFilterPass()) {}
+        temporalFilter(context, temporalFilterPass()),
+        sampleVisibility(scene.traces()
+                             ? std::make_unique<gpu::ComputePass>(context, scene.adapt(sampleVisibilityPass()))
+                             : nullptr) {}
 };
 
 DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
@@ -90,8 +95,8 @@ DiffuseBranch::~DiffuseBranch() = default;
 
 std::vector<gpu::PassDesc> DiffuseBranch::passes() const {
   std::vector<gpu::PassDesc> list = {brightPixelsPass(), brightPixelsReducePass(), gatherPass(),
-                                     temporalReusePass(), spatialReusePass(),      resolvePass(),
-                                     temporalFilterPass()};
+                                     temporalReusePass(), spatialReusePass(),      sampleVisibilityPass(),
+                                     resolvePass(),       temporalFilterPass()};
   for (const char* after : kViewAfter) list.push_back(reservoirViewPass(after));
   return list;
 }
@@ -191,6 +196,13 @@ void DiffuseBranch::record(const FrameState& frame) {
   gpu::Image* final0 = &gathered0;
   gpu::Image* final1 = &gathered1;
   if (settings_.restir) recordReuse(frame, final0, final1);
+  // The reservoirs are the history only after reuse (the gathered ones are
+  // this frame's alone); testing in place drops hidden samples from both.
+  if (traces && d.visibility == Visibility::Hybrid)
+    recorder.dispatch(*passes_->sampleVisibility, half.width, half.height, frame.group.binds(),
+                      std::span<const gpu::Bind>(scene_.binds(*passes_->sampleVisibility,
+                                                              {{"gIn_Reservoir0", *final0},
+                                                               {"gInOut_Reservoir1", *final1}})));
 
   gpu::Image& resolved = images_.current(kResolved, f);
   recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
@@ -233,7 +245,8 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
                      {"gPrev_Reservoir0", images_.previous(kReservoirs0, f)},
                      {"gPrev_Reservoir1", images_.previous(kReservoirs1, f)},
                      {"gOut_Reservoir0", temporalOut0},
-                     {"gOut_Reservoir1", temporalOut1}})));
+                     {"gOut_Reservoir1", temporalOut1},
+                     {"gPrev_Composite", frame.previousComposite}})));
   if (frame.capturing) viewReservoirs(frame, 1, temporalOut0, temporalOut1);
   const auto spatialPass = [&](gpu::Image& in0, gpu::Image& in1, gpu::Image& out0, gpu::Image& out1,
                                const SpatialReuseParams& params) {

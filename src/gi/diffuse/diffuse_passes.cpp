@@ -105,7 +105,9 @@ gpu::PassDesc temporalReusePass() {
   return pass("gi.diffuse.temporal_reuse", "gi/diffuse/temporal_reuse", GroupPart::Surfaces,
               join(join({motion(), previousSurface()}, reservoirs("gIn", Access::Read, "fresh reservoirs")),
                    join(reservoirs("gPrev", Access::Read, "last frame's final reservoirs"),
-                        reservoirs("gOut", Access::Write, "merged reservoirs"))));
+                        join(reservoirs("gOut", Access::Write, "merged reservoirs"),
+                             {{"gPrev_Composite", Access::Read, kRgba16f,
+                               "last frame's composited radiance: what reused samples on its screen send now"}}))));
 }
 
 gpu::PassDesc spatialReusePass() {
@@ -113,6 +115,16 @@ gpu::PassDesc spatialReusePass() {
               join(reservoirs("gIn", Access::Read, "reservoirs"),
                    reservoirs("gOut", Access::Write, "reservoirs merged with neighbours")),
               {BOUNCE_CONSTANTS_LAYOUT("", SpatialReuseParams, radius, samples, passIndex)});
+}
+
+gpu::PassDesc sampleVisibilityPass() {
+  // No diffuse constants: the frame's surfaces, the reservoirs and the bridge.
+  std::vector<ResourceDecl> resources = frameGroupDecls(GroupPart::Surfaces);
+  resources.push_back({"gIn_Reservoir0", Access::Read, kRgba32ui, "this frame's final reservoirs: sample position, normal"});
+  resources.push_back({"gInOut_Reservoir1", Access::ReadWrite, kRgba32ui,
+                       "their radiance, M, W, flags; W = 0 where the sample is hidden from the reservoir's surface"});
+  return {.name = "gi.diffuse.sample_visibility", .shader = "gi/diffuse/sample_visibility", .shaders = shaders(),
+          .resources = std::move(resources), .constants = {frameConstantsLayout()}};
 }
 
 gpu::PassDesc resolvePass() {

@@ -23,6 +23,9 @@ gpu::PassDesc gatherPass();
 std::vector<gpu::ResourceDecl> gatherRayResources();
 gpu::PassDesc temporalReusePass();
 gpu::PassDesc spatialReusePass();
+// With gi.diffuse.visibility hybrid and a bridge that traces: each
+// reservoir's sample tested from its own surface, hidden ones dropped.
+gpu::PassDesc sampleVisibilityPass();
 gpu::PassDesc resolvePass();
 gpu::PassDesc temporalFilterPass();
 // For --dump-stages only; `after` names the reservoir pass it shows
