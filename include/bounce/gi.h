@@ -15,9 +15,11 @@
 //                                       pixels and the environment into one reservoir per pixel
 //   gi.diffuse.temporal_reuse           half res: merge with last frame's reservoir (ReSTIR)
 //   gi.diffuse.spatial_reuse            half res: merge with neighbours, twice (ReSTIR)
+//   gi.diffuse.sample_visibility        half res, with a bridge that traces: drop samples hidden
+//                                       from their reservoir's surface (one world ray each)
 //   gi.diffuse.resolve                  full res: each pixel evaluates nearby reservoirs with
 //                                       screen-space visibility -> indirect diffuse
-//   gi.diffuse.temporal_filter          full res: reprojected, variance-clipped history
+//   gi.diffuse.temporal_filter          full res: reprojected history, clamped to the fast history
 //   gi.composite                        direct + albedo * indirect diffuse (+ emission)
 // The composite is what the next frame's gathering samples, so light keeps
 // bouncing from frame to frame.

@@ -87,7 +87,7 @@ struct DiffuseSettings {
   float offscreenEnvironmentVisibility = 0.0f;
 
   // --- temporal filter (full resolution)
-  float varianceClippingGamma = 1.5f;       // history clipped to mean +- gamma * sigma of the 3x3 neighbourhood
+  float varianceClippingGamma = 1.5f;       // history clamped to the fast history +- gamma * temporal sigma
   std::uint32_t temporalFilterFrames = 64;  // the longest history the filter accumulates
 };
 

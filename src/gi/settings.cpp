@@ -196,7 +196,7 @@ constexpr std::array kEntries{
           "weight of environment samples whose march leaves the screen through a surface, or ends over one (0: the "
           "unseen world is closed, 1: open)"},
     Entry{"diffuse.variance_clipping_gamma", inDiffuse(&DiffuseSettings::varianceClippingGamma), aboveUpTo(0, 100),
-          "temporal filter: history is clipped to mean +- gamma * sigma of the 3x3 neighbourhood"},
+          "temporal filter: history is clamped to the pixel's fast history +- gamma * its temporal sigma"},
     Entry{"diffuse.temporal_filter_frames", inDiffuse(&DiffuseSettings::temporalFilterFrames), closed(1, 1024),
           "temporal filter: the longest history it accumulates, in frames"},
     Entry{"cache.enabled", inCache(&CacheSettings::enabled), kNoBounds,

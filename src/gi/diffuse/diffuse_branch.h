@@ -5,8 +5,9 @@
 //   gi.diffuse.gather                  half res: candidates into one reservoir per pixel
 //   gi.diffuse.temporal_reuse          half res: merge with last frame's reservoir
 //   gi.diffuse.spatial_reuse           half res: merge with neighbours, twice
+//   gi.diffuse.sample_visibility       half res (hybrid, a bridge that traces): hidden samples dropped
 //   gi.diffuse.resolve                 full res: indirect diffuse
-//   gi.diffuse.temporal_filter         full res: reprojected, variance-clipped history
+//   gi.diffuse.temporal_filter         full res: reprojected history, clamped to the fast history
 // docs/gi.md explains the algorithm; docs/passes.md each pass and image.
 #pragma once
 
