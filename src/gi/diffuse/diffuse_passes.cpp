@@ -45,17 +45,24 @@ std::vector<ResourceDecl> reservoirs(const char* prefix, Access access, const ch
           {base + "1", access, kRgba32ui, std::string(purpose) + ": radiance, M, W, flags"}};
 }
 
+// A pass that reads (part of) the frame group first, then its own
+// resources, and none of the branch's constants.
+gpu::PassDesc framePass(std::string name, const char* shader, GroupPart group, const std::vector<ResourceDecl>& own) {
+  std::vector<ResourceDecl> resources = frameGroupDecls(group);
+  resources.insert(resources.end(), own.begin(), own.end());
+  return {.name = std::move(name), .shader = shader, .shaders = shaders(), .resources = std::move(resources),
+          .constants = {frameConstantsLayout()}};
+}
+
 // A pass of the branch: (part of) the frame group and the branch's
 // constants first, then its own resources.
 gpu::PassDesc pass(const char* name, const char* shader, GroupPart group, std::vector<ResourceDecl> own,
                    std::vector<gpu::ConstantsDecl> push = {}) {
-  std::vector<ResourceDecl> resources = frameGroupDecls(group);
-  resources.push_back(diffuseConstants());
-  resources.insert(resources.end(), own.begin(), own.end());
-  std::vector<gpu::ConstantsDecl> constants = {frameConstantsLayout(), diffuseConstantsLayout()};
-  constants.insert(constants.end(), push.begin(), push.end());
-  return {.name = name, .shader = shader, .shaders = shaders(), .resources = std::move(resources),
-          .constants = std::move(constants)};
+  own.insert(own.begin(), diffuseConstants());
+  gpu::PassDesc desc = framePass(name, shader, group, own);
+  desc.constants.push_back(diffuseConstantsLayout());
+  desc.constants.insert(desc.constants.end(), push.begin(), push.end());
+  return desc;
 }
 
 std::vector<ResourceDecl> join(std::vector<ResourceDecl> a, const std::vector<ResourceDecl>& b) {
@@ -119,12 +126,10 @@ gpu::PassDesc spatialReusePass() {
 
 gpu::PassDesc sampleVisibilityPass() {
   // No diffuse constants: the frame's surfaces, the reservoirs and the bridge.
-  std::vector<ResourceDecl> resources = frameGroupDecls(GroupPart::Surfaces);
-  resources.push_back({"gIn_Reservoir0", Access::Read, kRgba32ui, "this frame's final reservoirs: sample position, normal"});
-  resources.push_back({"gInOut_Reservoir1", Access::ReadWrite, kRgba32ui,
-                       "their radiance, M, W, flags; W = 0 where the sample is hidden from the reservoir's surface"});
-  return {.name = "gi.diffuse.sample_visibility", .shader = "gi/diffuse/sample_visibility", .shaders = shaders(),
-          .resources = std::move(resources), .constants = {frameConstantsLayout()}};
+  return framePass("gi.diffuse.sample_visibility", "gi/diffuse/sample_visibility", GroupPart::Surfaces,
+                   {{"gIn_Reservoir0", Access::Read, kRgba32ui, "this frame's final reservoirs: sample position, normal"},
+                    {"gInOut_Reservoir1", Access::ReadWrite, kRgba32ui,
+                     "their radiance, M, W, flags; W = 0 where the sample is hidden from the reservoir's surface"}});
 }
 
 gpu::PassDesc resolvePass() {
@@ -147,18 +152,11 @@ gpu::PassDesc temporalFilterPass() {
 
 gpu::PassDesc reservoirViewPass(const std::string& after) {
   // The view reads no diffuse constants: only the group and the reservoirs.
-  std::vector<ResourceDecl> resources = frameGroupDecls();
-  for (const ResourceDecl& r : join(reservoirs("gIn", Access::Read, "reservoirs"),
-                                    {{"gOut_Estimate", Access::Write, kRgba16f,
-                                      "radiance * cos / pi * W at the reservoir's surface"},
-                                     {"gOut_M", Access::Write, kR32f, "confidence M"},
-                                     {"gOut_W", Access::Write, kR32f, "contribution weight W"}}))
-    resources.push_back(r);
-  return {.name = "gi.diffuse.reservoir_view." + after,
-          .shader = "gi/diffuse/reservoir_view",
-          .shaders = shaders(),
-          .resources = std::move(resources),
-          .constants = {frameConstantsLayout()}};
+  return framePass("gi.diffuse.reservoir_view." + after, "gi/diffuse/reservoir_view", GroupPart::Surfaces,
+                   join(reservoirs("gIn", Access::Read, "reservoirs"),
+                        {{"gOut_Estimate", Access::Write, kRgba16f, "radiance * cos / pi * W at the reservoir's surface"},
+                         {"gOut_M", Access::Write, kR32f, "confidence M"},
+                         {"gOut_W", Access::Write, kR32f, "contribution weight W"}}));
 }
 
 }  // namespace bounce::gi
