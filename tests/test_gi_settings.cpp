@@ -61,6 +61,7 @@ std::vector<ExpectedField> expectedFields() {
       {"diffuse.visibility_steps", [](const Settings& s) { return double(s.diffuse.visibilitySteps); }},
       {"diffuse.visibility", [](const Settings& s) { return double(s.diffuse.visibility); }},
       {"diffuse.reuse_visibility", [](const Settings& s) { return double(s.diffuse.reuseVisibility); }},
+      {"diffuse.sky_reuse_visibility", [](const Settings& s) { return double(s.diffuse.skyReuseVisibility); }},
       {"diffuse.visibility_thickness", [](const Settings& s) { return double(s.diffuse.visibilityThickness); }},
       {"diffuse.offscreen_environment_visibility",
        [](const Settings& s) { return double(s.diffuse.offscreenEnvironmentVisibility); }},

@@ -16,7 +16,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 4) uniform sampler2D gIn_Direct;
 layout(set = 0, binding = 5) uniform sampler2D gIn_BaseColorMetallic;
 layout(set = 0, binding = 6) uniform sampler2D gIn_Emissive;
-layout(set = 0, binding = 7, rgba16f) readonly uniform image2D gIn_IndirectDiffuse;
+layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_IndirectDiffuse;
 layout(set = 0, binding = 8, rgba16f) writeonly uniform image2D gOut_Composite;
 
 void main() {

@@ -16,7 +16,7 @@ gpu::PassDesc compositePass() {
        {"gIn_BaseColorMetallic", Access::Read, VK_FORMAT_UNDEFINED, "remodulation of indirect diffuse",
         ResourceKind::SampledImage},
        {"gIn_Emissive", Access::Read, VK_FORMAT_UNDEFINED, "emission, when given apart", ResourceKind::SampledImage},
-       {"gIn_IndirectDiffuse", Access::Read, gpu::formats::kRgba16f, "the diffuse branch's result"},
+       {"gIn_IndirectDiffuse", Access::Read, gpu::formats::kRgba32f, "the diffuse branch's result"},
        {"gOut_Composite", Access::Write, gpu::formats::kRgba16f,
         "the frame, linear HDR; next frame's light source"}});
   return {.name = "gi.composite",

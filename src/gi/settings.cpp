@@ -189,6 +189,9 @@ constexpr std::array kEntries{
     Entry{"diffuse.reuse_visibility", inDiffuse(&DiffuseSettings::reuseVisibility), kNoBounds,
           "temporal and spatial reuse test each reused sample's visibility with an any-hit ray through the scene "
           "bridge (unbiased reuse; without a bridge, ignored)"},
+    Entry{"diffuse.sky_reuse_visibility", inDiffuse(&DiffuseSettings::skyReuseVisibility), kNoBounds,
+          "spatial reuse counts a neighbour towards a sky sample's normalisation only if an any-hit ray finds the sky "
+          "open from it (less darkening under windows and arches; costs rays; without a bridge, ignored)"},
     Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
           "resolve: surfaces are assumed this fraction of their viewZ thick"},
     Entry{"diffuse.offscreen_environment_visibility", inDiffuse(&DiffuseSettings::offscreenEnvironmentVisibility),

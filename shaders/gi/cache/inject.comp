@@ -13,7 +13,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define CACHE_FIRST_BINDING 4
 #include "gi/cache/radiance_cache.glsl"
 layout(set = 0, binding = 11, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 12, rgba16f) readonly uniform image2D gPrev_Diffuse;
+layout(set = 0, binding = 12, rgba32f) readonly uniform image2D gPrev_Diffuse;
 
 const uint kSaltCacheInject = 0x696eu;
 

@@ -35,6 +35,7 @@ struct DiffuseConstants {
   uint rayScreenSteps;         // depth-buffer march steps before a ray goes to the bridge
   uint visibilityMode;         // gi::Visibility (Screen without a bridge that traces)
   uint reuseVisibility;        // 1: reuse tests reused samples with world any-hit rays
+  uint skyReuseVisibility;     // 1: spatial reuse's normalisation tests sky samples from each neighbour
 };
 
 #ifdef __cplusplus

@@ -1,10 +1,20 @@
-// gi.diffuse.reuse_visibility: the unbiased option of ReSTIR GI's reuse.
-// A sample reused at another surface may be hidden from it; with the option
-// on (and a scene bridge that traces), reuse tests it with an any-hit ray
-// through the bridge and a hidden sample counts 0 there. Off (the default),
-// 1: reuse trusts the resolve's visibility test, and the bias that leaves
-// is measured in docs/quality.md. The including shader includes
-// gi/diffuse/diffuse_common.glsl and gi/gi_common.glsl first.
+// Visibility in ReSTIR GI's reuse, through the scene bridge (without a
+// bridge that traces, everything counts as visible).
+//
+// A reservoir's sample came from its owner's own candidates: ray candidates
+// are the first thing their ray hit, so its owner could only ever hold
+// samples it sees. Where a neighbour's M counts towards normalising a
+// sample (Z, spatial reuse), it must count only if that neighbour could
+// have held the sample, i.e. sees it, or every sample that neighbour could
+// not see is weighed down: biased reuse loses light wherever visibility
+// differs across the disk. For sky directions it differs most (one point
+// sees the sky through a window in a direction, one a metre away sees the
+// wall), so sky samples are tested by default (gi.diffuse.sky_reuse_visibility;
+// measured on sun-room, 320x180, frame 32: 0.61 -> 0.71 of the reference,
+// and after 300 frames the same as without reuse, where it was 10 % below).
+// With gi.diffuse.reuse_visibility on (the unbiased option), every sample
+// is, and each reused candidate is also tested at the surface reusing it,
+// so a hidden one never takes the selection.
 #ifndef BOUNCE_GI_REUSE_VISIBILITY_GLSL
 #define BOUNCE_GI_REUSE_VISIBILITY_GLSL
 
@@ -12,11 +22,26 @@
 #include "gi/world_rays.glsl"
 #include "shared/reservoir.glsl"
 
+bool worldSeesSample(Reservoir r, Surface at) {
+  return reservoirIsEnvironment(r) ? worldDirectionOpen(at.position, at.normal, at.viewZ, r.position)
+                                   : worldSegmentVisible(at.position, at.normal, at.viewZ, r.position);
+}
+
+// A reused candidate's visibility at the surface reusing it (1 unless the
+// unbiased option is on).
 float reuseVisibility(Reservoir r, Surface at) {
   if (!kSceneBridgeTraces || gIn_DiffuseConstants.diffuse.reuseVisibility == 0u || !reservoirHasSample(r)) return 1.0f;
-  bool visible = reservoirIsEnvironment(r) ? worldDirectionOpen(at.position, at.normal, at.viewZ, r.position)
-                                           : worldSegmentVisible(at.position, at.normal, at.viewZ, r.position);
-  return visible ? 1.0f : 0.0f;
+  return worldSeesSample(r, at) ? 1.0f : 0.0f;
+}
+
+// Whether a neighbour at `at` could have held the chosen sample, as far as
+// visibility goes: tested for sky samples with gi.diffuse.sky_reuse_visibility,
+// for all with the unbiased option.
+bool neighbourSeesSample(Reservoir r, Surface at) {
+  if (!kSceneBridgeTraces || !reservoirHasSample(r)) return true;
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  if (d.reuseVisibility == 0u && !(d.skyReuseVisibility != 0u && reservoirIsEnvironment(r))) return true;
+  return worldSeesSample(r, at);
 }
 
 #endif

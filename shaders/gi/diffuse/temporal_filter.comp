@@ -32,9 +32,9 @@ const float kFastFrames = 6.0f;
 layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Diffuse;
 layout(set = 0, binding = 6, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 7, rgba16f) readonly uniform image2D gPrev_Filtered;
+layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gPrev_Filtered;
 layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Moments;
-layout(set = 0, binding = 9, rgba16f) writeonly uniform image2D gOut_Filtered;
+layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Filtered;
 layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Moments;
 
 #include "gi/motion.glsl"

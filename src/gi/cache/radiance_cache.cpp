@@ -53,7 +53,7 @@ gpu::PassDesc cachePass(const char* name, const char* shader, GroupPart group, s
 gpu::PassDesc injectPass() {
   return cachePass("gi.cache.inject", "gi/cache/inject", GroupPart::Constants,
                    {{"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"},
-                    {"gPrev_Diffuse", Access::Read, kRgba16f, "last frame's filtered indirect diffuse"}});
+                    {"gPrev_Diffuse", Access::Read, kRgba32f, "last frame's filtered indirect diffuse"}});
 }
 
 gpu::PassDesc updatePass(bool declareCache = true) {

@@ -30,7 +30,7 @@ constexpr ImageSpec kImages[] = {
     {"gi.diffuse.reservoirs1", Resolution::Half, kRgba32ui, true, Visualize::Raw, "(second half of the pair)"},
     {"gi.diffuse.resolved", Resolution::Full, kRgba16f, false, Visualize::Radiance,
      "indirect diffuse, demodulated, before the temporal filter"},
-    {"gi.diffuse.filtered", Resolution::Full, kRgba16f, true, Visualize::Radiance,
+    {"gi.diffuse.filtered", Resolution::Full, kRgba32f, true, Visualize::Radiance,
      "indirect diffuse, filtered (the branch's result); alpha: history length"},
     {"gi.diffuse.moments", Resolution::Full, kRgba32f, true, Visualize::Raw,
      "luminance moments: mean and mean square over the history, mean of the fast history"},
@@ -157,6 +157,7 @@ void DiffuseBranch::record(const FrameState& frame) {
   c.rayScreenSteps = d.rayScreenSteps;
   c.visibilityMode = traces ? std::uint32_t(d.visibility) : std::uint32_t(Visibility::Screen);
   c.reuseVisibility = traces && d.reuseVisibility ? 1u : 0u;
+  c.skyReuseVisibility = traces && d.skyReuseVisibility ? 1u : 0u;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
 

@@ -29,7 +29,7 @@ gpu::ConstantsDecl diffuseConstantsLayout() {
                                  temporalCosNormalTolerance, environmentMip, spatialCosNormalTolerance,
                                  spatialPlaneTolerance, offscreenEnvironmentVisibility, visibilityThickness,
                                  varianceClippingGamma, temporalFilterFrames, rayCandidates, rayScreenSteps,
-                                 visibilityMode, reuseVisibility);
+                                 visibilityMode, reuseVisibility, skyReuseVisibility);
 }
 ResourceDecl previousSurface() {
   return {"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"};
@@ -144,9 +144,9 @@ gpu::PassDesc temporalFilterPass() {
               {motion(),
                {"gIn_Diffuse", Access::Read, kRgba16f, "this frame's resolve"},
                previousSurface(),
-               {"gPrev_Filtered", Access::Read, kRgba16f, "last frame's output (alpha: history length)"},
+               {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's output (alpha: history length)"},
                {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
-               {"gOut_Filtered", Access::Write, kRgba16f, "indirect diffuse, filtered; alpha: history length"},
+               {"gOut_Filtered", Access::Write, kRgba32f, "indirect diffuse, filtered; alpha: history length"},
                {"gOut_Moments", Access::Write, kRgba32f, "luminance moments: mean and mean square over the history, mean of the fast history"}});
 }
 
