@@ -7,6 +7,8 @@
 #ifndef BOUNCE_GI_WORLD_RAYS_GLSL
 #define BOUNCE_GI_WORLD_RAYS_GLSL
 
+#include "shared/reservoir.glsl"
+
 // How far a ray starts off its surface: grows with distance from the
 // camera and from the origin, so float precision keeps up (the renderer's
 // offsetOrigin rule; the library has no geometric normal, so along the
@@ -29,6 +31,13 @@ bool worldSegmentVisible(vec3 from, vec3 normal, float viewZ, vec3 to) {
 // Whether the environment is reached from `from` along `direction`.
 bool worldDirectionOpen(vec3 from, vec3 normal, float viewZ, vec3 direction) {
   return !sceneTraceAny(rayOrigin(from, normal, viewZ), direction, 3.0e38f);
+}
+
+// Whether the surface `at` sees a reservoir's sample: the point on a
+// surface it holds, or the environment in the direction it holds.
+bool worldSeesSample(Reservoir r, Surface at) {
+  return reservoirIsEnvironment(r) ? worldDirectionOpen(at.position, at.normal, at.viewZ, r.position)
+                                   : worldSegmentVisible(at.position, at.normal, at.viewZ, r.position);
 }
 
 // The radiance a world hit sends back along the ray, off screen: its

@@ -22,11 +22,6 @@
 #include "gi/world_rays.glsl"
 #include "shared/reservoir.glsl"
 
-bool worldSeesSample(Reservoir r, Surface at) {
-  return reservoirIsEnvironment(r) ? worldDirectionOpen(at.position, at.normal, at.viewZ, r.position)
-                                   : worldSegmentVisible(at.position, at.normal, at.viewZ, r.position);
-}
-
 // A reused candidate's visibility at the surface reusing it (1 unless the
 // unbiased option is on).
 float reuseVisibility(Reservoir r, Surface at) {

@@ -31,9 +31,7 @@ void main() {
   if (!reservoirHasSample(r)) return;
   Surface x = gbufferSurface(reservoirSurfacePixel(halfPixel));
   if (x.viewZ <= 0.0f) return;
-  bool visible = reservoirIsEnvironment(r) ? worldDirectionOpen(x.position, x.normal, x.viewZ, r.position)
-                                           : worldSegmentVisible(x.position, x.normal, x.viewZ, r.position);
-  if (visible) return;
+  if (worldSeesSample(r, x)) return;
   r.W = 0.0f;
   r.flags &= ~kReservoirHasSample;
   packReservoir(r, first, second);
