@@ -30,6 +30,7 @@
 #include "render/scene_bridge.h"
 #include "render/reference_renderer.h"
 #include "scene/builtin_scenes.h"
+#include "shared/brdf.glsl"
 #include "shared/color.glsl"
 #include "shared/screen_view.glsl"
 #include "test_meshes.h"
@@ -105,6 +106,32 @@ glm::vec3 floorIrradianceOverPi(const Emitter& e, glm::vec3 x) {
 const Emitter kWall{{-2.0f, 0.0f, -2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}, {1.0f, 0.8f, 0.6f}};
 // Cornell's lamp (1.3 x 1.05, 17 times brighter), facing down at height 3.
 const Emitter kLamp{{-0.65f, 3.0f, -1.525f}, {1.3f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.05f}, {17.0f, 14.45f, 10.2f}};
+
+// A metal floor (white base colour: F = 1) before the emitting wall: its
+// indirect specular is the wall's light through the GGX lobe, one bounce
+// only (a plane cannot see itself), demodulated by the specular reflectance:
+// integral over the wall of f cos L dw / specularReflectance, by quadrature.
+glm::vec3 metalFloorSpecular(const Emitter& e, glm::vec3 x, glm::vec3 camera, float roughness) {
+  const int steps = 120;
+  const glm::vec3 n(0.0f, 1.0f, 0.0f);
+  const glm::vec3 v = glm::normalize(camera - x);
+  const glm::vec3 wallNormal = glm::normalize(glm::cross(e.u, e.v));
+  const float cellArea = glm::length(glm::cross(e.u, e.v)) / float(steps * steps);
+  const float alpha = shared::ggxAlpha(roughness);
+  glm::dvec3 sum(0.0);
+  for (int j = 0; j < steps; ++j)
+    for (int i = 0; i < steps; ++i) {
+      const glm::vec3 y = e.corner + e.u * ((float(i) + 0.5f) / steps) + e.v * ((float(j) + 0.5f) / steps);
+      const glm::vec3 d = y - x;
+      const float d2 = glm::dot(d, d);
+      const glm::vec3 l = d / std::sqrt(d2);
+      const float cosY = -glm::dot(wallNormal, l);
+      if (cosY <= 0.0f) continue;
+      sum += glm::dvec3(shared::ggxSpecularCosine(n, v, l, glm::vec3(1.0f), alpha) * e.radiance) *
+             double(cosY * cellArea / d2);
+    }
+  return glm::vec3(sum) / shared::specularReflectance(glm::vec3(1.0f), glm::dot(n, v), roughness);
+}
 
 class GiTest : public testing::GpuTest {
  protected:
@@ -199,6 +226,53 @@ class GiTest : public testing::GpuTest {
                 actual.y, actual.z);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(actual[k], expected[k], tolerance * expected[k]) << "channel " << k;
   }
+
+  // The specular branch's estimate on a metal floor before the wall, with
+  // the BVH bridge, averaged over the floor pixels whose reflection of it is
+  // bright (the lobe's peak sees the wall).
+  void checkMetalFloor(float roughness, float tolerance) {
+    constexpr std::uint32_t w = 96, h = 72;
+    scene::Scene s = blackFloorWith(kWall);
+    s.materials[0] = material(glm::vec3(1.0f));
+    s.materials[0].metallicFactor = 1.0f;
+    s.materials[0].roughnessFactor = roughness;
+    Settings settings;
+    settings.diffuse.enabled = false;  // the floor has no diffuse lobe; only specular is measured
+    const glm::vec3 eye(0.0f, 1.5f, 3.0f);
+    const scene::CameraPose camera = testing::cameraAt(eye, {0.0f, 0.6f, -1.0f}, 60.0f);
+    // The bridge finds the wall where reflected rays leave the screen.
+    Run run = start(s, settings, w, h, false, render::bvhSceneBridge());
+    advance(run, camera, 16u);
+    io::ImageF mean = rgb(gpuio::readbackImage(context(), run.gi->indirectSpecular()));
+    const int frames = 24;
+    for (int i = 1; i < frames; ++i) {
+      advance(run, camera, 1u);
+      const io::ImageF next = rgb(gpuio::readbackImage(context(), run.gi->indirectSpecular()));
+      for (std::size_t v = 0; v < mean.pixels.size(); ++v) mean.pixels[v] += next.pixels[v];
+    }
+    for (float& v : mean.pixels) v /= float(frames);
+    const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
+    const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
+    const shared::ScreenView view = screenView(render::giCamera(camera, w, h, glm::vec2(0.0f)), "camera");
+    glm::dvec3 expected(0.0), actual(0.0);
+    int count = 0;
+    for (int y = 0; y < int(h); ++y)
+      for (int x = 0; x < int(w); ++x) {
+        if (viewZ.at(x, y, 0) <= 0.0f || normals.at(x, y, 1) < 0.99f) continue;  // the floor only
+        const glm::vec3 p = shared::reconstructPosition(view, glm::vec2(x, y), viewZ.at(x, y, 0), glm::vec2(w, h));
+        const glm::vec3 truth = metalFloorSpecular(kWall, p, eye, roughness);
+        if (shared::luminance(truth) < 0.05f) continue;  // outside the reflection
+        expected += glm::dvec3(truth);
+        for (int k = 0; k < 3; ++k) actual[k] += mean.at(x, y, k);
+        ++count;
+      }
+    ASSERT_GT(count, 500);
+    expected /= double(count);
+    actual /= double(count);
+    std::printf("metal floor, roughness %.2f: expected %.4f %.4f %.4f, GI %.4f %.4f %.4f (%d pixels)\n", roughness,
+                expected.x, expected.y, expected.z, actual.x, actual.y, actual.z, count);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(actual[k], expected[k], tolerance * expected[k]) << "channel " << k;
+  }
 };
 
 // The estimator's bias, on answers known in closed form. It is measured at
@@ -212,6 +286,10 @@ TEST_F(GiTest, FloorBeforeAnEmittingWallGetsTheWallsFormFactor) {
 TEST_F(GiTest, FloorUnderASmallLampGetsTheLampsFormFactor) {
   checkFloor(kLamp, testing::cameraAt({0.0f, 1.6f, 4.0f}, {0.0f, 1.2f, -1.0f}, 75.0f), 0.12f);
 }
+
+TEST_F(GiTest, RoughMetalFloorReflectsTheWallsLight) { checkMetalFloor(0.5f, 0.15f); }
+
+TEST_F(GiTest, SmoothMetalFloorReflectsTheWallsLight) { checkMetalFloor(0.15f, 0.15f); }
 
 // --- seeing beyond the screen: the scene bridge
 

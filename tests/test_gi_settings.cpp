@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "gi/diffuse/diffuse_branch.h"
+#include "gi/specular/specular_branch.h"
 #include "gi/frame_passes.h"
 #include "gi/image_table.h"
 #include "gpu/format.h"
@@ -67,6 +68,26 @@ std::vector<ExpectedField> expectedFields() {
        [](const Settings& s) { return double(s.diffuse.offscreenEnvironmentVisibility); }},
       {"diffuse.variance_clipping_gamma", [](const Settings& s) { return double(s.diffuse.varianceClippingGamma); }},
       {"diffuse.temporal_filter_frames", [](const Settings& s) { return double(s.diffuse.temporalFilterFrames); }},
+      {"specular.enabled", [](const Settings& s) { return double(s.specular.enabled); }},
+      {"specular.sampling", [](const Settings& s) { return double(s.specular.sampling); }},
+      {"specular.lobe_fraction", [](const Settings& s) { return double(s.specular.lobeFraction); }},
+      {"specular.reuse_min_roughness", [](const Settings& s) { return double(s.specular.reuseMinRoughness); }},
+      {"specular.trace_steps", [](const Settings& s) { return double(s.specular.traceSteps); }},
+      {"specular.trace_thickness", [](const Settings& s) { return double(s.specular.traceThickness); }},
+      {"specular.temporal_max_m", [](const Settings& s) { return double(s.specular.temporalMaxM); }},
+      {"specular.temporal_depth_tolerance", [](const Settings& s) { return double(s.specular.temporalDepthTolerance); }},
+      {"specular.temporal_normal_tolerance_degrees", [](const Settings& s) { return double(s.specular.temporalNormalToleranceDegrees); }},
+      {"specular.spatial_samples", [](const Settings& s) { return double(s.specular.spatialSamples); }},
+      {"specular.spatial_max_radius", [](const Settings& s) { return double(s.specular.spatialMaxRadius); }},
+      {"specular.spatial_normal_tolerance_degrees", [](const Settings& s) { return double(s.specular.spatialNormalToleranceDegrees); }},
+      {"specular.spatial_plane_tolerance", [](const Settings& s) { return double(s.specular.spatialPlaneTolerance); }},
+      {"specular.jacobian", [](const Settings& s) { return double(s.specular.jacobian); }},
+      {"specular.resolve_max_samples", [](const Settings& s) { return double(s.specular.resolveMaxSamples); }},
+      {"specular.resolve_full_roughness", [](const Settings& s) { return double(s.specular.resolveFullRoughness); }},
+      {"specular.resolve_max_radius", [](const Settings& s) { return double(s.specular.resolveMaxRadius); }},
+      {"specular.reprojection", [](const Settings& s) { return double(s.specular.reprojection); }},
+      {"specular.variance_clipping_gamma", [](const Settings& s) { return double(s.specular.varianceClippingGamma); }},
+      {"specular.temporal_filter_frames", [](const Settings& s) { return double(s.specular.temporalFilterFrames); }},
       {"cache.enabled", [](const Settings& s) { return double(s.cache.enabled); }},
       {"cache.memory_mib", [](const Settings& s) { return double(s.cache.memoryMib); }},
       {"cache.cell_size", [](const Settings& s) { return double(s.cache.cellSize); }},
@@ -534,7 +555,7 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
   for (std::string line; std::getline(docs, line);)
     if (line.rfind("| `gi.", 0) == 0) rows.insert(line);
   std::string missing;
-  for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable()})
+  for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable(), specularImageTable()})
     for (const ImageSpec& spec : table) {
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
                               gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +

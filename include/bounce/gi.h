@@ -20,7 +20,14 @@
 //   gi.diffuse.resolve                  full res: each pixel evaluates nearby reservoirs with
 //                                       screen-space visibility -> indirect diffuse
 //   gi.diffuse.temporal_filter          full res: reprojected history, clamped to the fast history
-//   gi.composite                        direct + albedo * indirect diffuse (+ emission)
+//   gi.specular.trace                   half res: one lobe-sampled ray per pixel, marched through the
+//                                       depth buffer, then through the scene bridge
+//   gi.specular.temporal_reuse          half res: merge with last frame's reservoir (M <= 4)
+//   gi.specular.spatial_reuse           half res: merge with neighbours in the lobe's footprint
+//   gi.specular.resolve                 full res: 1..8 reservoirs per pixel by roughness -> indirect specular
+//   gi.specular.temporal_filter         full res: surface and reflection (virtual) motion, blended
+//   gi.composite                        direct + albedo * indirect diffuse + specular reflectance *
+//                                       indirect specular (+ emission)
 // The composite is what the next frame's gathering samples, so light keeps
 // bouncing from frame to frame.
 //
@@ -305,6 +312,11 @@ class GiContext {
   // frame's increment, measured 5 % over 64 frames), alpha the history length
   // in frames. See LibraryImage for its state.
   ImageRef indirectDiffuse() const;
+  // Indirect specular after the temporal filter, demodulated (divided by
+  // the specular reflectance of shaders/shared/brdf.glsl's
+  // specularReflectance(F0, n.v, roughness); multiply by it), RGBA32F, alpha
+  // the history length in frames. See LibraryImage for its state.
+  ImageRef indirectSpecular() const;
   // The composited frame: linear HDR, RGBA16F.
   ImageRef composite() const;
   // Every image of the library, by name (history, reservoirs, intermediate results).

@@ -98,6 +98,64 @@ struct DiffuseSettings {
   std::uint32_t temporalFilterFrames = 64;  // the longest history the filter accumulates
 };
 
+// How the specular branch draws its one ray per pixel and frame.
+enum class SpecularSampling : std::uint32_t {
+  // GGX visible normals around the pixel's normal and view (seed 000); the
+  // target function is the real BRDF times cos times the radiance.
+  Vndf = 0,
+  // Uniform over a cone around the lobe's dominant direction, with the
+  // view-independent target p-hat = radiance (seed 003): the stored
+  // reservoirs survive a change of view; the resolve resamples them with the
+  // real BRDF (the disposable reservoir). Samples that leave the lobe of the
+  // surface reusing them are rejected.
+  Uniform = 1,
+};
+
+// Which history the specular temporal filter reprojects.
+enum class SpecularReprojection : std::uint32_t {
+  Surface = 0,  // the surface's motion (right for rough surfaces)
+  Virtual = 1,  // the reflected image's motion, from the hit distance (right for mirrors)
+  Dual = 2,     // both, blended by roughness and by how well each agrees with this frame
+};
+
+// The specular branch (seeds 000 and 003; docs/gi.md, "Indirect specular").
+struct SpecularSettings {
+  bool enabled = true;
+
+  // --- sample generation and trace (half resolution): one ray per pixel
+  SpecularSampling sampling = SpecularSampling::Vndf;
+  // Uniform sampling: the cone holds this fraction of the lobe's microfacet normals.
+  float lobeFraction = 0.9f;
+  // Below this perceptual roughness no reservoir is reused (seed 003): a
+  // near-mirror's lobe is too narrow for another pixel's or frame's sample
+  // to land in it; each pixel keeps its own ray.
+  float reuseMinRoughness = 0.25f;
+  std::uint32_t traceSteps = 64;     // depth-buffer march steps before a ray goes to the bridge (0: at once)
+  float traceThickness = 0.03f;      // depth-buffer surfaces are this fraction of their viewZ thick
+
+  // --- temporal reuse (half resolution), fed back before spatial reuse
+  std::uint32_t temporalMaxM = 4;  // seed 000: reflections must react fast
+  float temporalDepthTolerance = 0.05f;
+  float temporalNormalToleranceDegrees = 25.0f;
+
+  // --- spatial reuse (half resolution): neighbours within the lobe's footprint
+  std::uint32_t spatialSamples = 4;
+  float spatialMaxRadius = 16.0f;  // half-resolution pixels, for the roughest lobes
+  float spatialNormalToleranceDegrees = 25.0f;
+  float spatialPlaneTolerance = 0.05f;
+  bool jacobian = true;
+
+  // --- resolve (full resolution): reservoirs evaluated per pixel, by roughness
+  std::uint32_t resolveMaxSamples = 8;  // for surfaces at least resolve_full_roughness rough
+  float resolveFullRoughness = 0.5f;    // from 1 reservoir at roughness 0 up to the maximum here (linear)
+  float resolveMaxRadius = 6.0f;        // full-resolution pixels, for the roughest lobes
+
+  // --- temporal filter (full resolution)
+  SpecularReprojection reprojection = SpecularReprojection::Dual;
+  float varianceClippingGamma = 1.5f;
+  std::uint32_t temporalFilterFrames = 32;  // the longest history (rough surfaces; smooth ones less)
+};
+
 // What the engine's motion vectors are in (the library's own convention:
 // pixels, previous position = current + motion).
 enum class MotionUnits : std::uint32_t {
@@ -130,6 +188,7 @@ struct CacheSettings {
 
 struct Settings {
   DiffuseSettings diffuse;
+  SpecularSettings specular;
   CacheSettings cache;
   InputSettings input;
   // false: no temporal and no spatial reuse (gathering, resolve and filters

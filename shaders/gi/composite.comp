@@ -1,7 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // gi.composite: the frame: direct light + base colour * (1 - metallic) *
-// indirect diffuse (+ emission when the engine gives it apart). The
+// indirect diffuse + specular reflectance * indirect specular (both branches
+// hand over demodulated light; specularReflectance() is the same function
+// the specular resolve divided by) (+ emission when the engine gives it
+// apart). The
 // engine's images are sampled (any format of their family: sRGB base
 // colour reads linear, B10G11R11 direct light too). Background
 // pixels keep the direct image's sky. This HDR frame is what the next
@@ -10,6 +13,7 @@
 // half float.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
+#include "shared/brdf.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -17,15 +21,26 @@ layout(set = 0, binding = 4) uniform sampler2D gIn_Direct;
 layout(set = 0, binding = 5) uniform sampler2D gIn_BaseColorMetallic;
 layout(set = 0, binding = 6) uniform sampler2D gIn_Emissive;
 layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_IndirectDiffuse;
-layout(set = 0, binding = 8, rgba16f) writeonly uniform image2D gOut_Composite;
+layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gIn_IndirectSpecular;
+layout(set = 0, binding = 9, rgba16f) writeonly uniform image2D gOut_Composite;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
   vec3 radiance = sanitizeRadiance(texelFetch(gIn_Direct, pixel, 0).xyz);
   if (gbufferDepth(pixel) > 0.0f) {
-    vec4 baseColorMetallic = texelFetch(gIn_BaseColorMetallic, pixel, 0);
-    radiance += baseColorMetallic.xyz * (1.0f - baseColorMetallic.w) * imageLoad(gIn_IndirectDiffuse, pixel).xyz;
+    vec4 baseColorMetallic = clamp(texelFetch(gIn_BaseColorMetallic, pixel, 0), vec4(0.0f), vec4(1.0f));
+    vec3 baseColor = baseColorMetallic.xyz;
+    float metallic = baseColorMetallic.w;
+    radiance += baseColor * (1.0f - metallic) * imageLoad(gIn_IndirectDiffuse, pixel).xyz;
+    // A pixel without a usable normal has no indirect light (the branches wrote 0 there).
+    Surface x = gbufferSurface(pixel);
+    if (x.viewZ > 0.0f) {
+      float nDotV = dot(x.normal, normalize(viewPosition(gIn_Frame.frame.view) - x.position));
+      vec3 f0 = specularF0(baseColor, metallic);
+      radiance += specularReflectance(f0, nDotV, gbufferNormalRoughness(pixel).w) *
+                  imageLoad(gIn_IndirectSpecular, pixel).xyz;
+    }
     if (gIn_Frame.frame.hasEmissive != 0u) radiance += sanitizeRadiance(texelFetch(gIn_Emissive, pixel, 0).xyz);
   }
   imageStore(gOut_Composite, pixel, vec4(sanitizeRadiance(radiance), 1.0f));

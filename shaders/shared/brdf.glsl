@@ -70,7 +70,12 @@ vec3 ggxSpecularCosine(vec3 n, vec3 v, vec3 l, vec3 f0, float alpha) {
   vec3 h = normalize(v + l);
   float nDotH = max(dot(n, h), 0.0f);
   float vDotH = max(dot(v, h), 0.0f);
-  return fresnelSchlick(f0, vDotH) * (ggxD(nDotH, alpha) * smithG2(nDotL, nDotV, alpha) / (4.0f * nDotV));
+  // D from the half vector's tangential part, |n x h|^2 = sin^2: for the
+  // smoothest lobes 1 - cos^2 is all rounding error, and f cos / pdf of a
+  // VNDF sample (whose pdf uses this form) would be off by percents.
+  vec3 tangential = cross(n, h);
+  float d = ggxDSinCos(dot(tangential, tangential), nDotH * nDotH, alpha);
+  return fresnelSchlick(f0, vDotH) * (d * smithG2(nDotL, nDotV, alpha) / (4.0f * nDotV));
 }
 
 // Selectable diffuse lobes for materialBrdfCosineWithDiffuse. Lambert is the

@@ -199,9 +199,12 @@ int runRender(const RenderOptions& options) {
       }
       if (options.hdr) {
         io::writeExr(framesDir / (std::string(name) + ".exr"), image);
-        if (gi)
+        if (gi) {
           io::writeExr(framesDir / (std::string(name) + ".indirect-diffuse.exr"),
                        gpuio::readbackImage(*context, giBridge->indirectDiffuse()));
+          io::writeExr(framesDir / (std::string(name) + ".indirect-specular.exr"),
+                       gpuio::readbackImage(*context, giBridge->indirectSpecular()));
+        }
       }
     }
     progress.update(frame + 1);
@@ -229,7 +232,10 @@ int runRender(const RenderOptions& options) {
   }
   if (!options.aovs.empty()) {
     std::vector<render::Aov> giAovs;
-    if (gi) giAovs.push_back({"indirect-diffuse", &giBridge->indirectDiffuse()});
+    if (gi) {
+      giAovs.push_back({"indirect-diffuse", &giBridge->indirectDiffuse()});
+      giAovs.push_back({"indirect-specular", &giBridge->indirectSpecular()});
+    }
     writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure, giAovs);
   }
   if (!captures.empty()) {

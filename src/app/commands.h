@@ -75,7 +75,9 @@ render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, con
 // The GI library on the command line: --gi diffuse|off, --gi-settings
 // FILE.json, and one --gi.KEY VALUE flag per key of gi::settingKeys().
 struct GiOptions {
-  std::string mode = "diffuse";  // "diffuse": the GI library composites the frame; "off": direct light only
+  // Which GI branches run: a comma list of diffuse and specular (the GI
+  // library composites the frame), or "off" (direct light only).
+  std::string mode = "diffuse,specular";
   std::string settingsFile;
   std::vector<std::pair<std::string, std::string>> overrides;  // key, value, in command-line order
   std::uint32_t warmup = 16;  // frames rendered (and thrown away) at the first camera before the first output frame
@@ -84,6 +86,8 @@ struct GiOptions {
 // `warmup`: whether the command offers --gi-warmup (bench has its own --warmup).
 void addGiOptions(CLI::App& command, GiOptions& options, bool warmup = true);
 bool giEnabled(const GiOptions& options);
+// The branch names of a --gi value ("diffuse,specular" -> diffuse, specular).
+std::vector<std::string> giBranches(const std::string& mode);
 // With --gi off, warns (stderr) about the GI settings given, which nothing reads.
 void warnIgnoredGiOptions(const GiOptions& options);
 // The settings: defaults, then the file, then the flags; validated.

@@ -10,8 +10,22 @@
 namespace bounce::app {
 
 void addGiOptions(CLI::App& command, GiOptions& options, bool warmup) {
-  command.add_option("--gi", options.mode, "Global illumination: diffuse (the GI library's indirect diffuse) or off")
-      ->check(CLI::IsMember({"diffuse", "off"}))
+  command
+      .add_option("--gi", options.mode,
+                  "Global illumination: the GI library's branches, a comma list of diffuse (indirect diffuse) and "
+                  "specular (indirect specular), or off (direct light only)")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            if (value == "off") return "";
+            bool any = false;
+            for (const std::string& branch : giBranches(value)) {
+              if (branch != "diffuse" && branch != "specular")
+                return "'" + branch + "' is not a GI branch (diffuse, specular; or off alone)";
+              any = true;
+            }
+            return any ? "" : "no GI branch given (diffuse, specular, or off)";
+          },
+          "diffuse,specular|off"))
       ->capture_default_str();
   command
       .add_option("--scene-bridge", options.sceneBridge,
@@ -42,7 +56,18 @@ void addGiOptions(CLI::App& command, GiOptions& options, bool warmup) {
   }
 }
 
-bool giEnabled(const GiOptions& options) { return options.mode == "diffuse"; }
+std::vector<std::string> giBranches(const std::string& mode) {
+  std::vector<std::string> branches;
+  std::size_t start = 0;
+  while (start <= mode.size()) {
+    const std::size_t comma = std::min(mode.find(',', start), mode.size());
+    branches.push_back(mode.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return branches;
+}
+
+bool giEnabled(const GiOptions& options) { return options.mode != "off"; }
 
 gi::SceneBridge giSceneBridge(const GiOptions& options) {
   return options.sceneBridge == "bvh" ? render::bvhSceneBridge() : gi::SceneBridge{};
@@ -60,6 +85,11 @@ gi::Settings giSettings(const GiOptions& options) {
   gi::Settings settings;
   if (!options.settingsFile.empty()) gi::applySettingsFile(settings, options.settingsFile);
   for (const auto& [key, value] : options.overrides) gi::applySetting(settings, key, value);
+  // --gi names the branches that run: one it leaves out is off whatever the settings say.
+  const std::vector<std::string> branches = giBranches(options.mode);
+  const auto listed = [&](const char* name) { return std::find(branches.begin(), branches.end(), name) != branches.end(); };
+  if (!listed("diffuse")) settings.diffuse.enabled = false;
+  if (!listed("specular")) settings.specular.enabled = false;
   try {
     gi::validate(settings);
   } catch (const std::invalid_argument& invalid) {

@@ -8,15 +8,16 @@ namespace bounce::gi {
 gpu::PassDesc compositePass() {
   using gpu::Access;
   using gpu::ResourceKind;
-  std::vector<gpu::ResourceDecl> resources = frameGroupDecls(GroupPart::Depth);
+  std::vector<gpu::ResourceDecl> resources = frameGroupDecls(GroupPart::Surfaces);
   resources.insert(
       resources.end(),
       {{"gIn_Direct", Access::Read, VK_FORMAT_UNDEFINED, "the engine's direct light (and emission), sky behind",
         ResourceKind::SampledImage},
-       {"gIn_BaseColorMetallic", Access::Read, VK_FORMAT_UNDEFINED, "remodulation of indirect diffuse",
+       {"gIn_BaseColorMetallic", Access::Read, VK_FORMAT_UNDEFINED, "remodulation of indirect diffuse and specular",
         ResourceKind::SampledImage},
        {"gIn_Emissive", Access::Read, VK_FORMAT_UNDEFINED, "emission, when given apart", ResourceKind::SampledImage},
        {"gIn_IndirectDiffuse", Access::Read, gpu::formats::kRgba32f, "the diffuse branch's result"},
+       {"gIn_IndirectSpecular", Access::Read, gpu::formats::kRgba32f, "the specular branch's result"},
        {"gOut_Composite", Access::Write, gpu::formats::kRgba16f,
         "the frame, linear HDR; next frame's light source"}});
   return {.name = "gi.composite",

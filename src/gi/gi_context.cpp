@@ -22,6 +22,7 @@
 #include "gi/library_device.h"
 #include "gi/pass_log.h"
 #include "gi/scene_bridge.h"
+#include "gi/specular/specular_branch.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
 #include "gpu/recorder.h"
@@ -110,11 +111,14 @@ struct GiContext::Impl {
                   "bridge '" + scene.name() + "': every reservoir would stay empty");
     branches.push_back(
         std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings, scene, cache));
+    branches.push_back(std::make_unique<SpecularBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings,
+                                                        scene, cache));
     for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
       logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps));
   }
 
-  DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches.front()); }
+  DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches[0]); }
+  SpecularBranch& specular() { return static_cast<SpecularBranch&>(*branches[1]); }
   std::uint64_t current() const { return recorded == 0 ? 0 : recorded - 1; }
 
   // Everything that can be refused, before anything is recorded.
@@ -200,12 +204,13 @@ struct GiContext::Impl {
 
     gpu::Image& direct = engine[Input::Direct];
     const VkSampler nearest = context->nearestSampler();
-    recorder.dispatch(compositor, size.width, size.height, group.binds(GroupPart::Depth),
+    recorder.dispatch(compositor, size.width, size.height, group.binds(GroupPart::Surfaces),
                       {{"gIn_Direct", direct, nearest},
                        {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
                        // Not read without an emissive image (the constants say so); bound only to fill the slot.
                        {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
                        {"gIn_IndirectDiffuse", diffuse().result(f)},
+                       {"gIn_IndirectSpecular", specular().result(f)},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
 
     engine.handBack(recorder);
@@ -284,6 +289,8 @@ FrameResults GiContext::collect(std::uint64_t completedFrameIndex) {
 }
 
 ImageRef GiContext::indirectDiffuse() const { return libraryRef(impl_->diffuse().result(impl_->current())); }
+
+ImageRef GiContext::indirectSpecular() const { return libraryRef(impl_->specular().result(impl_->current())); }
 
 ImageRef GiContext::composite() const { return libraryRef(impl_->frameImages.current(kComposite, impl_->current())); }
 

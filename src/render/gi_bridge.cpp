@@ -198,6 +198,10 @@ gpu::Image& GiBridge::indirectDiffuse() {
   return wrap(library_->indirectDiffuse(), "gi.diffuse.filtered", gpu::Visualize::Radiance);
 }
 
+gpu::Image& GiBridge::indirectSpecular() {
+  return wrap(library_->indirectSpecular(), "gi.specular.filtered", gpu::Visualize::Radiance);
+}
+
 std::vector<GiBridge::Named> GiBridge::images() {
   std::vector<Named> named;
   for (const gi::LibraryImage& image : library_->images())

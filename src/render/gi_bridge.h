@@ -84,6 +84,7 @@ class GiBridge {
   // and hands them back at the next record().
   gpu::Image& composite();
   gpu::Image& indirectDiffuse();
+  gpu::Image& indirectSpecular();
   struct Named {
     std::string name;
     gpu::Image* image;

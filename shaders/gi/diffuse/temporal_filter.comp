@@ -26,9 +26,6 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// The fast history averages about this many frames (REBLUR's fast history).
-const float kFastFrames = 6.0f;
-
 layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Diffuse;
 layout(set = 0, binding = 6, rg32ui) readonly uniform uimage2D gPrev_Surface;
@@ -38,6 +35,7 @@ layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Filtered;
 layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Moments;
 
 #include "gi/motion.glsl"
+#include "gi/temporal_history.glsl"
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -51,53 +49,27 @@ void main() {
   vec3 current = imageLoad(gIn_Diffuse, pixel).xyz;
   float currentLuminance = luminance(current);
 
-  float historyLength = 0.0f;
-  vec3 history = vec3(0.0f);
-  vec3 moments = vec3(0.0f);  // long history: mean, mean square; fast history: mean
   DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  History history;
+  history.found = false;
   vec2 motion = historyUsable() ? motionAt(pixel) : vec2(0.0f);
   if (historyUsable() && usableMotion(motion)) {
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
-    vec2 previous = vec2(pixel) + motion;  // texel space: centre + motion - 0.5
-    ivec2 corner = ivec2(floor(previous));
-    vec2 f = previous - vec2(corner);
-    vec4 accumulated = vec4(0.0f);
-    vec3 accumulatedMoments = vec3(0.0f);
-    float weightSum = 0.0f;
-    for (int i = 0; i < 4; ++i) {
-      ivec2 tap = corner + ivec2(i & 1, i >> 1);
-      if (!insideFull(tap) || expectedViewZ <= 0.0f) continue;
-      float weight = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
-      Surface then = historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy);
-      if (weight <= 0.0f || !similarSurface(expectedViewZ, x.normal, then.viewZ, then.normal, d.temporalDepthTolerance,
-                                            d.temporalCosNormalTolerance))
-        continue;
-      accumulated += imageLoad(gPrev_Filtered, tap) * weight;
-      accumulatedMoments += imageLoad(gPrev_Moments, tap).xyz * weight;
-      weightSum += weight;
-    }
-    if (weightSum > 0.05f) {
-      history = accumulated.xyz / weightSum;
-      moments = accumulatedMoments / weightSum;
-      historyLength = accumulated.w / weightSum;
-    }
+    if (expectedViewZ > 0.0f)
+      history = fetchHistory(vec2(pixel) + motion,
+                             ExpectedSurface(x.position, x.normal, expectedViewZ, d.temporalDepthTolerance,
+                                             d.temporalCosNormalTolerance));
   }
+  float historyLength = history.found ? history.frames : 0.0f;
   float frames = min(historyLength + 1.0f, d.temporalFilterFrames);
   float blend = 1.0f / frames;
-  vec3 fresh = vec3(currentLuminance, currentLuminance * currentLuminance, currentLuminance);
+  vec3 moments = vec3(currentLuminance, currentLuminance * currentLuminance, currentLuminance);
+  vec3 previous = vec3(0.0f);
   if (historyLength > 0.0f) {
-    moments = vec3(mix(moments.xy, fresh.xy, blend), mix(moments.z, fresh.z, max(blend, 1.0f / kFastFrames)));
-    float sigma = sqrt(max(moments.y - moments.x * moments.x, 0.0f));
-    float reach = d.varianceClippingGamma * sigma;
-    float historyLuminance = luminance(history);
-    float clipped = clamp(historyLuminance, max(moments.z - reach, 0.0f), moments.z + reach);
-    // A black history raised by the clamp turns grey; taking `current` in its
-    // place would count this frame in full where it should count 1 / frames.
-    history = historyLuminance > 0.0f ? history * (clipped / historyLuminance) : vec3(clipped);
-  } else {
-    moments = fresh;
+    moments = history.moments;
+    previous = clampToFastHistory(history.radiance, moments, currentLuminance, blend, d.varianceClippingGamma);
   }
-  vec3 filtered = mix(history, current, blend);
+  vec3 filtered = mix(previous, current, blend);
   imageStore(gOut_Filtered, pixel, vec4(sanitizeRadiance(filtered), frames));
   imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), 0.0f));
 }

@@ -5,6 +5,7 @@
 #include "gi/cache/radiance_cache.h"
 #include "gi/frame_constants.h"
 #include "gi/gi_shaders.h"
+#include "gi/pass_decls.h"
 #include "gpu/constants_layout.h"
 #include "gpu/format.h"
 
@@ -31,29 +32,6 @@ gpu::ConstantsDecl diffuseConstantsLayout() {
                                  varianceClippingGamma, temporalFilterFrames, rayCandidates, rayScreenSteps,
                                  visibilityMode, reuseVisibility, skyReuseVisibility);
 }
-ResourceDecl previousSurface() {
-  return {"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"};
-}
-ResourceDecl motion() {
-  return {"gIn_Motion", Access::Read, VK_FORMAT_UNDEFINED, "the engine's motion vectors (times the motion scale)",
-          ResourceKind::SampledImage};
-}
-// A reservoir image pair: rgba32ui each, 32 bytes a reservoir (shared/reservoir.glsl).
-std::vector<ResourceDecl> reservoirs(const char* prefix, Access access, const char* purpose) {
-  const std::string base = std::string(prefix) + "_Reservoir";
-  return {{base + "0", access, kRgba32ui, std::string(purpose) + ": sample position, normal"},
-          {base + "1", access, kRgba32ui, std::string(purpose) + ": radiance, M, W, flags"}};
-}
-
-// A pass that reads (part of) the frame group first, then its own
-// resources, and none of the branch's constants.
-gpu::PassDesc framePass(std::string name, const char* shader, GroupPart group, const std::vector<ResourceDecl>& own) {
-  std::vector<ResourceDecl> resources = frameGroupDecls(group);
-  resources.insert(resources.end(), own.begin(), own.end());
-  return {.name = std::move(name), .shader = shader, .shaders = shaders(), .resources = std::move(resources),
-          .constants = {frameConstantsLayout()}};
-}
-
 // A pass of the branch: (part of) the frame group and the branch's
 // constants first, then its own resources.
 gpu::PassDesc pass(const char* name, const char* shader, GroupPart group, std::vector<ResourceDecl> own,
@@ -65,17 +43,12 @@ gpu::PassDesc pass(const char* name, const char* shader, GroupPart group, std::v
   return desc;
 }
 
-std::vector<ResourceDecl> join(std::vector<ResourceDecl> a, const std::vector<ResourceDecl>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
-
 }  // namespace
 
 gpu::PassDesc brightPixelsPass() {
   return pass("gi.diffuse.bright_pixels", "gi/diffuse/bright_pixels", GroupPart::Constants,
               {{"gPrev_Composite", Access::Read, kRgba16f, "last frame's composited radiance"},
-               previousSurface(),
+               previousSurfaceDecl(),
                {"gOut_Brightest", Access::Write, kRgba32f, "per 2x2 tile: brightness, pixel x, y, valid"}});
 }
 
@@ -92,12 +65,12 @@ gpu::PassDesc brightPixelsReducePass() {
 gpu::PassDesc gatherPass() {
   gpu::PassDesc desc =
       pass("gi.diffuse.gather", "gi/diffuse/gather", GroupPart::Surfaces,
-           join({{"gPrev_Composite", Access::Read, kRgba16f, "radiance of screen candidates"},
-                 previousSurface(),
+           joinDecls({{"gPrev_Composite", Access::Read, kRgba16f, "radiance of screen candidates"},
+                 previousSurfaceDecl(),
                  {"gIn_Brightest", Access::Read, kRgba32f, "the bright-pixel pyramid's last level"},
                  {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED,
                   "prefiltered sky for environment candidates and rays that miss", ResourceKind::SampledImage}},
-                reservoirs("gOut", Access::Write, "fresh reservoirs")));
+                reservoirDecls("gOut", Access::Write, "fresh reservoirs")));
   desc.constants.push_back(cacheConstantsLayout());
   return desc;
 }
@@ -110,17 +83,17 @@ std::vector<gpu::ResourceDecl> gatherRayResources() {
 
 gpu::PassDesc temporalReusePass() {
   return pass("gi.diffuse.temporal_reuse", "gi/diffuse/temporal_reuse", GroupPart::Surfaces,
-              join(join({motion(), previousSurface()}, reservoirs("gIn", Access::Read, "fresh reservoirs")),
-                   join(reservoirs("gPrev", Access::Read, "last frame's final reservoirs"),
-                        join(reservoirs("gOut", Access::Write, "merged reservoirs"),
+              joinDecls(joinDecls({motionDecl(), previousSurfaceDecl()}, reservoirDecls("gIn", Access::Read, "fresh reservoirs")),
+                   joinDecls(reservoirDecls("gPrev", Access::Read, "last frame's final reservoirs"),
+                        joinDecls(reservoirDecls("gOut", Access::Write, "merged reservoirs"),
                              {{"gPrev_Composite", Access::Read, kRgba16f,
                                "last frame's composited radiance: what reused samples on its screen send now"}}))));
 }
 
 gpu::PassDesc spatialReusePass() {
   return pass("gi.diffuse.spatial_reuse", "gi/diffuse/spatial_reuse", GroupPart::Surfaces,
-              join(reservoirs("gIn", Access::Read, "reservoirs"),
-                   reservoirs("gOut", Access::Write, "reservoirs merged with neighbours")),
+              joinDecls(reservoirDecls("gIn", Access::Read, "reservoirs"),
+                   reservoirDecls("gOut", Access::Write, "reservoirs merged with neighbours")),
               {BOUNCE_CONSTANTS_LAYOUT("", SpatialReuseParams, radius, samples, passIndex)});
 }
 
@@ -134,16 +107,16 @@ gpu::PassDesc sampleVisibilityPass() {
 
 gpu::PassDesc resolvePass() {
   return pass("gi.diffuse.resolve", "gi/diffuse/resolve", GroupPart::Surfaces,
-              join(reservoirs("gIn", Access::Read, "this frame's final reservoirs"),
+              joinDecls(reservoirDecls("gIn", Access::Read, "this frame's final reservoirs"),
                    {{"gIn_MarchDepth", Access::Read, kR32f, "the depth the visibility marches test against"},
                     {"gOut_Diffuse", Access::Write, kRgba16f, "indirect diffuse, demodulated, unfiltered"}}));
 }
 
 gpu::PassDesc temporalFilterPass() {
   return pass("gi.diffuse.temporal_filter", "gi/diffuse/temporal_filter", GroupPart::Surfaces,
-              {motion(),
+              {motionDecl(),
                {"gIn_Diffuse", Access::Read, kRgba16f, "this frame's resolve"},
-               previousSurface(),
+               previousSurfaceDecl(),
                {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's output (alpha: history length)"},
                {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
                {"gOut_Filtered", Access::Write, kRgba32f, "indirect diffuse, filtered; alpha: history length"},
@@ -153,7 +126,7 @@ gpu::PassDesc temporalFilterPass() {
 gpu::PassDesc reservoirViewPass(const std::string& after) {
   // The view reads no diffuse constants: only the group and the reservoirs.
   return framePass("gi.diffuse.reservoir_view." + after, "gi/diffuse/reservoir_view", GroupPart::Surfaces,
-                   join(reservoirs("gIn", Access::Read, "reservoirs"),
+                   joinDecls(reservoirDecls("gIn", Access::Read, "reservoirs"),
                         {{"gOut_Estimate", Access::Write, kRgba16f, "radiance * cos / pi * W at the reservoir's surface"},
                          {"gOut_M", Access::Write, kR32f, "confidence M"},
                          {"gOut_W", Access::Write, kR32f, "contribution weight W"}}));

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# The specular branch against the reference path tracer: the numbers of
+# docs/quality.md, "Indirect specular". Needs a GPU (hours on lavapipe).
+#
+#   scripts/measure-specular.sh OUT_DIR [SCENES_DIR]
+#
+# For cornell, pillars, sun-room and (when SCENES_DIR has them) Sponza and
+# the Breakfast Room at 640x360, default view, frame 32: the reference
+# (REFERENCE_SPP samples, default 1024), then `bounce render` with the BVH
+# bridge (defaults), without reuse, with uniform lobe sampling, with the
+# bridge none, and with the diffuse branch alone (--gi diffuse): indirect
+# specular mean / reference and relMSE, whole-frame relMSE and HDR-FLIP with
+# and without the specular branch. Writes OUT_DIR/summary.md.
+set -euo pipefail
+out=${1:?usage: scripts/measure-specular.sh OUT_DIR [SCENES_DIR]}
+scenes_dir=${2:-}
+bounce=${BOUNCE:-./build/bounce}
+spp=${REFERENCE_SPP:-1024}
+size=(--width "${WIDTH:-640}" --height "${HEIGHT:-360}")
+mkdir -p "$out"
+summary="$out/summary.md"
+: > "$summary"
+
+entries=("cornell|cornell|" "pillars|pillars|" "sun-room|sun-room|")
+if [ -n "$scenes_dir" ]; then
+  [ -f "$scenes_dir/sponza/Sponza.gltf" ] &&
+    entries+=("sponza|$scenes_dir/sponza/Sponza.gltf|--sun-elevation 75 --sun-azimuth 100")
+  [ -f "$scenes_dir/breakfast_room/BreakfastRoom.gltf" ] &&
+    entries+=("breakfast|$scenes_dir/breakfast_room/BreakfastRoom.gltf|--sun-elevation 25 --sun-azimuth 70")
+fi
+
+field() { "$bounce" compare "$1" "$2" | awk -v key="$3" '$1 == key { print ($1 == "mean" ? $NF : $1 == "FLIP" ? $3 : $2) }'; }
+
+echo "| scene | specular mean / ref: hybrid, no reuse, uniform, screen-only | specular relMSE: hybrid, no reuse, uniform, screen-only | frame relMSE: diffuse only, both | frame FLIP: diffuse only, both |" >> "$summary"
+echo "|---|---|---|---|---|" >> "$summary"
+for entry in "${entries[@]}"; do
+  IFS='|' read -r name scene lighting <<< "$entry"
+  dir="$out/$name"
+  mkdir -p "$dir"
+  # shellcheck disable=SC2086
+  "$bounce" reference "$scene" "${size[@]}" $lighting --spp "$spp" --seed 7 --out "$dir/ref.exr" > "$dir/ref.log"
+  for mode in bvh noreuse uniform none diffuse; do
+    flags=()
+    [ "$mode" = noreuse ] && flags=(--gi.restir off)
+    [ "$mode" = uniform ] && flags=(--gi.specular.sampling uniform)
+    [ "$mode" = none ] && flags=(--scene-bridge none)
+    [ "$mode" = diffuse ] && flags=(--gi diffuse)
+    # shellcheck disable=SC2086
+    "$bounce" render "$scene" "${size[@]}" $lighting "${flags[@]}" --gi-warmup 32 --frames 1 --hdr \
+      --out "$dir/$mode" > "$dir/$mode.log"
+  done
+  sp() { echo "$dir/$1/frames/frame0000.indirect-specular.exr"; }
+  fr() { echo "$dir/$1/frames/frame0000.exr"; }
+  ref="$dir/ref.indirect-specular.exr"
+  printf '| %s | %s, %s, %s, %s | %s, %s, %s, %s | %s, %s | %s, %s |\n' "$name" \
+    "$(field "$ref" "$(sp bvh)" mean)" "$(field "$ref" "$(sp noreuse)" mean)" "$(field "$ref" "$(sp uniform)" mean)" \
+    "$(field "$ref" "$(sp none)" mean)" \
+    "$(field "$ref" "$(sp bvh)" relMSE)" "$(field "$ref" "$(sp noreuse)" relMSE)" "$(field "$ref" "$(sp uniform)" relMSE)" \
+    "$(field "$ref" "$(sp none)" relMSE)" \
+    "$(field "$dir/ref.exr" "$(fr diffuse)" relMSE)" "$(field "$dir/ref.exr" "$(fr bvh)" relMSE)" \
+    "$(field "$dir/ref.exr" "$(fr diffuse)" FLIP)" "$(field "$dir/ref.exr" "$(fr bvh)" FLIP)" >> "$summary"
+done
+cat "$summary"

@@ -1,0 +1,137 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.specular.temporal_filter: blends this frame's indirect specular with
+// its history, fetched twice (seed 000's dual-source reprojection):
+//   surface  through the motion vectors, where the surface itself was: right
+//            for rough surfaces, whose reflection sticks to the surface;
+//   virtual  where the reflected image was: the hit seen in the mirror lies
+//            hit distance beyond the surface along the view ray (a virtual
+//            point behind a flat reflector), and last frame's camera saw
+//            that point at another pixel of the same reflector. Right for
+//            mirrors, whose reflections swim over the surface as the camera moves.
+// Seed 000 blends the two by local statistics alone and reports mixed results
+// at medium roughness. Here each source's weight is a prior from roughness
+// (virtual for smooth, surface for rough; NRD's virtual-history amount)
+// times its agreement with this frame: a Gaussian in how many local standard
+// deviations (3x3 of this frame's resolve) its luminance lies from the local
+// mean, so the source that reprojected the wrong reflection loses. A
+// virtual tap counts only on the reflector's plane. The blended history is
+// clamped to the fast history as the diffuse filter does
+// (gi/temporal_history.glsl), and smooth surfaces keep a shorter history
+// (a quarter of gi.specular.temporal_filter_frames for a mirror), since
+// their reflections move most. gOut_Reprojection shows which source won.
+#include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "gi/specular/specular_common.glsl"
+#include "shared/color.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
+layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Specular;
+layout(set = 0, binding = 6, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gPrev_Filtered;
+layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Moments;
+layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Filtered;
+layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Moments;
+layout(set = 0, binding = 11, rgba16f) writeonly uniform image2D gOut_Reprojection;
+
+#include "gi/motion.glsl"
+#include "gi/temporal_history.glsl"
+
+// How far (in local deviations) a history may lie from this frame's local
+// mean before it is distrusted: the width of the agreement Gaussian.
+const float kAgreementSigmas = 1.5f;
+
+float agreement(History h, float mean, float deviation) {
+  if (!h.found) return 0.0f;
+  float d = (luminance(h.radiance) - mean) / (deviation + 0.05f * mean + 1e-4f);
+  return exp(-0.5f * d * d / (kAgreementSigmas * kAgreementSigmas));
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideFull(pixel)) return;
+  Surface x = gbufferSurface(pixel);
+  if (x.viewZ <= 0.0f) {
+    imageStore(gOut_Filtered, pixel, vec4(0.0f));
+    imageStore(gOut_Moments, pixel, vec4(0.0f));
+    imageStore(gOut_Reprojection, pixel, vec4(0.0f));
+    return;
+  }
+  SpecularConstants c = gIn_SpecularConstants.specular;
+  vec4 resolved = imageLoad(gIn_Specular, pixel);
+  vec3 current = vec3(resolved);
+  float currentLuminance = luminance(current);
+  float roughness = clamp(gbufferNormalRoughness(pixel).w, 0.0f, 1.0f);
+
+  History surface;
+  surface.found = false;
+  History virtualHistory;
+  virtualHistory.found = false;
+  vec2 motion = historyUsable() ? motionAt(pixel) : vec2(0.0f);
+  if (historyUsable() && usableMotion(motion)) {
+    float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
+    if (c.reprojection != kReprojectionVirtual && expectedViewZ > 0.0f)
+      surface = fetchHistory(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
+                                                                   c.temporalDepthTolerance,
+                                                                   c.temporalCosNormalTolerance));
+    if (c.reprojection != kReprojectionSurface) {
+      vec3 camera = viewPosition(gIn_Frame.frame.view);
+      vec3 virtualPoint = x.position + normalize(x.position - camera) * resolved.w;
+      vec3 projected = projectToScreen(gIn_Frame.frame.previousView, virtualPoint, fullSize());
+      if (projected.z > 0.0f)
+        virtualHistory = fetchHistory(vec2(projected) - 0.5f,
+                                      ExpectedSurface(x.position, x.normal, 0.0f, c.temporalDepthTolerance,
+                                                      c.temporalCosNormalTolerance));
+    }
+  }
+
+  float virtualWeight = 0.0f;
+  if (surface.found && virtualHistory.found) {
+    // This frame's local statistics.
+    float sum = 0.0f;
+    float sumSquares = 0.0f;
+    float count = 0.0f;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec2 tap = pixel + ivec2(dx, dy);
+        if (!insideFull(tap) || gbufferDepth(tap) <= 0.0f) continue;
+        float l = luminance(vec3(imageLoad(gIn_Specular, tap)));
+        sum += l;
+        sumSquares += l * l;
+        count += 1.0f;
+      }
+    float mean = sum / count;
+    float deviation = sqrt(max(sumSquares / count - mean * mean, 0.0f));
+    float prior = 1.0f - smoothstep(0.1f, 0.6f, roughness);
+    float wv = prior * agreement(virtualHistory, mean, deviation);
+    float ws = (1.0f - prior) * agreement(surface, mean, deviation);
+    virtualWeight = wv + ws > 1e-6f ? wv / (wv + ws) : prior;
+  } else if (virtualHistory.found) {
+    virtualWeight = 1.0f;
+  }
+  History history = virtualWeight >= 1.0f ? virtualHistory : surface;
+  if (virtualWeight > 0.0f && virtualWeight < 1.0f) {
+    history.radiance = mix(surface.radiance, virtualHistory.radiance, virtualWeight);
+    history.moments = mix(surface.moments, virtualHistory.moments, virtualWeight);
+    history.frames = mix(surface.frames, virtualHistory.frames, virtualWeight);
+  }
+
+  float longest = c.temporalFilterFrames * mix(0.25f, 1.0f, smoothstep(0.0f, 0.5f, roughness));
+  float historyLength = history.found ? history.frames : 0.0f;
+  float frames = min(historyLength + 1.0f, max(longest, 1.0f));
+  float blend = 1.0f / frames;
+  vec3 moments = vec3(currentLuminance, currentLuminance * currentLuminance, currentLuminance);
+  vec3 previous = vec3(0.0f);
+  if (historyLength > 0.0f) {
+    moments = history.moments;
+    previous = clampToFastHistory(history.radiance, moments, currentLuminance, blend, c.varianceClippingGamma);
+  }
+  vec3 filtered = mix(previous, current, blend);
+  imageStore(gOut_Filtered, pixel, vec4(sanitizeRadiance(filtered), frames));
+  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), 0.0f));
+  // r: the surface history was used, g: the virtual one, b: history length / the longest.
+  imageStore(gOut_Reprojection, pixel,
+             vec4(surface.found ? 1.0f - virtualWeight : 0.0f, virtualWeight, frames / max(longest, 1.0f), 1.0f));
+}

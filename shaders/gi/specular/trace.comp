@@ -1,0 +1,135 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.specular.trace: one ray per half-resolution pixel and frame (seed 000,
+// "Sample gathering"), its direction drawn from the specular lobe
+// (gi.specular.sampling: GGX visible normals, or uniformly in a cone; seed
+// 003) with the pixel's own cycle through the first 64 Halton (2, 3) points
+// (its own start and rotation). The ray marches the depth buffer first
+// (gi/specular/screen_march.glsl): a surface it hits that last frame's screen showed
+// sends what last frame's composite holds there, every bounce the feedback
+// has added included. What screen space cannot finish (the ray leaves the
+// screen, passes behind a surface of unknown thickness, or only seems to
+// reach the sky) continues through the scene bridge from the start: its hit
+// is lit by the bridge and the radiance cache, or read from last frame's
+// screen where that showed it; a true miss sees the sharp environment. With
+// the bridge "none" such rays read the environment prefiltered at the
+// lobe's roughness, as seed 000 does. The sample goes into a fresh
+// reservoir (M = 1) with the target of its sampling; its hit point keeps the
+// hit distance, which the resolve and the filter need.
+#include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+
+layout(set = 0, binding = 4) uniform sampler2D gIn_BaseColorMetallic;
+#define SPECULAR_READS_MATERIAL
+#include "gi/specular/specular_common.glsl"
+#include "shared/environment.glsl"
+#include "shared/reservoir.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gPrev_Composite;
+layout(set = 0, binding = 6, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 7) uniform sampler2D gIn_Environment;
+layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
+layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
+layout(set = 0, binding = 10, r32f) readonly uniform image2D gIn_MarchDepth;
+#include "gi/screen_trace.glsl"
+#include "gi/specular/screen_march.glsl"
+#include "gi/previous_screen.glsl"
+#define CACHE_FIRST_BINDING 24
+#include "gi/cache/radiance_cache.glsl"
+#include "gi/scene_bridge.glsl"
+#include "gi/world_rays.glsl"
+
+const uint kSaltSpecularTrace = 0x7374u;
+
+void store(ivec2 halfPixel, Reservoir r) {
+  uvec4 first, second;
+  packReservoir(r, first, second);
+  imageStore(gOut_Reservoir0, halfPixel, first);
+  imageStore(gOut_Reservoir1, halfPixel, second);
+}
+
+// Last frame's radiance from the surface at (position, normal), if last frame showed it.
+bool previousRadiance(vec3 position, vec3 normal, out vec3 radiance) {
+  radiance = vec3(0.0f);
+  if (gIn_SpecularConstants.specular.hasPreviousFrame == 0u) return false;
+  ivec2 shown = previousPixelShowing(position, normal);
+  if (shown.x < 0) return false;
+  radiance = sanitizeRadiance(imageLoad(gPrev_Composite, shown).xyz);
+  return true;
+}
+
+void main() {
+  ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideHalf(halfPixel)) return;
+  ivec2 pixel = reservoirSurfacePixel(halfPixel);
+  Reservoir r = emptyReservoir();
+  Surface x = gbufferSurface(pixel);
+  if (x.viewZ <= 0.0f) {
+    store(halfPixel, r);
+    return;
+  }
+  r.M = 1.0f;  // one frame's ray, even when it finds nothing: later merges must weigh that too
+  SpecularConstants c = gIn_SpecularConstants.specular;
+  GlossySurface s = pixelGlossySurface(x, pixel);
+  uint pixelSeed = rngSeed(uvec2(halfPixel), 0u, gIn_Frame.frame.seed ^ kSaltSpecularTrace);
+  vec2 u = haltonPixelSample(gIn_Frame.frame.frameIndex, pixelSeed);
+  vec3 direction;
+  float pdf;
+  if (!sampleSpecularDirection(s, c.sampling, c.lobeFraction, u, direction, pdf)) {
+    store(halfPixel, r);
+    return;
+  }
+
+  vec3 origin = rayOrigin(x.position, x.normal, x.viewZ);
+  Reservoir candidate = emptyReservoir();
+  candidate.flags = kReservoirHasSample;
+  bool found = false;
+  bool screenHitUnseen = false;  // screen space hit a surface last frame did not show
+  if (c.traceSteps > 0u) {
+    uint rng = giSeed(uvec2(halfPixel), kSaltSpecularTrace);
+    float jitter = rngUniform(rng);
+    MarchResult ray = screenMarch(origin, direction, x.viewZ, c.traceThickness, c.traceSteps, jitter);
+    if (ray.outcome == kMarchHit) {
+      Surface y = gbufferSurface(ray.texel);
+      if (y.viewZ > 0.0f) {
+        candidate.position = y.position;
+        candidate.normal = y.normal;
+        found = previousRadiance(y.position, y.normal, candidate.radiance);
+        screenHitUnseen = !found;
+      }
+    }
+  }
+  if (!found && kSceneBridgeTraces) {
+    SceneHit hit = sceneTraceClosest(origin, direction, 3.0e38f);
+    if (hit.hit) {
+      candidate.position = hit.position;
+      candidate.normal = hit.normal;
+      if (!previousRadiance(hit.position, hit.normal, candidate.radiance))
+        candidate.radiance = offscreenHitRadiance(hit, direction);
+    } else {
+      candidate.position = direction;
+      candidate.normal = x.normal;
+      candidate.flags |= kReservoirEnvironment;
+      candidate.radiance = sanitizeRadiance(environmentRadianceLod(gIn_Environment, direction, 0.0f));
+    }
+    found = true;
+  }
+  if (!found && !screenHitUnseen) {
+    // No bridge: the environment, prefiltered at the lobe's roughness (seed 000).
+    candidate.position = direction;
+    candidate.normal = x.normal;
+    candidate.flags |= kReservoirEnvironment;
+    candidate.radiance = sanitizeRadiance(
+        environmentRadianceLod(gIn_Environment, direction, environmentLod(s.roughness, c.environmentLevels)));
+    found = true;
+  }
+  if (found) {
+    float target = specularTargetPdf(candidate, s, c.sampling, c.lobeFraction);
+    reservoirStream(r, candidate.position, candidate.normal, candidate.radiance, candidate.flags, target / pdf, 0.0f,
+                    0.0f);
+    reservoirFinalize(r, target, 1.0f);
+  }
+  store(halfPixel, r);
+}

@@ -1,0 +1,184 @@
+#include "gi/specular/specular_branch.h"
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#include "gi/specular/specular_common.glsl"
+#include "gi/specular/specular_passes.h"
+#include "gpu/format.h"
+
+namespace bounce::gi {
+namespace {
+
+using namespace gpu::formats;
+using gpu::Visualize;
+
+constexpr ImageSpec kImages[] = {
+    {"gi.specular.traced0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
+     "the trace's fresh reservoirs: hit position, normal"},
+    {"gi.specular.traced1", Resolution::Half, kRgba32ui, false, Visualize::Raw,
+     "the trace's fresh reservoirs: radiance, M, W, flags"},
+    {"gi.specular.reservoirs0", Resolution::Half, kRgba32ui, true, Visualize::Raw,
+     "temporal reuse's reservoirs: the next frame's history (seed 000's feedback point, before spatial reuse)"},
+    {"gi.specular.reservoirs1", Resolution::Half, kRgba32ui, true, Visualize::Raw, "(second half of the pair)"},
+    {"gi.specular.spatial0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
+     "spatial reuse's reservoirs: what the resolve evaluates"},
+    {"gi.specular.spatial1", Resolution::Half, kRgba32ui, false, Visualize::Raw, "(second half of the pair)"},
+    {"gi.specular.resolved", Resolution::Full, kRgba16f, false, Visualize::Radiance,
+     "indirect specular, demodulated, before the temporal filter; alpha: hit distance"},
+    {"gi.specular.filtered", Resolution::Full, kRgba32f, true, Visualize::Radiance,
+     "indirect specular, filtered (the branch's result), demodulated; alpha: history length"},
+    {"gi.specular.moments", Resolution::Full, kRgba32f, true, Visualize::Raw,
+     "luminance moments: mean and mean square over the history, mean of the fast history"},
+    {"gi.specular.reprojection", Resolution::Full, kRgba16f, false, Visualize::Color,
+     "which history the filter used: red surface motion, green virtual (reflection) motion, blue history length"},
+    {"gi.specular.reservoir_M", Resolution::Half, kR32f, false, Visualize::Heat,
+     "the final reservoirs' confidence M (captured frames only)", true},
+    {"gi.specular.hit_distance", Resolution::Half, kR32f, false, Visualize::Heat,
+     "the final reservoirs' hit distance, world units (captured frames only)", true},
+};
+static_assert(std::size(kImages) == kSpecularImageCount, "one table entry per SpecularImage");
+
+}  // namespace
+
+std::span<const ImageSpec> specularImageTable() { return kImages; }
+
+struct SpecularBranch::Passes {
+  gpu::ComputePass trace, temporalReuse, spatialReuse, resolve, temporalFilter;
+  std::unique_ptr<gpu::ComputePass> validation;  // made on the first captured frame
+  Passes(gpu::Context& context, const SceneBridgeBinding& scene)
+      : trace(context, scene.adapt(specularTracePass(), specularTraceRayResources())),
+        temporalReuse(context, specularTemporalReusePass()),
+        spatialReuse(context, specularSpatialReusePass()),
+        resolve(context, specularResolvePass()),
+        temporalFilter(context, specularTemporalFilterPass()) {}
+};
+
+SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
+                               const Settings& settings, const SceneBridgeBinding& scene, const RadianceCache& cache)
+    : context_(context),
+      scene_(scene),
+      cache_(cache),
+      settings_(settings),
+      images_(context, arena, kImages, maxSize),
+      constants_(std::make_unique<gpu::Buffer>(context, "gi.specular.constants", sizeof(shared::SpecularConstants),
+                                               gpu::BufferUsage::DeviceLocal, &arena)),
+      passes_(std::make_unique<Passes>(context, scene)) {}
+
+SpecularBranch::~SpecularBranch() = default;
+
+std::vector<gpu::PassDesc> SpecularBranch::passes() const {
+  return {specularTracePass(),   specularTemporalReusePass(),  specularSpatialReusePass(),
+          specularResolvePass(), specularTemporalFilterPass(), specularValidationPass()};
+}
+
+void SpecularBranch::record(const FrameState& frame) {
+  gpu::Recorder& recorder = frame.recorder;
+  const std::uint64_t f = frame.frameIndex;
+  const SpecularSettings& s = settings_.specular;
+  if (!s.enabled) {
+    recorder.clearImage(images_.current(kSpecularFiltered, f), {});  // no indirect specular
+    return;
+  }
+  const Extent full = frame.renderSize;
+  const Extent half = extentOf(Resolution::Half, full);
+
+  shared::SpecularConstants c{};
+  c.sampling = std::uint32_t(s.sampling);
+  c.lobeFraction = s.lobeFraction;
+  // Without reuse (gi.restir off) every surface keeps its own ray, as a mirror does.
+  c.reuseMinRoughness = settings_.restir ? s.reuseMinRoughness : 2.0f;
+  c.traceSteps = s.traceSteps;
+  c.traceThickness = s.traceThickness;
+  c.temporalMaxM = float(s.temporalMaxM);
+  c.temporalDepthTolerance = s.temporalDepthTolerance;
+  c.temporalCosNormalTolerance = std::cos(glm::radians(s.temporalNormalToleranceDegrees));
+  c.spatialSamples = settings_.restir ? s.spatialSamples : 0u;
+  c.spatialMaxRadius = s.spatialMaxRadius;
+  c.spatialCosNormalTolerance = std::cos(glm::radians(s.spatialNormalToleranceDegrees));
+  c.spatialPlaneTolerance = s.spatialPlaneTolerance;
+  c.jacobian = s.jacobian ? 1u : 0u;
+  c.resolveMaxSamples = s.resolveMaxSamples;
+  c.resolveFullRoughness = s.resolveFullRoughness;
+  c.resolveMaxRadius = s.resolveMaxRadius;
+  c.reprojection = std::uint32_t(s.reprojection);
+  c.varianceClippingGamma = s.varianceClippingGamma;
+  c.temporalFilterFrames = float(s.temporalFilterFrames);
+  c.environmentLevels = float(frame.engine[Input::Environment].desc().mipLevels);
+  c.hasPreviousFrame = frame.hasHistory ? 1u : 0u;
+  recorder.updateBuffer(*constants_, &c, sizeof c);
+  const gpu::Bind constants("gIn_SpecularConstants", *constants_);
+  const gpu::Bind material("gIn_BaseColorMetallic", frame.engine[Input::BaseColorMetallic], frame.nearestSampler);
+
+  gpu::Image& traced0 = images_.current(kSpecularTraced0, f);
+  gpu::Image& traced1 = images_.current(kSpecularTraced1, f);
+  std::vector<gpu::Bind> traceBinds =
+      scene_.binds(passes_->trace, {constants,
+                                    material,
+                                    {"gPrev_Composite", frame.previousComposite},
+                                    {"gPrev_Surface", frame.previousSurface},
+                                    {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
+                                    {"gIn_MarchDepth", frame.marchDepth},
+                                    {"gOut_Reservoir0", traced0},
+                                    {"gOut_Reservoir1", traced1}});
+  const std::vector<gpu::Bind> cache = cache_.binds();
+  traceBinds.insert(traceBinds.end(), cache.begin(), cache.end());
+  recorder.dispatch(passes_->trace, half.width, half.height, frame.group.binds(),
+                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->trace, traceBinds)));
+
+  gpu::Image& history0 = images_.current(kSpecularReservoirs0, f);
+  gpu::Image& history1 = images_.current(kSpecularReservoirs1, f);
+  recorder.dispatch(passes_->temporalReuse, half.width, half.height, frame.group.binds(),
+                    {constants,
+                     material,
+                     {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+                     {"gPrev_Surface", frame.previousSurface},
+                     {"gIn_Reservoir0", traced0},
+                     {"gIn_Reservoir1", traced1},
+                     {"gPrev_Reservoir0", images_.previous(kSpecularReservoirs0, f)},
+                     {"gPrev_Reservoir1", images_.previous(kSpecularReservoirs1, f)},
+                     {"gOut_Reservoir0", history0},
+                     {"gOut_Reservoir1", history1},
+                     {"gPrev_Composite", frame.previousComposite}});
+  gpu::Image& final0 = images_.current(kSpecularSpatial0, f);
+  gpu::Image& final1 = images_.current(kSpecularSpatial1, f);
+  recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),
+                    {constants,
+                     material,
+                     {"gIn_Reservoir0", history0},
+                     {"gIn_Reservoir1", history1},
+                     {"gOut_Reservoir0", final0},
+                     {"gOut_Reservoir1", final1}});
+  if (frame.capturing) {
+    if (!passes_->validation) {
+      passes_->validation = std::make_unique<gpu::ComputePass>(context_, specularValidationPass());
+      images_.makeDebugImages();
+    }
+    recorder.dispatch(*passes_->validation, half.width, half.height, frame.group.binds(),
+                      {{"gIn_Reservoir0", final0},
+                       {"gIn_Reservoir1", final1},
+                       {"gOut_M", images_.current(kSpecularReservoirM, f)},
+                       {"gOut_HitDistance", images_.current(kSpecularHitDistance, f)}});
+  }
+
+  gpu::Image& resolved = images_.current(kSpecularResolved, f);
+  recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
+                    {constants,
+                     material,
+                     {"gIn_Reservoir0", final0},
+                     {"gIn_Reservoir1", final1},
+                     {"gOut_Specular", resolved}});
+  recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
+                    {constants,
+                     {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+                     {"gIn_Specular", resolved},
+                     {"gPrev_Surface", frame.previousSurface},
+                     {"gPrev_Filtered", images_.previous(kSpecularFiltered, f)},
+                     {"gPrev_Moments", images_.previous(kSpecularMoments, f)},
+                     {"gOut_Filtered", images_.current(kSpecularFiltered, f)},
+                     {"gOut_Moments", images_.current(kSpecularMoments, f)},
+                     {"gOut_Reprojection", images_.current(kSpecularReprojection, f)}});
+}
+
+}  // namespace bounce::gi

@@ -1,0 +1,66 @@
+// The specular branch (seed 000, with seed 003's options): screen-space
+// ReSTIR for indirect specular at half resolution, resolved at full
+// resolution, then a temporal filter with dual-source reprojection. Its
+// passes, in order:
+//   gi.specular.trace            half res: one lobe-sampled ray per pixel (depth-buffer march, then the bridge)
+//   gi.specular.temporal_reuse   half res: merge with last frame's reservoir (M <= 4); next frame's history
+//   gi.specular.spatial_reuse    half res: merge with neighbours in the lobe's footprint
+//   gi.specular.resolve          full res: roughness-adaptive reservoirs per pixel, demodulated
+//   gi.specular.temporal_filter  full res: surface and virtual-image history, blended
+//   gi.specular.validation       captured frames only: reservoir M, hit distance
+// docs/gi.md explains the algorithm; docs/passes.md each pass and image.
+#pragma once
+
+#include <memory>
+#include <span>
+
+#include "bounce/gi_settings.h"
+#include "gi/branch.h"
+#include "gi/cache/radiance_cache.h"
+#include "gi/scene_bridge.h"
+
+namespace bounce::gi {
+
+// The branch's images, in the order of specularImageTable().
+enum SpecularImage : std::size_t {
+  kSpecularTraced0,
+  kSpecularTraced1,
+  kSpecularReservoirs0,
+  kSpecularReservoirs1,
+  kSpecularSpatial0,
+  kSpecularSpatial1,
+  kSpecularResolved,
+  kSpecularFiltered,
+  kSpecularMoments,
+  kSpecularReprojection,
+  kSpecularReservoirM,
+  kSpecularHitDistance,
+  kSpecularImageCount
+};
+std::span<const ImageSpec> specularImageTable();
+
+class SpecularBranch final : public Branch {
+ public:
+  // `scene`: the bridge rays continue through (it outlives the branch).
+  SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
+                 const SceneBridgeBinding& scene, const RadianceCache& cache);
+  ~SpecularBranch() override;
+
+  std::string_view name() const override { return "specular"; }
+  ImageSet& images() override { return images_; }
+  void record(const FrameState& frame) override;
+  gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kSpecularFiltered, frameIndex); }
+  std::vector<gpu::PassDesc> passes() const override;
+
+ private:
+  struct Passes;
+  gpu::Context& context_;
+  const SceneBridgeBinding& scene_;
+  const RadianceCache& cache_;
+  Settings settings_;
+  ImageSet images_;
+  std::unique_ptr<gpu::Buffer> constants_;
+  std::unique_ptr<Passes> passes_;
+};
+
+}  // namespace bounce::gi
