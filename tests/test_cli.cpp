@@ -606,6 +606,25 @@ TEST(CliHardening, GiSettingsIgnoredByGiOffAreWarnedAbout) {
   fs::remove_all(out);
 }
 
+// --gi names the branches that run: one left out writes black, an unknown
+// name is refused before anything renders.
+TEST(CliHardening, GiNamesTheBranchesThatRun) {
+  const fs::path out = freshDirectory("gi_branches");
+  const auto bad = runArgs({"render", "cornell", "--width", "8", "--height", "8", "--gi", "diffuse,mirror", "--out",
+                            out.string()});
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.output.find("'mirror' is not a GI branch"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(out / "render.png"));
+  const auto specular = runArgs({"render", "cornell", "--width", "16", "--height", "12", "--gi", "specular", "--gi-warmup",
+                                 "2", "--aov", "indirect-diffuse,indirect-specular", "--out", out.string()});
+  ASSERT_EQ(specular.exitCode, 0) << specular.output;
+  const bounce::io::ImageF diffuse = bounce::io::readImage(out / "aov" / "indirect-diffuse.exr");
+  float largest = 0.0f;
+  for (float v : diffuse.pixels) largest = std::max(largest, std::abs(v));
+  EXPECT_EQ(largest, 0.0f) << "--gi specular leaves the diffuse branch off";
+  fs::remove_all(out);
+}
+
 TEST(CliHardening, SettingsFilesTooDeepOrWithARepeatedKeyAreRefusedBeforeRendering) {
   const fs::path dir = freshDirectory("settings_depth");
   fs::create_directories(dir);
