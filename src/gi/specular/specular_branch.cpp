@@ -94,7 +94,7 @@ void SpecularBranch::record(const FrameState& frame) {
   c.temporalMaxM = float(s.temporalMaxM);
   c.temporalDepthTolerance = s.temporalDepthTolerance;
   c.temporalCosNormalTolerance = std::cos(glm::radians(s.temporalNormalToleranceDegrees));
-  c.spatialSamples = settings_.restir ? s.spatialSamples : 0u;
+  c.spatialSamples = s.spatialSamples;
   c.spatialMaxRadius = s.spatialMaxRadius;
   c.spatialCosNormalTolerance = std::cos(glm::radians(s.spatialNormalToleranceDegrees));
   c.spatialPlaneTolerance = s.spatialPlaneTolerance;
@@ -127,6 +127,49 @@ void SpecularBranch::record(const FrameState& frame) {
   recorder.dispatch(passes_->trace, half.width, half.height, frame.group.binds(),
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->trace, traceBinds)));
 
+  // Without reuse (gi.restir off) the resolve reads the trace's reservoirs.
+  gpu::Image* final0 = &traced0;
+  gpu::Image* final1 = &traced1;
+  if (settings_.restir) recordReuse(frame, traced0, traced1, final0, final1);
+  if (frame.capturing) {
+    if (!passes_->validation) {
+      passes_->validation = std::make_unique<gpu::ComputePass>(context_, specularValidationPass());
+      images_.makeDebugImages();
+    }
+    recorder.dispatch(*passes_->validation, half.width, half.height, frame.group.binds(),
+                      {{"gIn_Reservoir0", *final0},
+                       {"gIn_Reservoir1", *final1},
+                       {"gOut_M", images_.current(kSpecularReservoirM, f)},
+                       {"gOut_HitDistance", images_.current(kSpecularHitDistance, f)}});
+  }
+
+  gpu::Image& resolved = images_.current(kSpecularResolved, f);
+  recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
+                    {constants,
+                     material,
+                     {"gIn_Reservoir0", *final0},
+                     {"gIn_Reservoir1", *final1},
+                     {"gOut_Specular", resolved}});
+  recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
+                    {constants,
+                     {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+                     {"gIn_Specular", resolved},
+                     {"gPrev_Surface", frame.previousSurface},
+                     {"gPrev_Filtered", images_.previous(kSpecularFiltered, f)},
+                     {"gPrev_Moments", images_.previous(kSpecularMoments, f)},
+                     {"gOut_Filtered", images_.current(kSpecularFiltered, f)},
+                     {"gOut_Moments", images_.current(kSpecularMoments, f)},
+                     {"gOut_Reprojection", images_.current(kSpecularReprojection, f)}});
+}
+
+// Temporal reuse (its output is the next frame's history), then spatial reuse.
+void SpecularBranch::recordReuse(const FrameState& frame, gpu::Image& traced0, gpu::Image& traced1,
+                                 gpu::Image*& final0, gpu::Image*& final1) {
+  gpu::Recorder& recorder = frame.recorder;
+  const std::uint64_t f = frame.frameIndex;
+  const gpu::Bind constants("gIn_SpecularConstants", *constants_);
+  const gpu::Bind material("gIn_BaseColorMetallic", frame.engine[Input::BaseColorMetallic], frame.nearestSampler);
+  const Extent half = extentOf(Resolution::Half, frame.renderSize);
   gpu::Image& history0 = images_.current(kSpecularReservoirs0, f);
   gpu::Image& history1 = images_.current(kSpecularReservoirs1, f);
   recorder.dispatch(passes_->temporalReuse, half.width, half.height, frame.group.binds(),
@@ -141,44 +184,17 @@ void SpecularBranch::record(const FrameState& frame) {
                      {"gOut_Reservoir0", history0},
                      {"gOut_Reservoir1", history1},
                      {"gPrev_Composite", frame.previousComposite}});
-  gpu::Image& final0 = images_.current(kSpecularSpatial0, f);
-  gpu::Image& final1 = images_.current(kSpecularSpatial1, f);
+  gpu::Image& spatial0 = images_.current(kSpecularSpatial0, f);
+  gpu::Image& spatial1 = images_.current(kSpecularSpatial1, f);
   recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),
                     {constants,
                      material,
                      {"gIn_Reservoir0", history0},
                      {"gIn_Reservoir1", history1},
-                     {"gOut_Reservoir0", final0},
-                     {"gOut_Reservoir1", final1}});
-  if (frame.capturing) {
-    if (!passes_->validation) {
-      passes_->validation = std::make_unique<gpu::ComputePass>(context_, specularValidationPass());
-      images_.makeDebugImages();
-    }
-    recorder.dispatch(*passes_->validation, half.width, half.height, frame.group.binds(),
-                      {{"gIn_Reservoir0", final0},
-                       {"gIn_Reservoir1", final1},
-                       {"gOut_M", images_.current(kSpecularReservoirM, f)},
-                       {"gOut_HitDistance", images_.current(kSpecularHitDistance, f)}});
-  }
-
-  gpu::Image& resolved = images_.current(kSpecularResolved, f);
-  recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
-                    {constants,
-                     material,
-                     {"gIn_Reservoir0", final0},
-                     {"gIn_Reservoir1", final1},
-                     {"gOut_Specular", resolved}});
-  recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
-                    {constants,
-                     {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
-                     {"gIn_Specular", resolved},
-                     {"gPrev_Surface", frame.previousSurface},
-                     {"gPrev_Filtered", images_.previous(kSpecularFiltered, f)},
-                     {"gPrev_Moments", images_.previous(kSpecularMoments, f)},
-                     {"gOut_Filtered", images_.current(kSpecularFiltered, f)},
-                     {"gOut_Moments", images_.current(kSpecularMoments, f)},
-                     {"gOut_Reprojection", images_.current(kSpecularReprojection, f)}});
+                     {"gOut_Reservoir0", spatial0},
+                     {"gOut_Reservoir1", spatial1}});
+  final0 = &spatial0;
+  final1 = &spatial1;
 }
 
 }  // namespace bounce::gi

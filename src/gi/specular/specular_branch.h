@@ -54,6 +54,8 @@ class SpecularBranch final : public Branch {
 
  private:
   struct Passes;
+  void recordReuse(const FrameState& frame, gpu::Image& traced0, gpu::Image& traced1, gpu::Image*& final0,
+                   gpu::Image*& final1);
   gpu::Context& context_;
   const SceneBridgeBinding& scene_;
   const RadianceCache& cache_;
