@@ -15,22 +15,8 @@
 set -euo pipefail
 out=${1:?usage: scripts/measure-hybrid.sh OUT_DIR [SCENES_DIR]}
 scenes_dir=${2:-}
-bounce=${BOUNCE:-./build/bounce}
-spp=${REFERENCE_SPP:-1024}
-size=(--width "${WIDTH:-640}" --height "${HEIGHT:-360}")
-mkdir -p "$out"
-summary="$out/summary.md"
-: > "$summary"
-
-entries=("cornell|cornell|" "pillars|pillars|" "sun-room|sun-room|")
-if [ -n "$scenes_dir" ]; then
-  [ -f "$scenes_dir/sponza/Sponza.gltf" ] &&
-    entries+=("sponza|$scenes_dir/sponza/Sponza.gltf|--sun-elevation 75 --sun-azimuth 100")
-  [ -f "$scenes_dir/breakfast_room/BreakfastRoom.gltf" ] &&
-    entries+=("breakfast|$scenes_dir/breakfast_room/BreakfastRoom.gltf|--sun-elevation 25 --sun-azimuth 70")
-fi
-
-field() { "$bounce" compare "$1" "$2" | awk -v key="$3" '$1 == key { print ($1 == "mean" ? $NF : $1 == "FLIP" ? $3 : $2) }'; }
+# shellcheck source=scripts/measure-common.sh
+source "$(dirname "$0")/measure-common.sh"
 
 echo "| scene | view | indirect mean / ref: none, hybrid, unbiased | indirect relMSE: none, hybrid, hybrid no reuse, unbiased | frame relMSE: none, hybrid | frame FLIP: none, hybrid |" >> "$summary"
 echo "|---|---|---|---|---|---|" >> "$summary"

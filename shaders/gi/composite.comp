@@ -34,11 +34,12 @@ void main() {
     float metallic = baseColorMetallic.w;
     radiance += baseColor * (1.0f - metallic) * imageLoad(gIn_IndirectDiffuse, pixel).xyz;
     // A pixel without a usable normal has no indirect light (the branches wrote 0 there).
-    Surface x = gbufferSurface(pixel);
+    float roughness;
+    Surface x = gbufferSurfaceRoughness(pixel, roughness);
     if (x.viewZ > 0.0f) {
       float nDotV = dot(x.normal, normalize(viewPosition(gIn_Frame.frame.view) - x.position));
       vec3 f0 = specularF0(baseColor, metallic);
-      radiance += specularReflectance(f0, nDotV, gbufferNormalRoughness(pixel).w) *
+      radiance += specularReflectance(f0, nDotV, roughness) *
                   imageLoad(gIn_IndirectSpecular, pixel).xyz;
     }
     if (gIn_Frame.frame.hasEmissive != 0u) radiance += sanitizeRadiance(texelFetch(gIn_Emissive, pixel, 0).xyz);

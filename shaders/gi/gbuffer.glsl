@@ -26,12 +26,20 @@ vec4 gbufferNormalRoughness(ivec2 pixel) {
 // The surface a pixel shows; viewZ 0 (no surface) for background and for a
 // pixel whose depth, normal or roughness cannot be used. The normal is read
 // only where there is a depth, so a background pixel costs one fetch.
-Surface gbufferSurface(ivec2 pixel) {
+// `roughness`: the surface's perceptual roughness in [0, 1] (1 without a surface).
+Surface gbufferSurfaceRoughness(ivec2 pixel, out float roughness) {
+  roughness = 1.0f;
   float viewZ = usableViewZ(gbufferRawViewZ(pixel));
   vec4 normalRoughness = viewZ > 0.0f ? gbufferNormalRoughness(pixel) : vec4(0.0f);
   if (viewZ <= 0.0f || !usableNormalRoughness(normalRoughness))
     return surfaceAt(gIn_Frame.frame.view, pixel, 0.0f, vec3(0.0f, 0.0f, 1.0f));
+  roughness = clamp(normalRoughness.w, 0.0f, 1.0f);
   return surfaceAt(gIn_Frame.frame.view, pixel, viewZ, normalize(normalRoughness.xyz));
+}
+
+Surface gbufferSurface(ivec2 pixel) {
+  float roughness;
+  return gbufferSurfaceRoughness(pixel, roughness);
 }
 
 // A pixel's depth alone, for tests that need no normal (visibility marches,

@@ -50,31 +50,41 @@ Reservoir loadReservoir(ivec2 halfPixel) {
 }
 
 // The block reservoir a pixel starts from: its own 2x2 block's if that is
-// the same surface, else the nearest neighbouring block's that is.
-ivec2 ownBlock(ivec2 pixel, Surface x) {
+// the same surface, else the nearest neighbouring block's that is; `owner`
+// is its surface.
+ivec2 ownBlock(ivec2 pixel, Surface x, out GlossySurface owner) {
   ivec2 base = pixel / 2;
   ivec2 away = ivec2((pixel.x & 1) == 1 ? 1 : -1, (pixel.y & 1) == 1 ? 1 : -1);
   ivec2 offsets[4] = ivec2[4](ivec2(0), ivec2(away.x, 0), ivec2(0, away.y), away);
   for (uint k = 0u; k < 4u; ++k) {
     ivec2 halfPixel = base + offsets[k];
     if (!insideHalf(halfPixel)) continue;
-    Surface owner = gbufferSurface(reservoirSurfacePixel(halfPixel));
-    if (similarSurface(x.viewZ, x.normal, owner.viewZ, owner.normal, 0.1f, 0.8f)) return halfPixel;
+    ivec2 ownerPixel = reservoirSurfacePixel(halfPixel);
+    float roughness;
+    Surface surface = gbufferSurfaceRoughness(ownerPixel, roughness);
+    if (!similarSurface(x.viewZ, x.normal, surface.viewZ, surface.normal, 0.1f, 0.8f)) continue;
+    owner = pixelGlossySurface(surface, roughness, ownerPixel);
+    return halfPixel;
   }
+  float roughness;
+  Surface surface = gbufferSurfaceRoughness(reservoirSurfacePixel(base), roughness);
+  owner = pixelGlossySurface(surface, roughness, reservoirSurfacePixel(base));
   return base;
 }
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  Surface x = gbufferSurface(pixel);
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
   if (x.viewZ <= 0.0f) {
     imageStore(gOut_Specular, pixel, vec4(0.0f));
     return;
   }
   SpecularConstants c = gIn_SpecularConstants.specular;
-  GlossySurface s = pixelGlossySurface(x, pixel);
-  ivec2 block = ownBlock(pixel, x);
+  GlossySurface s = pixelGlossySurface(x, roughness, pixel);
+  GlossySurface blockOwner;
+  ivec2 block = ownBlock(pixel, x, blockOwner);
   Reservoir own = loadReservoir(block);
 
   if (!specularReuses(s)) {
@@ -82,10 +92,8 @@ void main() {
     vec3 demodulated = vec3(0.0f);
     float hitDistance = kEnvironmentHitDistance;
     if (reservoirHasSample(own)) {
-      ivec2 ownerPixel = reservoirSurfacePixel(block);
-      GlossySurface owner = pixelGlossySurface(gbufferSurface(ownerPixel), ownerPixel);
-      demodulated = specularSampleContribution(own, owner) * own.W /
-                    specularReflectance(owner.f0, dot(owner.normal, owner.view), owner.roughness);
+      demodulated = specularSampleContribution(own, blockOwner) * own.W /
+                    specularReflectance(blockOwner.f0, dot(blockOwner.normal, blockOwner.view), blockOwner.roughness);
       hitDistance = hitDistanceOf(own, x.position);
     }
     imageStore(gOut_Specular, pixel, vec4(sanitizeRadiance(demodulated), hitDistance));
@@ -97,8 +105,7 @@ void main() {
   ivec2 owners[kMaxOwners];
   GlossySurface ownerSurfaces[kMaxOwners];
   owners[0] = block;
-  ivec2 blockPixel = reservoirSurfacePixel(block);
-  ownerSurfaces[0] = pixelGlossySurface(gbufferSurface(blockPixel), blockPixel);
+  ownerSurfaces[0] = blockOwner;
   uint count = 1u;
   if (wanted > 1u) {
     uint rng = giSeed(uvec2(pixel), kSaltSpecularResolve);
@@ -120,10 +127,11 @@ void main() {
       for (uint k = 0u; k < count; ++k) seen = seen || owners[k] == halfPixel;
       if (seen) continue;
       ivec2 ownerPixel = reservoirSurfacePixel(halfPixel);
-      Surface owner = gbufferSurface(ownerPixel);
+      float ownerRoughness;
+      Surface owner = gbufferSurfaceRoughness(ownerPixel, ownerRoughness);
       if (!similarSurface(x.viewZ, x.normal, owner.viewZ, owner.normal, 0.1f, 0.8f)) continue;
       owners[count] = halfPixel;
-      ownerSurfaces[count] = pixelGlossySurface(owner, ownerPixel);
+      ownerSurfaces[count] = pixelGlossySurface(owner, ownerRoughness, ownerPixel);
       ++count;
     }
   }

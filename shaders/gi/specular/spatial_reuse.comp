@@ -36,10 +36,11 @@ void main() {
   uvec4 first = imageLoad(gIn_Reservoir0, halfPixel);
   uvec4 second = imageLoad(gIn_Reservoir1, halfPixel);
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
-  Surface x = gbufferSurface(pixel);
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
   SpecularConstants c = gIn_SpecularConstants.specular;
   if (x.viewZ > 0.0f && c.spatialSamples > 0u) {
-    GlossySurface s = pixelGlossySurface(x, pixel);
+    GlossySurface s = pixelGlossySurface(x, roughness, pixel);
     Reservoir own = unpackReservoir(first, second);
     // Half-resolution pixels at this surface, in world units.
     float halfPixelSize = 4.0f * gIn_Frame.frame.view.projection.y * x.viewZ / fullSize().y;
@@ -68,10 +69,11 @@ void main() {
         ivec2 neighbourHalf = ivec2(floor(projected.xy * 0.5f));
         if (!insideHalf(neighbourHalf) || neighbourHalf == halfPixel) continue;
         ivec2 neighbourPixel = reservoirSurfacePixel(neighbourHalf);
-        Surface n = gbufferSurface(neighbourPixel);
+        float neighbourRoughness;
+        Surface n = gbufferSurfaceRoughness(neighbourPixel, neighbourRoughness);
         if (n.viewZ <= 0.0f || dot(n.normal, x.normal) < c.spatialCosNormalTolerance) continue;
         if (abs(dot(x.normal, n.position - x.position)) > c.spatialPlaneTolerance * x.viewZ) continue;
-        GlossySurface neighbour = pixelGlossySurface(n, neighbourPixel);
+        GlossySurface neighbour = pixelGlossySurface(n, neighbourRoughness, neighbourPixel);
         if (!specularReuses(neighbour)) continue;
         Reservoir candidate =
             unpackReservoir(imageLoad(gIn_Reservoir0, neighbourHalf), imageLoad(gIn_Reservoir1, neighbourHalf));

@@ -51,13 +51,13 @@ layout(set = 0, binding = 3, std140) CONSTANT_BLOCK SpecularBlock { SpecularCons
 #ifdef SPECULAR_READS_MATERIAL
 #include "shared/specular_target.glsl"
 
-// The glossy surface of a pixel: viewZ 0 (no surface) as gbufferSurface says.
-GlossySurface pixelGlossySurface(Surface x, ivec2 pixel) {
+// The glossy surface of a pixel whose surface and roughness
+// gbufferSurfaceRoughness() read: adds its material.
+GlossySurface pixelGlossySurface(Surface x, float roughness, ivec2 pixel) {
   vec4 baseColorMetallic = texelFetch(gIn_BaseColorMetallic, pixel, 0);
   vec3 view = normalize(viewPosition(gIn_Frame.frame.view) - x.position);
-  float roughness = gbufferNormalRoughness(pixel).w;
   return glossySurface(x.position, x.normal, view, clamp(vec3(baseColorMetallic), vec3(0.0f), vec3(1.0f)),
-                       clamp(baseColorMetallic.w, 0.0f, 1.0f), isFinite(roughness) ? roughness : 1.0f);
+                       clamp(baseColorMetallic.w, 0.0f, 1.0f), roughness);
 }
 
 // Whether reservoirs of this surface are reused at all.

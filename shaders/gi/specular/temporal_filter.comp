@@ -52,7 +52,8 @@ float agreement(History h, float mean, float deviation) {
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  Surface x = gbufferSurface(pixel);
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
   if (x.viewZ <= 0.0f) {
     imageStore(gOut_Filtered, pixel, vec4(0.0f));
     imageStore(gOut_Moments, pixel, vec4(0.0f));
@@ -63,7 +64,6 @@ void main() {
   vec4 resolved = imageLoad(gIn_Specular, pixel);
   vec3 current = vec3(resolved);
   float currentLuminance = luminance(current);
-  float roughness = clamp(gbufferNormalRoughness(pixel).w, 0.0f, 1.0f);
 
   History surface;
   surface.found = false;

@@ -43,10 +43,11 @@ void main() {
   uvec4 first = imageLoad(gIn_Reservoir0, halfPixel);
   uvec4 second = imageLoad(gIn_Reservoir1, halfPixel);
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
-  Surface x = gbufferSurface(pixel);
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
   vec2 motion = x.viewZ > 0.0f && historyUsable() ? motionAt(pixel) : vec2(0.0f);
   if (x.viewZ > 0.0f && historyUsable() && usableMotion(motion)) {
-    GlossySurface s = pixelGlossySurface(x, pixel);
+    GlossySurface s = pixelGlossySurface(x, roughness, pixel);
     SpecularConstants c = gIn_SpecularConstants.specular;
     vec2 previousPosition = vec2(pixel) + 0.5f + motion;
     ivec2 previousHalf = ivec2(floor(previousPosition * 0.5f));

@@ -65,14 +65,15 @@ void main() {
   if (!insideHalf(halfPixel)) return;
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
   Reservoir r = emptyReservoir();
-  Surface x = gbufferSurface(pixel);
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
   if (x.viewZ <= 0.0f) {
     store(halfPixel, r);
     return;
   }
   r.M = 1.0f;  // one frame's ray, even when it finds nothing: later merges must weigh that too
   SpecularConstants c = gIn_SpecularConstants.specular;
-  GlossySurface s = pixelGlossySurface(x, pixel);
+  GlossySurface s = pixelGlossySurface(x, roughness, pixel);
   uint pixelSeed = rngSeed(uvec2(halfPixel), 0u, gIn_Frame.frame.seed ^ kSaltSpecularTrace);
   vec2 u = haltonPixelSample(gIn_Frame.frame.frameIndex, pixelSeed);
   vec3 direction;
