@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "gi/depth_pyramid.h"
 #include "gi/diffuse/diffuse_branch.h"
 #include "gi/specular/specular_branch.h"
 #include "gi/frame_passes.h"
@@ -555,7 +556,8 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
   for (std::string line; std::getline(docs, line);)
     if (line.rfind("| `gi.", 0) == 0) rows.insert(line);
   std::string missing;
-  for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable(), specularImageTable()})
+  for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable(), specularImageTable(),
+                                                 std::span<const ImageSpec>(&DepthPyramid::spec(), 1)})
     for (const ImageSpec& spec : table) {
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
                               gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +

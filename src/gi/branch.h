@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gi/depth_pyramid.h"
 #include "gi/engine_images.h"
 #include "gi/frame_constants.h"
 #include "gi/image_table.h"
@@ -30,6 +31,9 @@ struct FrameState {
   gpu::Image& previousComposite;  // last frame's composite: the light the next bounce gathers
   gpu::Image& previousSurface;    // last frame's viewZ and normals (gi.store_history)
   gpu::Image& marchDepth;         // this frame's viewZ as visibility marches read it (gi.store_history)
+  // This frame's min-max pyramid of marchDepth, for Hi-Z traces: built when
+  // a branch that traces it is on (GiContext::Impl::needsDepthPyramid).
+  const DepthPyramid& depthPyramid;
   bool capturing;                 // this frame's stages are captured: debug passes run too
 };
 

@@ -79,6 +79,7 @@ struct GiContext::Impl {
   ImageSet frameImages;
   std::unique_ptr<gpu::Buffer> frameConstants;
   RadianceCache cache;
+  DepthPyramid depthPyramid;
   std::vector<std::unique_ptr<Branch>> branches;
   gpu::ComputePass storeHistory, compositor;
   EngineImages engine;
@@ -100,6 +101,7 @@ struct GiContext::Impl {
         frameConstants(std::make_unique<gpu::Buffer>(*context, "gi.frame_constants", sizeof(shared::GiFrameConstants),
                                                      gpu::BufferUsage::DeviceLocal, &arena)),
         cache(*context, arena, {d.maxWidth, d.maxHeight}, settings, scene),
+        depthPyramid(*context, arena, {d.maxWidth, d.maxHeight}),
         storeHistory(*context, storeHistoryPass()),
         compositor(*context, compositePass()),
         engine(*context) {
@@ -120,6 +122,9 @@ struct GiContext::Impl {
   DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches[0]); }
   SpecularBranch& specular() { return static_cast<SpecularBranch&>(*branches[1]); }
   std::uint64_t current() const { return recorded == 0 ? 0 : recorded - 1; }
+  // Only the specular trace marches the pyramid (the diffuse visibility
+  // marches read gi.march_depth pixel by pixel).
+  bool needsDepthPyramid() const { return settings.specular.enabled && settings.specular.traceSteps > 0; }
 
   // Everything that can be refused, before anything is recorded.
   void check(const FrameInputs& frame) {
@@ -183,6 +188,7 @@ struct GiContext::Impl {
     recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
                       {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
                        {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)}});
+    if (needsDepthPyramid()) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
 
     const FrameState state{.recorder = recorder,
                            .group = group,
@@ -196,6 +202,7 @@ struct GiContext::Impl {
                            .previousComposite = frameImages.previous(kComposite, f),
                            .previousSurface = frameImages.previous(kHistorySurface, f),
                            .marchDepth = frameImages.current(kMarchDepth, f),
+                           .depthPyramid = depthPyramid,
                            .capturing = frame.captureStages};
     const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
     cache.recordBegin(state, glm::value_ptr(cameraPosition), diffuse().previousResult(f));
@@ -295,11 +302,16 @@ ImageRef GiContext::indirectSpecular() const { return libraryRef(impl_->specular
 ImageRef GiContext::composite() const { return libraryRef(impl_->frameImages.current(kComposite, impl_->current())); }
 
 std::vector<LibraryImage> GiContext::images() const {
+  std::vector<ImageSet::Listed> listed;
+  for (ImageSet* set : impl_->imageSets()) {
+    const std::vector<ImageSet::Listed> ofSet = set->list(impl_->current());
+    listed.insert(listed.end(), ofSet.begin(), ofSet.end());
+  }
+  if (impl_->needsDepthPyramid() && impl_->recorded > 0) listed.push_back(impl_->depthPyramid.listed());
   std::vector<LibraryImage> list;
-  for (ImageSet* set : impl_->imageSets())
-    for (const ImageSet::Listed& listed : set->list(impl_->current()))
-      list.push_back({listed.name, libraryRef(*listed.image), visualization(listed.spec->view),
-                      std::string(listed.spec->purpose)});
+  for (const ImageSet::Listed& image : listed)
+    list.push_back({image.name, libraryRef(*image.image), visualization(image.spec->view),
+                    std::string(image.spec->purpose)});
   return list;
 }
 

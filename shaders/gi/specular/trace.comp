@@ -4,8 +4,9 @@
 // "Sample gathering"), its direction drawn from the specular lobe
 // (gi.specular.sampling: GGX visible normals, or uniformly in a cone; seed
 // 003) with the pixel's own cycle through the first 64 Halton (2, 3) points
-// (its own start and rotation). The ray marches the depth buffer first
-// (gi/specular/screen_march.glsl): a surface it hits that last frame's screen showed
+// (its own start and rotation). The ray is traced through this frame's
+// min-max depth pyramid first (Hi-Z, gi/hiz_trace.glsl, at most
+// gi.specular.trace_steps cells): a surface it hits that last frame's screen showed
 // sends what last frame's composite holds there, every bounce the feedback
 // has added included. What screen space cannot finish (the ray leaves the
 // screen, passes behind a surface of unknown thickness, or only seems to
@@ -32,9 +33,8 @@ layout(set = 0, binding = 6, rg32ui) readonly uniform uimage2D gPrev_Surface;
 layout(set = 0, binding = 7) uniform sampler2D gIn_Environment;
 layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
-layout(set = 0, binding = 10, r32f) readonly uniform image2D gIn_MarchDepth;
-#include "gi/screen_trace.glsl"
-#include "gi/specular/screen_march.glsl"
+#define HIZ_BINDING 10
+#include "gi/hiz_trace.glsl"
 #include "gi/previous_screen.glsl"
 #define CACHE_FIRST_BINDING 24
 #include "gi/cache/radiance_cache.glsl"
@@ -89,10 +89,8 @@ void main() {
   bool found = false;
   bool screenHitUnseen = false;  // screen space hit a surface last frame did not show
   if (c.traceSteps > 0u) {
-    uint rng = giSeed(uvec2(halfPixel), kSaltSpecularTrace);
-    float jitter = rngUniform(rng);
-    MarchResult ray = screenMarch(origin, direction, x.viewZ, c.traceThickness, c.traceSteps, jitter);
-    if (ray.outcome == kMarchHit) {
+    HizRay ray = hizTrace(origin, direction, c.traceThickness, c.traceSteps);
+    if (ray.outcome == kHizHit) {
       Surface y = gbufferSurface(ray.texel);
       if (y.viewZ > 0.0f) {
         candidate.position = y.position;

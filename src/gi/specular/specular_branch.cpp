@@ -119,7 +119,7 @@ void SpecularBranch::record(const FrameState& frame) {
                                     {"gPrev_Composite", frame.previousComposite},
                                     {"gPrev_Surface", frame.previousSurface},
                                     {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
-                                    {"gIn_MarchDepth", frame.marchDepth},
+                                    frame.depthPyramid.bind(),
                                     {"gOut_Reservoir0", traced0},
                                     {"gOut_Reservoir1", traced1}});
   const std::vector<gpu::Bind> cache = cache_.binds();

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "gi/cache/radiance_cache.h"
+#include "gi/depth_pyramid.h"
 #include "gi/pass_decls.h"
 #include "gi/specular/specular_common.glsl"
 #include "gpu/constants_layout.h"
@@ -59,7 +60,7 @@ gpu::PassDesc specularTracePass() {
                       {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED,
                        "prefiltered sky for rays that miss", ResourceKind::SampledImage}},
                      joinDecls(reservoirDecls("gOut", Access::Write, "fresh reservoirs (hit point, its radiance)"),
-                               {{"gIn_MarchDepth", Access::Read, kR32f, "the depth buffer rays march through"}})));
+                               {depthPyramidDecl()})));
   desc.constants.push_back(cacheConstantsLayout());
   return desc;
 }
