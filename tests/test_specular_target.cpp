@@ -2,7 +2,8 @@
 // sampling and target functions. A VNDF sample's f cos / pdf is seed 000's
 // F G2 / G1; its estimator integrates the lobe (white furnace against an
 // independent uniform-hemisphere estimate); the uniform-cone target ignores
-// the view inside the cone and rejects outside it; seed 003's two-level
+// the view inside the cone and rejects outside it; the resolve's geometric
+// coverage test agrees with the target being positive; seed 003's two-level
 // resampling (view-independent reservoirs, then a disposable one with the
 // BRDF target) converges to the lobe integral over the cone; the resolve's
 // sample count and the reuse footprint behave at the ends.
@@ -103,6 +104,39 @@ TEST(SpecularTarget, UniformTargetIgnoresTheViewInsideTheConeAndRejectsOutside) 
             0.0f);
   EXPECT_EQ(specularTargetPdf(environmentSample(vec3(-0.4f, 0.0f, -0.9f), radiance), a, kSpecularSamplingUniform, 0.9f),
             0.0f);
+}
+
+// The resolve's coverage test says the same as the target being positive,
+// for surface and environment samples around surfaces seen from any side,
+// both samplings, smooth to rough, whenever radiance and F0 are not black.
+TEST(SpecularTarget, CoversExactlyWhereTheTargetIsPositive) {
+  uint rng = 17u;
+  int positive = 0, zero = 0;
+  for (int i = 0; i < 20000; ++i) {
+    vec3 normal = randomUnit(rng);
+    vec3 view = randomUnit(rng);
+    float roughness = rngUniform(rng);
+    GlossySurface s = glossySurface(vec3(0.0f), normal, view, vec3(0.2f + 0.8f * rngUniform(rng)),
+                                    rngUniform(rng), roughness);
+    Reservoir r = emptyReservoir();
+    r.radiance = vec3(1.0f, 0.5f, 0.25f);
+    r.flags = kReservoirHasSample;
+    if (i % 2 == 0) {
+      r.position = randomUnit(rng);
+      r.flags |= kReservoirEnvironment;
+    } else {
+      r.position = randomUnit(rng) * (0.1f + 4.0f * rngUniform(rng));
+      r.normal = randomUnit(rng);
+    }
+    for (uint sampling : {kSpecularSamplingVndf, kSpecularSamplingUniform}) {
+      bool target = specularTargetPdf(r, s, sampling, 0.9f) > 0.0f;
+      ASSERT_EQ(specularTargetCovers(r, s, sampling, 0.9f), target) << "sample " << i << " sampling " << sampling;
+      (target ? positive : zero) += 1;
+    }
+  }
+  // Both answers were asked about often.
+  EXPECT_GT(positive, 2000);
+  EXPECT_GT(zero, 2000);
 }
 
 // Seed 003's two levels: reservoirs of uniform cone samples with p-hat = L

@@ -86,6 +86,20 @@ float specularTargetPdf(Reservoir r, GlossySurface s, uint sampling, float lobeF
   return luminance(r.radiance);
 }
 
+// Whether specularTargetPdf(r, s, ...) can be positive: the geometry alone
+// (the sample reaches s; and s faces the camera, or for uniform sampling
+// its cone holds the sample), without the BRDF. Equal to specularTargetPdf > 0 wherever the
+// sample's radiance and s's F0 are not black (a black one makes the target
+// 0 where this says true). The resolve's coverage count, which asks it of
+// every pair of its reservoirs, needs only this much.
+bool specularTargetCovers(Reservoir r, GlossySurface s, uint sampling, float lobeFraction) {
+  vec3 direction = sampleDirection(r, s.position);
+  if (!specularSampleReaches(r, s, direction)) return false;
+  if (sampling == kSpecularSamplingUniform)
+    return isInSpecularLobe(specularLobeAxis(s), specularLobeCone(s, lobeFraction), direction);
+  return dot(s.normal, s.view) > 0.0f;
+}
+
 // Draws the direction of one pixel's ray (u from the pixel's Halton cycle);
 // false when it leaves the hemisphere (a VNDF reflection can, and a cone
 // around a grazing dominant direction too). pdf is per unit solid angle.

@@ -37,12 +37,45 @@ layout(set = 0, binding = 6, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
 layout(set = 0, binding = 7, rgba16f) writeonly uniform image2D gOut_Specular;
 
 const uint kSaltSpecularResolve = 0x7374u + 3u;
-const uint kMaxOwners = 16u;
+const uint kMaxOwners = 16u;  // gi.specular.resolve_max_samples' largest value
 // The hit distance written for the environment (a half float holds it).
 const float kEnvironmentHitDistance = 1.0e4f;
 
 float hitDistanceOf(Reservoir r, vec3 from) {
   return reservoirIsEnvironment(r) ? kEnvironmentHitDistance : min(distance(r.position, from), kEnvironmentHitDistance);
+}
+
+// A reservoir the resolve evaluates, and what its coverage count needs of
+// the surface it belongs to (kept small: every pixel holds up to
+// kMaxOwners of them).
+struct Owner {
+  ivec2 halfPixel;
+  vec3 position;
+  vec3 normal;
+  float roughness;
+};
+
+Owner ownerOf(ivec2 halfPixel, GlossySurface surface) {
+  Owner o;
+  o.halfPixel = halfPixel;
+  o.position = surface.position;
+  o.normal = surface.normal;
+  o.roughness = surface.roughness;
+  return o;
+}
+
+// The owner's surface as specularTargetCovers() needs it (geometry and
+// lobe; F0 plays no part there).
+GlossySurface coverageSurface(Owner o) {
+  vec3 view = normalize(viewPosition(gIn_Frame.frame.view) - o.position);
+  return glossySurface(o.position, o.normal, view, vec3(1.0f), 1.0f, o.roughness);
+}
+
+// The reconnection Jacobian from the owner's surface to this pixel's (1 for
+// the pixel's own sample), 0 where it is rejected.
+float reuseScale(Reservoir r, Owner o, ivec2 pixel, vec3 position, bool jacobian) {
+  if (reservoirSurfacePixel(o.halfPixel) == pixel) return 1.0f;
+  return reuseJacobian(r, o.position, position, kMaxResolveJacobian, jacobian);
 }
 
 Reservoir loadReservoir(ivec2 halfPixel) {
@@ -101,11 +134,9 @@ void main() {
   }
 
   // The reservoirs to evaluate: the block's, then neighbours in the lobe's footprint.
-  uint wanted = resolveSampleCount(s.roughness, c.resolveMaxSamples, c.resolveFullRoughness);
-  ivec2 owners[kMaxOwners];
-  GlossySurface ownerSurfaces[kMaxOwners];
-  owners[0] = block;
-  ownerSurfaces[0] = blockOwner;
+  uint wanted = min(resolveSampleCount(s.roughness, c.resolveMaxSamples, c.resolveFullRoughness), kMaxOwners);
+  Owner owners[kMaxOwners];
+  owners[0] = ownerOf(block, blockOwner);
   uint count = 1u;
   if (wanted > 1u) {
     uint rng = giSeed(uvec2(pixel), kSaltSpecularResolve);
@@ -114,7 +145,7 @@ void main() {
     float worldRadius = min(specularFootprintRadius(hitDistance, s.alpha), c.resolveMaxRadius * pixelSize);
     vec3 tangent, bitangent;
     buildOrthonormalBasis(x.normal, tangent, bitangent);
-    for (uint i = 1u; i < wanted * 2u && count < min(wanted, kMaxOwners); ++i) {
+    for (uint i = 1u; i < wanted * 2u && count < wanted; ++i) {
       float ux = rngUniform(rng);
       float uy = rngUniform(rng);
       vec2 disk = sampleConcentricDisk(vec2(ux, uy)) * worldRadius;
@@ -124,14 +155,15 @@ void main() {
       ivec2 halfPixel = ivec2(floor(projected.xy * 0.5f));
       if (!insideHalf(halfPixel)) continue;
       bool seen = false;
-      for (uint k = 0u; k < count; ++k) seen = seen || owners[k] == halfPixel;
+      for (uint k = 0u; k < count; ++k) seen = seen || owners[k].halfPixel == halfPixel;
       if (seen) continue;
-      ivec2 ownerPixel = reservoirSurfacePixel(halfPixel);
       float ownerRoughness;
-      Surface owner = gbufferSurfaceRoughness(ownerPixel, ownerRoughness);
+      Surface owner = gbufferSurfaceRoughness(reservoirSurfacePixel(halfPixel), ownerRoughness);
       if (!similarSurface(x.viewZ, x.normal, owner.viewZ, owner.normal, 0.1f, 0.8f)) continue;
-      owners[count] = halfPixel;
-      ownerSurfaces[count] = pixelGlossySurface(owner, ownerRoughness, ownerPixel);
+      owners[count].halfPixel = halfPixel;
+      owners[count].position = owner.position;
+      owners[count].normal = owner.normal;
+      owners[count].roughness = ownerRoughness;
       ++count;
     }
   }
@@ -144,19 +176,16 @@ void main() {
   float distanceWeight = 0.0f;
   Reservoir shading = emptyReservoir();  // uniform sampling's disposable reservoir
   for (uint i = 0u; i < count; ++i) {
-    Reservoir r = i == 0u ? own : loadReservoir(owners[i]);
+    Reservoir r = i == 0u ? own : loadReservoir(owners[i].halfPixel);
     if (!reservoirHasSample(r)) continue;
-    bool exact = reservoirSurfacePixel(owners[i]) == pixel;
-    float scale = exact ? 1.0f : reuseJacobian(r, ownerSurfaces[i].position, x.position, kMaxResolveJacobian, jacobian);
+    float scale = reuseScale(r, owners[i], pixel, x.position, jacobian);
     if (scale <= 0.0f) continue;
     // Uniform MIS over the reservoirs that could have produced this sample.
     float coverage = 0.0f;
-    for (uint j = 0u; j < count; ++j) {
-      bool ownerExact = reservoirSurfacePixel(owners[j]) == pixel;
-      if (specularTargetPdf(r, ownerSurfaces[j], c.sampling, c.lobeFraction) > 0.0f &&
-          (ownerExact || reuseJacobian(r, ownerSurfaces[j].position, x.position, kMaxResolveJacobian, jacobian) > 0.0f))
+    for (uint j = 0u; j < count; ++j)
+      if (reuseScale(r, owners[j], pixel, x.position, jacobian) > 0.0f &&
+          specularTargetCovers(r, coverageSurface(owners[j]), c.sampling, c.lobeFraction))
         coverage += 1.0f;
-    }
     if (coverage <= 0.0f) continue;
     vec3 contribution = specularSampleContribution(r, s);
     float weight = r.W * scale / coverage;
