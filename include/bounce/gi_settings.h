@@ -146,7 +146,7 @@ struct SpecularSettings {
   bool jacobian = true;
 
   // --- resolve (full resolution): reservoirs evaluated per pixel, by roughness
-  std::uint32_t resolveMaxSamples = 8;  // for surfaces at least resolve_full_roughness rough
+  std::uint32_t resolveMaxSamples = 4;  // for surfaces at least resolve_full_roughness rough
   float resolveFullRoughness = 0.5f;    // from 1 reservoir at roughness 0 up to the maximum here (linear)
   float resolveMaxRadius = 6.0f;        // full-resolution pixels, for the roughest lobes
 
