@@ -550,6 +550,41 @@ TEST(CliHardening, CompareExitsOneForADifferenceAndTwoForTrouble) {
   fs::remove_all(dir);
 }
 
+// --regions splits the numbers by a label image: a region where the test
+// is right has relMSE 0 and ratio 1, one where it is off says by how much;
+// a label image of another size is refused naming it.
+TEST(CliHardening, CompareReportsEachRegionOfALabelImage) {
+  const fs::path dir = freshDirectory("compare_regions");
+  fs::create_directories(dir);
+  bounce::io::ImageF reference(4, 2, {"R", "G", "B"}), test(4, 2, {"R", "G", "B"}), labels(4, 2, {"Y"});
+  for (float& v : reference.pixels) v = 0.5f;
+  test = reference;
+  for (int x = 0; x < 4; ++x) {
+    labels.at(x, 0, 0) = 7.0f;
+    labels.at(x, 1, 0) = 65537.0f;
+    for (int c = 0; c < 3; ++c) test.at(x, 1, c) = 1.0f;  // the second row twice too bright
+  }
+  bounce::io::writeExr(dir / "ref.exr", reference);
+  bounce::io::writeExr(dir / "test.exr", test);
+  bounce::io::writeExr(dir / "ids.exr", labels);
+  const auto r = runArgs({"compare", (dir / "ref.exr").string(), (dir / "test.exr").string(), "--regions",
+                          (dir / "ids.exr").string(), "--json", (dir / "c.json").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("region     7 4 1 0\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("region     65537 4 2 "), std::string::npos) << r.output;
+  const nlohmann::json parsed = nlohmann::json::parse(readText(dir / "c.json"));
+  ASSERT_EQ(parsed.at("regions").size(), 2u);
+  EXPECT_EQ(parsed.at("regions")[1].at("label"), 65537);
+  EXPECT_NEAR(parsed.at("regions")[1].at("relmse").get<double>(), 0.25 / 0.26, 1e-4);
+
+  bounce::io::writeExr(dir / "small.exr", bounce::io::ImageF(2, 2, {"Y"}));
+  const auto wrongSize = runArgs({"compare", (dir / "ref.exr").string(), (dir / "test.exr").string(), "--regions",
+                                  (dir / "small.exr").string()});
+  EXPECT_EQ(wrongSize.exitCode, 2) << wrongSize.output;
+  EXPECT_NE(wrongSize.output.find("small.exr: is 2x2"), std::string::npos) << wrongSize.output;
+  fs::remove_all(dir);
+}
+
 TEST(CliHardening, BenchJsonIsValidJsonInAFileOrOnStdoutAndBenchValidatesClean) {
   const fs::path dir = freshDirectory("bench_json");
   fs::create_directories(dir);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -139,8 +140,69 @@ double meanLuminance(const io::ImageF& image) {
   return values.empty() ? 0.0 : sum / double(values.size());
 }
 
+// --- regions: the numbers per label of a label image
+
+struct Region {
+  double label = 0.0;
+  std::size_t pixels = 0;
+  double referenceMean = 0.0;  // luminance
+  double testMean = 0.0;
+  metrics::ValueErrors errors;
+};
+
+// A label image's largest number of distinct labels: more is not a label
+// image (a radiance image given by mistake) and would print a page a pixel.
+constexpr std::size_t kMaxRegions = 256;
+
+std::vector<Region> regionsOf(const fs::path& labelsPath, const io::ImageF& reference, const io::ImageF& test) {
+  const io::ImageF labels = io::readImage(labelsPath);
+  if (labels.width != reference.width || labels.height != reference.height)
+    fail(labelsPath, "is " + std::to_string(labels.width) + "x" + std::to_string(labels.height) +
+                         ", the images compared are " + std::to_string(reference.width) + "x" +
+                         std::to_string(reference.height));
+  const std::size_t pixelCount = std::size_t(reference.width) * std::size_t(reference.height);
+  const std::vector<float> referenceValues = metrics::comparedValues(reference);
+  const std::vector<float> testValues = metrics::comparedValues(test);
+  const std::vector<float> referenceLuminance = metrics::luminance(reference);
+  const std::vector<float> testLuminance = metrics::luminance(test);
+  const std::size_t perPixel = referenceValues.size() / pixelCount;
+  struct Gathered {
+    std::vector<float> reference, test;
+    double referenceSum = 0.0, testSum = 0.0;
+    std::size_t pixels = 0;
+  };
+  std::map<double, Gathered> byLabel;
+  for (std::size_t p = 0; p < pixelCount; ++p) {
+    const float label = labels.pixels[p * labels.channelCount()];  // the first channel
+    if (!std::isfinite(label))
+      fail(labelsPath, "holds a non-finite label at pixel " + std::to_string(p % std::size_t(labels.width)) + ", " +
+                           std::to_string(p / std::size_t(labels.width)));
+    Gathered& region = byLabel[double(label)];
+    if (byLabel.size() > kMaxRegions)
+      fail(labelsPath, "has more than " + std::to_string(kMaxRegions) + " distinct values: not a label image");
+    region.reference.insert(region.reference.end(), referenceValues.begin() + std::ptrdiff_t(p * perPixel),
+                            referenceValues.begin() + std::ptrdiff_t((p + 1) * perPixel));
+    region.test.insert(region.test.end(), testValues.begin() + std::ptrdiff_t(p * perPixel),
+                       testValues.begin() + std::ptrdiff_t((p + 1) * perPixel));
+    region.referenceSum += referenceLuminance[p];
+    region.testSum += testLuminance[p];
+    ++region.pixels;
+  }
+  std::vector<Region> regions;
+  for (const auto& [label, gathered] : byLabel) {
+    Region region;
+    region.label = label;
+    region.pixels = gathered.pixels;
+    region.referenceMean = gathered.referenceSum / double(gathered.pixels);
+    region.testMean = gathered.testSum / double(gathered.pixels);
+    region.errors = metrics::valueErrors(gathered.reference, gathered.test);
+    regions.push_back(region);
+  }
+  return regions;
+}
+
 std::string pairJson(const CompareOptions& options, const io::ImageF& reference, const io::ImageF& test,
-                     const metrics::Comparison& c, bool passed) {
+                     const metrics::Comparison& c, const std::vector<Region>& regions, bool passed) {
   const metrics::ErrorStatistics& f = c.flip;
   std::ostringstream json;
   json << "{\n";
@@ -175,6 +237,17 @@ std::string pairJson(const CompareOptions& options, const io::ImageF& reference,
     json << "    \"exposure_count\": " << c.exposures->count;
   }
   json << "\n  },\n";
+  if (!options.regions.empty()) {
+    json << "  \"regions_image\": " << jsonString(options.regions) << ",\n  \"regions\": [";
+    for (std::size_t i = 0; i < regions.size(); ++i) {
+      const Region& r = regions[i];
+      json << (i ? ",\n    " : "\n    ") << "{\"label\": " << jsonNumber(r.label) << ", \"pixels\": " << r.pixels
+           << ", \"reference_mean_luminance\": " << jsonNumber(r.referenceMean)
+           << ", \"test_mean_luminance\": " << jsonNumber(r.testMean)
+           << ", \"relmse\": " << jsonNumber(r.errors.relMse) << "}";
+    }
+    json << "\n  ],\n";
+  }
   json << "  \"passed\": " << (passed ? "true" : "false") << "\n}\n";
   return json.str();
 }
@@ -182,7 +255,8 @@ std::string pairJson(const CompareOptions& options, const io::ImageF& reference,
 int comparePair(const CompareOptions& options) {
   const fs::path referencePath = options.images[0];
   const fs::path testPath = options.images[1];
-  const std::vector<fs::path> inputs = {referencePath, testPath};
+  std::vector<fs::path> inputs = {referencePath, testPath};
+  if (!options.regions.empty()) inputs.push_back(options.regions);
   if (!options.errorMap.empty()) {
     if (lowercase(fs::path(options.errorMap).extension().string()) != ".png") {
       fail(options.errorMap, "--error-map writes a PNG; give a file name ending in .png");
@@ -242,6 +316,16 @@ int comparePair(const CompareOptions& options) {
               number(f.weightedMedian).c_str(), number(f.weightedFirstQuartile).c_str(),
               number(f.weightedThirdQuartile).c_str());
 
+  std::vector<Region> regions;
+  if (!options.regions.empty()) {
+    regions = regionsOf(options.regions, reference, test);
+    std::printf("regions    of %s: label, pixels, mean luminance ratio, relMSE\n", options.regions.c_str());
+    for (const Region& r : regions)
+      std::printf("region     %s %zu %s %s\n", number(r.label).c_str(), r.pixels,
+                  number(r.referenceMean > 0.0 ? r.testMean / r.referenceMean : 0.0).c_str(),
+                  number(r.errors.relMse).c_str());
+  }
+
   std::vector<std::string> failures;  // thresholds given and not met, as the failure line names them
   checkMax(failures, "relMSE", comparison.values.relMse, options.maxRelMse, "--max-relmse");
   checkMax(failures, "RMSE", comparison.values.rmse, options.maxRmse, "--max-rmse");
@@ -253,7 +337,7 @@ int comparePair(const CompareOptions& options) {
     std::printf("wrote %s\n", options.errorMap.c_str());
   }
   if (!options.json.empty()) {
-    writeTextFile(options.json, pairJson(options, reference, test, comparison, failures.empty()));
+    writeTextFile(options.json, pairJson(options, reference, test, comparison, regions, failures.empty()));
     std::printf("wrote %s\n", options.json.c_str());
   }
   std::fflush(stdout);
@@ -377,7 +461,7 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
   CLI::Option* sequence = command->add_flag(
       "--sequence", options.sequence,
       "Measure temporal stability instead: mean relative luminance change between consecutive frames");
-  const std::vector<CLI::Option*> pairOnly = {
+  std::vector<CLI::Option*> pairOnly = {
       command
           ->add_option("--flip", options.flip,
                        "FLIP variant: auto (HDR-FLIP for EXR/HDR inputs, LDR-FLIP for PNG/JPEG), ldr or hdr")
@@ -396,6 +480,10 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
           ->check(finiteNumber()),
       command->add_option("--max-flip", options.maxFlip, "Exit 1 if the mean FLIP is above this")
           ->check(finiteRange(0.0, 1.0))};
+  pairOnly.push_back(command->add_option(
+      "--regions", options.regions,
+      "Also report the mean ratio and relMSE per label of this image (same size; its first channel's values are "
+      "the labels, e.g. the ids.exr of bounce reference's G-buffer: object << 16 | material)"));
   for (CLI::Option* option : pairOnly) sequence->excludes(option);
   command
       ->add_option("--max-temporal", options.maxTemporal,

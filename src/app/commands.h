@@ -178,6 +178,7 @@ struct CompareOptions {
   std::optional<float> ppd;   // pixels per degree; default that of the FLIP tool
   std::string errorMap;       // PNG of the FLIP map (magma); empty = none
   std::string json;           // every value as JSON; empty = none
+  std::string regions;        // a label image (e.g. the G-buffer's ids.exr): the numbers per label too; empty = none
   std::optional<double> maxRelMse;
   std::optional<double> maxRmse;
   std::optional<double> minPsnr;
