@@ -585,6 +585,40 @@ TEST(CliHardening, CompareReportsEachRegionOfALabelImage) {
   fs::remove_all(dir);
 }
 
+// --material changes a material's factor; a misspelt material, key or value
+// is refused naming it (and, for a material, listing the scene's), before
+// anything renders.
+TEST(CliHardening, MaterialChangesAreAppliedOrRefusedByName) {
+  const fs::path out = freshDirectory("material_change");
+  const std::vector<std::string> common = {"render", "cornell", "--width", "8", "--height", "8", "--gi", "off",
+                                           "--out", out.string(), "--aov", "metallic", "--material"};
+  auto run = [&](const std::string& change) {
+    std::vector<std::string> arguments = common;
+    arguments.push_back(change);
+    return runArgs(arguments);
+  };
+  const auto unknown = run("marble:roughness=0.2");
+  EXPECT_NE(unknown.exitCode, 0);
+  EXPECT_NE(unknown.output.find("no material 'marble' (it has '"), std::string::npos) << unknown.output;
+  const auto badKey = run("cornell white:shininess=3");
+  EXPECT_NE(badKey.exitCode, 0);
+  EXPECT_NE(badKey.output.find("unknown key 'shininess'"), std::string::npos) << badKey.output;
+  const auto badValue = run("cornell white:base_color=1,0.5");
+  EXPECT_NE(badValue.exitCode, 0);
+  EXPECT_NE(badValue.output.find("wants 3 numbers, got 2"), std::string::npos) << badValue.output;
+  const auto outside = run("cornell white:metallic=1.5");
+  EXPECT_NE(outside.exitCode, 0);
+  EXPECT_NE(outside.output.find("1.5 is outside [0, 1]"), std::string::npos) << outside.output;
+  EXPECT_FALSE(fs::exists(out / "frames")) << "refused before rendering";
+
+  // cornell's walls are white dielectrics: made metal, the metallic AOV shows it.
+  const auto metal = run("cornell white:metallic=1");
+  ASSERT_EQ(metal.exitCode, 0) << metal.output;
+  const bounce::io::ImageF metallic = bounce::io::readImage(out / "aov" / "metallic.exr");
+  EXPECT_EQ(*std::max_element(metallic.pixels.begin(), metallic.pixels.end()), 1.0f);
+  fs::remove_all(out);
+}
+
 TEST(CliHardening, BenchJsonIsValidJsonInAFileOrOnStdoutAndBenchValidatesClean) {
   const fs::path dir = freshDirectory("bench_json");
   fs::create_directories(dir);

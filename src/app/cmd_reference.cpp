@@ -110,7 +110,7 @@ int runReference(const ReferenceCommandOptions& options) {
       throw std::runtime_error("--out " + out.string() + " is an input of this command; choose another file");
 
   const SceneOptions& view = options.view;
-  const scene::Scene scene = loadSceneArgument(view.scene, {.allowOutsideAssets = view.allowOutsideAssets});
+  const scene::Scene scene = loadScene(view);
   const std::unique_ptr<scene::CameraPath> path =
       view.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(view.camera, scene);
   // The frame before (for its motion vectors) and the frame itself.

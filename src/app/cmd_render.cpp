@@ -100,7 +100,7 @@ int runRender(const RenderOptions& options) {
   const gi::Settings settings = gi ? giSettings(options.gi) : gi::Settings{};
 
   const SceneOptions& shot = options.view;
-  const scene::Scene scene = loadSceneArgument(shot.scene, {.allowOutsideAssets = shot.allowOutsideAssets});
+  const scene::Scene scene = loadScene(shot);
   const std::unique_ptr<scene::CameraPath> path =
       shot.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(shot.camera, scene);
   const std::vector<scene::CameraFrame> cameraFrames = scene::sampleCameraPath(*path, int(options.frames), shot.fps);

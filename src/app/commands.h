@@ -59,8 +59,16 @@ struct SceneOptions {
   std::optional<float> sunAzimuth;
   bool noSun = false;
   bool allowOutsideAssets = false;  // glTF buffers and images may come from outside the file's folder
+  std::vector<std::string> materials;  // --material NAME:KEY=VALUE, in order
 };
 void addSceneOptions(CLI::App& command, SceneOptions& options);
+// The scene the options name, with their --material changes made.
+scene::Scene loadScene(const SceneOptions& options);
+// Changes a material's factors as "NAME:KEY=VALUE" says (KEY: roughness,
+// metallic in [0, 1]; base_color R,G,B in [0, 1]; emission R,G,B >= 0);
+// throws naming the argument and the problem (an unknown material lists the
+// scene's).
+void applyMaterialChange(scene::Scene& scene, const std::string& change);
 // Checks the camera of every frame before any is rendered (render::
 // checkCamera): a path that passes through its target or looks along its up
 // vector half-way fails now, not after minutes of frames. Throws naming the

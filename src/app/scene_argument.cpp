@@ -1,5 +1,7 @@
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
 #include "app/commands.h"
@@ -22,6 +24,77 @@ scene::Scene loadSceneArgument(const std::string& argument, const scene::GltfImp
   }
   scene::Scene scene = scene::loadGltf(path, importOptions);
   scene::adoptDirectionalLightAsSun(scene);
+  return scene;
+}
+
+namespace {
+
+// Comma-separated finite numbers, exactly `count` of them, each in [min, max].
+std::vector<float> parseNumbers(const std::string& text, std::size_t count, float min, float max,
+                                const std::string& what) {
+  std::vector<float> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    std::size_t used = 0;
+    float value = 0.0f;
+    try {
+      value = std::stof(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(value))
+      throw std::runtime_error(what + ": '" + item + "' is not a number");
+    if (value < min || value > max) {
+      char range[64];
+      std::snprintf(range, sizeof range, "[%g, %g]", double(min), double(max));
+      throw std::runtime_error(what + ": " + item + " is outside " + range);
+    }
+    values.push_back(value);
+  }
+  if (values.size() != count)
+    throw std::runtime_error(what + ": wants " + std::to_string(count) + (count == 1 ? " number" : " numbers") +
+                             ", got " + std::to_string(values.size()));
+  return values;
+}
+
+}  // namespace
+
+void applyMaterialChange(scene::Scene& scene, const std::string& change) {
+  const std::string what = "--material " + change;
+  const std::size_t colon = change.rfind(':');
+  const std::size_t equals = change.find('=', colon == std::string::npos ? 0 : colon);
+  if (colon == std::string::npos || equals == std::string::npos || colon == 0)
+    throw std::runtime_error(what + ": expected NAME:KEY=VALUE, e.g. 'oak floor:roughness=0.1'");
+  const std::string name = change.substr(0, colon);
+  const std::string key = change.substr(colon + 1, equals - colon - 1);
+  const std::string value = change.substr(equals + 1);
+  scene::Material* material = nullptr;
+  for (scene::Material& m : scene.materials)
+    if (m.name == name) material = &m;
+  if (!material) {
+    std::string names;
+    for (const scene::Material& m : scene.materials) names += (names.empty() ? "'" : ", '") + m.name + "'";
+    throw std::runtime_error(what + ": the scene has no material '" + name + "' (it has " + names + ")");
+  }
+  if (key == "roughness") {
+    material->roughnessFactor = parseNumbers(value, 1, 0.0f, 1.0f, what)[0];
+  } else if (key == "metallic") {
+    material->metallicFactor = parseNumbers(value, 1, 0.0f, 1.0f, what)[0];
+  } else if (key == "base_color") {
+    const std::vector<float> rgb = parseNumbers(value, 3, 0.0f, 1.0f, what);
+    material->baseColorFactor = glm::vec4(rgb[0], rgb[1], rgb[2], material->baseColorFactor.w);
+  } else if (key == "emission") {
+    const std::vector<float> rgb = parseNumbers(value, 3, 0.0f, 1e20f, what);
+    material->emissiveFactor = glm::vec3(rgb[0], rgb[1], rgb[2]);
+  } else {
+    throw std::runtime_error(what + ": unknown key '" + key + "' (roughness, metallic, base_color, emission)");
+  }
+}
+
+scene::Scene loadScene(const SceneOptions& options) {
+  scene::Scene scene = loadSceneArgument(options.scene, {.allowOutsideAssets = options.allowOutsideAssets});
+  for (const std::string& change : options.materials) applyMaterialChange(scene, change);
   return scene;
 }
 
@@ -63,6 +136,10 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
   command.add_flag("--no-sun", options.noSun,
                    "No sunlight (e.g. when the --env map already shows its sun, which would then count twice)");
   addAllowOutsideAssetsFlag(command, options.allowOutsideAssets);
+  command.add_option("--material", options.materials,
+                     "Change a material's factor before rendering, NAME:KEY=VALUE (repeatable): roughness=R, "
+                     "metallic=M (0..1), base_color=R,G,B (0..1), emission=R,G,B (radiance); a texture still "
+                     "multiplies the factor, e.g. --material 'oak floor:roughness=0.1'");
 }
 
 void checkCameraFrames(const std::vector<scene::CameraFrame>& frames, std::uint32_t firstFrame,
