@@ -93,7 +93,11 @@ void main() {
     if (ray.outcome == kHizHit) {
       Surface y = gbufferSurface(ray.texel);
       if (y.viewZ > 0.0f) {
-        candidate.position = y.position;
+        // The sample is where the ray meets the surface, not the pixel's
+        // sample point: a glossy lobe re-evaluated towards the pixel's
+        // centre (up to a pixel's angle off the ray) would weigh it by the
+        // wrong D, for a near-mirror by orders of magnitude.
+        candidate.position = ray.lastFree;
         candidate.normal = y.normal;
         found = previousRadiance(y.position, y.normal, candidate.radiance);
         screenHitUnseen = !found;
