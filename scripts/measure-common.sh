@@ -7,6 +7,9 @@
 #   entries  "name|scene|lighting flags" of cornell, pillars, sun-room and,
 #            when scenes_dir has them, Sponza and the Breakfast Room
 #   field A B KEY   KEY (mean, relMSE, FLIP) of `bounce compare A B`
+#   scene_reference ENTRY   parses an entry into name, scene, lighting, makes
+#            dir="$out/NAME" and the reference of the default view in it
+#            (ref.exr and its parts, seed 7)
 bounce=${BOUNCE:-./build/bounce}
 spp=${REFERENCE_SPP:-1024}
 size=(--width "${WIDTH:-640}" --height "${HEIGHT:-360}")
@@ -23,3 +26,11 @@ if [ -n "$scenes_dir" ]; then
 fi
 
 field() { "$bounce" compare "$1" "$2" | awk -v key="$3" '$1 == key { print ($1 == "mean" ? $NF : $1 == "FLIP" ? $3 : $2) }'; }
+
+scene_reference() {
+  IFS='|' read -r name scene lighting <<< "$1"
+  dir="$out/$name"
+  mkdir -p "$dir"
+  # shellcheck disable=SC2086
+  "$bounce" reference "$scene" "${size[@]}" $lighting --spp "$spp" --seed 7 --out "$dir/ref.exr" > "$dir/ref.log"
+}

@@ -20,11 +20,7 @@ source "$(dirname "$0")/measure-common.sh"
 echo "| scene | specular mean / ref: hybrid, no reuse, uniform, screen-only | specular relMSE: hybrid, no reuse, uniform, screen-only | frame relMSE: diffuse only, both | frame FLIP: diffuse only, both |" >> "$summary"
 echo "|---|---|---|---|---|" >> "$summary"
 for entry in "${entries[@]}"; do
-  IFS='|' read -r name scene lighting <<< "$entry"
-  dir="$out/$name"
-  mkdir -p "$dir"
-  # shellcheck disable=SC2086
-  "$bounce" reference "$scene" "${size[@]}" $lighting --spp "$spp" --seed 7 --out "$dir/ref.exr" > "$dir/ref.log"
+  scene_reference "$entry"
   for mode in bvh noreuse uniform none diffuse; do
     flags=()
     [ "$mode" = noreuse ] && flags=(--gi.restir off)

@@ -20,11 +20,7 @@ source "$(dirname "$0")/measure-common.sh"
 echo "| scene | variant | specular mean / ref | specular relMSE | diffuse mean / ref | diffuse relMSE | frame FLIP |" >> "$summary"
 echo "|---|---|---|---|---|---|---|" >> "$summary"
 for entry in "${entries[@]}"; do
-  IFS='|' read -r name scene lighting <<< "$entry"
-  dir="$out/$name"
-  mkdir -p "$dir"
-  # shellcheck disable=SC2086
-  "$bounce" reference "$scene" "${size[@]}" $lighting --spp "$spp" --seed 7 --out "$dir/ref.exr" > "$dir/ref.log"
+  scene_reference "$entry"
   for variant in "$@"; do
     IFS='|' read -r label flags <<< "$variant"
     # shellcheck disable=SC2086
