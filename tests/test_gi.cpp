@@ -156,6 +156,26 @@ std::optional<glm::vec3> mirrorFloorSpecular(const Emitter& e, glm::vec3 x, glm:
   return e.radiance;
 }
 
+// The metal floor scenes: a white metal floor of `roughness` before the
+// emitting wall, seen from kMetalFloorEye.
+scene::Scene metalFloorBeforeTheWall(float roughness) {
+  scene::Scene s = blackFloorWith(kWall);
+  s.materials[0] = material(glm::vec3(1.0f));
+  s.materials[0].metallicFactor = 1.0f;
+  s.materials[0].roughnessFactor = roughness;
+  return s;
+}
+const glm::vec3 kMetalFloorEye(0.0f, 1.5f, 3.0f);
+scene::CameraPose metalFloorCamera() { return testing::cameraAt(kMetalFloorEye, {0.0f, 0.6f, -1.0f}, 60.0f); }
+
+// The quadrature's answer where the floor reflects the wall brightly (the
+// lobe's peak sees it), nothing elsewhere.
+std::optional<glm::vec3> metalFloorReflection(glm::vec3 x, float roughness) {
+  const glm::vec3 truth = metalFloorSpecular(kWall, x, kMetalFloorEye, roughness);
+  if (shared::luminance(truth) < 0.05f) return std::nullopt;  // outside the reflection
+  return truth;
+}
+
 class GiTest : public testing::GpuTest {
  protected:
   struct Run {
@@ -235,25 +255,34 @@ class GiTest : public testing::GpuTest {
   // The mean of `mean` over the floor pixels (normal +Y) where `truthAt`
   // (of the pixel's world position) gives a value, against the mean of
   // those values: within `tolerance` of it, channel by channel.
+  // Calls visit(x, y, world position) for each floor pixel (normal +Y) of
+  // the last frame rendered, whose camera was `camera`.
+  void forEachFloorPixel(Run& run, const scene::CameraPose& camera,
+                         const std::function<void(int, int, glm::vec3)>& visit) {
+    const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
+    const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
+    const glm::vec2 size(viewZ.width, viewZ.height);
+    const shared::ScreenView view =
+        screenView(render::giCamera(camera, std::uint32_t(size.x), std::uint32_t(size.y), glm::vec2(0.0f)), "camera");
+    for (int y = 0; y < viewZ.height; ++y)
+      for (int x = 0; x < viewZ.width; ++x) {
+        if (viewZ.at(x, y, 0) <= 0.0f || normals.at(x, y, 1) < 0.99f) continue;  // the floor only
+        visit(x, y, shared::reconstructPosition(view, glm::vec2(x, y), viewZ.at(x, y, 0), size));
+      }
+  }
+
   void expectFloorMatches(Run& run, const scene::CameraPose& camera, const io::ImageF& mean,
                           const std::function<std::optional<glm::vec3>(glm::vec3)>& truthAt, int minimumPixels,
                           float tolerance, const std::string& what) {
-    const std::uint32_t w = std::uint32_t(mean.width), h = std::uint32_t(mean.height);
-    const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
-    const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
-    const shared::ScreenView view = screenView(render::giCamera(camera, w, h, glm::vec2(0.0f)), "camera");
     glm::dvec3 expected(0.0), actual(0.0);
     int count = 0;
-    for (int y = 0; y < int(h); ++y)
-      for (int x = 0; x < int(w); ++x) {
-        if (viewZ.at(x, y, 0) <= 0.0f || normals.at(x, y, 1) < 0.99f) continue;  // the floor only
-        const glm::vec3 p = shared::reconstructPosition(view, glm::vec2(x, y), viewZ.at(x, y, 0), glm::vec2(w, h));
-        const std::optional<glm::vec3> truth = truthAt(p);
-        if (!truth) continue;
-        expected += glm::dvec3(*truth);
-        for (int k = 0; k < 3; ++k) actual[k] += mean.at(x, y, k);
-        ++count;
-      }
+    forEachFloorPixel(run, camera, [&](int x, int y, glm::vec3 p) {
+      const std::optional<glm::vec3> truth = truthAt(p);
+      if (!truth) return;
+      expected += glm::dvec3(*truth);
+      for (int k = 0; k < 3; ++k) actual[k] += mean.at(x, y, k);
+      ++count;
+    });
     ASSERT_GT(count, minimumPixels);
     expected /= double(count);
     actual /= double(count);
@@ -276,29 +305,19 @@ class GiTest : public testing::GpuTest {
   // the BVH bridge, averaged over the floor pixels whose reflection of it is
   // bright (the lobe's peak sees the wall).
   void checkMetalFloor(float roughness, float tolerance) {
-    checkMetalFloor(roughness, tolerance, [&](glm::vec3 p, glm::vec3 eye) -> std::optional<glm::vec3> {
-      const glm::vec3 truth = metalFloorSpecular(kWall, p, eye, roughness);
-      if (shared::luminance(truth) < 0.05f) return std::nullopt;  // outside the reflection
-      return truth;
-    });
+    checkMetalFloor(roughness, tolerance, [&](glm::vec3 p) { return metalFloorReflection(p, roughness); });
   }
   void checkMetalFloor(float roughness, float tolerance,
-                       const std::function<std::optional<glm::vec3>(glm::vec3, glm::vec3)>& truthAt) {
-    scene::Scene s = blackFloorWith(kWall);
-    s.materials[0] = material(glm::vec3(1.0f));
-    s.materials[0].metallicFactor = 1.0f;
-    s.materials[0].roughnessFactor = roughness;
+                       const std::function<std::optional<glm::vec3>(glm::vec3)>& truthAt) {
     Settings settings;
     settings.diffuse.enabled = false;  // the floor has no diffuse lobe; only specular is measured
-    const glm::vec3 eye(0.0f, 1.5f, 3.0f);
-    const scene::CameraPose camera = testing::cameraAt(eye, {0.0f, 0.6f, -1.0f}, 60.0f);
+    const scene::CameraPose camera = metalFloorCamera();
     // The bridge finds the wall where reflected rays leave the screen.
-    Run run = start(s, settings, 96, 72, false, render::bvhSceneBridge());
+    Run run = start(metalFloorBeforeTheWall(roughness), settings, 96, 72, false, render::bvhSceneBridge());
     advance(run, camera, 16u);
     const io::ImageF mean = average(run, camera, 24, &render::GiBridge::indirectSpecular);
-    expectFloorMatches(
-        run, camera, mean, [&](glm::vec3 p) { return truthAt(p, eye); }, 500, tolerance,
-        "metal floor, roughness " + std::to_string(roughness));
+    expectFloorMatches(run, camera, mean, truthAt, 500, tolerance,
+                       "metal floor, roughness " + std::to_string(roughness));
   }
 };
 
@@ -327,12 +346,8 @@ TEST_F(GiTest, SmoothMetalFloorReflectsTheWallsLight) { checkMetalFloor(0.15f, 0
 // on every measured scene; docs/quality.md), 0.17 with 8.
 TEST_F(GiTest, SpecularReusePaysOnARoughFloorAtTheFirstFrame) {
   const float roughness = 0.6f;
-  scene::Scene s = blackFloorWith(kWall);
-  s.materials[0] = material(glm::vec3(1.0f));
-  s.materials[0].metallicFactor = 1.0f;
-  s.materials[0].roughnessFactor = roughness;
-  const glm::vec3 eye(0.0f, 1.5f, 3.0f);
-  const scene::CameraPose camera = testing::cameraAt(eye, {0.0f, 0.6f, -1.0f}, 60.0f);
+  const scene::Scene s = metalFloorBeforeTheWall(roughness);
+  const scene::CameraPose camera = metalFloorCamera();
   const auto firstFrameError = [&](bool reuse, std::uint32_t resolveSamples) {
     Settings settings;
     settings.restir = reuse;
@@ -342,21 +357,15 @@ TEST_F(GiTest, SpecularReusePaysOnARoughFloorAtTheFirstFrame) {
     advance(run, camera, 8u);
     advance(run, camera, true);  // the cut
     const io::ImageF specular = readback(run, &render::GiBridge::indirectSpecular);
-    const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
-    const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
-    const shared::ScreenView view = screenView(render::giCamera(camera, 96, 72, glm::vec2(0.0f)), "camera");
     std::vector<float> truth, estimate;
-    for (int y = 0; y < 72; ++y)
-      for (int x = 0; x < 96; ++x) {
-        if (viewZ.at(x, y, 0) <= 0.0f || normals.at(x, y, 1) < 0.99f) continue;  // the floor only
-        const glm::vec3 p = shared::reconstructPosition(view, glm::vec2(x, y), viewZ.at(x, y, 0), glm::vec2(96, 72));
-        const glm::vec3 expected = metalFloorSpecular(kWall, p, eye, roughness);
-        if (shared::luminance(expected) < 0.05f) continue;
-        for (int c = 0; c < 3; ++c) {
-          truth.push_back(expected[c]);
-          estimate.push_back(specular.at(x, y, c));
-        }
+    forEachFloorPixel(run, camera, [&](int x, int y, glm::vec3 p) {
+      const std::optional<glm::vec3> expected = metalFloorReflection(p, roughness);
+      if (!expected) return;
+      for (int c = 0; c < 3; ++c) {
+        truth.push_back((*expected)[c]);
+        estimate.push_back(specular.at(x, y, c));
       }
+    });
     EXPECT_GT(truth.size(), 3u * 1000u);
     return metrics::valueErrors(truth, estimate).relMse;
   };
@@ -375,7 +384,7 @@ TEST_F(GiTest, SpecularReusePaysOnARoughFloorAtTheFirstFrame) {
 // meets the surface: at the hit pixel's sample point instead, the mirror
 // lobe weighed it by the wrong D and gave 0.72 in sparse spikes.
 TEST_F(GiTest, MirrorFloorReflectsTheWallsRadiance) {
-  checkMetalFloor(0.0f, 0.05f, [](glm::vec3 p, glm::vec3 eye) { return mirrorFloorSpecular(kWall, p, eye); });
+  checkMetalFloor(0.0f, 0.05f, [](glm::vec3 p) { return mirrorFloorSpecular(kWall, p, kMetalFloorEye); });
 }
 
 // --- seeing beyond the screen: the scene bridge
