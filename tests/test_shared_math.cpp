@@ -269,6 +269,39 @@ TEST(Brdf, GgxDistributionProjectsToUnitArea) {
   }
 }
 
+// reflectsAlikeTowards accepts exactly the turns of the outgoing direction
+// that keep the GGX peak of a light at least a quarter as high: with the
+// light mirrored about the normal from `seen`, turning `seen` by theta in its
+// plane of incidence moves the half vector off the normal.
+TEST(Brdf, ReflectsAlikeWhereTheTurnedPeakKeepsAQuarter) {
+  const vec3 n(0, 0, 1);
+  int accepted = 0;
+  int rejected = 0;
+  for (float roughness : {0.1f, 0.17f, 0.3f, 0.5f, 0.7f, 0.9f}) {
+    const float alpha = ggxAlpha(roughness);
+    for (float seenAngle : {0.1f, 0.5f, 0.9f}) {
+      const vec3 seen(std::sin(seenAngle), 0.0f, std::cos(seenAngle));
+      const vec3 light(-seen.x, 0.0f, seen.z);
+      for (int i = 1; i < 400; ++i) {
+        const float wantedAngle = seenAngle - 1.5f + 3.0f * float(i) / 400.0f;
+        if (std::abs(wantedAngle) > 1.5f) continue;
+        const vec3 wanted(std::sin(wantedAngle), 0.0f, std::cos(wantedAngle));
+        const vec3 h = normalize(light + wanted);
+        const float peakKept = ggxD(dot(n, h), alpha) / ggxD(1.0f, alpha);
+        if (std::abs(peakKept - 0.25f) < 0.01f) continue;  // rounding decides at the boundary
+        const bool alike = reflectsAlikeTowards(seen, wanted, roughness);
+        EXPECT_EQ(alike, peakKept > 0.25f) << roughness << " " << seenAngle << " " << wantedAngle;
+        (alike ? accepted : rejected)++;
+      }
+    }
+  }
+  EXPECT_GT(accepted, 100);
+  EXPECT_GT(rejected, 100);
+  // A rough surface looks the same from every side; polished metal 30 degrees off does not.
+  EXPECT_TRUE(reflectsAlikeTowards(vec3(0, 0, 1), normalize(vec3(1, 0, 0.05f)), 1.0f));
+  EXPECT_FALSE(reflectsAlikeTowards(vec3(0, 0, 1), vec3(0.5f, 0, std::sqrt(0.75f)), 0.17f));
+}
+
 TEST(Brdf, LambertPartIsAlbedoOverPi) {
   const vec3 n(0, 0, 1);
   const vec3 l = directionAt(0.6f, 1.0f);

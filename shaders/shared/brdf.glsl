@@ -119,6 +119,21 @@ vec3 materialBrdfCosine(vec3 n, vec3 v, vec3 l, vec3 baseColor, float metallic, 
   return materialBrdfCosineWithDiffuse(n, v, l, baseColor, metallic, perceptualRoughness, kDiffuseLambert);
 }
 
+// Whether the light a surface of this roughness was seen sending towards
+// `seen` (unit) stands for what it sends towards `wanted` (unit): last
+// frame's screen holds the first, a ray arriving from `wanted` needs the
+// second. Turning the outgoing direction by theta turns the half vector of
+// any one light by theta / 2, so the question is how far the GGX peak falls
+// over theta / 2: here, to no less than a quarter of its height, which
+// solved for D gives cos(theta) (1 - alpha^2) >= 1 - 3 alpha^2 (theta up to
+// about 2 alpha for smooth lobes, any angle at alpha 1). A glint of the sun
+// on polished metal, seen from the camera, is not what the metal sends a
+// nearby reflector; a rough wall's light is the same from every side.
+bool reflectsAlikeTowards(vec3 seen, vec3 wanted, float perceptualRoughness) {
+  float a2 = ggxAlpha(perceptualRoughness) * ggxAlpha(perceptualRoughness);
+  return dot(seen, wanted) * (1.0f - a2) >= 1.0f - 3.0f * a2;
+}
+
 // The specular lobe's directional albedo: the fraction of uniform incoming
 // light it reflects towards v, integral of F G2 D / (4 n.v) over the
 // hemisphere. Karis's analytic fit ("Physically Based Shading on Mobile",

@@ -10,9 +10,10 @@
 // sends what last frame's composite holds there, every bounce the feedback
 // has added included. What screen space cannot finish (the ray leaves the
 // screen, passes behind a surface of unknown thickness, or only seems to
-// reach the sky) continues through the scene bridge from the start: its hit
-// is lit by the bridge and the radiance cache, or read from last frame's
-// screen where that showed it; a true miss sees the sharp environment. With
+// reach the sky), or whose hit last frame's screen showed from a side that
+// glossy surface looks different from, continues through the scene bridge
+// from the start: its hit is lit by the bridge and the radiance cache, or
+// read from last frame's screen where that showed it alike; a true miss sees the sharp environment. With
 // the bridge "none" such rays read the environment prefiltered at the
 // lobe's roughness, as seed 000 does. The sample goes into a fresh
 // reservoir (M = 1) with the target of its sampling; its hit point keeps the
@@ -50,10 +51,18 @@ void store(ivec2 halfPixel, Reservoir r) {
   imageStore(gOut_Reservoir1, halfPixel, second);
 }
 
-// Last frame's radiance from the surface at (position, normal), if last frame showed it.
-bool previousRadiance(vec3 position, vec3 normal, out vec3 radiance) {
+// Last frame's radiance from the surface at (position, normal), if last
+// frame showed it and what it showed is what the surface sends back along
+// the ray (`direction`): last frame's camera saw it from elsewhere, and a
+// glossy surface's light depends on the side it is seen from (a glint of
+// the sun on polished metal seen by the camera would be reflected as if the
+// metal sent it everywhere). Where the scene bridge cannot trace, what the
+// screen shows is all there is and is taken whatever the side.
+bool previousRadiance(vec3 position, vec3 normal, float roughness, vec3 direction, out vec3 radiance) {
   radiance = vec3(0.0f);
   if (gIn_SpecularConstants.specular.hasPreviousFrame == 0u) return false;
+  vec3 seen = normalize(viewPosition(gIn_Frame.frame.previousView) - position);
+  if (kSceneBridgeTraces && !reflectsAlikeTowards(seen, -direction, roughness)) return false;
   ivec2 shown = previousPixelShowing(position, normal);
   if (shown.x < 0) return false;
   radiance = sanitizeRadiance(imageLoad(gPrev_Composite, shown).xyz);
@@ -91,7 +100,8 @@ void main() {
   if (c.traceSteps > 0u) {
     HizRay ray = hizTrace(origin, direction, c.traceThickness, c.traceSteps);
     if (ray.outcome == kHizHit) {
-      Surface y = gbufferSurface(ray.texel);
+      float hitRoughness;
+      Surface y = gbufferSurfaceRoughness(ray.texel, hitRoughness);
       if (y.viewZ > 0.0f) {
         // The sample is where the ray meets the surface, not the pixel's
         // sample point: a glossy lobe re-evaluated towards the pixel's
@@ -99,7 +109,7 @@ void main() {
         // wrong D, for a near-mirror by orders of magnitude.
         candidate.position = ray.lastFree;
         candidate.normal = y.normal;
-        found = previousRadiance(y.position, y.normal, candidate.radiance);
+        found = previousRadiance(y.position, y.normal, hitRoughness, direction, candidate.radiance);
         screenHitUnseen = !found;
       }
     }
@@ -109,7 +119,7 @@ void main() {
     if (hit.hit) {
       candidate.position = hit.position;
       candidate.normal = hit.normal;
-      if (!previousRadiance(hit.position, hit.normal, candidate.radiance))
+      if (!previousRadiance(hit.position, hit.normal, hit.roughness, direction, candidate.radiance))
         candidate.radiance = offscreenHitRadiance(hit, direction);
     } else {
       candidate.position = direction;
