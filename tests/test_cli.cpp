@@ -18,6 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <glm/glm.hpp>
+
 #include "bounce/version.h"
 #include "io/image_io.h"
 #include "process.h"
@@ -59,7 +61,8 @@ TEST(Cli, BadArgumentsGiveOneLineAndExitTwo) {
 }
 
 TEST(Cli, HelpWorksOnEveryCommand) {
-  for (const char* arguments : {"--help", "render --help", "info --help", "bench --help", "reference --help"}) {
+  for (const char* arguments : {"--help", "render --help", "info --help", "bench --help", "reference --help",
+                                "compare --help", "sheet --help", "brdf-viz --help"}) {
     Result r = run(arguments);
     EXPECT_EQ(r.exitCode, 0) << arguments;
     EXPECT_NE(r.output.find("--"), std::string::npos) << arguments;
@@ -582,6 +585,68 @@ TEST(CliHardening, CompareReportsEachRegionOfALabelImage) {
                                   (dir / "small.exr").string()});
   EXPECT_EQ(wrongSize.exitCode, 2) << wrongSize.output;
   EXPECT_NE(wrongSize.output.find("small.exr: is 2x2"), std::string::npos) << wrongSize.output;
+  fs::remove_all(dir);
+}
+
+// bounce sheet lays images out in rows of --columns under the first row's
+// labels, each shrunk by --shrink, PNG shown as stored and EXR tonemapped;
+// images of another size, too many labels and an output over an input are
+// refused naming the file.
+TEST(CliHardening, SheetLaysImagesOutInLabelledRows) {
+  const fs::path dir = freshDirectory("sheet");
+  fs::create_directories(dir);
+  const std::vector<glm::vec3> colours = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  std::vector<std::string> arguments = {"sheet"};
+  for (std::size_t i = 0; i < colours.size(); ++i) {
+    bounce::io::ImageF image(8, 4, {"R", "G", "B"});
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 8; ++x)
+        for (int c = 0; c < 3; ++c) image.at(x, y, c) = colours[i][c];
+    const fs::path path = dir / ("cell" + std::to_string(i) + ".png");
+    bounce::io::writePng(path, image, bounce::io::PngEncoding::Srgb);
+    arguments.push_back(path.string());
+  }
+  bounce::io::ImageF radiance(8, 4, {"R", "G", "B"});
+  for (float& v : radiance.pixels) v = 1000.0f;  // tonemapped: near white, not clipped garbage
+  bounce::io::writeExr(dir / "bright.exr", radiance);
+  arguments.push_back((dir / "bright.exr").string());
+  const fs::path out = dir / "sheet.png";
+  std::vector<std::string> layout = arguments;
+  for (const char* word : {"--columns", "2", "--shrink", "2", "--label", "a", "--label", "b", "--out"})
+    layout.push_back(word);
+  layout.push_back(out.string());
+  const auto r = runArgs(layout);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const bounce::io::ImageF sheet = bounce::io::readImage(out);
+  // Two columns of 4x2 cells; each row has a label strip above its cells.
+  ASSERT_EQ(sheet.width, 8);
+  ASSERT_GT(sheet.height, 4);
+  const int rowHeight = sheet.height / 2, strip = rowHeight - 2;
+  const auto cellColour = [&](int column, int row) {
+    return glm::vec3(sheet.at(column * 4 + 1, row * rowHeight + strip + 1, 0),
+                     sheet.at(column * 4 + 1, row * rowHeight + strip + 1, 1),
+                     sheet.at(column * 4 + 1, row * rowHeight + strip + 1, 2));
+  };
+  for (std::size_t i = 0; i < colours.size(); ++i) {
+    const glm::vec3 shown = cellColour(int(i) % 2, int(i) / 2);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(shown[c], colours[i][c], 0.01f) << "cell " << i;
+  }
+  const glm::vec3 bright = cellColour(1, 1);
+  EXPECT_GT(bright.y, 0.9f);
+  EXPECT_LE(bright.y, 1.0f);
+
+  bounce::io::writePng(dir / "small.png", bounce::io::ImageF(4, 4, {"R", "G", "B"}), bounce::io::PngEncoding::Srgb);
+  const auto wrongSize = runArgs({"sheet", arguments[1], (dir / "small.png").string(), "--out", out.string()});
+  EXPECT_EQ(wrongSize.exitCode, 1);
+  EXPECT_NE(wrongSize.output.find("small.png: 4x4 differs from the size of the first image"), std::string::npos)
+      << wrongSize.output;
+  const auto overInput = runArgs({"sheet", arguments[1], arguments[2], "--out", arguments[2]});
+  EXPECT_EQ(overInput.exitCode, 1);
+  EXPECT_NE(overInput.output.find("refusing to write --out over the input"), std::string::npos) << overInput.output;
+  EXPECT_NEAR(bounce::io::readImage(arguments[2]).at(0, 0, 1), 1.0f, 1e-3f);  // the input is untouched
+  const auto tooManyLabels = runArgs({"sheet", arguments[1], "--label", "a", "--label", "b", "--out", out.string()});
+  EXPECT_EQ(tooManyLabels.exitCode, 1);
+  EXPECT_NE(tooManyLabels.output.find("2 labels for 1 columns"), std::string::npos) << tooManyLabels.output;
   fs::remove_all(dir);
 }
 

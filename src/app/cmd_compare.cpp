@@ -37,33 +37,6 @@ std::string lowercase(std::string text) {
   return text;
 }
 
-// Whether two paths name the same file, also when the output does not exist yet.
-bool sameFile(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-  return fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
-}
-
-// Outputs never replace an input (nor each other): a mistyped command must not
-// destroy the reference it was meant to check.
-void refuseToOverwriteInputs(const fs::path& output, const std::string& flag, const std::vector<fs::path>& inputs) {
-  for (const fs::path& input : inputs) {
-    if (sameFile(output, input)) fail(output, "refusing to write " + flag + " over the input " + input.string());
-  }
-}
-
-// EXR and Radiance files hold linear radiance (HDR-FLIP); PNG and JPEG hold
-// display values (LDR-FLIP). Decided by signature, as readImage does.
-bool holdsRadiance(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::array<char, 4> head{};
-  file.read(head.data(), std::streamsize(head.size()));
-  if (file.gcount() < 2) return false;
-  const bool exr = file.gcount() == 4 && head == std::array<char, 4>{'\x76', '\x2f', '\x31', '\x01'};
-  const bool radiance = head[0] == '#' && head[1] == '?';
-  return exr || radiance;
-}
-
 // --- output: numbers as people and JSON read them
 
 std::string number(double value) {
@@ -280,7 +253,7 @@ int comparePair(const CompareOptions& options) {
 
   metrics::ComparisonOptions comparisonOptions;
   const bool hdr =
-      options.flip == "hdr" || (options.flip == "auto" && (holdsRadiance(referencePath) || holdsRadiance(testPath)));
+      options.flip == "hdr" || (options.flip == "auto" && (io::holdsRadiance(referencePath) || io::holdsRadiance(testPath)));
   comparisonOptions.flipMode = hdr ? metrics::FlipMode::Hdr : metrics::FlipMode::Ldr;
   comparisonOptions.pixelsPerDegree = options.ppd.value_or(metrics::defaultPixelsPerDegree());
   metrics::Comparison comparison;

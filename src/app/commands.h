@@ -197,4 +197,15 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options);
 int runCompare(const CompareOptions& options);
 int runBench(const BenchOptions& options);
 
+struct SheetOptions {
+  std::vector<std::string> images;
+  std::string out;
+  std::optional<int> columns;       // default: all on one row, at most 8
+  std::vector<std::string> labels;  // of the first row's cells
+  int shrink = 1;
+  float exposure = 1.0f;  // of EXR/HDR inputs
+};
+CLI::App* addSheetCommand(CLI::App& app, SheetOptions& options);
+int runSheet(const SheetOptions& options);
+
 }  // namespace bounce::app

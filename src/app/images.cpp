@@ -27,20 +27,30 @@ std::string knownAovList() {
   return list;
 }
 
+io::ImageF shrinkImage(const io::ImageF& image, int shrink) {
+  const int width = image.width / shrink, height = image.height / shrink;
+  io::ImageF small(width, height, {"R", "G", "B"});
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float sum = 0.0f;
+        for (int sy = 0; sy < shrink; ++sy)
+          for (int sx = 0; sx < shrink; ++sx) sum += image.at(x * shrink + sx, y * shrink + sy, c);
+        small.at(x, y, c) = sum / float(shrink * shrink);
+      }
+  return small;
+}
+
 io::ImageF contactSheet(const std::vector<io::ImageF>& cells, int columns, int shrink) {
   const int cellWidth = cells.front().width / shrink, cellHeight = cells.front().height / shrink;
   const int rows = (int(cells.size()) + columns - 1) / columns;
   io::ImageF sheet(cellWidth * columns, cellHeight * rows, {"R", "G", "B"});
   for (std::size_t i = 0; i < cells.size(); ++i) {
+    const io::ImageF small = shrinkImage(cells[i], shrink);
     const int ox = int(i) % columns * cellWidth, oy = int(i) / columns * cellHeight;
     for (int y = 0; y < cellHeight; ++y)
       for (int x = 0; x < cellWidth; ++x)
-        for (int c = 0; c < 3; ++c) {
-          float sum = 0.0f;
-          for (int sy = 0; sy < shrink; ++sy)
-            for (int sx = 0; sx < shrink; ++sx) sum += cells[i].at(x * shrink + sx, y * shrink + sy, c);
-          sheet.at(ox + x, oy + y, c) = sum / float(shrink * shrink);
-        }
+        for (int c = 0; c < 3; ++c) sheet.at(ox + x, oy + y, c) = small.at(x, y, c);
   }
   return sheet;
 }

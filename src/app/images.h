@@ -18,6 +18,10 @@ namespace bounce::app {
 const std::set<std::string>& knownAovs();
 std::string knownAovList();
 
+// An image shrunk `shrink` times in each direction (box filter; a partial
+// last row or column is dropped), its first three channels.
+io::ImageF shrinkImage(const io::ImageF& image, int shrink);
+
 // Lays display images (all the size of the first) out left to right, top to
 // bottom, `columns` to a row, each shrunk by `shrink` (box filter), on black.
 io::ImageF contactSheet(const std::vector<io::ImageF>& cells, int columns, int shrink);

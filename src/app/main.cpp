@@ -92,12 +92,14 @@ int main(int argc, char** argv) {
   BrdfVizOptions brdfViz;
   CompareOptions compare;
   ReferenceCommandOptions reference;
+  SheetOptions sheet;
   CLI::App* infoCommand = addInfoCommand(app, info);
   CLI::App* renderCommand = addRenderCommand(app, render);
   CLI::App* benchCommand = addBenchCommand(app, bench);
   CLI::App* brdfVizCommand = addBrdfVizCommand(app, brdfViz);
   CLI::App* compareCommand = addCompareCommand(app, compare);
   CLI::App* referenceCommand = addReferenceCommand(app, reference);
+  CLI::App* sheetCommand = addSheetCommand(app, sheet);
 
   if (const std::string unknown = unknownCommandMessage(app, argc, argv); !unknown.empty()) {
     std::fprintf(stderr, "bounce: error: %s\n", unknown.c_str());
@@ -128,6 +130,7 @@ int main(int argc, char** argv) {
     if (brdfVizCommand->parsed()) return runBrdfViz(brdfViz);
     if (compareCommand->parsed()) return runCompare(compare);
     if (referenceCommand->parsed()) return runReference(reference);
+    if (sheetCommand->parsed()) return runSheet(sheet);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
     // compare's 1 means "differs beyond a threshold"; trouble is 2, as for cmp and diff.

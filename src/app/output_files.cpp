@@ -8,10 +8,23 @@
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
 namespace bounce::app {
 
 namespace fs = std::filesystem;
+
+bool sameFile(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
+}
+
+void refuseToOverwriteInputs(const fs::path& output, const std::string& flag, const std::vector<fs::path>& inputs) {
+  for (const fs::path& input : inputs)
+    if (sameFile(output, input))
+      throw std::runtime_error(output.string() + ": refusing to write " + flag + " over the input " + input.string());
+}
 
 void checkWritableDirectory(const fs::path& dir, const std::string& option) {
   const std::string where = option + " " + dir.string() + ": ";

@@ -7,8 +7,18 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace bounce::app {
+
+// Whether two paths name the same file, also when the output does not exist yet.
+bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b);
+
+// Outputs never replace an input (nor each other): a mistyped command must
+// not destroy the reference it was meant to check. Throws naming the output,
+// the flag and the input.
+void refuseToOverwriteInputs(const std::filesystem::path& output, const std::string& flag,
+                             const std::vector<std::filesystem::path>& inputs);
 
 // Creates `dir` when missing and proves it writable by creating and removing
 // a probe file in it. Throws std::runtime_error naming `option` (e.g.

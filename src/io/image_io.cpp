@@ -527,6 +527,15 @@ Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& 
   return image;
 }
 
+bool holdsRadiance(const fs::path& path) {
+  try {
+    const FileFormat format = detectFormat(readFileBytes(path, 16));
+    return format == FileFormat::Exr || format == FileFormat::Hdr;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 ImageF readImage(const fs::path& path, bool allowNonFinite) {
   checkReadableFile(path);
   ImageF image;

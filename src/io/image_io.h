@@ -56,6 +56,11 @@ constexpr std::int64_t kMaxImagePixels = std::int64_t(1) << 28;
 // bad pixel and the count).
 ImageF readImage(const std::filesystem::path& path, bool allowNonFinite = false);
 
+// Whether a file holds linear radiance (EXR, Radiance HDR) rather than
+// display values (PNG, JPEG), by its signature as readImage decides; false
+// for a file that cannot be read.
+bool holdsRadiance(const std::filesystem::path& path);
+
 // 8-bit RGBA pixels exactly as stored (no sRGB decoding), for textures.
 struct Rgba8Image {
   int width = 0;
