@@ -204,6 +204,7 @@ constexpr int kAroundBlock = 4;
 
 class GiNanTest : public testing::GpuTest {
  protected:
+  Settings settings_;  // the library's defaults, or the denoiser's variant below
   struct Run {
     std::unique_ptr<scene::Scene> scene;
     std::unique_ptr<render::FrameRenderer> renderer;
@@ -218,7 +219,8 @@ class GiNanTest : public testing::GpuTest {
     run.scene = std::make_unique<scene::Scene>(scene::makeBuiltinScene("cornell"));
     run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene,
                                                            testing::smallRendererOptions(*run.scene, kWidth, kHeight));
-    run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight});
+    run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight},
+                                                settings_);
     run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
     return run;
   }
@@ -370,6 +372,17 @@ TEST_F(GiNanTest, Environment) { checkInput(Input::Environment); }
 TEST_F(GiNanTest, Emissive) { checkInput(Input::Emissive); }
 // rgba8: the extremes it can hold stand in for NaN and infinity.
 TEST_F(GiNanTest, BaseColorMetallic) { checkInput(Input::BaseColorMetallic); }
+
+// The same with the denoiser in place of the branches' filters, for the
+// inputs its passes read themselves (surfaces, motion) and for the light.
+class GiNanDenoisedTest : public GiNanTest {
+ protected:
+  GiNanDenoisedTest() { settings_.denoise.enabled = true; }
+};
+TEST_F(GiNanDenoisedTest, ViewZ) { checkInput(Input::ViewZ); }
+TEST_F(GiNanDenoisedTest, Normal) { checkInput(Input::Normal); }
+TEST_F(GiNanDenoisedTest, Motion) { checkInput(Input::Motion); }
+TEST_F(GiNanDenoisedTest, DirectLight) { checkInput(Input::Direct); }
 
 }  // namespace
 }  // namespace bounce::gi

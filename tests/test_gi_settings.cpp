@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "gi/denoise/denoiser.h"
 #include "gi/depth_pyramid.h"
 #include "gi/diffuse/diffuse_branch.h"
 #include "gi/specular/specular_branch.h"
@@ -89,6 +90,19 @@ std::vector<ExpectedField> expectedFields() {
       {"specular.reprojection", [](const Settings& s) { return double(s.specular.reprojection); }},
       {"specular.variance_clipping_gamma", [](const Settings& s) { return double(s.specular.varianceClippingGamma); }},
       {"specular.temporal_filter_frames", [](const Settings& s) { return double(s.specular.temporalFilterFrames); }},
+      {"denoise.enabled", [](const Settings& s) { return double(s.denoise.enabled); }},
+      {"denoise.max_accumulated_frames", [](const Settings& s) { return double(s.denoise.maxAccumulatedFrames); }},
+      {"denoise.history_fix_frames", [](const Settings& s) { return double(s.denoise.historyFixFrames); }},
+      {"denoise.history_fix_stride", [](const Settings& s) { return double(s.denoise.historyFixStride); }},
+      {"denoise.blur_radius", [](const Settings& s) { return double(s.denoise.blurRadius); }},
+      {"denoise.min_blur_radius", [](const Settings& s) { return double(s.denoise.minBlurRadius); }},
+      {"denoise.post_blur_radius_scale", [](const Settings& s) { return double(s.denoise.postBlurRadiusScale); }},
+      {"denoise.plane_distance_sensitivity", [](const Settings& s) { return double(s.denoise.planeDistanceSensitivity); }},
+      {"denoise.lobe_angle_fraction", [](const Settings& s) { return double(s.denoise.lobeAngleFraction); }},
+      {"denoise.roughness_fraction", [](const Settings& s) { return double(s.denoise.roughnessFraction); }},
+      {"denoise.stabilization_frames", [](const Settings& s) { return double(s.denoise.stabilizationFrames); }},
+      {"denoise.clamp_sigma", [](const Settings& s) { return double(s.denoise.clampSigma); }},
+      {"denoise.anti_firefly", [](const Settings& s) { return double(s.denoise.antiFirefly); }},
       {"cache.enabled", [](const Settings& s) { return double(s.cache.enabled); }},
       {"cache.memory_mib", [](const Settings& s) { return double(s.cache.memoryMib); }},
       {"cache.cell_size", [](const Settings& s) { return double(s.cache.cellSize); }},
@@ -557,6 +571,7 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
     if (line.rfind("| `gi.", 0) == 0) rows.insert(line);
   std::string missing;
   for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable(), specularImageTable(),
+                                                 denoiseImageTable(),
                                                  std::span<const ImageSpec>(&DepthPyramid::spec(), 1)})
     for (const ImageSpec& spec : table) {
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +

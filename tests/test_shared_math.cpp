@@ -9,6 +9,7 @@
 
 #include "shared/brdf.glsl"
 #include "shared/color.glsl"
+#include "shared/denoise_weights.glsl"
 #include "shared/finite.glsl"
 #include "shared/intersect.glsl"
 #include "shared/packing.glsl"
@@ -336,6 +337,43 @@ TEST(Brdf, ReciprocalFiniteAndZeroBelowTheHorizon) {
       std::isfinite(ggxSpecularCosine(n, directionAt(1e-7f, 0), directionAt(1e-7f, kPi), vec3(1), ggxAlpha(0)).x));
   EXPECT_TRUE(std::isfinite(ggxSpecularCosine(n, n, n, vec3(1), ggxAlpha(0.0f)).x));
   EXPECT_EQ(materialBrdfCosine(n, n, vec3(0, 0, -1), vec3(1), 0.0f, 0.5f), vec3(0.0f));
+}
+
+// The denoiser's weights (shared/denoise_weights.glsl): REBLUR's hit
+// distance normalisation at its published constants, a cone that narrows
+// with the history and with the roughness, weights that are 1 at the pixel
+// and 0 past their reach.
+TEST(DenoiseWeights, HitDistanceNormalisationFollowsReblur) {
+  const vec4 abcd(3.0f, 0.1f, 20.0f, -25.0f);
+  // Rough lobes: (A + viewZ B) * C at roughness 1 (exp2(-25) ~ 0).
+  EXPECT_NEAR(hitDistanceScale(abcd, 10.0f, 0.0f), 4.0f * 20.0f, 1e-3f);
+  EXPECT_NEAR(hitDistanceScale(abcd, 10.0f, 1.0f), 4.0f, 1e-3f);
+  EXPECT_NEAR(normalizedHitDistance(abcd, 2.0f, 10.0f, 1.0f), 0.5f, 1e-5f);
+  EXPECT_EQ(normalizedHitDistance(abcd, 100.0f, 10.0f, 1.0f), 1.0f);
+  EXPECT_EQ(normalizedHitDistance(abcd, 0.0f, 10.0f, 1.0f), 1.0f) << "unknown counts as far";
+}
+
+TEST(DenoiseWeights, TheNormalConeNarrowsWithHistoryAndRoughness) {
+  const float fresh = lobeHalfAngle(1.0f, 0.15f, 1.0f);
+  const float settled = lobeHalfAngle(1.0f, 0.15f, 1.0f / 31.0f);
+  EXPECT_NEAR(fresh, std::atan(std::sqrt(3.0f)), 1e-4f);  // p = 0.75: 60 degrees for diffuse
+  EXPECT_LT(settled, 0.5f * fresh);
+  EXPECT_LT(lobeHalfAngle(0.2f, 0.15f, 1.0f), lobeHalfAngle(0.6f, 0.15f, 1.0f));
+  const vec3 n(0.0f, 0.0f, 1.0f);
+  EXPECT_FLOAT_EQ(normalWeight(n, n, fresh), 1.0f);
+  EXPECT_EQ(normalWeight(n, vec3(std::sin(fresh * 1.01f), 0.0f, std::cos(fresh * 1.01f)), fresh), 0.0f);
+  const float half = normalWeight(n, vec3(std::sin(0.5f * fresh), 0.0f, std::cos(0.5f * fresh)), fresh);
+  EXPECT_NEAR(half, 0.5f, 1e-3f);  // smoothstep at the middle
+}
+
+TEST(DenoiseWeights, PlaneAndRoughnessWeightsReachAsFarAsTheirSensitivity) {
+  const vec3 n(0.0f, 1.0f, 0.0f), x(0.0f, 0.0f, -5.0f);
+  EXPECT_FLOAT_EQ(planeWeight(n, x, x + vec3(3.0f, 0.0f, 0.0f), 5.0f, 0.02f), 1.0f) << "along the plane";
+  EXPECT_NEAR(planeWeight(n, x, x + vec3(0.0f, 0.05f, 0.0f), 5.0f, 0.02f), 0.5f, 1e-4f);
+  EXPECT_EQ(planeWeight(n, x, x + vec3(0.0f, 0.2f, 0.0f), 5.0f, 0.02f), 0.0f);
+  EXPECT_FLOAT_EQ(roughnessWeight(0.5f, 0.5f, 0.15f), 1.0f);
+  EXPECT_EQ(roughnessWeight(0.5f, 0.6f, 0.15f), 0.0f);
+  for (std::uint32_t i = 0; i < 8; ++i) EXPECT_LE(length(diskTap(i, 0.3f)), 1.0f);
 }
 
 }  // namespace

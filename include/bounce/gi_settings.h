@@ -156,6 +156,27 @@ struct SpecularSettings {
   std::uint32_t temporalFilterFrames = 32;  // the longest history (rough surfaces; smooth ones less)
 };
 
+// The denoiser (docs/gi.md, "The denoiser"; after NVIDIA's REBLUR, seed
+// 004): temporal accumulation, history fix, blur, post-blur and temporal
+// stabilisation of each branch's resolved signal, in place of the
+// branches' own temporal filters.
+struct DenoiseSettings {
+  bool enabled = false;
+  std::uint32_t maxAccumulatedFrames = 30;  // the longest history (REBLUR's default)
+  std::uint32_t historyFixFrames = 3;       // shorter histories are rebuilt from a wide neighbourhood
+  // Radii and strides in pixels of a 1080-row frame, scaled with the render height.
+  float historyFixStride = 14.0f;           // pixels between history fix's taps (REBLUR: 14)
+  float blurRadius = 30.0f;                 // pixels, at the first frame of a history (REBLUR's max radius)
+  float minBlurRadius = 1.0f;               // pixels, however long the history
+  float postBlurRadiusScale = 0.5f;         // post-blur's radius as a fraction of blur's
+  float planeDistanceSensitivity = 0.02f;   // a tap this fraction of viewZ off the pixel's plane weighs 0
+  float lobeAngleFraction = 0.15f;          // the normal weight's cone for a long history (REBLUR's; squared)
+  float roughnessFraction = 0.15f;          // the roughness weight's reach in fractions of the roughness
+  std::uint32_t stabilizationFrames = 8;    // temporal stabilisation's longest history (0: off)
+  float clampSigma = 1.5f;                  // history clamping to the fast history and the neighbourhood, in sigmas
+  bool antiFirefly = true;                  // history fix brings outliers down to their neighbours' mean + 2 sigma
+};
+
 // What the engine's motion vectors are in (the library's own convention:
 // pixels, previous position = current + motion).
 enum class MotionUnits : std::uint32_t {
@@ -189,6 +210,7 @@ struct CacheSettings {
 struct Settings {
   DiffuseSettings diffuse;
   SpecularSettings specular;
+  DenoiseSettings denoise;
   CacheSettings cache;
   InputSettings input;
   // false: no temporal and no spatial reuse (gathering, resolve and filters

@@ -68,13 +68,13 @@ History fetchHistory(vec2 previous, ExpectedSurface expected) {
   return h;
 }
 
-// Adds this frame (luminance `current`, blend weight 1 / frames) to the
+// Adds this frame (its luminance and luminance squared, `fresh`: of the
+// pixel, or averaged over a neighbourhood; blend weight 1 / frames) to the
 // moments and clamps the history's luminance to the fast history +- gamma
-// times the temporal deviation: where light changes, the fast history
-// moves within a few frames and drags the long one along. `moments` comes
-// back updated.
-vec3 clampToFastHistory(vec3 history, INOUT(vec3) moments, float currentLuminance, float blend, float gamma) {
-  vec3 fresh = vec3(currentLuminance, currentLuminance * currentLuminance, currentLuminance);
+// times the deviation: where light changes, the fast history moves within
+// a few frames and drags the long one along. `moments` comes back updated.
+vec3 clampToFastHistory(vec3 history, INOUT(vec3) moments, vec2 freshMoments, float blend, float gamma) {
+  vec3 fresh = vec3(freshMoments.x, freshMoments.y, freshMoments.x);
   moments = vec3(mix(vec2(moments), vec2(fresh), blend), mix(moments.z, fresh.z, max(blend, 1.0f / kFastFrames)));
   float sigma = sqrt(max(moments.y - moments.x * moments.x, 0.0f));
   float reach = gamma * sigma;

@@ -43,8 +43,13 @@ class Branch {
   virtual std::string_view name() const = 0;  // "diffuse": its passes and images are gi.diffuse.*
   virtual ImageSet& images() = 0;
   virtual void record(const FrameState& frame) = 0;
-  // This frame's result, which the composite reads (demodulated radiance).
+  // This frame's result, which the composite reads (demodulated radiance)
+  // when the denoiser is off.
   virtual gpu::Image& result(std::uint64_t frameIndex) = 0;
+  // This frame's resolved signal before the branch's own temporal filter
+  // (rgba16f: demodulated radiance, hit distance or 0): what the denoiser
+  // takes; with the denoiser on, the branch records no temporal filter.
+  virtual gpu::Image& resolved(std::uint64_t frameIndex) = 0;
   // Every pass the branch may record, debug views included (for docs and tests).
   virtual std::vector<gpu::PassDesc> passes() const = 0;
 };

@@ -14,6 +14,7 @@
 
 #include "bounce/gi.h"
 #include "gi/cache/radiance_cache.h"
+#include "gi/denoise/denoiser.h"
 #include "gi/diffuse/diffuse_branch.h"
 #include "gi/engine_images.h"
 #include "gi/frame_constants.h"
@@ -81,6 +82,7 @@ struct GiContext::Impl {
   RadianceCache cache;
   DepthPyramid depthPyramid;
   std::vector<std::unique_ptr<Branch>> branches;
+  std::unique_ptr<Denoiser> denoiser;  // made only when gi.denoise.enabled: its images are large
   gpu::ComputePass storeHistory, compositor;
   EngineImages engine;
   std::vector<std::unique_ptr<PassLog>> logs;  // one per frame in flight, used in turn
@@ -115,6 +117,8 @@ struct GiContext::Impl {
         std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings, scene, cache));
     branches.push_back(std::make_unique<SpecularBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings,
                                                         scene, cache));
+    if (settings.denoise.enabled)
+      denoiser = std::make_unique<Denoiser>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings);
     for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
       logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps));
   }
@@ -205,9 +209,14 @@ struct GiContext::Impl {
                            .depthPyramid = depthPyramid,
                            .capturing = frame.captureStages};
     const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
-    cache.recordBegin(state, glm::value_ptr(cameraPosition), diffuse().previousResult(f));
+    cache.recordBegin(state, glm::value_ptr(cameraPosition),
+                      denoiser && settings.diffuse.enabled ? denoiser->previousResult(DenoiseSignal::Diffuse, f)
+                                                           : diffuse().previousResult(f));
     for (const std::unique_ptr<Branch>& branch : branches) branch->record(state);
     cache.recordEnd(state);
+    if (denoiser)
+      denoiser->record(state, {settings.diffuse.enabled ? &diffuse().resolved(f) : nullptr,
+                               settings.specular.enabled ? &specular().resolved(f) : nullptr});
 
     gpu::Image& direct = engine[Input::Direct];
     const VkSampler nearest = context->nearestSampler();
@@ -216,8 +225,8 @@ struct GiContext::Impl {
                        {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
                        // Not read without an emissive image (the constants say so); bound only to fill the slot.
                        {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
-                       {"gIn_IndirectDiffuse", diffuse().result(f)},
-                       {"gIn_IndirectSpecular", specular().result(f)},
+                       {"gIn_IndirectDiffuse", result(DenoiseSignal::Diffuse, f)},
+                       {"gIn_IndirectSpecular", result(DenoiseSignal::Specular, f)},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
 
     engine.handBack(recorder);
@@ -241,7 +250,17 @@ struct GiContext::Impl {
   std::vector<ImageSet*> imageSets() {
     std::vector<ImageSet*> sets = {&frameImages, &cache.images()};
     for (const std::unique_ptr<Branch>& branch : branches) sets.push_back(&branch->images());
+    if (denoiser) sets.push_back(&denoiser->images());
     return sets;
+  }
+
+  // What the composite reads for a signal: the denoised one, or the
+  // branch's own filtered one (denoiser off, or the branch off: then it is
+  // the branch's cleared result).
+  gpu::Image& result(DenoiseSignal signal, std::uint64_t f) {
+    Branch& branch = signal == DenoiseSignal::Diffuse ? static_cast<Branch&>(diffuse()) : specular();
+    const bool on = signal == DenoiseSignal::Diffuse ? settings.diffuse.enabled : settings.specular.enabled;
+    return denoiser && on ? denoiser->result(signal, f) : branch.result(f);
   }
 
   FrameResults collect(std::uint64_t completedFrameIndex) {
@@ -295,9 +314,13 @@ FrameResults GiContext::collect(std::uint64_t completedFrameIndex) {
   }
 }
 
-ImageRef GiContext::indirectDiffuse() const { return libraryRef(impl_->diffuse().result(impl_->current())); }
+ImageRef GiContext::indirectDiffuse() const {
+  return libraryRef(impl_->result(DenoiseSignal::Diffuse, impl_->current()));
+}
 
-ImageRef GiContext::indirectSpecular() const { return libraryRef(impl_->specular().result(impl_->current())); }
+ImageRef GiContext::indirectSpecular() const {
+  return libraryRef(impl_->result(DenoiseSignal::Specular, impl_->current()));
+}
 
 ImageRef GiContext::composite() const { return libraryRef(impl_->frameImages.current(kComposite, impl_->current())); }
 

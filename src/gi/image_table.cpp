@@ -14,6 +14,8 @@ const char* resolutionName(Resolution resolution) {
       return "half";
     case Resolution::Pyramid:
       return "pyramid";
+    case Resolution::Tile:
+      return "tile";
   }
   return "?";
 }
@@ -29,8 +31,16 @@ Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level) {
       return {divide(renderSize.width, 1), divide(renderSize.height, 1)};
     case Resolution::Pyramid:
       return {divide(renderSize.width, level), divide(renderSize.height, level)};
+    case Resolution::Tile:
+      return {divide(renderSize.width, 4), divide(renderSize.height, 4)};
   }
   return renderSize;
+}
+
+void clearToZero(gpu::Recorder& recorder, gpu::Image& image) {
+  recorder.clearImage(image, {});
+  recorder.handOver(image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
 struct ImageSet::Entry {

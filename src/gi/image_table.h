@@ -17,6 +17,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "gpu/recorder.h"
 #include "gpu/resources.h"
 
 namespace bounce::gi {
@@ -26,8 +27,9 @@ enum class Resolution {
   Full,     // the render size
   Half,     // ceil(size / 2): one reservoir per 2x2 pixels
   Pyramid,  // levels 1..n of a 2x2 -> 1 reduction: level k is ceil(size / 2^k)
+  Tile,     // ceil(size / 16): one texel per 16x16 tile (the denoiser's classification)
 };
-const char* resolutionName(Resolution resolution);  // "full", "half", "pyramid"
+const char* resolutionName(Resolution resolution);  // "full", "half", "pyramid", "tile"
 
 struct ImageSpec {
   std::string_view name;  // "gi.diffuse.gathered0"; a pyramid's levels append 1..n
@@ -45,6 +47,11 @@ struct Extent {
 };
 // The size of an image of `resolution` for a render size (a pyramid's `level`).
 Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level = 1);
+
+// Clears `image` to zero and leaves it in the layout every library image
+// is in between passes (GENERAL): for images no pass writes this frame
+// that readers (stage dumps, scans) still list.
+void clearToZero(gpu::Recorder& recorder, gpu::Image& image);
 
 // The images of one table, made for the largest render size.
 class ImageSet {

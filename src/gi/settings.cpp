@@ -30,7 +30,7 @@ namespace {
 
 constexpr std::string_view kKeyPrefix = "gi.";
 
-// A field is in DiffuseSettings, SpecularSettings, CacheSettings, InputSettings or directly in Settings;
+// A field is in DiffuseSettings, SpecularSettings, CacheSettings, InputSettings, DenoiseSettings or directly in Settings;
 // keeping the pointer-to-member (not a lambda) lets validate() find a key
 // from its field.
 template <typename T>
@@ -39,47 +39,55 @@ struct Member {
   T SpecularSettings::*specular = nullptr;
   T CacheSettings::*cache = nullptr;
   T InputSettings::*input = nullptr;
+  T DenoiseSettings::*denoise = nullptr;
   T Settings::*top = nullptr;
 
   T& of(Settings& settings) const {
     return diffuse    ? settings.diffuse.*diffuse
            : specular ? settings.specular.*specular
            : cache    ? settings.cache.*cache
-           : input ? settings.input.*input
-                   : settings.*top;
+           : input      ? settings.input.*input
+           : denoise    ? settings.denoise.*denoise
+                        : settings.*top;
   }
   const T& of(const Settings& settings) const {
     return diffuse    ? settings.diffuse.*diffuse
            : specular ? settings.specular.*specular
            : cache    ? settings.cache.*cache
-           : input ? settings.input.*input
-                   : settings.*top;
+           : input      ? settings.input.*input
+           : denoise    ? settings.denoise.*denoise
+                        : settings.*top;
   }
 };
 
 template <typename T>
 constexpr Member<T> inDiffuse(T DiffuseSettings::*member) {
-  return {member, nullptr, nullptr, nullptr, nullptr};
+  return {member, nullptr, nullptr, nullptr, nullptr, nullptr};
 }
 
 template <typename T>
 constexpr Member<T> inSpecular(T SpecularSettings::*member) {
-  return {nullptr, member, nullptr, nullptr, nullptr};
+  return {nullptr, member, nullptr, nullptr, nullptr, nullptr};
 }
 
 template <typename T>
 constexpr Member<T> inCache(T CacheSettings::*member) {
-  return {nullptr, nullptr, member, nullptr, nullptr};
+  return {nullptr, nullptr, member, nullptr, nullptr, nullptr};
 }
 
 template <typename T>
 constexpr Member<T> inInput(T InputSettings::*member) {
-  return {nullptr, nullptr, nullptr, member, nullptr};
+  return {nullptr, nullptr, nullptr, member, nullptr, nullptr};
+}
+
+template <typename T>
+constexpr Member<T> inDenoise(T DenoiseSettings::*member) {
+  return {nullptr, nullptr, nullptr, nullptr, member, nullptr};
 }
 
 template <typename T>
 constexpr Member<T> inSettings(T Settings::*member) {
-  return {nullptr, nullptr, nullptr, nullptr, member};
+  return {nullptr, nullptr, nullptr, nullptr, nullptr, member};
 }
 
 // The alternative held also says the field's type, so type and member cannot disagree.
@@ -269,6 +277,34 @@ constexpr std::array kEntries{
           aboveUpTo(0, 100), "temporal filter: history clamped to the fast history +- gamma * temporal sigma"},
     Entry{"specular.temporal_filter_frames", inSpecular(&SpecularSettings::temporalFilterFrames), closed(1, 1024),
           "temporal filter: the longest history, for rough surfaces (smooth ones keep fewer frames)"},
+    Entry{"denoise.enabled", inDenoise(&DenoiseSettings::enabled), kNoBounds,
+          "denoise both branches' signals with the REBLUR-class denoiser (off: each branch's own temporal filter)"},
+    Entry{"denoise.max_accumulated_frames", inDenoise(&DenoiseSettings::maxAccumulatedFrames), closed(1, 255),
+          "temporal accumulation: the longest history, in frames (specular: fewer on smooth lobes)"},
+    Entry{"denoise.history_fix_frames", inDenoise(&DenoiseSettings::historyFixFrames), closed(0, 32),
+          "history fix: pixels with a shorter history are rebuilt from a wide neighbourhood (0: off)"},
+    Entry{"denoise.history_fix_stride", inDenoise(&DenoiseSettings::historyFixStride), closed(1, 64),
+          "history fix: pixels between its 5x5 taps at a history of 0 frames (at 1080 rows; scaled with the height)"},
+    Entry{"denoise.blur_radius", inDenoise(&DenoiseSettings::blurRadius), closed(0, 128),
+          "blur: radius in pixels at the first frame of a history, shrinking as sqrt(1 / (1 + history length)) (at "
+          "1080 rows; scaled with the height)"},
+    Entry{"denoise.min_blur_radius", inDenoise(&DenoiseSettings::minBlurRadius), closed(0, 128),
+          "blur: the smallest radius in pixels, however long the history (at 1080 rows; scaled with the height)"},
+    Entry{"denoise.post_blur_radius_scale", inDenoise(&DenoiseSettings::postBlurRadiusScale), closed(0, 4),
+          "post-blur: its radius as a fraction of blur's"},
+    Entry{"denoise.plane_distance_sensitivity", inDenoise(&DenoiseSettings::planeDistanceSensitivity),
+          aboveUpTo(0, 1), "spatial passes: a neighbour this fraction of viewZ off the pixel's plane weighs 0"},
+    Entry{"denoise.lobe_angle_fraction", inDenoise(&DenoiseSettings::lobeAngleFraction), aboveUpTo(0, 1),
+          "spatial passes: the normal weight's cone holds 0.75 * this^2 of the lobe once the history is long (0.75 "
+          "at its start)"},
+    Entry{"denoise.roughness_fraction", inDenoise(&DenoiseSettings::roughnessFraction), aboveUpTo(0, 4),
+          "spatial passes (specular): a neighbour's roughness may differ by this fraction of the pixel's"},
+    Entry{"denoise.stabilization_frames", inDenoise(&DenoiseSettings::stabilizationFrames), closed(0, 255),
+          "temporal stabilisation: its longest history, in frames (0: off)"},
+    Entry{"denoise.clamp_sigma", inDenoise(&DenoiseSettings::clampSigma), aboveUpTo(0, 100),
+          "history clamping (accumulation and stabilisation): mean +- this many sigma"},
+    Entry{"denoise.anti_firefly", inDenoise(&DenoiseSettings::antiFirefly), kNoBounds,
+          "history fix brings a pixel above its neighbours' mean + 2 sigma down to it"},
     Entry{"cache.enabled", inCache(&CacheSettings::enabled), kNoBounds,
           "the world-space radiance cache lights what world rays hit off screen (more bounces; needs a scene bridge)"},
     Entry{"cache.memory_mib", inCache(&CacheSettings::memoryMib), closed(1, 128),

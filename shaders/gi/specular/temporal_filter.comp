@@ -126,7 +126,8 @@ void main() {
   vec3 previous = vec3(0.0f);
   if (historyLength > 0.0f) {
     moments = history.moments;
-    previous = clampToFastHistory(history.radiance, moments, currentLuminance, blend, c.varianceClippingGamma);
+    previous = clampToFastHistory(history.radiance, moments, vec2(currentLuminance, currentLuminance * currentLuminance),
+                                  blend, c.varianceClippingGamma);
   }
   vec3 filtered = mix(previous, current, blend);
   imageStore(gOut_Filtered, pixel, vec4(sanitizeRadiance(filtered), frames));

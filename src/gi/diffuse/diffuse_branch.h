@@ -58,6 +58,7 @@ class DiffuseBranch final : public Branch {
   void record(const FrameState& frame) override;
   gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kFiltered, frameIndex); }
   // Last frame's result (what the radiance cache is filled from).
+  gpu::Image& resolved(std::uint64_t frameIndex) override { return images_.current(kResolved, frameIndex); }
   gpu::Image& previousResult(std::uint64_t frameIndex) { return images_.previous(kFiltered, frameIndex); }
   std::vector<gpu::PassDesc> passes() const override;
 

@@ -50,6 +50,9 @@ class SpecularBranch final : public Branch {
   ImageSet& images() override { return images_; }
   void record(const FrameState& frame) override;
   gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kSpecularFiltered, frameIndex); }
+  gpu::Image& resolved(std::uint64_t frameIndex) override {
+    return images_.current(kSpecularResolved, frameIndex);
+  }
   std::vector<gpu::PassDesc> passes() const override;
 
  private:

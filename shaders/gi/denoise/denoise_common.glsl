@@ -1,0 +1,92 @@
+// What every pass of the denoiser (gi/denoise, after NVIDIA's REBLUR, seed
+// 004) shares: its constants (binding 3, gIn_DenoiseConstants), filled from
+// gi::DenoiseSettings by src/gi/denoise/denoiser.cpp and laid out alike in
+// GLSL (std140) and C++; the two signals it denoises side by side (0:
+// diffuse, 1: specular; radiance in xyz, hit distance in world units in w,
+// 0 where unknown); REBLUR's hit-distance normalisation and the edge-
+// stopping weights of its spatial passes (shared/denoise_weights.glsl). The including shader includes
+// gi/gi_common.glsl and gi/gbuffer.glsl first; its own resources start at
+// binding 4.
+#ifndef BOUNCE_GI_DENOISE_COMMON_GLSL
+#define BOUNCE_GI_DENOISE_COMMON_GLSL
+
+#ifdef __cplusplus
+#include "shared/lang.glsl"
+namespace bounce::shared {
+#endif
+
+struct DenoiseConstants {
+  vec4 hitDistanceParameters;       // REBLUR's A, B, C, D (first: std140 aligns a vec4 to 16 bytes)
+  uint signals;                     // bit 0: diffuse, bit 1: specular (the other's images are not read)
+  float maxAccumulatedFrames;       // the longest history (REBLUR: 30)
+  float historyFixFrames;           // below this history length, history fix rebuilds the pixel (REBLUR: 3)
+  float historyFixStride;           // pixels between history fix's taps
+  float blurRadius;                 // pixels, at the first frame of a history
+  float postBlurRadiusScale;        // post-blur's radius, as a fraction of blur's
+  float minBlurRadius;              // pixels, however long the history
+  float planeDistanceSensitivity;   // a tap off the pixel's plane by this fraction of viewZ weighs 0
+  float lobeAngleFraction;          // the normal weight's reach, as a fraction of the lobe's half angle
+  float roughnessFraction;          // the roughness weight's reach, as a fraction of the roughness
+  float stabilizationFrames;        // temporal stabilisation's longest history (0: off)
+  float clampSigma;                 // history clamping: fast history mean +- this many sigma
+  float depthTolerance;             // temporal reprojection: fraction of viewZ
+  float cosNormalTolerance;         // temporal reprojection
+  uint hasHistory;                  // 0: a cut or the first frame; nothing is reprojected
+  uint frameIndex;                  // rotates the blur kernels
+  uint antiFirefly;                 // history fix clamps outliers to their neighbourhood
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+
+#ifdef __cplusplus
+}  // namespace bounce::shared
+#else
+#include "shared/denoise_weights.glsl"
+
+layout(set = 0, binding = 3, std140) CONSTANT_BLOCK DenoiseBlock { DenoiseConstants denoise; } gIn_DenoiseConstants;
+
+const uint kSignalDiffuse = 0u;
+const uint kSignalSpecular = 1u;
+
+// Each pass runs once per signal; which one, and the pass's radius scale.
+layout(push_constant) uniform SignalParams {
+  uint signal;        // kSignalDiffuse or kSignalSpecular: which weights and radii apply
+  float radiusScale;  // of the blur passes' radius
+} gSignal;
+
+#ifdef DENOISE_READS_TILES
+// 1 where a 16x16 tile holds a surface (gi.denoise.classify_tiles).
+layout(set = 0, binding = 4, r16f) readonly uniform image2D gIn_Tiles;
+const int kDenoiseTile = 16;
+bool tileEmpty(ivec2 pixel) { return imageLoad(gIn_Tiles, pixel / kDenoiseTile).x == 0.0f; }
+#endif
+
+// How much a neighbour (its surface and roughness) counts towards the
+// average of a pixel with `frames` of history: on its plane, inside its
+// lobe (diffuse: roughness 1), of a like roughness (specular only).
+float neighbourWeight(Surface x, float roughness, float frames, Surface y, float neighbourRoughness) {
+  if (y.viewZ <= 0.0f) return 0.0f;
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  bool specular = gSignal.signal == kSignalSpecular;
+  float halfAngle = lobeHalfAngle(specular ? roughness : 1.0f, d.lobeAngleFraction, 1.0f / (1.0f + frames));
+  float w = planeWeight(x.normal, x.position, y.position, x.viewZ, d.planeDistanceSensitivity) *
+            normalWeight(x.normal, y.normal, halfAngle);
+  if (specular) w *= roughnessWeight(roughness, neighbourRoughness, d.roughnessFraction);
+  return w;
+}
+
+// A pixel's blur radius (REBLUR's): R sqrt(f / (1 + frames)), wide while
+// its history is short; for specular f shrinks with the lobe (a mirror is
+// not blurred) and with the hit distance (a contact reflection is sharp).
+float blurRadius(float frames, float roughness, float normalizedHit) {
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  float f = gSignal.signal == kSignalSpecular ? clamp(roughness * 2.0f, 0.0f, 1.0f) * normalizedHit : 1.0f;
+  float radius = d.blurRadius * gSignal.radiusScale * sqrt(f / (1.0f + frames));
+  return max(radius, d.minBlurRadius * gSignal.radiusScale);
+}
+
+#endif
+
+
+#endif

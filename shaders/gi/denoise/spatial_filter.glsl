@@ -1,0 +1,42 @@
+// The blur of gi.denoise.SIGNAL.blur and .post_blur (REBLUR's blur and
+// post-blur, one kernel at two radii): 8 taps of a disk rotated per pixel
+// and frame, its radius set by the pixel's history length, roughness and
+// hit distance (blurRadius), each tap weighed by neighbourWeight (plane,
+// lobe, roughness). The including shader declares gIn_Filtered (rgba32f:
+// radiance, history length), gIn_Signal (the noisy input, for its hit
+// distance) and includes gi/denoise/denoise_common.glsl with
+// DENOISE_READS_TILES.
+#ifndef BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
+#define BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
+
+#include "shared/rng.glsl"
+
+// The filtered value at `pixel` (alpha: its history length, unchanged); 0
+// without a surface.
+vec4 spatialFilter(ivec2 pixel) {
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
+  if (tileEmpty(pixel) || x.viewZ <= 0.0f) return vec4(0.0f);
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  vec4 center = imageLoad(gIn_Filtered, pixel);
+  float normalizedHit =
+      normalizedHitDistance(d.hitDistanceParameters, imageLoad(gIn_Signal, pixel).w, x.viewZ, roughness);
+  float radius = blurRadius(center.w, roughness, normalizedHit);
+  uint seed = rngSeed(uvec2(pixel), d.frameIndex, 0x64656eu + gSignal.signal + uint(gSignal.radiusScale * 16.0f));
+  float rotation = rngUniform(seed) * 6.28318531f;
+  vec3 sum = center.xyz;
+  float weightSum = 1.0f;
+  for (uint i = 0u; i < 8u; ++i) {
+    ivec2 tap = pixel + ivec2(round(diskTap(i, rotation) * radius));
+    if (!insideFull(tap) || tap == pixel) continue;
+    float tapRoughness;
+    Surface y = gbufferSurfaceRoughness(tap, tapRoughness);
+    float w = neighbourWeight(x, roughness, center.w, y, tapRoughness);
+    if (w <= 0.0f) continue;
+    sum += imageLoad(gIn_Filtered, tap).xyz * w;
+    weightSum += w;
+  }
+  return vec4(sanitizeRadiance(sum / weightSum), center.w);
+}
+
+#endif

@@ -1,0 +1,101 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.denoise.SIGNAL.temporal_accumulation: this frame's noisy signal
+// blended into last frame's denoised history (the post-blur's output),
+// reprojected by the surface motion: bilinear over the taps that showed
+// the same surface (plane distance and normal; gi/temporal_history.glsl),
+// so a disocclusion starts over. The history length (REBLUR's accumulation
+// speed) grows by one a frame up to gi.denoise.max_accumulated_frames, and
+// for specular up to fewer frames on smooth lobes, whose reflection moves
+// with the view (roughness-responsive accumulation). The history's
+// luminance is clamped to the fast history (about gi.denoise.fast_frames
+// frames) +- clamp_sigma sigma, so lighting changes come through within
+// a few frames. Output alpha: the history length; the moments are the next
+// frame's. Pixels without a surface (and empty tiles) store 0.
+#include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#define DENOISE_READS_TILES
+#include "gi/denoise/denoise_common.glsl"
+#include "shared/color.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
+layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_Signal;
+layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Filtered;
+layout(set = 0, binding = 9, rgba32f) readonly uniform image2D gPrev_Moments;
+layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Accumulated;
+layout(set = 0, binding = 11, rgba32f) writeonly uniform image2D gOut_Moments;
+
+#include "gi/motion.glsl"
+#include "gi/temporal_history.glsl"
+
+// The longest history a specular lobe keeps: a mirror's reflection moves
+// with the view and keeps few frames, a rough lobe's barely does.
+float maxFrames(float roughness) {
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  if (gSignal.signal != kSignalSpecular) return d.maxAccumulatedFrames;
+  return max(1.0f, d.maxAccumulatedFrames * clamp(roughness * roughness * 4.0f, 0.1f, 1.0f));
+}
+
+// Luminance mean and mean square over the pixel's 3x3 neighbourhood on its
+// plane: the moments the clamp is built from. The blurs spread a bright
+// sample over its neighbours' histories; moments of the pixel alone would
+// clamp those shares away (measured: cornell's diffuse 7 % darker).
+const int kMomentsStride = 2;
+vec2 neighbourhoodMoments(ivec2 pixel, Surface x) {
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  vec2 sum = vec2(0.0f);
+  float count = 0.0f;
+  for (int j = -2; j <= 2; ++j)
+    for (int i = -2; i <= 2; ++i) {
+      ivec2 tap = pixel + ivec2(i, j) * kMomentsStride;
+      if (!insideFull(tap)) continue;
+      Surface y = gbufferSurface(tap);
+      if (y.viewZ <= 0.0f ||
+          planeWeight(x.normal, x.position, y.position, x.viewZ, d.planeDistanceSensitivity) <= 0.0f)
+        continue;
+      float l = luminance(sanitizeRadiance(imageLoad(gIn_Signal, tap).xyz));
+      sum += vec2(l, l * l);
+      count += 1.0f;
+    }
+  return sum / max(count, 1.0f);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideFull(pixel)) return;
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
+  if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
+    imageStore(gOut_Accumulated, pixel, vec4(0.0f));
+    imageStore(gOut_Moments, pixel, vec4(0.0f));
+    return;
+  }
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  vec3 current = sanitizeRadiance(imageLoad(gIn_Signal, pixel).xyz);
+  float currentLuminance = luminance(current);
+  vec2 neighbourhood = neighbourhoodMoments(pixel, x);
+
+  History history;
+  history.found = false;
+  vec2 motion = d.hasHistory != 0u ? motionAt(pixel) : vec2(0.0f);
+  if (d.hasHistory != 0u && usableMotion(motion)) {
+    float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
+    if (expectedViewZ > 0.0f)
+      history = fetchHistory(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
+                                                                     d.depthTolerance, d.cosNormalTolerance));
+  }
+  float historyLength = history.found ? history.frames : 0.0f;
+  float frames = min(historyLength + 1.0f, maxFrames(roughness));
+  float blend = 1.0f / frames;
+  vec3 moments = vec3(neighbourhood, neighbourhood.x);
+  vec3 previous = vec3(0.0f);
+  if (historyLength > 0.0f) {
+    moments = history.moments;
+    previous = clampToFastHistory(history.radiance, moments, neighbourhood, blend, d.clampSigma);
+  }
+  imageStore(gOut_Accumulated, pixel, vec4(sanitizeRadiance(mix(previous, current, blend)), frames));
+  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), 0.0f));
+}

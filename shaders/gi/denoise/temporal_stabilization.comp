@@ -1,0 +1,89 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.denoise.SIGNAL.temporal_stabilization: the post-blurred signal
+// blended with last frame's stabilised output, reprojected like temporal
+// accumulation, after clamping that history to the post-blurred 3x3
+// neighbourhood's mean +- clamp_sigma sigma (REBLUR's stabilisation with
+// its anti-lag: light that changed is not dragged along). Its history
+// keeps at most gi.denoise.stabilization_frames frames (0: off, the output
+// is the post-blur's). The output is the denoiser's result for the
+// composite and next frame's stabilisation history; alpha: its history length.
+#include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#define DENOISE_READS_TILES
+#include "gi/denoise/denoise_common.glsl"
+#include "shared/color.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
+layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_Filtered;
+layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
+layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Stabilized;
+layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Stabilized;
+
+#include "gi/motion.glsl"
+
+// Last frame's stabilised value where the pixel's surface was (bilinear
+// over the taps that showed it); w: its history length, 0 if none did.
+vec4 stabilizedHistory(Surface x) {
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  vec2 motion = motionAt(pixel);
+  if (d.hasHistory == 0u || !usableMotion(motion)) return vec4(0.0f);
+  float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
+  if (!(expectedViewZ > 0.0f)) return vec4(0.0f);
+  vec2 previous = vec2(pixel) + motion;
+  ivec2 corner = ivec2(floor(previous));
+  vec2 f = previous - vec2(corner);
+  vec4 sum = vec4(0.0f);
+  float weightSum = 0.0f;
+  for (int i = 0; i < 4; ++i) {
+    ivec2 tap = corner + ivec2(i & 1, i >> 1);
+    if (!insideFull(tap)) continue;
+    float w = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
+    Surface then = historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy);
+    if (w <= 0.0f || then.viewZ <= 0.0f || dot(then.normal, x.normal) < d.cosNormalTolerance ||
+        abs(then.viewZ - expectedViewZ) > d.depthTolerance * expectedViewZ)
+      continue;
+    sum += imageLoad(gPrev_Stabilized, tap) * w;
+    weightSum += w;
+  }
+  return weightSum > 0.05f ? sum / weightSum : vec4(0.0f);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideFull(pixel)) return;
+  Surface x = gbufferSurface(pixel);
+  if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
+    imageStore(gOut_Stabilized, pixel, vec4(0.0f));
+    return;
+  }
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  vec3 current = imageLoad(gIn_Filtered, pixel).xyz;
+  vec4 history = d.stabilizationFrames > 0.0f ? stabilizedHistory(x) : vec4(0.0f);
+  if (history.w <= 0.0f) {
+    imageStore(gOut_Stabilized, pixel, vec4(current, 1.0f));
+    return;
+  }
+  // The neighbourhood's luminance statistics bound the history (anti-lag).
+  float mean = 0.0f, meanSquare = 0.0f, count = 0.0f;
+  for (int j = -1; j <= 1; ++j)
+    for (int i = -1; i <= 1; ++i) {
+      ivec2 tap = pixel + ivec2(i, j);
+      if (!insideFull(tap) || gbufferDepth(tap) <= 0.0f) continue;
+      float l = luminance(imageLoad(gIn_Filtered, tap).xyz);
+      mean += l;
+      meanSquare += l * l;
+      count += 1.0f;
+    }
+  mean /= count;
+  float sigma = sqrt(max(meanSquare / count - mean * mean, 0.0f));
+  float reach = d.clampSigma * sigma + 1e-4f * mean;
+  float historyLuminance = luminance(history.xyz);
+  float clamped = clamp(historyLuminance, max(mean - reach, 0.0f), mean + reach);
+  vec3 previous = historyLuminance > 0.0f ? history.xyz * (clamped / historyLuminance) : vec3(clamped);
+  float frames = min(history.w + 1.0f, d.stabilizationFrames);
+  imageStore(gOut_Stabilized, pixel, vec4(sanitizeRadiance(mix(previous, current, 1.0f / frames)), frames));
+}

@@ -1,0 +1,102 @@
+#include "gi/denoise/denoise_passes.h"
+
+#include <vector>
+
+#include "gi/denoise/denoise_common.glsl"
+#include "gi/pass_decls.h"
+#include "gpu/constants_layout.h"
+#include "gpu/format.h"
+
+namespace bounce::gi {
+namespace {
+
+using gpu::Access;
+using gpu::ResourceDecl;
+using gpu::ResourceKind;
+using shared::DenoiseConstants;
+
+using namespace gpu::formats;
+
+ResourceDecl denoiseConstants() {
+  return {"gIn_DenoiseConstants", Access::Read, VK_FORMAT_UNDEFINED, "the denoiser's settings",
+          ResourceKind::UniformBuffer};
+}
+
+gpu::ConstantsDecl denoiseConstantsLayout() {
+  return BOUNCE_CONSTANTS_LAYOUT("gIn_DenoiseConstants", DenoiseConstants, hitDistanceParameters, signals,
+                                 maxAccumulatedFrames, historyFixFrames, historyFixStride, blurRadius,
+                                 postBlurRadiusScale, minBlurRadius, planeDistanceSensitivity, lobeAngleFraction,
+                                 roughnessFraction, stabilizationFrames, clampSigma, depthTolerance,
+                                 cosNormalTolerance, hasHistory, frameIndex, antiFirefly, pad0, pad1, pad2);
+}
+
+ResourceDecl tilesDecl() {
+  return {"gIn_Tiles", Access::Read, kR16f, "1 where a 16x16 tile has a surface (gi.denoise.classify_tiles)"};
+}
+
+// A per-signal pass: the frame's surfaces, the denoiser's constants and the
+// tiles first, then its own resources; the signal in push constants where
+// the pass weighs anything by it (`weighs`).
+gpu::PassDesc signalPass(const std::string& pass, const std::string& signal, const char* shader,
+                         std::vector<ResourceDecl> own, bool weighs = true) {
+  own.insert(own.begin(), {denoiseConstants(), tilesDecl()});
+  gpu::PassDesc desc = framePass("gi.denoise." + signal + "." + pass, shader, GroupPart::Surfaces, own);
+  desc.constants.push_back(denoiseConstantsLayout());
+  if (weighs) desc.constants.push_back(BOUNCE_CONSTANTS_LAYOUT("", DenoiseSignalParams, signal, radiusScale));
+  return desc;
+}
+
+ResourceDecl noisyDecl() {
+  return {"gIn_Signal", Access::Read, kRgba16f, "the noisy signal: radiance, hit distance (world units, 0 unknown)"};
+}
+
+gpu::PassDesc blur(const std::string& name, const std::string& signal, const char* output) {
+  return signalPass(name, signal, "gi/denoise/blur",
+                    {{"gIn_Filtered", Access::Read, kRgba32f, "the signal to blur: radiance, history length"},
+                     noisyDecl(),
+                     {"gOut_Filtered", Access::Write, kRgba32f, output}});
+}
+
+}  // namespace
+
+gpu::PassDesc denoiseClassifyTilesPass() {
+  return framePass("gi.denoise.classify_tiles", "gi/denoise/classify_tiles", GroupPart::Depth,
+                   {{"gOut_Tiles", Access::Write, kR16f, "1 where a 16x16 tile has a surface"}});
+}
+
+gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal) {
+  return signalPass("temporal_accumulation", signal, "gi/denoise/temporal_accumulation",
+                    {motionDecl(),
+                     noisyDecl(),
+                     previousSurfaceDecl(),
+                     {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's post-blurred signal, history length"},
+                     {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
+                     {"gOut_Accumulated", Access::Write, kRgba32f, "radiance, history length"},
+                     {"gOut_Moments", Access::Write, kRgba32f, "luminance moments: mean, mean square, fast mean"}});
+}
+
+gpu::PassDesc denoiseHistoryFixPass(const std::string& signal) {
+  return signalPass("history_fix", signal, "gi/denoise/history_fix",
+                    {{"gIn_Accumulated", Access::Read, kRgba32f, "temporal accumulation's output"},
+                     {"gOut_Fixed", Access::Write, kRgba32f, "short histories rebuilt, fireflies removed"}});
+}
+
+gpu::PassDesc denoiseBlurPass(const std::string& signal) {
+  return blur("blur", signal, "blurred at the full radius");
+}
+
+gpu::PassDesc denoisePostBlurPass(const std::string& signal) {
+  return blur("post_blur", signal, "blurred again at post_blur_radius_scale: next frame's history");
+}
+
+gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal) {
+  return signalPass("temporal_stabilization", signal, "gi/denoise/temporal_stabilization",
+                    {motionDecl(),
+                     {"gIn_Filtered", Access::Read, kRgba32f, "post-blur's output"},
+                     previousSurfaceDecl(),
+                     {"gPrev_Stabilized", Access::Read, kRgba32f, "last frame's stabilised signal"},
+                     {"gOut_Stabilized", Access::Write, kRgba32f, "the denoised signal, history length"}},
+                    false);
+}
+
+}  // namespace bounce::gi
