@@ -5,8 +5,9 @@
 #   scripts/measure-variants.sh OUT_DIR SCENES_DIR 'label|flags' ['label|flags' ...]
 #
 # For every scene of measure-common.sh (SCENES_DIR may be ''), the
-# reference once, then `bounce render` (640x360, frame 32, default view) once
-# per variant with its flags added to the defaults: indirect specular and
+# reference once, then `bounce render` (640x360, frame WARMUP: 32 unless the
+# variable says otherwise; default view) once per variant with its flags
+# added to the defaults: indirect specular and
 # diffuse mean / reference and relMSE, and the whole frame's HDR-FLIP.
 # Writes OUT_DIR/summary.md.
 set -euo pipefail
@@ -24,7 +25,7 @@ for entry in "${entries[@]}"; do
   for variant in "$@"; do
     IFS='|' read -r label flags <<< "$variant"
     # shellcheck disable=SC2086
-    "$bounce" render "$scene" "${size[@]}" $lighting $flags --gi-warmup 32 --frames 1 --hdr \
+    "$bounce" render "$scene" "${size[@]}" $lighting $flags --gi-warmup "${WARMUP:-32}" --frames 1 --hdr \
       --out "$dir/$label" > "$dir/$label.log"
     frame="$dir/$label/frames/frame0000"
     printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$name" "$label" \
