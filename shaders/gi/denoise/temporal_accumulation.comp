@@ -9,9 +9,10 @@
 // for specular up to fewer frames on smooth lobes, whose reflection moves
 // with the view (roughness-responsive accumulation). The history's
 // luminance is clamped to the fast history (about gi.denoise.fast_frames
-// frames) +- clamp_sigma sigma, so lighting changes come through within
-// a few frames. Output alpha: the history length; the moments are the next
-// frame's. Pixels without a surface (and empty tiles) store 0.
+// frames) +- clamp_sigma sigma, and where the fast history has left the
+// long one the history counts as fewer frames (anti-lag), so lighting
+// changes come through within a few frames. Output alpha: the history
+// length; the moments are the next frame's. Pixels without a surface (and empty tiles) store 0.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
@@ -44,6 +45,10 @@ float maxFrames(float roughness) {
 // sample over its neighbours' histories; moments of the pixel alone would
 // clamp those shares away (measured: cornell's diffuse 7 % darker).
 const int kMomentsStride = 2;
+// The fast history averages about 6 frames of 25 taps; anti-lag acts past
+// this many standard errors of it.
+const float kMomentsSamples = 150.0f;
+const float kAntiLagSigmas = 3.0f;
 vec2 neighbourhoodMoments(ivec2 pixel, Surface x) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
   vec2 sum = vec2(0.0f);
@@ -95,6 +100,15 @@ void main() {
   if (historyLength > 0.0f) {
     moments = history.moments;
     previous = clampToFastHistory(history.radiance, moments, neighbourhood, blend, d.clampSigma);
+    // Anti-lag: where the fast history has left the long one by more than
+    // its own noise, the light changed (or is still building up, as in the
+    // first frames of multi-bounce light): the history counts as fewer
+    // frames, so this frame weighs more.
+    float sigma = sqrt(max(moments.y - moments.x * moments.x, 0.0f));
+    float noise = kAntiLagSigmas * sigma * inversesqrt(kMomentsSamples) + 1e-3f * moments.x + 1e-6f;
+    float excess = max(abs(moments.z - moments.x) - noise, 0.0f) / noise;
+    frames = max(1.0f, frames / (1.0f + excess));
+    blend = 1.0f / frames;
   }
   imageStore(gOut_Accumulated, pixel, vec4(sanitizeRadiance(mix(previous, current, blend)), frames));
   imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), 0.0f));

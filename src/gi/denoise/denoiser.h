@@ -4,7 +4,7 @@
 // frame's surfaces (viewZ, normal, roughness), the motion vectors and last
 // frame's surfaces, and nothing of the branches. Its passes, per signal:
 //   gi.denoise.classify_tiles                   16x16 tiles with a surface (both signals)
-//   gi.denoise.SIGNAL.temporal_accumulation    surface-motion history, history length, fast-history clamp
+//   gi.denoise.SIGNAL.temporal_accumulation    surface-motion history, history length, fast-history clamp, anti-lag
 //   gi.denoise.SIGNAL.history_fix              short histories rebuilt from a wide neighbourhood; anti-firefly
 //   gi.denoise.SIGNAL.blur                     8-tap disk, radius from history length, lobe and hit distance
 //   gi.denoise.SIGNAL.post_blur                the same at half the radius: next frame's history
