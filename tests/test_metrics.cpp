@@ -513,13 +513,15 @@ TEST_F(CompareCommand, SequenceMeasuresTemporalStability) {
   const fs::path frames = dir / "frames";
   fs::create_directories(frames);
   // frame0001 flickers brighter; PNGs beside the EXRs are ignored, as bounce
-  // render writes both.
+  // render writes both, and so are the frames' parts it writes with --hdr
+  // (frameNNNN.indirect-diffuse.exr: another picture every frame).
   const float levels[] = {0.5f, 0.6f, 0.5f, 0.5f};
   for (int i = 0; i < 4; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "frame%04d", i);
     io::writeExr(frames / (std::string(name) + ".exr"), constantImage(16, 8, levels[i]));
     io::writePng(frames / (std::string(name) + ".png"), constantImage(16, 8, 0.0f), io::PngEncoding::Srgb);
+    io::writeExr(frames / (std::string(name) + ".indirect-diffuse.exr"), constantImage(16, 8, 5.0f));
   }
   const fs::path json = dir / "temporal.json";
   const CommandResult r = runCompare("--sequence " + quoted(frames) + " --json " + quoted(json));

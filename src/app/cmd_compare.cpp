@@ -321,13 +321,16 @@ int comparePair(const CompareOptions& options) {
 
 // The frames of a directory: its images of one kind, sorted by name. bounce
 // render writes frameNNNN.png and, with --hdr, frameNNNN.exr side by side, so
-// the most precise kind present is taken: EXR, then HDR, PNG, JPEG.
+// the most precise kind present is taken: EXR, then HDR, PNG, JPEG. The
+// frames' parts it writes beside them (frameNNNN.indirect-diffuse.exr: a
+// second dot in the name) are not frames: taken with them, every step of
+// the sequence would compare a frame with another picture.
 std::vector<fs::path> framesInDirectory(const fs::path& directory) {
   const std::vector<std::vector<std::string>> kinds = {{".exr"}, {".hdr"}, {".png"}, {".jpg", ".jpeg"}};
   std::vector<fs::path> all;
   std::error_code ec;
   for (const fs::directory_entry& entry : fs::directory_iterator(directory, ec)) {
-    if (entry.is_regular_file()) all.push_back(entry.path());
+    if (entry.is_regular_file() && !entry.path().stem().has_extension()) all.push_back(entry.path());
   }
   if (ec) fail(directory, "cannot list (" + ec.message() + ")");
   for (const std::vector<std::string>& extensions : kinds) {
