@@ -46,7 +46,10 @@ float maxFrames(float roughness) {
 // clamp those shares away (measured: cornell's diffuse 7 % darker).
 const int kMomentsStride = 2;
 // The fast history averages about 6 frames of 25 taps; anti-lag acts past
-// this many standard errors of it.
+// this many standard errors of it. (3x3 taps halve the pass's time and
+// raise the error by a fifth; rgba16f history images cost 5-10 % more
+// error for 0.01 ms a pass, their 11-bit mantissa losing 1 / 30 blends:
+// measured, H100, 640x360 and 1080p.)
 const float kMomentsSamples = 150.0f;
 const float kAntiLagSigmas = 3.0f;
 vec2 neighbourhoodMoments(ivec2 pixel, Surface x) {
