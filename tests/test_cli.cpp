@@ -169,6 +169,29 @@ TEST(Cli, RenderWithGiSettingsDumpsEveryGiStageAndItsValidationSheet) {
   fs::remove(settings);
 }
 
+// With the denoiser on, every pass of it is timed and dumped, its validation
+// view among the stages, the branches' filters are not recorded, and the
+// validation sheet shows the denoiser's history.
+TEST(Cli, RenderWithTheDenoiserDumpsItsStagesAndValidationView) {
+  const fs::path out = freshDirectory("denoise");
+  Result r = run("render cornell --validate --width 48 --height 32 --frames 1 --gi-warmup 2 --gi.denoise.enabled on "
+                 "--dump-stages --out " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("validation message"), std::string::npos) << r.output;
+  for (const char* signal : {"diffuse", "specular"})
+    for (const char* pass : {"temporal_accumulation", "history_fix", "blur", "post_blur", "temporal_stabilization"})
+      EXPECT_NE(r.output.find(std::string("gi.denoise.") + signal + "." + pass), std::string::npos)
+          << signal << "." << pass << ": " << r.output;
+  EXPECT_EQ(r.output.find("gi.diffuse.temporal_filter"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("gi.specular.temporal_filter"), std::string::npos) << r.output;
+  for (const char* stem : {"frame0000.gi.denoise.classify_tiles.gOut_Tiles",
+                           "frame0000.gi.denoise.specular.post_blur.gOut_Filtered",
+                           "frame0000.gi.denoise.validation.gOut_Validation"})
+    EXPECT_TRUE(fs::exists(out / "stages" / (std::string(stem) + ".png"))) << stem;
+  EXPECT_TRUE(fs::exists(out / "stages" / "frame0000.validation.png"));
+  fs::remove_all(out);
+}
+
 TEST(Cli, GiOffAndTheNoReuseBaselineRecordOnlyTheirPasses) {
   const fs::path out = freshDirectory("gi_off");
   Result off = run("render cornell --width 32 --height 24 --gi off --out " + out.string());

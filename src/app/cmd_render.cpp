@@ -241,7 +241,13 @@ int runRender(const RenderOptions& options) {
   if (!captures.empty()) {
     auto files = gpuio::writeStageDumps(outDir / "stages", captures, options.exposure);
     std::printf("wrote %zu stage images to %s\n", files.size(), (outDir / "stages").c_str());
-    const float historyCap = giBridge ? float(giBridge->library().settings().diffuse.temporalFilterFrames) : 1.0f;
+    // The longest diffuse history: the denoiser's when it runs, else the filter's.
+    float historyCap = 1.0f;
+    if (giBridge) {
+      const gi::Settings& settings = giBridge->library().settings();
+      historyCap = float(settings.denoise.enabled ? settings.denoise.maxAccumulatedFrames
+                                                  : settings.diffuse.temporalFilterFrames);
+    }
     for (const fs::path& sheet : writeValidationSheets(outDir / "stages", captures, options.exposure, historyCap))
       std::printf("wrote %s (validation: viewZ, normals, motion, history length, reprojection failures in red)\n",
                   sheet.c_str());

@@ -168,7 +168,12 @@ std::vector<fs::path> writeValidationSheets(const fs::path& dir, const std::vect
                                             float exposure, float historyCap) {
   std::vector<fs::path> written;
   for (const gpu::CapturedStage& filter : captures) {
-    if (filter.pass != "gi.diffuse.temporal_filter" || filter.binding != "gOut_Filtered") continue;
+    // The diffuse history: the branch's temporal filter, or the denoiser's
+    // temporal accumulation when it runs in the filter's place.
+    const bool branchFilter = filter.pass == "gi.diffuse.temporal_filter" && filter.binding == "gOut_Filtered";
+    const bool denoiser =
+        filter.pass == "gi.denoise.diffuse.temporal_accumulation" && filter.binding == "gOut_Accumulated";
+    if (!branchFilter && !denoiser) continue;
     const std::uint64_t frame = filter.frame;
     const gpu::CapturedStage* viewZ = findCapture(captures, frame, "render.gbuffer", "gOut_ViewZ");
     const gpu::CapturedStage* normal = findCapture(captures, frame, "render.gbuffer", "gOut_NormalRoughness");

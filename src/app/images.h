@@ -39,8 +39,8 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
                const std::filesystem::path& dir, float exposure, const std::vector<render::Aov>& extra = {});
 
 // NRD-style validation sheets, one per captured frame that ran the GI
-// library: viewZ, normals, motion vectors, the temporal filter's history
-// length (magma on a fixed 0..historyCap scale, so a reset frame reads as
+// library: viewZ, normals, motion vectors, the diffuse history's length
+// (the temporal filter's, or the denoiser's temporal accumulation's) (magma on a fixed 0..historyCap scale, so a reset frame reads as
 // black rather than as a uniform image stretched to full range), and the frame with pixels whose history was lost this
 // frame (disocclusion, cut) in red. Returns the files written (DIR/frameNNNN.validation.png).
 std::vector<std::filesystem::path> writeValidationSheets(const std::filesystem::path& dir,

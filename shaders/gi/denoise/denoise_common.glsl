@@ -49,6 +49,9 @@ layout(set = 0, binding = 3, std140) CONSTANT_BLOCK DenoiseBlock { DenoiseConsta
 const uint kSignalDiffuse = 0u;
 const uint kSignalSpecular = 1u;
 
+// Whether the denoiser is given this signal this frame.
+bool signalOn(uint signal) { return (gIn_DenoiseConstants.denoise.signals & (1u << signal)) != 0u; }
+
 // Each pass runs once per signal; which one, and the pass's radius scale.
 layout(push_constant) uniform SignalParams {
   uint signal;        // kSignalDiffuse or kSignalSpecular: which weights and radii apply

@@ -99,4 +99,17 @@ gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal) {
                     false);
 }
 
+gpu::PassDesc denoiseValidationPass() {
+  gpu::PassDesc desc = framePass(
+      "gi.denoise.validation", "gi/denoise/validation", GroupPart::Surfaces,
+      {denoiseConstants(),
+       motionDecl(),
+       {"gIn_DiffuseAccumulated", Access::Read, kRgba32f, "diffuse temporal accumulation: its history length"},
+       {"gIn_SpecularAccumulated", Access::Read, kRgba32f, "specular temporal accumulation: its history length"},
+       {"gIn_Diffuse", Access::Read, kRgba32f, "the denoised diffuse light"},
+       {"gOut_Validation", Access::Write, kRgba16f, "3 x 2 panels: viewZ, normals, motion; histories, disocclusion"}});
+  desc.constants.push_back(denoiseConstantsLayout());
+  return desc;
+}
+
 }  // namespace bounce::gi

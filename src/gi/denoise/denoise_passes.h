@@ -25,5 +25,7 @@ gpu::PassDesc denoiseHistoryFixPass(const std::string& signal);
 gpu::PassDesc denoiseBlurPass(const std::string& signal);
 gpu::PassDesc denoisePostBlurPass(const std::string& signal);
 gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal);
+// For --dump-stages (captured frames) only: the validation view.
+gpu::PassDesc denoiseValidationPass();
 
 }  // namespace bounce::gi

@@ -36,6 +36,10 @@ constexpr ImageSpec kImages[] = {
     {"gi.denoise.tiles", Resolution::Tile, kR16f, false, Visualize::Raw, "1 where a 16x16 tile has a surface"},
     BOUNCE_DENOISE_SIGNAL_IMAGES("diffuse"),
     BOUNCE_DENOISE_SIGNAL_IMAGES("specular"),
+    {"gi.denoise.validation", Resolution::Full, kRgba16f, false, Visualize::Color,
+     "the validation view: viewZ, normals, motion; diffuse and specular history length, disocclusion in red "
+     "(captured frames only)",
+     true},
 };
 #undef BOUNCE_DENOISE_SIGNAL_IMAGES
 static_assert(std::size(kImages) == kDenoiseImageCount, "one table entry per DenoiseImage");
@@ -58,6 +62,7 @@ struct Denoiser::Passes {
   };
   gpu::ComputePass classifyTiles;
   std::array<std::unique_ptr<Signal>, kDenoiseSignals> signals;
+  std::unique_ptr<gpu::ComputePass> validation;  // made on the first captured frame
   explicit Passes(gpu::Context& context) : classifyTiles(context, denoiseClassifyTilesPass()) {
     for (std::size_t s = 0; s < kDenoiseSignals; ++s) signals[s] = std::make_unique<Signal>(context, kSignalNames[s]);
   }
@@ -80,6 +85,7 @@ std::vector<gpu::PassDesc> Denoiser::passes() const {
                                denoiseBlurPass(signal), denoisePostBlurPass(signal),
                                denoiseTemporalStabilizationPass(signal)})
       all.push_back(std::move(desc));
+  all.push_back(denoiseValidationPass());
   return all;
 }
 
@@ -170,6 +176,25 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
                        {"gPrev_Stabilized", previous(kDenoiseStabilized)},
                        {"gOut_Stabilized", image(kDenoiseStabilized)}});
   }
+  if (frame.capturing) recordValidation(frame, noisy);
+}
+
+void Denoiser::recordValidation(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy) {
+  if (!passes_->validation) {
+    passes_->validation = std::make_unique<gpu::ComputePass>(context_, denoiseValidationPass());
+    images_.makeDebugImages();
+  }
+  const std::uint64_t f = frame.frameIndex;
+  // A signal that is off shows black; its slot is filled with the other's image.
+  const std::size_t diffuse = noisy[0] ? 0 : 1, specular = noisy[1] ? 1 : 0;
+  frame.recorder.dispatch(
+      *passes_->validation, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+      {{"gIn_DenoiseConstants", *constants_},
+       {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+       {"gIn_DiffuseAccumulated", images_.current(imageOf(diffuse, kDenoiseAccumulated), f)},
+       {"gIn_SpecularAccumulated", images_.current(imageOf(specular, kDenoiseAccumulated), f)},
+       {"gIn_Diffuse", images_.current(imageOf(diffuse, kDenoiseStabilized), f)},
+       {"gOut_Validation", images_.current(kDenoiseValidation, f)}});
 }
 
 }  // namespace bounce::gi

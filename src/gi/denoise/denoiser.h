@@ -9,6 +9,7 @@
 //   gi.denoise.SIGNAL.blur                     8-tap disk, radius from history length, lobe and hit distance
 //   gi.denoise.SIGNAL.post_blur                the same at half the radius: next frame's history
 //   gi.denoise.SIGNAL.temporal_stabilization   a second, clamped history: the result
+//   gi.denoise.validation                      captured frames only: NRD-style validation view
 #pragma once
 
 #include <array>
@@ -34,7 +35,8 @@ enum DenoiseImage : std::size_t {
   kDenoiseHistory,      // post-blur's output, next frame's history
   kDenoiseStabilized,   // the result
   kDenoisePerSignal = kDenoiseStabilized,  // images per signal
-  kDenoiseImageCount = 1 + kDenoisePerSignal * kDenoiseSignals
+  kDenoiseValidation = 1 + kDenoisePerSignal * kDenoiseSignals,  // captured frames only
+  kDenoiseImageCount
 };
 std::span<const ImageSpec> denoiseImageTable();
 
@@ -55,6 +57,7 @@ class Denoiser {
 
  private:
   struct Passes;
+  void recordValidation(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy);
   gpu::Context& context_;
   Settings settings_;
   ImageSet images_;
