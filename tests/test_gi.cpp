@@ -178,6 +178,9 @@ std::optional<glm::vec3> metalFloorReflection(glm::vec3 x, float roughness) {
 
 class GiTest : public testing::GpuTest {
  protected:
+  // Defined beside the fast-turn tests, below.
+  void checkFastTurn(const Settings& settings, float keptAbove, float longest);
+
   struct Run {
     std::unique_ptr<scene::Scene> scene;  // the renderer keeps a reference to it
     std::unique_ptr<render::FrameRenderer> renderer;
@@ -789,9 +792,12 @@ TEST_F(GiTest, ACameraCutDropsTheDenoiserHistory) {
     for (float frames : historyLengths(context(), *run.gi, viewZ, signal)) ASSERT_EQ(frames, 1.0f) << "after the cut";
 }
 
-TEST_F(GiTest, AFastTurnKeepsHistoryOnlyWhereTheSameSurfaceIsSeen) {
+// After a fast turn, the history length of the indirect diffuse the
+// composite reads: 1 on newly uncovered surfaces, above `keptAbove` on
+// surfaces the last frame saw, never above `longest` (whose history it is).
+void GiTest::checkFastTurn(const Settings& settings, float keptAbove, float longest) {
   const scene::Scene cornell = scene::makeBuiltinScene("cornell");
-  Run run = start(cornell, {}, kSmallWidth, kSmallHeight);
+  Run run = start(cornell, settings, kSmallWidth, kSmallHeight);
   const scene::CameraPose before = cornellFront();
   advance(run, before, 20u);
   const io::ImageF viewZBefore = gpuio::readbackImage(context(), run.renderer->viewZ());
@@ -818,11 +824,12 @@ TEST_F(GiTest, AFastTurnKeepsHistoryOnlyWhereTheSameSurfaceIsSeen) {
       const int px = int(std::floor(q.x)), py = int(std::floor(q.y));
       const bool inside = q.z > 0.0f && px >= 0 && py >= 0 && px < int(kSmallWidth) && py < int(kSmallHeight);
       const float frames = filtered.at(x, y, 3);
+      ASSERT_LE(frames, longest) << "at " << x << ", " << y;
       // Clear cases only: well inside the old view, the same depth within
       // 1 %, or clearly another depth (or off screen).
       if (inside && std::abs(viewZBefore.at(px, py, 0) - q.z) < 0.01f * q.z) {
         ++seenBefore;
-        seenBeforeAndKept += frames > 15.0f;
+        seenBeforeAndKept += frames > keptAbove;
       } else if (!inside || std::abs(viewZBefore.at(px, py, 0) - q.z) > 0.2f * q.z) {
         ++uncovered;
         uncoveredAndReset += frames == 1.0f;
@@ -833,6 +840,17 @@ TEST_F(GiTest, AFastTurnKeepsHistoryOnlyWhereTheSameSurfaceIsSeen) {
   ASSERT_GT(uncovered, 20);
   EXPECT_GE(uncoveredAndReset, uncovered * 9 / 10) << "disoccluded pixels must not smear old light";
   EXPECT_GE(seenBeforeAndKept, seenBefore * 9 / 10) << "surfaces seen before keep their history";
+}
+
+TEST_F(GiTest, AFastTurnKeepsHistoryOnlyWhereTheSameSurfaceIsSeen) {
+  checkFastTurn({}, 15.0f, float(Settings{}.diffuse.temporalFilterFrames));
+}
+
+// The denoiser alike: its result's history is temporal stabilisation's
+// (at most stabilization_frames, 8), which a disocclusion restarts too.
+TEST_F(GiTest, AFastTurnKeepsTheDenoisersHistoryOnlyWhereTheSameSurfaceIsSeen) {
+  const float longest = float(Settings{}.denoise.stabilizationFrames);
+  checkFastTurn(denoised(), longest - 1.0f, longest);
 }
 
 // --- inputs and settings
