@@ -37,12 +37,6 @@ Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level) {
   return renderSize;
 }
 
-void clearToZero(gpu::Recorder& recorder, gpu::Image& image) {
-  recorder.clearImage(image, {});
-  recorder.handOver(image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-}
-
 struct ImageSet::Entry {
   std::unique_ptr<gpu::HistoryImage> history;
   std::vector<std::unique_ptr<gpu::Image>> images;  // one, or a pyramid's levels
@@ -95,6 +89,19 @@ gpu::Image& ImageSet::previous(std::size_t index, std::uint64_t frameIndex) {
   Entry& entry = *entries_.at(index);
   if (!entry.history) throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' keeps no history");
   return entry.history->previous(frameIndex);
+}
+
+void ImageSet::clearToZero(gpu::Recorder& recorder, std::initializer_list<std::size_t> entries,
+                           std::uint64_t frameIndex) {
+  const auto clear = [&](gpu::Image& image) {
+    recorder.clearImage(image, {});
+    recorder.handOver(image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  };
+  for (const std::size_t index : entries) {
+    clear(current(index, frameIndex));
+    if (table_[index].history) clear(previous(index, frameIndex));
+  }
 }
 
 gpu::Image& ImageSet::level(std::size_t index, std::uint32_t level) {

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <span>
 #include <string>
@@ -48,11 +49,6 @@ struct Extent {
 // The size of an image of `resolution` for a render size (a pyramid's `level`).
 Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level = 1);
 
-// Clears `image` to zero and leaves it in the layout every library image
-// is in between passes (GENERAL): for images no pass writes this frame
-// that readers (stage dumps, scans) still list.
-void clearToZero(gpu::Recorder& recorder, gpu::Image& image);
-
 // The images of one table, made for the largest render size.
 class ImageSet {
  public:
@@ -69,6 +65,12 @@ class ImageSet {
   gpu::Image& previous(std::size_t index, std::uint64_t frameIndex);
   gpu::Image& level(std::size_t index, std::uint32_t level);
   std::uint32_t pyramidLevels() const { return pyramidLevels_; }
+
+  // Clears every image of these (non-pyramid) entries, both of a history
+  // pair, to zero and leaves them in the layout every library image is in
+  // between passes (GENERAL): for entries no pass will write that readers
+  // (stage dumps, scans) still list.
+  void clearToZero(gpu::Recorder& recorder, std::initializer_list<std::size_t> entries, std::uint64_t frameIndex);
 
   // Makes the debug entries (those with ImageSpec::debug); later calls do nothing.
   void makeDebugImages();

@@ -215,11 +215,7 @@ void DiffuseBranch::record(const FrameState& frame) {
   if (settings_.denoise.enabled) {  // the denoiser takes the resolved signal
     // The filter's images are never written then; cleared once, they hold
     // zeros (in the layout every library image is in) for whoever lists them.
-    if (f == 0)
-      for (const std::size_t image : {kFiltered, kMoments}) {
-        clearToZero(recorder, images_.current(image, f));
-        clearToZero(recorder, images_.previous(image, f));
-      }
+    if (f == 0) images_.clearToZero(recorder, {kFiltered, kMoments}, f);
     return;
   }
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),

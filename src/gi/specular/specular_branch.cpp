@@ -153,13 +153,7 @@ void SpecularBranch::record(const FrameState& frame) {
   if (settings_.denoise.enabled) {  // the denoiser takes the resolved signal
     // The filter's images are never written then; cleared once, they hold
     // zeros (in the layout every library image is in) for whoever lists them.
-    if (f == 0) {
-      for (const std::size_t image : {kSpecularFiltered, kSpecularMoments}) {
-        clearToZero(recorder, images_.current(image, f));
-        clearToZero(recorder, images_.previous(image, f));
-      }
-      clearToZero(recorder, images_.current(kSpecularReprojection, f));
-    }
+    if (f == 0) images_.clearToZero(recorder, {kSpecularFiltered, kSpecularMoments, kSpecularReprojection}, f);
     return;
   }
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
