@@ -1,6 +1,7 @@
-// What the branches' temporal filters share: a bilinear history fetch
-// whose taps count only where they saw the surface the pixel expects, and
-// the clamp of that history to the fast history. The including shader
+// What the branches' temporal filters and the denoiser's temporal
+// accumulation share: a bilinear history fetch whose taps count only where
+// they saw the surface the pixel expects (gi/history_taps.glsl), and the
+// clamp of that history to the fast history. The including shader
 // includes gi/gi_common.glsl first and declares gPrev_Surface (rg32ui),
 // gPrev_Filtered (rgba32f: radiance, history length) and gPrev_Moments
 // (rgba32f: luminance mean and mean square over the history, mean of the
@@ -8,6 +9,7 @@
 #ifndef BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 #define BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 
+#include "gi/history_taps.glsl"
 #include "shared/color.glsl"
 
 // The fast history averages about this many frames (REBLUR's fast history).
@@ -20,22 +22,6 @@ struct History {
   float frames;  // history length
 };
 
-// Which surface a history tap must show.
-struct ExpectedSurface {
-  vec3 position;  // this frame's surface point
-  vec3 normal;
-  float viewZ;           // where the previous camera saw it (surface motion), or 0: test the plane (virtual motion)
-  float depthTolerance;  // fraction of viewZ
-  float cosNormalTolerance;
-};
-
-bool tapShows(ExpectedSurface expected, Surface then) {
-  if (then.viewZ <= 0.0f || dot(expected.normal, then.normal) < expected.cosNormalTolerance) return false;
-  if (expected.viewZ > 0.0f) return abs(then.viewZ - expected.viewZ) <= expected.depthTolerance * expected.viewZ;
-  // Virtual motion lands elsewhere on the reflecting surface: the tap must lie on its plane.
-  return abs(dot(expected.normal, then.position - expected.position)) <= expected.depthTolerance * then.viewZ;
-}
-
 // Last frame's filtered value at continuous pixel position `previous`
 // (texel space: a pixel's centre + motion - 0.5), bilinear over the taps
 // that show the expected surface.
@@ -45,21 +31,19 @@ History fetchHistory(vec2 previous, ExpectedSurface expected) {
   h.radiance = vec3(0.0f);
   h.moments = vec3(0.0f);
   h.frames = 0.0f;
-  ivec2 corner = ivec2(floor(previous));
-  vec2 f = previous - vec2(corner);
+  ivec2 corner;
+  vec4 weights = historyTapWeights(previous, expected, corner);
   vec4 accumulated = vec4(0.0f);
   vec3 accumulatedMoments = vec3(0.0f);
   float weightSum = 0.0f;
   for (int i = 0; i < 4; ++i) {
+    if (weights[i] <= 0.0f) continue;
     ivec2 tap = corner + ivec2(i & 1, i >> 1);
-    if (!insideFull(tap)) continue;
-    float weight = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
-    if (weight <= 0.0f || !tapShows(expected, historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy))) continue;
-    accumulated += imageLoad(gPrev_Filtered, tap) * weight;
-    accumulatedMoments += imageLoad(gPrev_Moments, tap).xyz * weight;
-    weightSum += weight;
+    accumulated += imageLoad(gPrev_Filtered, tap) * weights[i];
+    accumulatedMoments += imageLoad(gPrev_Moments, tap).xyz * weights[i];
+    weightSum += weights[i];
   }
-  if (weightSum > 0.05f) {
+  if (weightSum > kMinHistoryWeight) {
     h.found = true;
     h.radiance = vec3(accumulated) / weightSum;
     h.moments = accumulatedMoments / weightSum;

@@ -23,6 +23,7 @@ layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Stabilized;
 layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Stabilized;
 
 #include "gi/motion.glsl"
+#include "gi/history_taps.glsl"
 
 // Last frame's stabilised value where the pixel's surface was (bilinear
 // over the taps that showed it); w: its history length, 0 if none did.
@@ -33,23 +34,18 @@ vec4 stabilizedHistory(Surface x) {
   if (d.hasHistory == 0u || !usableMotion(motion)) return vec4(0.0f);
   float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
   if (!(expectedViewZ > 0.0f)) return vec4(0.0f);
-  vec2 previous = vec2(pixel) + motion;
-  ivec2 corner = ivec2(floor(previous));
-  vec2 f = previous - vec2(corner);
+  ivec2 corner;
+  vec4 weights = historyTapWeights(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
+                                                                          d.depthTolerance, d.cosNormalTolerance),
+                                   corner);
   vec4 sum = vec4(0.0f);
   float weightSum = 0.0f;
   for (int i = 0; i < 4; ++i) {
-    ivec2 tap = corner + ivec2(i & 1, i >> 1);
-    if (!insideFull(tap)) continue;
-    float w = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
-    Surface then = historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy);
-    if (w <= 0.0f || then.viewZ <= 0.0f || dot(then.normal, x.normal) < d.cosNormalTolerance ||
-        abs(then.viewZ - expectedViewZ) > d.depthTolerance * expectedViewZ)
-      continue;
-    sum += imageLoad(gPrev_Stabilized, tap) * w;
-    weightSum += w;
+    if (weights[i] <= 0.0f) continue;
+    sum += imageLoad(gPrev_Stabilized, corner + ivec2(i & 1, i >> 1)) * weights[i];
+    weightSum += weights[i];
   }
-  return weightSum > 0.05f ? sum / weightSum : vec4(0.0f);
+  return weightSum > kMinHistoryWeight ? sum / weightSum : vec4(0.0f);
 }
 
 void main() {
