@@ -146,7 +146,7 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
     const DenoiseSignalParams atFullRadius{std::uint32_t(signal), 1.0f};
     const DenoiseSignalParams post{std::uint32_t(signal), s.postBlurRadiusScale};
     const gpu::Bind input("gIn_Signal", *noisy[signal]);
-    recorder.dispatch(p.temporalAccumulation, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+    recorder.dispatch(p.temporalAccumulation, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind, motion, input,
                        {"gPrev_Surface", frame.previousSurface},
                        {"gPrev_Filtered", previous(kDenoiseHistory)},
@@ -154,22 +154,22 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
                        {"gOut_Accumulated", image(kDenoiseAccumulated)},
                        {"gOut_Moments", image(kDenoiseMoments)}},
                       atFullRadius);
-    recorder.dispatch(p.historyFix, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+    recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind,
                        {"gIn_Accumulated", image(kDenoiseAccumulated)},
                        {"gOut_Fixed", image(kDenoiseFixed)}},
                       atFullRadius);
-    recorder.dispatch(p.blur, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+    recorder.dispatch(p.blur, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind, input,
                        {"gIn_Filtered", image(kDenoiseFixed)},
                        {"gOut_Filtered", image(kDenoiseAccumulated)}},
                       atFullRadius);
-    recorder.dispatch(p.postBlur, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+    recorder.dispatch(p.postBlur, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind, input,
                        {"gIn_Filtered", image(kDenoiseAccumulated)},
                        {"gOut_Filtered", image(kDenoiseHistory)}},
                       post);
-    recorder.dispatch(p.temporalStabilization, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+    recorder.dispatch(p.temporalStabilization, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind, motion,
                        {"gIn_Filtered", image(kDenoiseHistory)},
                        {"gPrev_Surface", frame.previousSurface},
