@@ -101,6 +101,7 @@ std::vector<ExpectedField> expectedFields() {
       {"denoise.lobe_angle_fraction", [](const Settings& s) { return double(s.denoise.lobeAngleFraction); }},
       {"denoise.roughness_fraction", [](const Settings& s) { return double(s.denoise.roughnessFraction); }},
       {"denoise.stabilization_frames", [](const Settings& s) { return double(s.denoise.stabilizationFrames); }},
+      {"denoise.disocclusion_threshold", [](const Settings& s) { return double(s.denoise.disocclusionThreshold); }},
       {"denoise.clamp_sigma", [](const Settings& s) { return double(s.denoise.clampSigma); }},
       {"denoise.anti_firefly", [](const Settings& s) { return double(s.denoise.antiFirefly); }},
       {"cache.enabled", [](const Settings& s) { return double(s.cache.enabled); }},

@@ -376,4 +376,50 @@ TEST(DenoiseWeights, PlaneAndRoughnessWeightsReachAsFarAsTheirSensitivity) {
   for (std::uint32_t i = 0; i < 8; ++i) EXPECT_LE(length(diskTap(i, 0.3f)), 1.0f);
 }
 
+// Catmull-Rom: the taps' own values at f = 0, weights that sum to 1, and
+// lines and parabolas reproduced exactly (what makes it sharper than
+// bilinear: bilinear bends a parabola).
+TEST(DenoiseWeights, CatmullRomInterpolatesAndKeepsParabolas) {
+  EXPECT_EQ(catmullRomWeights(0.0f), vec4(0.0f, 1.0f, 0.0f, 0.0f));
+  for (float f : {0.1f, 0.37f, 0.5f, 0.9f}) {
+    const vec4 w = catmullRomWeights(f);
+    EXPECT_NEAR(w.x + w.y + w.z + w.w, 1.0f, 1e-6f) << f;
+    EXPECT_LE(w.x, 0.0f);
+    EXPECT_LE(w.w, 0.0f);
+    // Taps at -1, 0, 1, 2 of g(t) = 3 t^2 - t + 2.
+    const auto g = [](float t) { return 3.0f * t * t - t + 2.0f; };
+    EXPECT_NEAR(w.x * g(-1) + w.y * g(0) + w.z * g(1) + w.w * g(2), g(f), 1e-4f) << f;
+    // Bilinear would not: it lies above the parabola between taps.
+    EXPECT_GT((1.0f - f) * g(0) + f * g(1), g(f) + 0.05f) << f;
+  }
+}
+
+// The disocclusion reach: REBLUR's threshold head-on, wider at grazing
+// angles, wider again for a still camera; a large parallax makes n.v count
+// less.
+TEST(DenoiseWeights, TheDisocclusionReachWidensAtGrazingAnglesAndForAStillCamera) {
+  const float moving = 5.0f;
+  EXPECT_NEAR(disocclusionReach(0.01f, 1.0f, moving), 0.01f, 1e-6f);
+  EXPECT_NEAR(disocclusionReach(0.01f, 0.1f, moving), 0.01f / (0.1f + 0.9f * moving / 30.0f), 1e-5f);
+  EXPECT_GT(disocclusionReach(0.01f, 0.1f, moving), 3.0f * disocclusionReach(0.01f, 1.0f, moving));
+  EXPECT_NEAR(disocclusionReach(0.01f, 1.0f, 0.0f), 0.06f, 1e-6f) << "a still camera: +0.05";
+  EXPECT_LT(disocclusionReach(0.01f, 0.1f, 60.0f), disocclusionReach(0.01f, 0.1f, 5.0f)) << "large parallax: strict";
+  EXPECT_EQ(disocclusionReach(0.01f, 0.0f, 0.0f), 1.0f) << "capped at the frustum";
+  EXPECT_EQ(disocclusionReach(0.01f, -1.0f, moving), disocclusionReach(0.01f, 1.0f, moving)) << "back faces too";
+}
+
+// The blend of surface and virtual histories: the prior by roughness where
+// both agree alike, and the source that disagrees with this frame loses.
+TEST(DenoiseWeights, TheReflectionHistoryThatDisagreesLoses) {
+  EXPECT_EQ(virtualHistoryPrior(0.0f), 1.0f);
+  EXPECT_EQ(virtualHistoryPrior(1.0f), 0.0f);
+  EXPECT_GT(virtualHistoryPrior(0.2f), virtualHistoryPrior(0.4f));
+  EXPECT_FLOAT_EQ(historyAgreement(2.0f, 2.0f, 0.3f), 1.0f);
+  EXPECT_LT(historyAgreement(4.0f, 2.0f, 0.3f), 0.01f);
+  EXPECT_NEAR(virtualHistoryShare(0.3f, 0.8f, 0.8f), 0.3f, 1e-6f);
+  EXPECT_GT(virtualHistoryShare(0.3f, 1.0f, 0.01f), 0.9f);
+  EXPECT_LT(virtualHistoryShare(0.7f, 0.01f, 1.0f), 0.1f);
+  EXPECT_EQ(virtualHistoryShare(0.4f, 0.0f, 0.0f), 0.4f) << "neither agrees: the prior";
+}
+
 }  // namespace

@@ -173,6 +173,7 @@ struct DenoiseSettings {
   float lobeAngleFraction = 0.15f;          // the normal weight's cone for a long history (REBLUR's; squared)
   float roughnessFraction = 0.15f;          // the roughness weight's reach in fractions of the roughness
   std::uint32_t stabilizationFrames = 8;    // temporal stabilisation's longest history (0: off)
+  float disocclusionThreshold = 0.01f;      // last frame's depth may differ by this fraction of the frustum (REBLUR's)
   float clampSigma = 1.5f;                  // history clamping to the fast history and the neighbourhood, in sigmas
   bool antiFirefly = true;                  // history fix brings outliers down to their neighbours' mean + 2 sigma
 };

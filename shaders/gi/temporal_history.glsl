@@ -1,7 +1,9 @@
 // What the branches' temporal filters and the denoiser's temporal
-// accumulation share: a bilinear history fetch whose taps count only where
-// they saw the surface the pixel expects (gi/history_taps.glsl), and the
-// clamp of that history to the fast history. The including shader
+// accumulation share: a bilinear (or Catmull-Rom) history fetch whose taps
+// count only where they saw the surface the pixel expects
+// (gi/history_taps.glsl), the reflection's (virtual) history of specular
+// light and its blend with the surface's, and the clamp of that history to
+// the fast history. The including shader
 // includes gi/gi_common.glsl first and declares gPrev_Surface (rg32ui),
 // gPrev_Filtered (rgba32f: radiance, history length) and gPrev_Moments
 // (rgba32f: luminance mean and mean square over the history, mean of the
@@ -11,6 +13,7 @@
 
 #include "gi/history_taps.glsl"
 #include "shared/color.glsl"
+#include "shared/denoise_weights.glsl"
 
 // The fast history averages about this many frames (REBLUR's fast history).
 const float kFastFrames = 6.0f;
@@ -50,6 +53,70 @@ History fetchHistory(vec2 previous, ExpectedSurface expected) {
     h.frames = accumulated.w / weightSum;
   }
   return h;
+}
+
+// The same fetch with a Catmull-Rom filter (REBLUR's): the 12 taps of its
+// 4x4 footprint without the corners, where all 12 show the expected
+// surface; else the bilinear fetch above (an edge, a disocclusion). Only
+// the radiance is filtered sharply; the moments and the history length are
+// bilinear, as REBLUR's fast history is. The overshoot of the negative
+// lobes is cut at 0.
+History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
+  ivec2 corner = ivec2(floor(previous)) - 1;
+  vec2 f = previous - floor(previous);
+  vec4 wx = catmullRomWeights(f.x), wy = catmullRomWeights(f.y);
+  vec3 radiance = vec3(0.0f);
+  float weightSum = 0.0f;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      if ((i == 0 || i == 3) && (j == 0 || j == 3)) continue;
+      ivec2 tap = corner + ivec2(i, j);
+      if (!insideFull(tap) || !tapShows(expected, historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy)))
+        return fetchHistory(previous, expected);
+      float w = wx[i] * wy[j];
+      radiance += imageLoad(gPrev_Filtered, tap).xyz * w;
+      weightSum += w;
+    }
+  History h = fetchHistory(previous, expected);
+  if (h.found) h.radiance = max(radiance / weightSum, vec3(0.0f));
+  return h;
+}
+
+// The reflection's (virtual) history of a specular pixel: the hit seen in
+// the mirror lies hit distance beyond the surface along the view ray (a
+// virtual point behind a flat reflector), and last frame's camera saw that
+// point at another pixel of the same reflector, whose plane the taps must
+// lie on. Not found where the point was behind last frame's camera.
+History fetchVirtualHistory(Surface x, float hitDistance, float depthTolerance, float cosNormalTolerance) {
+  History h;
+  h.found = false;
+  vec3 camera = viewPosition(gIn_Frame.frame.view);
+  vec3 virtualPoint = x.position + normalize(x.position - camera) * hitDistance;
+  vec3 projected = projectToScreen(gIn_Frame.frame.previousView, virtualPoint, fullSize());
+  if (projected.z <= 0.0f) return h;
+  return fetchHistory(vec2(projected) - 0.5f,
+                      ExpectedSurface(x.position, x.normal, 0.0f, depthTolerance, cosNormalTolerance));
+}
+
+// Surface and virtual histories blended: each weighs its prior (by
+// roughness) times its agreement with this frame's local luminance mean and
+// deviation; `virtualShare` comes back with the virtual one's share.
+History blendReflectionHistories(History surface, History virtualHistory, float roughness, float mean,
+                                 float deviation, out float virtualShare) {
+  virtualShare = 0.0f;
+  if (surface.found && virtualHistory.found)
+    virtualShare = virtualHistoryShare(virtualHistoryPrior(roughness),
+                                       historyAgreement(luminance(virtualHistory.radiance), mean, deviation),
+                                       historyAgreement(luminance(surface.radiance), mean, deviation));
+  else if (virtualHistory.found)
+    virtualShare = 1.0f;
+  History history = virtualShare >= 1.0f ? virtualHistory : surface;
+  if (virtualShare > 0.0f && virtualShare < 1.0f) {
+    history.radiance = mix(surface.radiance, virtualHistory.radiance, virtualShare);
+    history.moments = mix(surface.moments, virtualHistory.moments, virtualShare);
+    history.frames = mix(surface.frames, virtualHistory.frames, virtualShare);
+  }
+  return history;
 }
 
 // Adds this frame (its luminance and luminance squared, `fresh`: of the

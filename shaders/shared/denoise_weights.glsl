@@ -1,6 +1,8 @@
 // The denoiser's math (gi/denoise, after NVIDIA's REBLUR): hit-distance
 // normalisation, the edge-stopping weights of its spatial passes and their
-// disk of taps. One source for GLSL and C++ (lang.glsl); tests/
+// disk of taps, the history filter and the disocclusion test of its
+// temporal pass, and the blend of surface and reflection (virtual) motion
+// that it shares with the specular branch's temporal filter. One source for GLSL and C++ (lang.glsl); tests/
 // test_shared_math.cpp checks each on the CPU.
 #ifndef BOUNCE_SHARED_DENOISE_WEIGHTS_GLSL
 #define BOUNCE_SHARED_DENOISE_WEIGHTS_GLSL
@@ -51,6 +53,50 @@ float normalWeight(vec3 normal, vec3 neighbourNormal, float halfAngle) {
 // A neighbour of another roughness reflects another lobe.
 float roughnessWeight(float roughness, float neighbourRoughness, float fraction) {
   return clamp(1.0f - abs(roughness - neighbourRoughness) / max(fraction * roughness, 0.02f), 0.0f, 1.0f);
+}
+
+// Catmull-Rom weights (REBLUR's history filter) of the four taps at -1, 0,
+// 1, 2 around a position `f` in [0, 1) past tap 0: sharper than bilinear,
+// so a history resampled every frame for 30 frames keeps its detail. They
+// sum to 1; the outer two are negative (the filter's overshoot).
+vec4 catmullRomWeights(float f) {
+  return vec4(f * (-0.5f + f * (1.0f - 0.5f * f)), 1.0f + f * f * (-2.5f + 1.5f * f),
+              f * (0.5f + f * (2.0f - 1.5f * f)), f * f * (-0.5f + 0.5f * f));
+}
+
+// How far, as a fraction of the frustum's width at the pixel's depth, last
+// frame's surface may lie from where this frame's was and still count as
+// the same (REBLUR's disocclusion threshold): `threshold` seen head-on,
+// wider as the surface turns away (n.v; a grazing floor's depth changes
+// fast across a pixel), less so as the camera's parallax grows (in pixels:
+// a large move sees the surface from elsewhere, where n.v says less), and
+// 0.05 wider for a camera that barely moves (nothing can be uncovered).
+float disocclusionReach(float threshold, float cosView, float parallaxPixels) {
+  float relaxed = threshold + 0.05f * clamp(1.0f - parallaxPixels / 0.25f, 0.0f, 1.0f);
+  float strictCosView = mix(abs(cosView), 1.0f, clamp(parallaxPixels / 30.0f, 0.0f, 1.0f));
+  return clamp(relaxed / max(strictCosView, 0.01f), 0.0f, 1.0f);
+}
+
+// Reflection (virtual) motion against surface motion (seed 000's
+// dual-source reprojection): the prior for the virtual history, 1 on a
+// mirror (its reflection swims over the surface with the view), 0 on rough
+// surfaces (their reflection sticks to the surface).
+float virtualHistoryPrior(float roughness) { return 1.0f - smoothstep(0.1f, 0.6f, roughness); }
+
+// How well a history of luminance `history` agrees with this frame's local
+// mean and deviation: a Gaussian in local deviations, 1.5 wide, so the
+// source that reprojected the wrong reflection loses.
+float historyAgreement(float history, float mean, float deviation) {
+  float d = (history - mean) / (deviation + 0.05f * mean + 1e-4f);
+  return exp(-0.5f * d * d / (1.5f * 1.5f));
+}
+
+// The share of the virtual history in the blend of both sources: the prior
+// times each source's agreement.
+float virtualHistoryShare(float prior, float virtualAgreement, float surfaceAgreement) {
+  float wv = prior * virtualAgreement;
+  float ws = (1.0f - prior) * surfaceAgreement;
+  return wv + ws > 1e-6f ? wv / (wv + ws) : prior;
 }
 
 // 8 taps in the unit disk (a golden-angle spiral, radii sqrt((i + 0.5) / 8)):

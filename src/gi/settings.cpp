@@ -301,6 +301,9 @@ constexpr std::array kEntries{
           "spatial passes (specular): a neighbour's roughness may differ by this fraction of the pixel's"},
     Entry{"denoise.stabilization_frames", inDenoise(&DenoiseSettings::stabilizationFrames), closed(0, 255),
           "temporal stabilisation: its longest history, in frames (0: off)"},
+    Entry{"denoise.disocclusion_threshold", inDenoise(&DenoiseSettings::disocclusionThreshold), aboveUpTo(0, 1),
+          "temporal accumulation: last frame's depth may differ by this fraction of the frustum's width seen "
+          "head-on (plus a pixel; wider at grazing angles and for a still camera)"},
     Entry{"denoise.clamp_sigma", inDenoise(&DenoiseSettings::clampSigma), aboveUpTo(0, 100),
           "history clamping (accumulation and stabilisation): mean +- this many sigma"},
     Entry{"denoise.anti_firefly", inDenoise(&DenoiseSettings::antiFirefly), kNoBounds,

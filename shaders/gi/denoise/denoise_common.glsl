@@ -29,12 +29,12 @@ struct DenoiseConstants {
   float roughnessFraction;          // the roughness weight's reach, as a fraction of the roughness
   float stabilizationFrames;        // temporal stabilisation's longest history (0: off)
   float clampSigma;                 // history clamping: fast history mean +- this many sigma
-  float depthTolerance;             // temporal reprojection: fraction of viewZ
+  float depthTolerance;             // reflection (virtual) reprojection: fraction of viewZ
   float cosNormalTolerance;         // temporal reprojection
+  float disocclusionThreshold;      // temporal accumulation: REBLUR's, a fraction of the frustum's width
   uint hasHistory;                  // 0: a cut or the first frame; nothing is reprojected
   uint frameIndex;                  // rotates the blur kernels
   uint antiFirefly;                 // history fix clamps outliers to their neighbourhood
-  uint pad0;
   uint pad1;
   uint pad2;
 };

@@ -2,17 +2,24 @@
 #extension GL_GOOGLE_include_directive : require
 // gi.denoise.SIGNAL.temporal_accumulation: this frame's noisy signal
 // blended into last frame's denoised history (the post-blur's output),
-// reprojected by the surface motion: bilinear over the taps that showed
-// the same surface (plane distance and normal; gi/temporal_history.glsl),
-// so a disocclusion starts over. The history length (REBLUR's accumulation
-// speed) grows by one a frame up to gi.denoise.max_accumulated_frames, and
-// for specular up to fewer frames on smooth lobes, whose reflection moves
-// with the view (roughness-responsive accumulation). The history's
-// luminance is clamped to the fast history (about gi.denoise.fast_frames
-// frames) +- clamp_sigma sigma, and where the fast history has left the
-// long one the history counts as fewer frames (anti-lag), so lighting
-// changes come through within a few frames. Output alpha: the history
-// length; the moments are the next frame's. Pixels without a surface (and empty tiles) store 0.
+// reprojected by the surface motion with a Catmull-Rom filter where all 12
+// of its taps showed the same surface, bilinear over the taps that did
+// where some did not (gi/temporal_history.glsl), so a disocclusion starts
+// over. A tap shows the same surface when its depth lies within REBLUR's
+// disocclusion threshold (wider at grazing angles, and for a still camera)
+// and its normal agrees. Specular light also fetches the reflection's
+// (virtual) history and blends the two as the specular branch's filter
+// does (virtual for smooth lobes, each weighed by its agreement with this
+// frame's neighbourhood); the virtual share goes to the moments' alpha for
+// the validation view. The history length (REBLUR's accumulation speed)
+// grows by one a frame up to gi.denoise.max_accumulated_frames, and for
+// specular up to fewer frames on smooth lobes, whose reflection moves with
+// the view (roughness-responsive accumulation). The history's luminance is
+// clamped to the fast history (about 6 frames) +- clamp_sigma sigma, and
+// where the fast history has left the long one the history counts as fewer
+// frames (anti-lag), so lighting changes come through within a few frames.
+// Output alpha: the history length; the moments are the next frame's.
+// Pixels without a surface (and empty tiles) store 0.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
@@ -71,6 +78,27 @@ vec2 neighbourhoodMoments(ivec2 pixel, Surface x) {
   return sum / max(count, 1.0f);
 }
 
+// How far (a fraction of viewZ) last frame's depth may lie from where this
+// frame's surface was: REBLUR's threshold (a fraction of the frustum's
+// width, plus a pixel and the jitter's change), wider where the surface is
+// seen at a grazing angle and where the camera barely moves
+// (shared/denoise_weights.glsl, disocclusionReach).
+float disocclusionTolerance(Surface x) {
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  ScreenView view = gIn_Frame.frame.view, previous = gIn_Frame.frame.previousView;
+  vec2 size = fullSize();
+  vec3 camera = viewPosition(view);
+  // The camera's parallax: where last frame's camera saw the point, against
+  // where it would have from this frame's position.
+  vec3 fromHere = x.position + (viewPosition(previous) - camera);
+  float parallax = length(vec2(projectToScreen(previous, fromHere, size)) - vec2(projectToScreen(previous, x.position, size)));
+  vec2 jitterChange = abs(view.projection.zw - previous.projection.zw);
+  float threshold = d.disocclusionThreshold + (1.0f + max(jitterChange.x, jitterChange.y)) / size.y;
+  float cosView = dot(x.normal, normalize(camera - x.position));
+  float frustumWidth = 2.0f * view.projection.y * min(size.x, size.y) / size.y;  // per unit of viewZ
+  return frustumWidth * disocclusionReach(threshold, cosView, parallax);
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
@@ -88,12 +116,21 @@ void main() {
 
   History history;
   history.found = false;
+  float virtualShare = 0.0f;
   vec2 motion = d.hasHistory != 0u ? motionAt(pixel) : vec2(0.0f);
   if (d.hasHistory != 0u && usableMotion(motion)) {
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
     if (expectedViewZ > 0.0f)
-      history = fetchHistory(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
-                                                                     d.depthTolerance, d.cosNormalTolerance));
+      history = fetchHistoryCatmullRom(vec2(pixel) + motion,
+                                       ExpectedSurface(x.position, x.normal, expectedViewZ, disocclusionTolerance(x),
+                                                       d.cosNormalTolerance));
+    if (gSignal.signal == kSignalSpecular) {
+      float hitDistance = imageLoad(gIn_Signal, pixel).w;
+      History virtualHistory = fetchVirtualHistory(x, max(finiteOr(hitDistance, 0.0f), 0.0f),
+                                                   d.depthTolerance, d.cosNormalTolerance);
+      float deviation = sqrt(max(neighbourhood.y - neighbourhood.x * neighbourhood.x, 0.0f));
+      history = blendReflectionHistories(history, virtualHistory, roughness, neighbourhood.x, deviation, virtualShare);
+    }
   }
   float historyLength = history.found ? history.frames : 0.0f;
   float frames = min(historyLength + 1.0f, maxFrames(roughness));
@@ -114,5 +151,5 @@ void main() {
     blend = 1.0f / frames;
   }
   imageStore(gOut_Accumulated, pixel, vec4(sanitizeRadiance(mix(previous, current, blend)), frames));
-  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), 0.0f));
+  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), virtualShare));
 }

@@ -1,13 +1,15 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // gi.denoise.validation (captured frames only): the denoiser's validation
-// view (NRD's validation layer): one image of 3 x 2 panels, each the whole
+// view (NRD's validation layer): one image of 4 x 2 panels, each the whole
 // frame shrunk into it. Top: viewZ (log scale), normals, motion (0.5 grey
-// = still, 1 pixel = 1/32 of the range); bottom: the diffuse and specular
-// history lengths (black 0 to white max_accumulated_frames, via red and
-// yellow) and the denoised diffuse light (tonemapped) with the pixels whose
-// history was lost this frame (disocclusion, a cut) in red. A panel of a
-// signal that is off is black.
+// = still, 1 pixel = 1/32 of the range), the specular virtual history's
+// share (black: surface motion only, cyan: reflection motion only);
+// bottom: the diffuse and specular history lengths (black 0 to white
+// max_accumulated_frames, via red and yellow) and the denoised diffuse and
+// specular light (tonemapped) with the pixels whose history was lost this
+// frame (disocclusion, a cut) in red. A panel of a signal that is off is
+// black.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/denoise/denoise_common.glsl"
@@ -17,8 +19,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_DiffuseAccumulated;
 layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_SpecularAccumulated;
-layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_Diffuse;
-layout(set = 0, binding = 8, rgba16f) writeonly uniform image2D gOut_Validation;
+layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_SpecularMoments;
+layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gIn_Diffuse;
+layout(set = 0, binding = 9, rgba32f) readonly uniform image2D gIn_Specular;
+layout(set = 0, binding = 10, rgba16f) writeonly uniform image2D gOut_Validation;
 
 #include "gi/motion.glsl"
 
@@ -38,14 +42,20 @@ vec3 panel(uint which, ivec2 source) {
     return usableMotion(motion) ? vec3(clamp(vec2(0.5f) + motion / 32.0f, 0.0f, 1.0f), 0.5f) : vec3(1.0f, 0.0f, 1.0f);
   }
   if (which == 3u)
+    return signalOn(kSignalSpecular) && viewZ > 0.0f
+               ? vec3(0.0f, 1.0f, 1.0f) * clamp(imageLoad(gIn_SpecularMoments, source).w, 0.0f, 1.0f)
+               : vec3(0.0f);
+  if (which == 4u)
     return signalOn(kSignalDiffuse) ? heat(imageLoad(gIn_DiffuseAccumulated, source).w / d.maxAccumulatedFrames)
                                     : vec3(0.0f);
-  if (which == 4u)
+  if (which == 5u)
     return signalOn(kSignalSpecular) ? heat(imageLoad(gIn_SpecularAccumulated, source).w / d.maxAccumulatedFrames)
                                      : vec3(0.0f);
-  if (!signalOn(kSignalDiffuse) || viewZ <= 0.0f) return vec3(0.0f);
-  if (imageLoad(gIn_DiffuseAccumulated, source).w <= 1.0f) return vec3(1.0f, 0.0f, 0.0f);
-  vec3 light = max(imageLoad(gIn_Diffuse, source).xyz, vec3(0.0f));
+  bool diffuse = which == 6u;
+  if (!signalOn(diffuse ? kSignalDiffuse : kSignalSpecular) || viewZ <= 0.0f) return vec3(0.0f);
+  float frames = diffuse ? imageLoad(gIn_DiffuseAccumulated, source).w : imageLoad(gIn_SpecularAccumulated, source).w;
+  if (frames <= 1.0f) return vec3(1.0f, 0.0f, 0.0f);
+  vec3 light = max(diffuse ? imageLoad(gIn_Diffuse, source).xyz : imageLoad(gIn_Specular, source).xyz, vec3(0.0f));
   return light / (1.0f + light);
 }
 
@@ -53,9 +63,9 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
   ivec2 size = ivec2(fullSize());
-  ivec2 panelSize = max(size / ivec2(3, 2), ivec2(1));
-  ivec2 cell = min(pixel / panelSize, ivec2(2, 1));
+  ivec2 panelSize = max(size / ivec2(4, 2), ivec2(1));
+  ivec2 cell = min(pixel / panelSize, ivec2(3, 1));
   vec2 local = (vec2(pixel - cell * panelSize) + 0.5f) / vec2(panelSize);
   ivec2 source = clamp(ivec2(local * vec2(size)), ivec2(0), size - 1);
-  imageStore(gOut_Validation, pixel, vec4(panel(uint(cell.x + 3 * cell.y), source), 1.0f));
+  imageStore(gOut_Validation, pixel, vec4(panel(uint(cell.x + 4 * cell.y), source), 1.0f));
 }

@@ -39,16 +39,6 @@ layout(set = 0, binding = 11, rgba16f) writeonly uniform image2D gOut_Reprojecti
 #include "gi/motion.glsl"
 #include "gi/temporal_history.glsl"
 
-// How far (in local deviations) a history may lie from this frame's local
-// mean before it is distrusted: the width of the agreement Gaussian.
-const float kAgreementSigmas = 1.5f;
-
-float agreement(History h, float mean, float deviation) {
-  if (!h.found) return 0.0f;
-  float d = (luminance(h.radiance) - mean) / (deviation + 0.05f * mean + 1e-4f);
-  return exp(-0.5f * d * d / (kAgreementSigmas * kAgreementSigmas));
-}
-
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
@@ -76,20 +66,13 @@ void main() {
       surface = fetchHistory(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
                                                                    c.temporalDepthTolerance,
                                                                    c.temporalCosNormalTolerance));
-    if (c.reprojection != kReprojectionSurface) {
-      vec3 camera = viewPosition(gIn_Frame.frame.view);
-      vec3 virtualPoint = x.position + normalize(x.position - camera) * resolved.w;
-      vec3 projected = projectToScreen(gIn_Frame.frame.previousView, virtualPoint, fullSize());
-      if (projected.z > 0.0f)
-        virtualHistory = fetchHistory(vec2(projected) - 0.5f,
-                                      ExpectedSurface(x.position, x.normal, 0.0f, c.temporalDepthTolerance,
-                                                      c.temporalCosNormalTolerance));
-    }
+    if (c.reprojection != kReprojectionSurface)
+      virtualHistory = fetchVirtualHistory(x, resolved.w, c.temporalDepthTolerance, c.temporalCosNormalTolerance);
   }
 
-  float virtualWeight = 0.0f;
+  // This frame's local statistics, which judge the two sources.
+  float mean = currentLuminance, deviation = 0.0f;
   if (surface.found && virtualHistory.found) {
-    // This frame's local statistics.
     float sum = 0.0f;
     float sumSquares = 0.0f;
     float count = 0.0f;
@@ -102,21 +85,11 @@ void main() {
         sumSquares += l * l;
         count += 1.0f;
       }
-    float mean = sum / count;
-    float deviation = sqrt(max(sumSquares / count - mean * mean, 0.0f));
-    float prior = 1.0f - smoothstep(0.1f, 0.6f, roughness);
-    float wv = prior * agreement(virtualHistory, mean, deviation);
-    float ws = (1.0f - prior) * agreement(surface, mean, deviation);
-    virtualWeight = wv + ws > 1e-6f ? wv / (wv + ws) : prior;
-  } else if (virtualHistory.found) {
-    virtualWeight = 1.0f;
+    mean = sum / count;
+    deviation = sqrt(max(sumSquares / count - mean * mean, 0.0f));
   }
-  History history = virtualWeight >= 1.0f ? virtualHistory : surface;
-  if (virtualWeight > 0.0f && virtualWeight < 1.0f) {
-    history.radiance = mix(surface.radiance, virtualHistory.radiance, virtualWeight);
-    history.moments = mix(surface.moments, virtualHistory.moments, virtualWeight);
-    history.frames = mix(surface.frames, virtualHistory.frames, virtualWeight);
-  }
+  float virtualWeight;
+  History history = blendReflectionHistories(surface, virtualHistory, roughness, mean, deviation, virtualWeight);
 
   float longest = c.temporalFilterFrames * mix(0.25f, 1.0f, smoothstep(0.0f, 0.5f, roughness));
   float historyLength = history.found ? history.frames : 0.0f;

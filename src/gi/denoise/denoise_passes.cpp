@@ -27,7 +27,8 @@ gpu::ConstantsDecl denoiseConstantsLayout() {
                                  maxAccumulatedFrames, historyFixFrames, historyFixStride, blurRadius,
                                  postBlurRadiusScale, minBlurRadius, planeDistanceSensitivity, lobeAngleFraction,
                                  roughnessFraction, stabilizationFrames, clampSigma, depthTolerance,
-                                 cosNormalTolerance, hasHistory, frameIndex, antiFirefly, pad0, pad1, pad2);
+                                 cosNormalTolerance, disocclusionThreshold, hasHistory, frameIndex, antiFirefly, pad1,
+                                 pad2);
 }
 
 ResourceDecl tilesDecl() {
@@ -106,8 +107,11 @@ gpu::PassDesc denoiseValidationPass() {
        motionDecl(),
        {"gIn_DiffuseAccumulated", Access::Read, kRgba32f, "diffuse temporal accumulation: its history length"},
        {"gIn_SpecularAccumulated", Access::Read, kRgba32f, "specular temporal accumulation: its history length"},
+       {"gIn_SpecularMoments", Access::Read, kRgba32f, "specular temporal accumulation: its virtual history's share"},
        {"gIn_Diffuse", Access::Read, kRgba32f, "the denoised diffuse light"},
-       {"gOut_Validation", Access::Write, kRgba16f, "3 x 2 panels: viewZ, normals, motion; histories, disocclusion"}});
+       {"gIn_Specular", Access::Read, kRgba32f, "the denoised specular light"},
+       {"gOut_Validation", Access::Write, kRgba16f,
+        "4 x 2 panels: viewZ, normals, motion, virtual history; histories, denoised light with disocclusions"}});
   desc.constants.push_back(denoiseConstantsLayout());
   return desc;
 }

@@ -24,7 +24,8 @@ constexpr float kReferenceRows = 1080.0f;
   {"gi.denoise." SIGNAL ".accumulated", Resolution::Full, kRgba32f, false, Visualize::Radiance,                   \
    "temporal accumulation's output, then blur's: radiance, history length"},                                      \
       {"gi.denoise." SIGNAL ".moments", Resolution::Full, kRgba32f, true, Visualize::Raw,                         \
-       "luminance moments: mean and mean square over the history, mean of the fast history"},                     \
+       "luminance moments: mean and mean square over the history, mean of the fast history; specular: the "     \
+       "virtual history's share"},                     \
       {"gi.denoise." SIGNAL ".fixed", Resolution::Full, kRgba32f, false, Visualize::Radiance,                     \
        "history fix's output: short histories rebuilt, fireflies removed"},                                       \
       {"gi.denoise." SIGNAL ".history", Resolution::Full, kRgba32f, true, Visualize::Radiance,                    \
@@ -37,8 +38,8 @@ constexpr ImageSpec kImages[] = {
     BOUNCE_DENOISE_SIGNAL_IMAGES("diffuse"),
     BOUNCE_DENOISE_SIGNAL_IMAGES("specular"),
     {"gi.denoise.validation", Resolution::Full, kRgba16f, false, Visualize::Color,
-     "the validation view: viewZ, normals, motion; diffuse and specular history length, disocclusion in red "
-     "(captured frames only)",
+     "the validation view: viewZ, normals, motion, specular virtual history; diffuse and specular history "
+     "length, denoised light with disocclusions in red (captured frames only)",
      true},
 };
 #undef BOUNCE_DENOISE_SIGNAL_IMAGES
@@ -125,6 +126,7 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
   // Reprojection tolerances as the branches' temporal filters use them.
   c.depthTolerance = settings_.specular.temporalDepthTolerance;
   c.cosNormalTolerance = std::cos(glm::radians(settings_.specular.temporalNormalToleranceDegrees));
+  c.disocclusionThreshold = s.disocclusionThreshold;
   c.hasHistory = frame.usableHistory ? 1u : 0u;
   c.frameIndex = std::uint32_t(f);
   c.antiFirefly = s.antiFirefly ? 1u : 0u;
@@ -193,7 +195,9 @@ void Denoiser::recordValidation(const FrameState& frame, const std::array<gpu::I
        {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
        {"gIn_DiffuseAccumulated", images_.current(imageOf(diffuse, kDenoiseAccumulated), f)},
        {"gIn_SpecularAccumulated", images_.current(imageOf(specular, kDenoiseAccumulated), f)},
+       {"gIn_SpecularMoments", images_.current(imageOf(specular, kDenoiseMoments), f)},
        {"gIn_Diffuse", images_.current(imageOf(diffuse, kDenoiseStabilized), f)},
+       {"gIn_Specular", images_.current(imageOf(specular, kDenoiseStabilized), f)},
        {"gOut_Validation", images_.current(kDenoiseValidation, f)}});
 }
 
