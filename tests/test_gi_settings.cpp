@@ -93,6 +93,8 @@ std::vector<ExpectedField> expectedFields() {
       {"denoise.enabled", [](const Settings& s) { return double(s.denoise.enabled); }},
       {"denoise.max_accumulated_frames", [](const Settings& s) { return double(s.denoise.maxAccumulatedFrames); }},
       {"denoise.history_fix_frames", [](const Settings& s) { return double(s.denoise.historyFixFrames); }},
+      {"denoise.diffuse_pre_pass_radius", [](const Settings& s) { return double(s.denoise.diffusePrePassRadius); }},
+      {"denoise.specular_pre_pass_radius", [](const Settings& s) { return double(s.denoise.specularPrePassRadius); }},
       {"denoise.history_fix_stride", [](const Settings& s) { return double(s.denoise.historyFixStride); }},
       {"denoise.blur_radius", [](const Settings& s) { return double(s.denoise.blurRadius); }},
       {"denoise.min_blur_radius", [](const Settings& s) { return double(s.denoise.minBlurRadius); }},

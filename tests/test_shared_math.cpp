@@ -422,4 +422,24 @@ TEST(DenoiseWeights, TheReflectionHistoryThatDisagreesLoses) {
   EXPECT_EQ(virtualHistoryShare(0.4f, 0.0f, 0.0f), 0.4f) << "neither agrees: the prior";
 }
 
+// The pre-pass: a radius that grows with the hit distance (and for
+// specular with the roughness, up to the lobe's footprint), and a
+// hit-distance weight that keeps its floor and narrows as the history grows.
+TEST(DenoiseWeights, ThePrePassRadiusFollowsHitDistanceRoughnessAndLobe) {
+  EXPECT_FLOAT_EQ(prePassRadius(30.0f, 1.0f, 1.0f, false, 0.0f), 30.0f);
+  EXPECT_FLOAT_EQ(prePassRadius(30.0f, 0.25f, 1.0f, false, 0.0f), 15.0f);
+  EXPECT_FLOAT_EQ(prePassRadius(30.0f, 4.0f, 1.0f, false, 0.0f), 30.0f) << "hit beyond the frustum: capped";
+  EXPECT_FLOAT_EQ(prePassRadius(50.0f, 1.0f, 0.25f, true, 1000.0f), 25.0f);
+  EXPECT_FLOAT_EQ(prePassRadius(50.0f, 1.0f, 0.25f, true, 3.0f), 3.0f) << "cut to the lobe's footprint";
+  EXPECT_EQ(specularMagicCurve(0.0f), 0.0f);
+  EXPECT_GT(specularMagicCurve(0.2f), 0.5f);
+  EXPECT_FLOAT_EQ(specularMagicCurve(1.0f), 1.0f);
+  EXPECT_FLOAT_EQ(hitDistanceWeight(0.3f, 0.3f, 0.1f, 1.0f, 0.2f), 1.0f);
+  EXPECT_LT(hitDistanceWeight(0.3f, 0.9f, 0.1f, 1.0f, 0.2f), 0.25f);
+  EXPECT_GE(hitDistanceWeight(0.3f, 0.9f, 0.1f, 1.0f, 0.2f), 0.2f) << "the floor";
+  EXPECT_LT(hitDistanceWeight(0.3f, 0.4f, 0.05f, 1.0f, 0.0f), hitDistanceWeight(0.3f, 0.4f, 0.5f, 1.0f, 0.0f))
+      << "a longer history (smaller weight 1 / (1 + frames)) asks for closer hits";
+  EXPECT_LT(hitDistanceWeight(0.3f, 0.35f, 1.0f, 0.0f, 0.0f), 0.01f) << "a mirror: only the same hit";
+}
+
 }  // namespace

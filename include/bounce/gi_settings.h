@@ -165,6 +165,8 @@ struct DenoiseSettings {
   std::uint32_t maxAccumulatedFrames = 30;  // the longest history (REBLUR's default)
   std::uint32_t historyFixFrames = 3;       // shorter histories are rebuilt from a wide neighbourhood
   // Radii and strides in pixels of a 1080-row frame, scaled with the render height.
+  float diffusePrePassRadius = 30.0f;       // pre-pass: the widest radius (REBLUR's; 0: no pre-pass)
+  float specularPrePassRadius = 50.0f;      // the same for specular (REBLUR's)
   float historyFixStride = 14.0f;           // pixels between history fix's taps (REBLUR: 14)
   float blurRadius = 30.0f;                 // pixels, at the first frame of a history (REBLUR's max radius)
   float minBlurRadius = 1.0f;               // pixels, however long the history

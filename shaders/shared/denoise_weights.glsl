@@ -99,6 +99,38 @@ float virtualHistoryShare(float prior, float virtualAgreement, float surfaceAgre
   return wv + ws > 1e-6f ? wv / (wv + ws) : prior;
 }
 
+// REBLUR's "specular magic curve": 0 for a mirror, rising steeply to about
+// 1 by roughness 0.2 and on to 1 at roughness 1: how much a lobe of this
+// roughness may be blurred or its hit distance averaged.
+float specularMagicCurve(float roughness) {
+  float r = clamp(roughness, 0.0f, 1.0f);
+  return (1.0f - exp2(-200.0f * r * r)) * pow(r, 0.25f);
+}
+
+// The pre-pass's radius in pixels (REBLUR's): `maxRadius` times the square
+// root of how far the light came from, as a fraction of the frustum's
+// width (`hitFraction`: hit distance / frustum width at the pixel; 1 where
+// unknown); for specular also of the roughness, and no wider than the
+// lobe's footprint at the hit (`lobePixels`: hit distance * n.d * the tan
+// of the lobe's half angle, in pixels at the virtual image's depth), so a
+// sharp reflection stays sharp.
+float prePassRadius(float maxRadius, float hitFraction, float roughness, bool specular, float lobePixels) {
+  float f = clamp(hitFraction, 0.0f, 1.0f);
+  if (!specular) return maxRadius * sqrt(f);
+  return min(maxRadius * sqrt(clamp(roughness, 0.0f, 1.0f) * f), lobePixels);
+}
+
+// The share of a tap whose normalised hit distance differs from the
+// pixel's (REBLUR's hit-distance weight, exponential, over a reach that
+// widens with the roughness and shrinks as the history grows), floored at
+// `floor`: light from a much nearer or farther hit is another light.
+float hitDistanceWeight(float normalizedHit, float tapNormalizedHit, float historyWeight, float roughness,
+                        float floor) {
+  float reach = mix(0.0005f, 1.0f, min(historyWeight, specularMagicCurve(roughness)));
+  float x = 3.0f * abs(tapNormalizedHit - normalizedHit) / reach;
+  return mix(floor, 1.0f, 1.0f / (x * x + x + 1.0f));
+}
+
 // 8 taps in the unit disk (a golden-angle spiral, radii sqrt((i + 0.5) / 8)):
 // even coverage, rotated per pixel and frame so the pattern does not show.
 vec2 diskTap(uint i, float rotation) {

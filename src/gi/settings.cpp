@@ -283,6 +283,12 @@ constexpr std::array kEntries{
           "temporal accumulation: the longest history, in frames (specular: fewer on smooth lobes)"},
     Entry{"denoise.history_fix_frames", inDenoise(&DenoiseSettings::historyFixFrames), closed(0, 32),
           "history fix: pixels with a shorter history are rebuilt from a wide neighbourhood (0: off)"},
+    Entry{"denoise.diffuse_pre_pass_radius", inDenoise(&DenoiseSettings::diffusePrePassRadius), closed(0, 128),
+          "pre-pass: the widest radius in pixels of the diffuse pre-blur, for light from far away; 0: no pre-pass "
+          "(at 1080 rows; scaled with the height)"},
+    Entry{"denoise.specular_pre_pass_radius", inDenoise(&DenoiseSettings::specularPrePassRadius), closed(0, 128),
+          "pre-pass: the same for specular, also scaled by the roughness and cut to the lobe's footprint; 0: no "
+          "pre-pass (at 1080 rows; scaled with the height)"},
     Entry{"denoise.history_fix_stride", inDenoise(&DenoiseSettings::historyFixStride), closed(1, 64),
           "history fix: pixels between its 5x5 taps at a history of 0 frames (at 1080 rows; scaled with the height)"},
     Entry{"denoise.blur_radius", inDenoise(&DenoiseSettings::blurRadius), closed(0, 128),

@@ -35,8 +35,8 @@ struct DenoiseConstants {
   uint hasHistory;                  // 0: a cut or the first frame; nothing is reprojected
   uint frameIndex;                  // rotates the blur kernels
   uint antiFirefly;                 // history fix clamps outliers to their neighbourhood
-  uint pad1;
-  uint pad2;
+  float diffusePrePassRadius;       // pixels (scaled with the height); 0: no pre-pass
+  float specularPrePassRadius;
 };
 
 #ifdef __cplusplus
@@ -67,16 +67,22 @@ bool tileEmpty(ivec2 pixel) { return imageLoad(gIn_Tiles, pixel / kDenoiseTile).
 
 // How much a neighbour (its surface and roughness) counts towards the
 // average of a pixel with `frames` of history: on its plane, inside its
-// lobe (diffuse: roughness 1), of a like roughness (specular only).
-float neighbourWeight(Surface x, float roughness, float frames, Surface y, float neighbourRoughness) {
+// lobe (diffuse: roughness 1), of a like roughness (specular only); the
+// cone and the roughness reach `widening` times wider (the pre-pass's 2).
+float neighbourWeightWidened(Surface x, float roughness, float frames, Surface y, float neighbourRoughness,
+                             float widening) {
   if (y.viewZ <= 0.0f) return 0.0f;
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
   bool specular = gSignal.signal == kSignalSpecular;
   float halfAngle = lobeHalfAngle(specular ? roughness : 1.0f, d.lobeAngleFraction, 1.0f / (1.0f + frames));
   float w = planeWeight(x.normal, x.position, y.position, x.viewZ, d.planeDistanceSensitivity) *
-            normalWeight(x.normal, y.normal, halfAngle);
-  if (specular) w *= roughnessWeight(roughness, neighbourRoughness, d.roughnessFraction);
+            normalWeight(x.normal, y.normal, halfAngle * widening);
+  if (specular) w *= roughnessWeight(roughness, neighbourRoughness, d.roughnessFraction * widening);
   return w;
+}
+
+float neighbourWeight(Surface x, float roughness, float frames, Surface y, float neighbourRoughness) {
+  return neighbourWeightWidened(x, roughness, frames, y, neighbourRoughness, 1.0f);
 }
 
 // A pixel's blur radius (REBLUR's): R sqrt(f / (1 + frames)), wide while

@@ -27,8 +27,8 @@ gpu::ConstantsDecl denoiseConstantsLayout() {
                                  maxAccumulatedFrames, historyFixFrames, historyFixStride, blurRadius,
                                  postBlurRadiusScale, minBlurRadius, planeDistanceSensitivity, lobeAngleFraction,
                                  roughnessFraction, stabilizationFrames, clampSigma, depthTolerance,
-                                 cosNormalTolerance, disocclusionThreshold, hasHistory, frameIndex, antiFirefly, pad1,
-                                 pad2);
+                                 cosNormalTolerance, disocclusionThreshold, hasHistory, frameIndex, antiFirefly,
+                                 diffusePrePassRadius, specularPrePassRadius);
 }
 
 ResourceDecl tilesDecl() {
@@ -48,7 +48,8 @@ gpu::PassDesc signalPass(const std::string& pass, const std::string& signal, con
 }
 
 ResourceDecl noisyDecl() {
-  return {"gIn_Signal", Access::Read, kRgba16f, "the noisy signal: radiance, hit distance (world units, 0 unknown)"};
+  return {"gIn_Signal", Access::Read, kRgba16f,
+          "the noisy signal (pre-passed, but for the pre-pass): radiance, hit distance (world units, 0 unknown)"};
 }
 
 gpu::PassDesc blur(const std::string& name, const std::string& signal, const char* output) {
@@ -63,6 +64,13 @@ gpu::PassDesc blur(const std::string& name, const std::string& signal, const cha
 gpu::PassDesc denoiseClassifyTilesPass() {
   return framePass("gi.denoise.classify_tiles", "gi/denoise/classify_tiles", GroupPart::Depth,
                    {{"gOut_Tiles", Access::Write, kR16f, "1 where a 16x16 tile has a surface"}});
+}
+
+gpu::PassDesc denoisePrePass(const std::string& signal) {
+  return signalPass("pre_pass", signal, "gi/denoise/pre_pass",
+                    {noisyDecl(),
+                     {"gOut_PrePassed", Access::Write, kRgba16f,
+                      "the pre-blurred signal: radiance, hit distance (world units, 0 unknown)"}});
 }
 
 gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal) {

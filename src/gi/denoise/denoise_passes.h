@@ -19,6 +19,7 @@ struct DenoiseSignalParams {
 };
 
 gpu::PassDesc denoiseClassifyTilesPass();
+gpu::PassDesc denoisePrePass(const std::string& signal);
 gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal);
 gpu::PassDesc denoiseHistoryFixPass(const std::string& signal);
 // Blur and post-blur run the same shader (shaders/gi/denoise/blur.comp).

@@ -21,7 +21,9 @@ constexpr float kReferenceRows = 1080.0f;
 
 // The images of one signal (names gi.denoise.SIGNAL.*).
 #define BOUNCE_DENOISE_SIGNAL_IMAGES(SIGNAL)                                                                       \
-  {"gi.denoise." SIGNAL ".accumulated", Resolution::Full, kRgba32f, false, Visualize::Radiance,                   \
+  {"gi.denoise." SIGNAL ".pre_passed", Resolution::Full, kRgba16f, false, Visualize::Radiance,                    \
+   "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance"},                                    \
+      {"gi.denoise." SIGNAL ".accumulated", Resolution::Full, kRgba32f, false, Visualize::Radiance,                   \
    "temporal accumulation's output, then blur's: radiance, history length"},                                      \
       {"gi.denoise." SIGNAL ".moments", Resolution::Full, kRgba32f, true, Visualize::Raw,                         \
        "luminance moments: mean and mean square over the history, mean of the fast history; specular: the "     \
@@ -53,9 +55,10 @@ std::span<const ImageSpec> denoiseImageTable() { return kImages; }
 
 struct Denoiser::Passes {
   struct Signal {
-    gpu::ComputePass temporalAccumulation, historyFix, blur, postBlur, temporalStabilization;
+    gpu::ComputePass prePass, temporalAccumulation, historyFix, blur, postBlur, temporalStabilization;
     Signal(gpu::Context& context, const std::string& name)
-        : temporalAccumulation(context, denoiseTemporalAccumulationPass(name)),
+        : prePass(context, denoisePrePass(name)),
+          temporalAccumulation(context, denoiseTemporalAccumulationPass(name)),
           historyFix(context, denoiseHistoryFixPass(name)),
           blur(context, denoiseBlurPass(name)),
           postBlur(context, denoisePostBlurPass(name)),
@@ -82,7 +85,7 @@ Denoiser::~Denoiser() = default;
 std::vector<gpu::PassDesc> Denoiser::passes() const {
   std::vector<gpu::PassDesc> all = {denoiseClassifyTilesPass()};
   for (const char* signal : kSignalNames)
-    for (gpu::PassDesc desc : {denoiseTemporalAccumulationPass(signal), denoiseHistoryFixPass(signal),
+    for (gpu::PassDesc desc : {denoisePrePass(signal), denoiseTemporalAccumulationPass(signal), denoiseHistoryFixPass(signal),
                                denoiseBlurPass(signal), denoisePostBlurPass(signal),
                                denoiseTemporalStabilizationPass(signal)})
       all.push_back(std::move(desc));
@@ -130,6 +133,8 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
   c.hasHistory = frame.usableHistory ? 1u : 0u;
   c.frameIndex = std::uint32_t(f);
   c.antiFirefly = s.antiFirefly ? 1u : 0u;
+  c.diffusePrePassRadius = s.diffusePrePassRadius * pixelScale;
+  c.specularPrePassRadius = s.specularPrePassRadius * pixelScale;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DenoiseConstants", *constants_);
   gpu::Image& tiles = images_.current(kDenoiseTiles, f);
@@ -147,7 +152,14 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
     };
     const DenoiseSignalParams atFullRadius{std::uint32_t(signal), 1.0f};
     const DenoiseSignalParams post{std::uint32_t(signal), s.postBlurRadiusScale};
-    const gpu::Bind input("gIn_Signal", *noisy[signal]);
+    // The pre-pass's output takes the noisy signal's place in every later pass; without a pre-pass, the noisy signal.
+    const float prePassRadius = signal == 0 ? s.diffusePrePassRadius : s.specularPrePassRadius;
+    if (prePassRadius > 0.0f)
+      recorder.dispatch(p.prePass, full.width, full.height, frame.group.binds(),
+                        {constants, tilesBind, {"gIn_Signal", *noisy[signal]},
+                         {"gOut_PrePassed", image(kDenoisePrePassed)}},
+                        atFullRadius);
+    const gpu::Bind input("gIn_Signal", prePassRadius > 0.0f ? image(kDenoisePrePassed) : *noisy[signal]);
     recorder.dispatch(p.temporalAccumulation, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind, motion, input,
                        {"gPrev_Surface", frame.previousSurface},

@@ -4,7 +4,9 @@
 // frame's surfaces (viewZ, normal, roughness), the motion vectors and last
 // frame's surfaces, and nothing of the branches. Its passes, per signal:
 //   gi.denoise.classify_tiles                   16x16 tiles with a surface (both signals)
-//   gi.denoise.SIGNAL.temporal_accumulation    surface-motion history, history length, fast-history clamp, anti-lag
+//   gi.denoise.SIGNAL.pre_pass                 8-tap pre-blur, radius from hit distance and lobe
+//   gi.denoise.SIGNAL.temporal_accumulation    Catmull-Rom surface-motion history (specular: + reflection
+//                                              motion), history length, fast-history clamp, anti-lag
 //   gi.denoise.SIGNAL.history_fix              short histories rebuilt from a wide neighbourhood; anti-firefly
 //   gi.denoise.SIGNAL.blur                     8-tap disk, radius from history length, lobe and hit distance
 //   gi.denoise.SIGNAL.post_blur                the same at half the radius: next frame's history
@@ -26,10 +28,11 @@ enum class DenoiseSignal : std::uint32_t { Diffuse = 0, Specular = 1 };
 constexpr std::size_t kDenoiseSignals = 2;
 
 // The denoiser's images, in the order of denoiseImageTable(): the tiles,
-// then per signal (diffuse first) the same five.
+// then per signal (diffuse first) the same six.
 enum DenoiseImage : std::size_t {
   kDenoiseTiles,
-  kDenoiseAccumulated,  // + kDenoisePerSignal * signal; also blur's output
+  kDenoisePrePassed,    // + kDenoisePerSignal * signal
+  kDenoiseAccumulated,  // also blur's output
   kDenoiseMoments,
   kDenoiseFixed,
   kDenoiseHistory,      // post-blur's output, next frame's history

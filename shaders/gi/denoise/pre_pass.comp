@@ -1,0 +1,115 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.denoise.SIGNAL.pre_pass: REBLUR's pre-blur of the noisy signal before
+// it meets the history: 8 taps of a disk rotated per pixel and frame,
+// radius gi.denoise.diffuse_pre_pass_radius (specular_pre_pass_radius)
+// times the square root of how far the light came from (a fraction of the
+// frustum's width: light from far away varies slowly across the screen,
+// a contact shadow does not); for specular also of the roughness, and no
+// wider than the lobe's footprint at the hit (shared/denoise_weights.glsl,
+// prePassRadius). Weights: the blur's plane, normal cone and roughness
+// weights as for a history of 10 frames with cone and roughness reach
+// doubled (REBLUR's), the hit-distance weight (light from a much nearer or
+// farther hit is other light), a Gaussian falloff over the disk, and for
+// specular REBLUR's contact protection (a neighbour's hit nearer than the
+// distance between the two points reflects something else). Radiance and
+// hit distance are both averaged: the blurs and the reflection motion read
+// the averaged hit distance.
+#include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#define DENOISE_READS_TILES
+#include "gi/denoise/denoise_common.glsl"
+#include "shared/color.glsl"
+#include "shared/rng.glsl"
+#include "shared/sampling.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Signal;
+layout(set = 0, binding = 6, rgba16f) writeonly uniform image2D gOut_PrePassed;
+
+// REBLUR's pre-pass constants: its weights are those of a 10-frame history
+// with the normal cone and roughness reach doubled; a tap of another hit
+// distance keeps a fifth of its weight; the lobe footprint holds 30 % of
+// the lobe.
+const float kPrePassHistoryFrames = 10.0f;
+const float kPrePassWidening = 2.0f;
+const float kHitWeightFloor = 0.2f;
+const float kPrePassLobeShare = 0.3f;
+
+vec4 signalAt(ivec2 pixel) {
+  vec4 s = imageLoad(gIn_Signal, pixel);
+  return vec4(sanitizeRadiance(s.xyz), max(finiteOr(s.w, 0.0f), 0.0f));
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideFull(pixel)) return;
+  float roughness;
+  Surface x = gbufferSurfaceRoughness(pixel, roughness);
+  if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
+    imageStore(gOut_PrePassed, pixel, vec4(0.0f));
+    return;
+  }
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  vec4 center = signalAt(pixel);
+  bool specular = gSignal.signal == kSignalSpecular;
+  float r = specular ? roughness : 1.0f;
+  float hit = center.w;
+
+  vec2 size = fullSize();
+  float tanHalfY = gIn_Frame.frame.view.projection.y;
+  float frustumWidth = 2.0f * tanHalfY * x.viewZ * min(size.x, size.y) / size.y;
+  float hitFraction = hit > 0.0f ? hit / frustumWidth : 1.0f;
+  float lobePixels = 0.0f;
+  if (specular) {
+    vec3 v = normalize(viewPosition(gIn_Frame.frame.view) - x.position);
+    float alpha = r * r;
+    float dominant = ggxDominantFactor(alpha);
+    float cosDominant = abs(dot(x.normal, ggxDominantDirection(x.normal, v, alpha)));
+    float reach = hit > 0.0f ? hit : frustumWidth;
+    float lobeWorld = reach * cosDominant * r * sqrt(kPrePassLobeShare / (1.0f - kPrePassLobeShare));
+    float pixelWorld = 2.0f * tanHalfY * (x.viewZ + reach * dominant) / size.y;
+    lobePixels = lobeWorld / max(pixelWorld, 1e-6f);
+  }
+  float maxRadius = (specular ? d.specularPrePassRadius : d.diffusePrePassRadius) * gSignal.radiusScale;
+  float radius = max(prePassRadius(maxRadius, hitFraction, r, specular, lobePixels),
+                     d.minBlurRadius * (specular ? specularMagicCurve(r) : 1.0f));
+
+  float normalizedHit = normalizedHitDistance(d.hitDistanceParameters, hit, x.viewZ, r);
+  float historyWeight = 1.0f / (1.0f + kPrePassHistoryFrames);
+  uint seed = rngSeed(uvec2(pixel), d.frameIndex, 0x707265u + gSignal.signal);
+  float rotation = rngUniform(seed) * 6.28318531f;
+  vec3 sum = center.xyz;
+  float weightSum = 1.0f;
+  // Hit distances average over the taps that know theirs (0: unknown).
+  float hitSum = hit;
+  float hitWeightSum = hit > 0.0f ? 1.0f : 0.0f;
+  for (uint i = 0u; i < 8u; ++i) {
+    vec2 offset = diskTap(i, rotation);
+    ivec2 tap = pixel + ivec2(round(offset * radius));
+    if (!insideFull(tap) || tap == pixel) continue;
+    float tapRoughness;
+    Surface y = gbufferSurfaceRoughness(tap, tapRoughness);
+    float w = neighbourWeightWidened(x, roughness, kPrePassHistoryFrames, y, tapRoughness, kPrePassWidening);
+    if (w <= 0.0f) continue;
+    vec4 s = signalAt(tap);
+    float tapNormalizedHit = normalizedHitDistance(d.hitDistanceParameters, s.w, y.viewZ, r);
+    w *= hitDistanceWeight(normalizedHit, tapNormalizedHit, historyWeight, r, kHitWeightFloor);
+    w *= exp(-0.66f * dot(offset, offset));
+    if (specular && s.w > 0.0f) {
+      // A neighbour's reflection of something nearer than the two points
+      // are apart is another reflection (REBLUR's contact protection; rough lobes need it less).
+      float apart = length(y.position - x.position);
+      w *= mix(clamp(s.w / (apart + hit), 0.0f, 1.0f), 1.0f, clamp((r - 0.5f) / 0.5f, 0.0f, 1.0f));
+    }
+    sum += s.xyz * w;
+    weightSum += w;
+    if (s.w > 0.0f) {
+      hitSum += s.w * w;
+      hitWeightSum += w;
+    }
+  }
+  float averageHit = hitWeightSum > 0.0f ? hitSum / hitWeightSum : 0.0f;
+  imageStore(gOut_PrePassed, pixel, vec4(sanitizeRadiance(sum / weightSum), averageHit));
+}
