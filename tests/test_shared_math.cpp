@@ -442,4 +442,16 @@ TEST(DenoiseWeights, ThePrePassRadiusFollowsHitDistanceRoughnessAndLobe) {
   EXPECT_LT(hitDistanceWeight(0.3f, 0.35f, 1.0f, 0.0f, 0.0f), 0.01f) << "a mirror: only the same hit";
 }
 
+// The spatial passes' disk turns every frame and differs between passes,
+// so the pattern averages away over the history.
+TEST(DenoiseWeights, TheDiskTurnsEveryFrameAndDiffersPerPass) {
+  for (std::uint32_t frame : {0u, 1u, 7u, 4095u, 4096u, 100000u}) {
+    const float rotation = diskRotation(frame, 0);
+    EXPECT_GE(rotation, 0.0f);
+    EXPECT_LT(rotation, 6.2832f);
+    EXPECT_GT(std::abs(rotation - diskRotation(frame + 1, 0)), 0.1f) << frame;
+    EXPECT_GT(std::abs(rotation - diskRotation(frame, 1)), 0.1f) << frame;
+  }
+}
+
 }  // namespace

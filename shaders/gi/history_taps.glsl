@@ -18,11 +18,18 @@ struct ExpectedSurface {
   float cosNormalTolerance;
 };
 
-bool tapShows(ExpectedSurface expected, Surface then) {
-  if (then.viewZ <= 0.0f || dot(expected.normal, then.normal) < expected.cosNormalTolerance) return false;
-  if (expected.viewZ > 0.0f) return abs(then.viewZ - expected.viewZ) <= expected.depthTolerance * expected.viewZ;
+// Whether last frame's pixel `tap` (its gi.history_surface texel `packed`)
+// shows the expected surface. The depth test comes first and the tap's
+// position is rebuilt only for the plane test: most taps cost a compare.
+bool tapShows(ExpectedSurface expected, ivec2 tap, uvec2 packed) {
+  float viewZ = uintBitsToFloat(packed.x);
+  if (viewZ <= 0.0f) return false;
+  if (expected.viewZ > 0.0f && abs(viewZ - expected.viewZ) > expected.depthTolerance * expected.viewZ) return false;
+  if (dot(expected.normal, unpackNormalOct32(packed.y)) < expected.cosNormalTolerance) return false;
+  if (expected.viewZ > 0.0f) return true;
   // Virtual motion lands elsewhere on the reflecting surface: the tap must lie on its plane.
-  return abs(dot(expected.normal, then.position - expected.position)) <= expected.depthTolerance * then.viewZ;
+  vec3 position = reconstructPosition(gIn_Frame.frame.previousView, vec2(tap), viewZ, fullSize());
+  return abs(dot(expected.normal, position - expected.position)) <= expected.depthTolerance * viewZ;
 }
 
 // The bilinear weights of last frame's four pixels around continuous
@@ -37,7 +44,7 @@ vec4 historyTapWeights(vec2 previous, ExpectedSurface expected, out ivec2 corner
     ivec2 tap = corner + ivec2(i & 1, i >> 1);
     if (!insideFull(tap)) continue;
     float weight = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
-    if (weight > 0.0f && tapShows(expected, historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy))) weights[i] = weight;
+    if (weight > 0.0f && tapShows(expected, tap, imageLoad(gPrev_Surface, tap).xy)) weights[i] = weight;
   }
   return weights;
 }

@@ -57,28 +57,52 @@ History fetchHistory(vec2 previous, ExpectedSurface expected) {
 
 // The same fetch with a Catmull-Rom filter (REBLUR's): the 12 taps of its
 // 4x4 footprint without the corners, where all 12 show the expected
-// surface; else the bilinear fetch above (an edge, a disocclusion). Only
-// the radiance is filtered sharply; the moments and the history length are
-// bilinear, as REBLUR's fast history is. The overshoot of the negative
-// lobes is cut at 0.
+// surface; else bilinear over the centre four that do (an edge, a
+// disocclusion), as fetchHistory. Only the radiance is filtered sharply;
+// the moments and the history length are bilinear, as REBLUR's fast
+// history is. The overshoot of the negative lobes is cut at 0. One pass
+// over the footprint: each tap is tested and read once.
 History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
-  ivec2 corner = ivec2(floor(previous)) - 1;
-  vec2 f = previous - floor(previous);
+  History h;
+  h.found = false;
+  h.radiance = vec3(0.0f);
+  h.moments = vec3(0.0f);
+  h.frames = 0.0f;
+  ivec2 origin = ivec2(floor(previous));  // the first of the centre four
+  vec2 f = previous - vec2(origin);
   vec4 wx = catmullRomWeights(f.x), wy = catmullRomWeights(f.y);
-  vec3 radiance = vec3(0.0f);
-  float weightSum = 0.0f;
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) {
-      if ((i == 0 || i == 3) && (j == 0 || j == 3)) continue;
-      ivec2 tap = corner + ivec2(i, j);
-      if (!insideFull(tap) || !tapShows(expected, historySurfaceAt(tap, imageLoad(gPrev_Surface, tap).xy)))
-        return fetchHistory(previous, expected);
-      float w = wx[i] * wy[j];
-      radiance += imageLoad(gPrev_Filtered, tap).xyz * w;
-      weightSum += w;
+  vec3 sharp = vec3(0.0f);
+  float sharpWeight = 0.0f;
+  bool allShow = true;
+  vec4 bilinear = vec4(0.0f);  // radiance and history length over the centre four
+  float bilinearWeight = 0.0f;
+  vec4 centreWeights = vec4(0.0f);
+  for (int j = -1; j <= 2; ++j)
+    for (int i = -1; i <= 2; ++i) {
+      if ((i == -1 || i == 2) && (j == -1 || j == 2)) continue;
+      ivec2 tap = origin + ivec2(i, j);
+      if (!insideFull(tap) || !tapShows(expected, tap, imageLoad(gPrev_Surface, tap).xy)) {
+        allShow = false;
+        continue;
+      }
+      vec4 value = imageLoad(gPrev_Filtered, tap);
+      float w = wx[i + 1] * wy[j + 1];
+      sharp += value.xyz * w;
+      sharpWeight += w;
+      if (i >= 0 && i <= 1 && j >= 0 && j <= 1) {
+        float b = (i == 1 ? f.x : 1.0f - f.x) * (j == 1 ? f.y : 1.0f - f.y);
+        bilinear += value * b;
+        bilinearWeight += b;
+        centreWeights[i + 2 * j] = b;
+      }
     }
-  History h = fetchHistory(previous, expected);
-  if (h.found) h.radiance = max(radiance / weightSum, vec3(0.0f));
+  if (bilinearWeight <= kMinHistoryWeight) return h;
+  h.found = true;
+  h.radiance = allShow ? max(sharp / sharpWeight, vec3(0.0f)) : bilinear.xyz / bilinearWeight;
+  h.frames = bilinear.w / bilinearWeight;
+  for (int i = 0; i < 4; ++i)
+    if (centreWeights[i] > 0.0f) h.moments += imageLoad(gPrev_Moments, origin + ivec2(i & 1, i >> 1)).xyz * centreWeights[i];
+  h.moments /= bilinearWeight;
   return h;
 }
 

@@ -131,8 +131,17 @@ float hitDistanceWeight(float normalizedHit, float tapNormalizedHit, float histo
   return mix(floor, 1.0f, 1.0f / (x * x + x + 1.0f));
 }
 
+// The rotation (radians) of the spatial passes' disk in a frame: the same
+// for every pixel (REBLUR's per-frame rotation; neighbouring pixels then
+// read neighbouring texels, which a per-pixel rotation scatters over the
+// caches), turning by the golden ratio of a turn a frame, offset per pass,
+// so the history averages the pattern away.
+float diskRotation(uint frameIndex, uint pass) {
+  return fract(float(frameIndex % 4096u) * 0.618034f + float(pass) * 0.381966f) * 6.28318531f;
+}
+
 // 8 taps in the unit disk (a golden-angle spiral, radii sqrt((i + 0.5) / 8)):
-// even coverage, rotated per pixel and frame so the pattern does not show.
+// even coverage, rotated per frame (diskRotation).
 vec2 diskTap(uint i, float rotation) {
   float radius = sqrt((float(i) + 0.5f) / 8.0f);
   float angle = float(i) * 2.39996323f + rotation;

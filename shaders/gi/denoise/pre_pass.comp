@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // gi.denoise.SIGNAL.pre_pass: REBLUR's pre-blur of the noisy signal before
-// it meets the history: 8 taps of a disk rotated per pixel and frame,
+// it meets the history: 8 taps of a disk rotated per frame,
 // radius gi.denoise.diffuse_pre_pass_radius (specular_pre_pass_radius)
 // times the square root of how far the light came from (a fraction of the
 // frustum's width: light from far away varies slowly across the screen,
@@ -20,7 +20,6 @@
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
-#include "shared/rng.glsl"
 #include "shared/sampling.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -78,8 +77,7 @@ void main() {
 
   float normalizedHit = normalizedHitDistance(d.hitDistanceParameters, hit, x.viewZ, r);
   float historyWeight = 1.0f / (1.0f + kPrePassHistoryFrames);
-  uint seed = rngSeed(uvec2(pixel), d.frameIndex, 0x707265u + gSignal.signal);
-  float rotation = rngUniform(seed) * 6.28318531f;
+  float rotation = diskRotation(d.frameIndex, 4u + gSignal.signal);
   vec3 sum = center.xyz;
   float weightSum = 1.0f;
   // Hit distances average over the taps that know theirs (0: unknown).

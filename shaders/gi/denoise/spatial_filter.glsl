@@ -1,15 +1,13 @@
 // The blur of gi.denoise.SIGNAL.blur and .post_blur (REBLUR's blur and
-// post-blur, one kernel at two radii): 8 taps of a disk rotated per pixel
-// and frame, its radius set by the pixel's history length, roughness and
-// hit distance (blurRadius), each tap weighed by neighbourWeight (plane,
-// lobe, roughness). The including shader declares gIn_Filtered (rgba32f:
+// post-blur, one kernel at two radii): 8 taps of a disk rotated per frame
+// (diskRotation), its radius set by the pixel's history length, roughness
+// and hit distance (blurRadius), each tap weighed by neighbourWeight
+// (plane, lobe, roughness). The including shader declares gIn_Filtered (rgba32f:
 // radiance, history length), gIn_Signal (the noisy input, for its hit
 // distance) and includes gi/denoise/denoise_common.glsl with
 // DENOISE_READS_TILES.
 #ifndef BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
 #define BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
-
-#include "shared/rng.glsl"
 
 // The filtered value at `pixel` (alpha: its history length, unchanged); 0
 // without a surface.
@@ -22,8 +20,7 @@ vec4 spatialFilter(ivec2 pixel) {
   float normalizedHit =
       normalizedHitDistance(d.hitDistanceParameters, imageLoad(gIn_Signal, pixel).w, x.viewZ, roughness);
   float radius = blurRadius(center.w, roughness, normalizedHit);
-  uint seed = rngSeed(uvec2(pixel), d.frameIndex, 0x64656eu + gSignal.signal + uint(gSignal.radiusScale * 16.0f));
-  float rotation = rngUniform(seed) * 6.28318531f;
+  float rotation = diskRotation(d.frameIndex, 2u * gSignal.signal + (gSignal.radiusScale < 1.0f ? 1u : 0u));
   vec3 sum = center.xyz;
   float weightSum = 1.0f;
   for (uint i = 0u; i < 8u; ++i) {

@@ -47,32 +47,54 @@ float maxFrames(float roughness) {
   return max(1.0f, d.maxAccumulatedFrames * clamp(roughness * roughness * 4.0f, 0.1f, 1.0f));
 }
 
-// Luminance mean and mean square over the pixel's 3x3 neighbourhood on its
-// plane: the moments the clamp is built from. The blurs spread a bright
-// sample over its neighbours' histories; moments of the pixel alone would
-// clamp those shares away (measured: cornell's diffuse 7 % darker).
+// Luminance mean and mean square over the pixel's 5x5 neighbourhood at
+// stride 2, on its plane: the moments the clamp is built from. The blurs
+// spread a bright sample over its neighbours' histories; moments of the
+// pixel alone would clamp those shares away (measured: cornell's diffuse
+// 7 % darker).
 const int kMomentsStride = 2;
 // The fast history averages about 6 frames of 25 taps; anti-lag acts past
-// this many standard errors of it. (3x3 taps halve the pass's time and
-// raise the error by a fifth; rgba16f history images cost 5-10 % more
-// error for 0.01 ms a pass, their 11-bit mantissa losing 1 / 30 blends:
-// measured, H100, 640x360 and 1080p.)
+// this many standard errors of it. (3x3 taps raise the error by a fifth;
+// rgba16f history images cost 5-10 % more error, their 11-bit mantissa
+// losing 1 / 30 blends: measured, H100, 640x360 and 1080p.)
 const float kMomentsSamples = 150.0f;
 const float kAntiLagSigmas = 3.0f;
-vec2 neighbourhoodMoments(ivec2 pixel, Surface x) {
+
+// The workgroup's pixels and the moments' reach around them, read once
+// into shared memory (each pixel is a tap of up to 25 others): world
+// position and luminance, luminance -1 where there is no surface.
+const int kGroupSize = 8;
+const int kMomentsReach = 2 * kMomentsStride;
+const int kTileSize = kGroupSize + 2 * kMomentsReach;
+shared vec4 sNeighbourhood[kTileSize][kTileSize];
+
+void loadNeighbourhood() {
+  ivec2 origin = ivec2(gl_WorkGroupID.xy) * kGroupSize - kMomentsReach;
+  for (uint k = gl_LocalInvocationIndex; k < uint(kTileSize * kTileSize); k += uint(kGroupSize * kGroupSize)) {
+    ivec2 local = ivec2(int(k) % kTileSize, int(k) / kTileSize);
+    ivec2 tap = origin + local;
+    vec4 value = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    if (insideFull(tap)) {
+      Surface y = gbufferSurface(tap);
+      if (y.viewZ > 0.0f) value = vec4(y.position, luminance(sanitizeRadiance(imageLoad(gIn_Signal, tap).xyz)));
+    }
+    sNeighbourhood[local.y][local.x] = value;
+  }
+  barrier();
+}
+
+vec2 neighbourhoodMoments(Surface x) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  ivec2 centre = ivec2(gl_LocalInvocationID.xy) + kMomentsReach;
   vec2 sum = vec2(0.0f);
   float count = 0.0f;
   for (int j = -2; j <= 2; ++j)
     for (int i = -2; i <= 2; ++i) {
-      ivec2 tap = pixel + ivec2(i, j) * kMomentsStride;
-      if (!insideFull(tap)) continue;
-      Surface y = gbufferSurface(tap);
-      if (y.viewZ <= 0.0f ||
-          planeWeight(x.normal, x.position, y.position, x.viewZ, d.planeDistanceSensitivity) <= 0.0f)
+      ivec2 local = centre + ivec2(i, j) * kMomentsStride;
+      vec4 y = sNeighbourhood[local.y][local.x];
+      if (y.w < 0.0f || planeWeight(x.normal, x.position, y.xyz, x.viewZ, d.planeDistanceSensitivity) <= 0.0f)
         continue;
-      float l = luminance(sanitizeRadiance(imageLoad(gIn_Signal, tap).xyz));
-      sum += vec2(l, l * l);
+      sum += vec2(y.w, y.w * y.w);
       count += 1.0f;
     }
   return sum / max(count, 1.0f);
@@ -101,10 +123,20 @@ float disocclusionTolerance(Surface x) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // A workgroup lies inside one 16x16 tile: an empty tile leaves it whole,
+  // before the shared load.
+  if (tileEmpty(pixel)) {
+    if (insideFull(pixel)) {
+      imageStore(gOut_Accumulated, pixel, vec4(0.0f));
+      imageStore(gOut_Moments, pixel, vec4(0.0f));
+    }
+    return;
+  }
+  loadNeighbourhood();
   if (!insideFull(pixel)) return;
   float roughness;
   Surface x = gbufferSurfaceRoughness(pixel, roughness);
-  if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
+  if (x.viewZ <= 0.0f) {
     imageStore(gOut_Accumulated, pixel, vec4(0.0f));
     imageStore(gOut_Moments, pixel, vec4(0.0f));
     return;
@@ -112,7 +144,7 @@ void main() {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
   vec3 current = sanitizeRadiance(imageLoad(gIn_Signal, pixel).xyz);
   float currentLuminance = luminance(current);
-  vec2 neighbourhood = neighbourhoodMoments(pixel, x);
+  vec2 neighbourhood = neighbourhoodMoments(x);
 
   History history;
   history.found = false;
