@@ -16,6 +16,7 @@
 #include "gpu/error.h"
 #include "gpu/frame_loop.h"
 #include "gpu_test.h"
+#include "gpuio/gpu_images.h"
 #include "metrics/image_metrics.h"
 #include "shared/color.glsl"
 #include "shared/equirect.glsl"
@@ -105,6 +106,7 @@ class ReferenceTest : public testing::GpuTest {
     std::unique_ptr<FrameRenderer> frame;
     std::unique_ptr<ReferenceRenderer> reference;
     std::unique_ptr<gpu::FrameLoop> loop;
+    std::uint64_t frameIndex = 0;  // the FrameRenderer frame traced from
     ReferenceImages resolve(ReferenceHalf half = ReferenceHalf::Both) { return reference->resolve(*loop, half); }
     void addSamples(std::uint64_t spp) {
       const std::uint64_t goal = reference->samplesPerPixel() + spp;
@@ -122,10 +124,10 @@ class ReferenceTest : public testing::GpuTest {
         std::make_unique<FrameRenderer>(context(), s, testing::smallRendererOptions(s, width, height, environment));
     run.loop = std::make_unique<gpu::FrameLoop>(context(), FrameRenderer::kFramesInFlight);
     run.frame->record(run.loop->beginFrame(), run.loop->frameIndex(), {camera, 0.0f, false});
+    run.frameIndex = run.loop->frameIndex();
     run.loop->endFrame();
     run.loop->finish();
-    run.reference =
-        std::make_unique<ReferenceRenderer>(context(), *run.frame, s, run.loop->frameIndex(), 0.0f, options);
+    run.reference = std::make_unique<ReferenceRenderer>(context(), *run.frame, s, run.frameIndex, 0.0f, options);
     return run;
   }
 
@@ -310,6 +312,58 @@ TEST_F(ReferenceTest, TheSameSeedGivesTheSameBitsAndAnotherSeedOtherNoise) {
   const io::ImageF first = render(1), again = render(1), other = render(2);
   EXPECT_EQ(first.pixels, again.pixels);
   EXPECT_NE(first.pixels, other.pixels);
+}
+
+// restart() traces a frame anew, as bounce denoise traces each frame of a
+// sequence: from empty sums, with samples no earlier frame drew, resolved
+// into the GPU images an engine's signals would be. Alpha holds the mean
+// first-hit distance of the paths: inside a sphere of radius R seen from
+// its centre, a cosine-sampled ray from the shell crosses a chord of 2R
+// cos(theta), 4R/3 on average; a mirror sends the ray straight back
+// across, 2R.
+TEST_F(ReferenceTest, RestartTracesAFrameAnewWithNewSamplesAndTheFirstHitDistance) {
+  constexpr float kRadius = 2.0f;  // furnace()'s
+  const auto trace = [&](Run& run, std::uint32_t spp, gpu::Image& (ReferenceRenderer::*image)()) {
+    gpu::Recorder& recorder = run.loop->beginFrame();
+    run.reference->restart(recorder, run.frameIndex, 0.0f);
+    while (run.reference->samplesPerPixel() < spp)
+      run.reference->record(recorder, std::uint32_t(spp - run.reference->samplesPerPixel()));
+    run.reference->recordResolve(recorder);
+    run.loop->endFrame();
+    run.loop->finish();
+    return gpuio::readbackImage(context(), ((*run.reference).*image)());
+  };
+  const auto meanAlpha = [](const io::ImageF& image) {
+    double sum = 0.0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) sum += image.at(x, y, 3);
+    return sum / double(image.width * image.height);
+  };
+  ReferenceOptions diffuseOnly;
+  diffuseOnly.lobes = shared::kLobeDiffuse;
+  Run run = start(furnace(lambert(glm::vec3(0.5f)), glm::vec3(1.0f)), furnaceCamera(), diffuseOnly);
+  run.addSamples(3);
+  const io::ImageF first = trace(run, 16, &ReferenceRenderer::indirectDiffuseImage);
+  const io::ImageF second = trace(run, 16, &ReferenceRenderer::indirectDiffuseImage);
+  EXPECT_EQ(run.reference->samplesPerPixel(), 16u) << "each restart counts its own samples";
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < first.pixels.size(); ++i) differing += first.pixels[i] != second.pixels[i];
+  EXPECT_GT(differing, first.pixels.size() * 9 / 10) << "the second frame drew the first one's samples again";
+  // Cleared sums: each is the furnace's e / (1 - a), not the sum of both.
+  expectNear(meanOf(first), glm::vec3(2.0f), 0.05f, "first frame");
+  expectNear(meanOf(second), glm::vec3(2.0f), 0.05f, "second frame");
+  EXPECT_NEAR(meanAlpha(second), 4.0 * kRadius / 3.0, 0.03 * 4.0 * kRadius / 3.0) << "mean first-hit distance";
+
+  scene::Material mirror;
+  mirror.baseColorFactor = glm::vec4(glm::vec3(0.6f), 1.0f);
+  mirror.metallicFactor = 1.0f;
+  mirror.roughnessFactor = 0.0f;
+  ReferenceOptions specularOnly;
+  specularOnly.lobes = shared::kLobeSpecular;
+  Run mirrored = start(furnace(mirror, glm::vec3(1.0f)), furnaceCamera(), specularOnly);
+  EXPECT_NEAR(meanAlpha(trace(mirrored, 2, &ReferenceRenderer::indirectSpecularImage)), 2.0 * kRadius,
+              0.01 * 2.0 * kRadius)
+      << "a mirror's first hit";
 }
 
 TEST_F(ReferenceTest, SingleSidedEmittersLightOnlyTheirFrontSide) {

@@ -17,7 +17,9 @@
 // after the primary one (directLighting()). Russian roulette ends long paths.
 // Each dispatch adds sampleCount samples per pixel: even-numbered samples to
 // the sums of half A, odd ones to half B, two independent estimates whose
-// difference measures how converged their mean is.
+// difference measures how converged their mean is. Each path's first hit
+// distance is summed too (both halves together): the resolve hands it on in
+// alpha, what a denoiser takes with a noisy signal (bounce denoise).
 #include "render/scene_access.glsl"
 #include "shared/environment.glsl"
 #define DIRECT_LIGHTS_BINDING 20
@@ -41,6 +43,8 @@ layout(set = 0, binding = 24, rgba32f) uniform image2D gHistory_DiffuseSumA;
 layout(set = 0, binding = 25, rgba32f) uniform image2D gHistory_SpecularSumA;
 layout(set = 0, binding = 26, rgba32f) uniform image2D gHistory_DiffuseSumB;
 layout(set = 0, binding = 27, rgba32f) uniform image2D gHistory_SpecularSumB;
+// Summed first-hit distances: diffuse sum, diffuse paths, specular sum, specular paths.
+layout(set = 0, binding = 28, rgba32f) uniform image2D gHistory_HitDistanceSum;
 
 layout(push_constant) uniform Params { ReferencePathParams params; };
 
@@ -148,8 +152,11 @@ vec3 sampledLights(uint lobes, PathVertex x, vec3 v, inout uint rng) {
 
 // Radiance reflected at the primary vertex x0 towards v0 through `firstLobes`
 // (its own light samples included), following one path. Later vertices use
-// params.lobes of their own materials.
-vec3 tracePath(uint firstLobes, PathVertex x0, vec3 v0, inout uint rng) {
+// params.lobes of their own materials. `firstHitDistance`: how far the
+// path's first ray went (kEscapedHitDistance to the sky), 0 when the lobe
+// gave no ray.
+vec3 tracePath(uint firstLobes, PathVertex x0, vec3 v0, inout uint rng, out float firstHitDistance) {
+  firstHitDistance = 0.0f;
   vec3 radiance = sampledLights(firstLobes, x0, v0, rng);
   vec3 direction, brdfCosine;
   float pdf;
@@ -163,6 +170,7 @@ vec3 tracePath(uint firstLobes, PathVertex x0, vec3 v0, inout uint rng) {
 
   for (uint bounce = 1u; bounce <= params.maxBounces + 1u; ++bounce) {
     BvhHit hit = bvhTraceClosest(origin, direction, 0.0f, 1e30f);
+    if (bounce == 1u) firstHitDistance = hit.t < kEscapedHitDistance ? hit.t : kEscapedHitDistance;
     if (!(hit.t < 1e30f)) {
       radiance += throughput * environmentLight(direction) *
                   powerHeuristic(pdf, environmentLightPdf(lights, direction));
@@ -225,20 +233,28 @@ void main() {
 
   vec4 diffuseSum[2] = vec4[2](imageLoad(gHistory_DiffuseSumA, pixel), imageLoad(gHistory_DiffuseSumB, pixel));
   vec4 specularSum[2] = vec4[2](imageLoad(gHistory_SpecularSumA, pixel), imageLoad(gHistory_SpecularSumB, pixel));
+  vec4 hitDistanceSum = imageLoad(gHistory_HitDistanceSum, pixel);
   for (uint s = 0u; s < params.sampleCount; ++s) {
-    uint sampleIndex = params.firstSample + s;
-    uint halfIndex = sampleIndex & 1u;
+    uint sampleIndex = params.sampleBase + params.firstSample + s;
+    uint halfIndex = (params.firstSample + s) & 1u;
     uint rng = rngSeed(uvec2(pixel), sampleIndex, params.seed);
-    vec3 diffuse = (params.lobes & kLobeDiffuse) != 0u ? tracePath(kLobeDiffuse, x0Diffuse, v0, rng) : vec3(0.0f);
-    vec3 specular = (params.lobes & kLobeSpecular) != 0u ? tracePath(kLobeSpecular, x0, v0, rng) : vec3(0.0f);
+    float diffuseDistance = 0.0f, specularDistance = 0.0f;
+    vec3 diffuse = (params.lobes & kLobeDiffuse) != 0u ? tracePath(kLobeDiffuse, x0Diffuse, v0, rng, diffuseDistance)
+                                                       : vec3(0.0f);
+    vec3 specular = (params.lobes & kLobeSpecular) != 0u ? tracePath(kLobeSpecular, x0, v0, rng, specularDistance)
+                                                         : vec3(0.0f);
     // A non-finite sample would poison the whole sum; drop it and count it.
     if (isFinite(diffuse)) diffuseSum[halfIndex].xyz += diffuse;
     else diffuseSum[halfIndex].w += 1.0f;
     if (isFinite(specular)) specularSum[halfIndex].xyz += specular;
     else specularSum[halfIndex].w += 1.0f;
+    // Paths whose lobe gave no ray know no distance and are left out.
+    if (diffuseDistance > 0.0f) hitDistanceSum.xy += vec2(diffuseDistance, 1.0f);
+    if (specularDistance > 0.0f) hitDistanceSum.zw += vec2(specularDistance, 1.0f);
   }
   imageStore(gHistory_DiffuseSumA, pixel, diffuseSum[0]);
   imageStore(gHistory_SpecularSumA, pixel, specularSum[0]);
   imageStore(gHistory_DiffuseSumB, pixel, diffuseSum[1]);
   imageStore(gHistory_SpecularSumB, pixel, specularSum[1]);
+  imageStore(gHistory_HitDistanceSum, pixel, hitDistanceSum);
 }

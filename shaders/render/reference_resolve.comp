@@ -5,8 +5,11 @@
 // dispatches), so the same pass gives the whole estimate (both halves
 // weighted by 1 / total samples) or either half alone (the other weighted 0),
 // and the two halves measure how converged the whole is.
-//   gOut_Diffuse    indirect diffuse, demodulated (as the GI passes output it)
-//   gOut_Specular   indirect specular, demodulated by specularReflectance()
+//   gOut_Diffuse    indirect diffuse, demodulated (as the GI passes output it);
+//                   alpha: the mean first-hit distance of its paths (0: none)
+//   gOut_Specular   indirect specular, demodulated by specularReflectance(); alpha alike
+// (the noisy signals and hit distances FrameInputs::noisyDiffuse and
+// noisySpecular take, at a few samples per pixel: bounce denoise)
 //   gOut_Radiance   direct + base colour (1 - metallic) diffuse + specularReflectance specular
 #include "gpu/constant_block.glsl"
 #include "render/frame_types.glsl"
@@ -24,9 +27,10 @@ layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_DiffuseSumA;
 layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_SpecularSumA;
 layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_DiffuseSumB;
 layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gIn_SpecularSumB;
-layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Radiance;
-layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Diffuse;
-layout(set = 0, binding = 11, rgba32f) writeonly uniform image2D gOut_Specular;
+layout(set = 0, binding = 9, rgba32f) readonly uniform image2D gIn_HitDistanceSum;
+layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Radiance;
+layout(set = 0, binding = 11, rgba32f) writeonly uniform image2D gOut_Diffuse;
+layout(set = 0, binding = 12, rgba32f) writeonly uniform image2D gOut_Specular;
 
 layout(push_constant) uniform Params { ReferenceResolveParams params; };
 
@@ -50,7 +54,10 @@ void main() {
     specular = specularRadiance / reflectance;
     radiance += baseColorMetallic.xyz * (1.0f - baseColorMetallic.w) * diffuse + specularRadiance;
   }
+  vec4 hitDistanceSum = imageLoad(gIn_HitDistanceSum, pixel);
+  float diffuseDistance = hitDistanceSum.y > 0.0f ? hitDistanceSum.x / hitDistanceSum.y : 0.0f;
+  float specularDistance = hitDistanceSum.w > 0.0f ? hitDistanceSum.z / hitDistanceSum.w : 0.0f;
   imageStore(gOut_Radiance, pixel, vec4(radiance, 1.0f));
-  imageStore(gOut_Diffuse, pixel, vec4(diffuse, 1.0f));
-  imageStore(gOut_Specular, pixel, vec4(specular, 1.0f));
+  imageStore(gOut_Diffuse, pixel, vec4(diffuse, diffuseDistance));
+  imageStore(gOut_Specular, pixel, vec4(specular, specularDistance));
 }

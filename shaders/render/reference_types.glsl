@@ -16,8 +16,15 @@ const uint kLobeDiffuse = 1u;
 const uint kLobeSpecular = 2u;
 const uint kLobesAll = 3u;
 
+// The hit distance a path's first ray that escaped to the environment
+// counts as: beyond any scene, and within a half float (the GI library
+// reads hit distances from rgba16f images).
+const float kEscapedHitDistance = 1.0e4f;
+
 struct ReferencePathParams {
-  uint firstSample;         // index of this dispatch's first sample (decorrelates every sample)
+  uint sampleBase;          // samples drawn before the sums were last cleared (ReferenceRenderer::restart)
+  uint firstSample;         // index of this dispatch's first sample since then (its parity: the half it adds to);
+                            // sampleBase + firstSample numbers the sample, which decorrelates every one
   uint sampleCount;         // samples per pixel in this dispatch
   uint seed;                // the user's seed: another seed, other (independent) noise
   uint maxBounces;          // surfaces a path may bounce off after the primary hit

@@ -44,13 +44,15 @@ gpu::PassDesc pathDesc() {
                    {"gHistory_SpecularSumA", Access::ReadWrite, kRgba32f, "half A: summed specular"},
                    {"gHistory_DiffuseSumB", Access::ReadWrite, kRgba32f, "half B: summed demodulated diffuse"},
                    {"gHistory_SpecularSumB", Access::ReadWrite, kRgba32f, "half B: summed specular"},
+                   {"gHistory_HitDistanceSum", Access::ReadWrite, kRgba32f,
+                    "summed first-hit distances and their paths: diffuse, specular"},
                });
   return {.name = "render.reference_path",
           .shader = "render/reference_path",
           .shaders = shaders(),
           .resources = decls,
           .constants = join(FrameRenderer::sceneConstants(),
-                            {BOUNCE_CONSTANTS_LAYOUT("", shared::ReferencePathParams, firstSample, sampleCount, seed,
+                            {BOUNCE_CONSTANTS_LAYOUT("", shared::ReferencePathParams, sampleBase, firstSample, sampleCount, seed,
                                                      maxBounces, rouletteBounces, lobes, environmentWidth,
                                                      environmentHeight, emissiveCount, emissivePower)})};
 }
@@ -71,9 +73,10 @@ gpu::PassDesc resolveDesc() {
                   {"gIn_SpecularSumA", Access::Read, kRgba32f, "half A's specular sum"},
                   {"gIn_DiffuseSumB", Access::Read, kRgba32f, "half B's diffuse sum"},
                   {"gIn_SpecularSumB", Access::Read, kRgba32f, "half B's specular sum"},
+                  {"gIn_HitDistanceSum", Access::Read, kRgba32f, "summed first-hit distances"},
                   {"gOut_Radiance", Access::Write, kRgba32f, "the whole frame, linear HDR"},
-                  {"gOut_Diffuse", Access::Write, kRgba32f, "indirect diffuse, demodulated"},
-                  {"gOut_Specular", Access::Write, kRgba32f, "indirect specular, demodulated"},
+                  {"gOut_Diffuse", Access::Write, kRgba32f, "indirect diffuse, demodulated; mean first-hit distance"},
+                  {"gOut_Specular", Access::Write, kRgba32f, "indirect specular, demodulated; mean first-hit distance"},
               },
           .constants = join(FrameRenderer::sceneConstants(),
                             {BOUNCE_CONSTANTS_LAYOUT("", shared::ReferenceResolveParams, weightA, weightB)})};
@@ -83,7 +86,7 @@ gpu::PassDesc resolveDesc() {
 
 ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame, const scene::Scene& scene,
                                      std::uint64_t frameIndex, float time, const ReferenceOptions& options)
-    : context_(context), frame_(frame), frameIndex_(frameIndex), options_(options) {
+    : context_(context), frame_(frame), scene_(scene), frameIndex_(frameIndex), time_(time), options_(options) {
   if (options.lobes == 0 || (options.lobes & ~shared::kLobesAll) != 0)
     throw gpu::GpuError("reference: lobes must be diffuse, specular or both");
   if (options.maxBounces > 1000) throw gpu::GpuError("reference: at most 1000 bounces");
@@ -111,15 +114,7 @@ ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame
                                                   gpu::BufferUsage::DeviceLocal);
   gpu::uploadBuffer(context, *environmentCdf_, cdf.data(), cdf.size() * sizeof(float));
 
-  const std::vector<scene::Instance> instances = scene::instancesAt(scene, time);
-  EmissiveTriangles emissive = collectEmissiveTriangles(scene, frame.bvh(), instances);
-  emissiveCount_ = emissive.count();
-  emissivePower_ = float(emissive.totalPower);
-  if (emissive.packed.empty()) emissive.packed.emplace_back(0u);
-  emissiveTriangles_ =
-      std::make_unique<gpu::Buffer>(context, "reference.emissive_triangles",
-                                    emissive.packed.size() * sizeof(glm::uvec4), gpu::BufferUsage::DeviceLocal);
-  gpu::uploadBuffer(context, *emissiveTriangles_, emissive.packed.data(), emissive.packed.size() * sizeof(glm::uvec4));
+  uploadEmissiveTriangles(time);
 
   const auto image = [&](const std::string& name, gpu::Visualize visualize) {
     return std::make_unique<gpu::Image>(context,
@@ -130,20 +125,49 @@ ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame
     diffuseSum_[half] = image("reference.diffuse_sum" + suffix, gpu::Visualize::Radiance);
     specularSum_[half] = image("reference.specular_sum" + suffix, gpu::Visualize::Radiance);
   }
+  hitDistanceSum_ = image("reference.hit_distance_sum", gpu::Visualize::Raw);
   radiance_ = image("reference.radiance", gpu::Visualize::Radiance);
   diffuse_ = image("reference.indirect_diffuse", gpu::Visualize::Radiance);
   specular_ = image("reference.indirect_specular", gpu::Visualize::Radiance);
-  context.submitAndWait([&](gpu::Recorder& r) {
-    for (int half = 0; half < 2; ++half) {
-      r.clearImage(*diffuseSum_[half], {});
-      r.clearImage(*specularSum_[half], {});
-    }
-  });
+  context.submitAndWait([&](gpu::Recorder& r) { clearSums(r); });
   pathPass_ = std::make_unique<gpu::ComputePass>(context, pathDesc());
   resolvePass_ = std::make_unique<gpu::ComputePass>(context, resolveDesc());
 }
 
 ReferenceRenderer::~ReferenceRenderer() = default;
+
+// Every emissive triangle where the scene is at `time`, in a new buffer.
+void ReferenceRenderer::uploadEmissiveTriangles(float time) {
+  const std::vector<scene::Instance> instances = scene::instancesAt(scene_, time);
+  EmissiveTriangles emissive = collectEmissiveTriangles(scene_, frame_.bvh(), instances);
+  emissiveCount_ = emissive.count();
+  emissivePower_ = float(emissive.totalPower);
+  if (emissive.packed.empty()) emissive.packed.emplace_back(0u);
+  emissiveTriangles_ =
+      std::make_unique<gpu::Buffer>(context_, "reference.emissive_triangles",
+                                    emissive.packed.size() * sizeof(glm::uvec4), gpu::BufferUsage::DeviceLocal);
+  gpu::uploadBuffer(context_, *emissiveTriangles_, emissive.packed.data(),
+                    emissive.packed.size() * sizeof(glm::uvec4));
+  time_ = time;
+}
+
+void ReferenceRenderer::clearSums(gpu::Recorder& recorder) {
+  for (int half = 0; half < 2; ++half) {
+    recorder.clearImage(*diffuseSum_[half], {});
+    recorder.clearImage(*specularSum_[half], {});
+  }
+  recorder.clearImage(*hitDistanceSum_, {});
+}
+
+void ReferenceRenderer::restart(gpu::Recorder& recorder, std::uint64_t frameIndex, float time) {
+  // Lights move only in an animated scene; elsewhere the list made for the
+  // first frame holds for every frame, and nothing needs waiting for.
+  if (scene::isAnimated(scene_) && time != time_) uploadEmissiveTriangles(time);
+  clearSums(recorder);
+  sampleBase_ += samples_;
+  samples_ = 0;
+  frameIndex_ = frameIndex;
+}
 
 std::uint64_t ReferenceRenderer::samplesPerPixel(ReferenceHalf half) const {
   // Even-numbered samples go to half A, odd ones to half B.
@@ -162,6 +186,7 @@ std::uint32_t ReferenceRenderer::record(gpu::Recorder& recorder, std::uint32_t s
   if (samples == 0) return 0;
   const std::uint32_t count = std::min(samples, samplesPerDispatch_);
   const shared::ReferencePathParams params{
+      .sampleBase = std::uint32_t(sampleBase_),
       .firstSample = std::uint32_t(samplesPerPixel()),
       .sampleCount = count,
       .seed = options_.seed,
@@ -186,20 +211,20 @@ std::uint32_t ReferenceRenderer::record(gpu::Recorder& recorder, std::uint32_t s
                              {"gHistory_DiffuseSumA", *diffuseSum_[0]},
                              {"gHistory_SpecularSumA", *specularSum_[0]},
                              {"gHistory_DiffuseSumB", *diffuseSum_[1]},
-                             {"gHistory_SpecularSumB", *specularSum_[1]}});
+                             {"gHistory_SpecularSumB", *specularSum_[1]},
+                             {"gHistory_HitDistanceSum", *hitDistanceSum_}});
   recorder.dispatch(*pathPass_, frame_.width(), frame_.height(), binds, params);
   samples_ += count;
   return count;
 }
 
-ReferenceImages ReferenceRenderer::resolve(gpu::FrameLoop& loop, ReferenceHalf half) {
+void ReferenceRenderer::recordResolve(gpu::Recorder& recorder, ReferenceHalf half) {
   const auto weight = [&](ReferenceHalf h) {
     if (half != ReferenceHalf::Both && half != h) return 0.0f;
     const std::uint64_t samples = samplesPerPixel(half);
     return samples > 0 ? 1.0f / float(samples) : 0.0f;
   };
   const shared::ReferenceResolveParams params{weight(ReferenceHalf::A), weight(ReferenceHalf::B)};
-  gpu::Recorder& recorder = loop.beginFrame();
   recorder.dispatch(*resolvePass_, frame_.width(), frame_.height(),
                     {{"gIn_Frame", frame_.frameConstants(frameIndex_)},
                      {"gIn_ViewZ", frame_.viewZ()},
@@ -210,10 +235,15 @@ ReferenceImages ReferenceRenderer::resolve(gpu::FrameLoop& loop, ReferenceHalf h
                      {"gIn_SpecularSumA", *specularSum_[0]},
                      {"gIn_DiffuseSumB", *diffuseSum_[1]},
                      {"gIn_SpecularSumB", *specularSum_[1]},
+                     {"gIn_HitDistanceSum", *hitDistanceSum_},
                      {"gOut_Radiance", *radiance_},
                      {"gOut_Diffuse", *diffuse_},
                      {"gOut_Specular", *specular_}},
                     params);
+}
+
+ReferenceImages ReferenceRenderer::resolve(gpu::FrameLoop& loop, ReferenceHalf half) {
+  recordResolve(loop.beginFrame(), half);
   loop.endFrame();
   loop.finish();
 

@@ -17,6 +17,13 @@
 //   while (reference.samplesPerPixel() < wanted)
 //     reference.record(loop.beginFrame(), wanted - reference.samplesPerPixel()), loop.endFrame();
 //   ReferenceImages images = reference.resolve(loop, ReferenceHalf::Both);
+//
+// A path-traced sequence at a few samples per pixel (bounce denoise): per
+// frame, record it with the FrameRenderer, then in the same command buffer
+//
+//   reference.restart(recorder, frameIndex, time);
+//   while (reference.samplesPerPixel() < spp) reference.record(recorder, spp - reference.samplesPerPixel());
+//   reference.recordResolve(recorder);   // indirectDiffuseImage() etc. now hold this frame's
 #pragma once
 
 #include <cstdint>
@@ -62,7 +69,8 @@ class ReferenceRenderer {
  public:
   // `frameIndex` is the FrameRenderer frame whose G-buffer and constants are
   // traced from, `time` the scene time it was rendered at. Reads the
-  // environment back (blocking) to build its light distribution.
+  // environment back (blocking) to build its light distribution. `scene` is
+  // kept by reference for restart(), as the FrameRenderer keeps it.
   ReferenceRenderer(gpu::Context& context, FrameRenderer& frame, const scene::Scene& scene, std::uint64_t frameIndex,
                     float time, const ReferenceOptions& options);
   ~ReferenceRenderer();
@@ -76,22 +84,48 @@ class ReferenceRenderer {
   // Records the resolve into a frame of `loop`, waits, reads the images back.
   ReferenceImages resolve(gpu::FrameLoop& loop, ReferenceHalf half);
 
+  // Starts over on another frame of the FrameRenderer (frame `frameIndex`,
+  // the scene at `time`): records the clearing of the sums, and
+  // samplesPerPixel() is 0 again. The samples drawn next are numbered on
+  // from every sample drawn before, so each frame's noise is independent
+  // of the earlier frames'. In an animated scene the emissive triangles
+  // are made anew for `time` (blocking): the frames that used the old ones
+  // must have completed (FrameLoop::finish()).
+  void restart(gpu::Recorder& recorder, std::uint64_t frameIndex, float time);
+  // Records the resolve of the samples so far (as resolve() does) without
+  // waiting or reading back: the images below hold them once it has run.
+  void recordResolve(gpu::Recorder& recorder, ReferenceHalf half = ReferenceHalf::Both);
+  // rgba32f: the frame; indirect diffuse and specular, demodulated, alpha
+  // the mean first-hit distance of their paths in world units
+  // (shared::kEscapedHitDistance for the sky, 0 where no path had a ray):
+  // the signals FrameInputs::noisyDiffuse and noisySpecular take.
+  gpu::Image& radianceImage() { return *radiance_; }
+  gpu::Image& indirectDiffuseImage() { return *diffuse_; }
+  gpu::Image& indirectSpecularImage() { return *specular_; }
+
   std::size_t emissiveTriangleCount() const { return emissiveCount_; }
   bool samplesEnvironment() const { return environmentWidth_ > 0; }
   std::uint32_t samplesPerDispatch() const { return samplesPerDispatch_; }
 
  private:
+  void uploadEmissiveTriangles(float time);
+  void clearSums(gpu::Recorder& recorder);
+
   gpu::Context& context_;
   FrameRenderer& frame_;
+  const scene::Scene& scene_;
   std::uint64_t frameIndex_;
+  float time_;  // the scene time the emissive triangles are placed at
   ReferenceOptions options_;
   std::uint32_t samplesPerDispatch_ = 1;
   std::uint32_t environmentWidth_ = 0, environmentHeight_ = 0;
   std::size_t emissiveCount_ = 0;
   float emissivePower_ = 0.0f;
-  std::uint64_t samples_ = 0;
+  std::uint64_t samples_ = 0;     // since the last restart
+  std::uint64_t sampleBase_ = 0;  // drawn before it
   std::unique_ptr<gpu::Buffer> environmentCdf_, emissiveTriangles_;
   std::unique_ptr<gpu::Image> diffuseSum_[2], specularSum_[2];  // [0] half A, [1] half B
+  std::unique_ptr<gpu::Image> hitDistanceSum_;                   // both halves
   std::unique_ptr<gpu::Image> radiance_, diffuse_, specular_;
   std::unique_ptr<gpu::ComputePass> pathPass_, resolvePass_;
 };
