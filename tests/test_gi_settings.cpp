@@ -574,7 +574,7 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
     if (line.rfind("| `gi.", 0) == 0) rows.insert(line);
   std::string missing;
   for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable(), specularImageTable(),
-                                                 denoiseImageTable(),
+                                                 denoiseImageTable(), engineSignalImageTable(),
                                                  std::span<const ImageSpec>(&DepthPyramid::spec(), 1)})
     for (const ImageSpec& spec : table) {
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +

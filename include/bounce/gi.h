@@ -26,6 +26,10 @@
 //   gi.specular.spatial_reuse           half res: merge with neighbours in the lobe's footprint
 //   gi.specular.resolve                 full res: 1..8 reservoirs per pixel by roughness -> indirect specular
 //   gi.specular.temporal_filter         full res: surface and reflection (virtual) motion, blended
+//   gi.engine_signal.SIGNAL             full res, for a noisy signal the engine gives (FrameInputs::
+//                                       noisyDiffuse, noisySpecular): taken in, non-finite values dropped
+//   gi.denoise.*                        with Settings::denoise.enabled: the denoiser, per signal, in place
+//                                       of the branches' temporal filters (docs/gi.md, "The denoiser")
 //   gi.composite                        direct + albedo * indirect diffuse + specular reflectance *
 //                                       indirect specular (+ emission)
 // The composite is what the next frame's gathering samples, so light keeps
@@ -184,6 +188,8 @@ struct Camera {
 //   emissive           optional (image VK_NULL_HANDLE: `direct` holds the emission), as `direct`
 //   environment        R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT equirect with a prefiltered mip
 //                      chain (mip k = GGX roughness k / (levels - 1)): EnvironmentPrefilter makes one
+//   noisyDiffuse,      optional, R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT: a noisy signal of the
+//   noisySpecular      engine's own for the library's denoiser (below)
 // A NaN or infinite value in any input is treated as invalid (no surface,
 // no light, no history), never passed on (docs/reliability.md).
 struct FrameInputs {
@@ -207,6 +213,35 @@ struct FrameInputs {
   // Every resource ContextDesc::sceneBridge declares, bound for this frame
   // (none for the bridge "none").
   std::vector<SceneResource> sceneResources;
+
+  // --- The denoiser on the engine's own signals (docs/gi.md, "Denoising an
+  // engine's own signals"). An engine that has a noisy indirect diffuse or
+  // specular signal of its own (its path tracer's, its ray-traced
+  // reflections at one sample a pixel, ...) hands it over here, and the
+  // library denoises it in place of the branch that makes that signal: the
+  // branch records none of its passes this frame, and indirectDiffuse() /
+  // indirectSpecular() and composite() hold the engine's signal, denoised
+  // (and remodulated by the composite). Each is optional (image
+  // VK_NULL_HANDLE: the library's branch makes the signal, when enabled).
+  // Needs Settings::denoise.enabled (record() throws Error otherwise).
+  //   rgb  demodulated radiance, linear HDR, as the library's own:
+  //        noisyDiffuse the light arriving through a white Lambert lobe
+  //        (the composite multiplies it by base colour (1 - metallic));
+  //        noisySpecular the GGX lobe's reflected light divided by
+  //        specularReflectance(F0, n.v, roughness) of shaders/shared/brdf.glsl
+  //        (the composite multiplies it back)
+  //   a    the distance in world units from the surface to where the light
+  //        came from (the first hit of the ray or path; averaged over a
+  //        pixel's samples), 0 where unknown; a ray that escaped to the
+  //        sky: any distance beyond the scene. It sets how far the
+  //        specular blur may reach (a contact reflection stays sharp).
+  // NaN and infinite radiance counts as no light, a non-finite or negative
+  // distance as unknown. Starting or stopping to give a signal restarts
+  // every history for that frame, as a camera cut does. When every enabled
+  // branch's signal comes from the engine, no branch runs and `environment`
+  // (and its sampler) may be left out.
+  ImageRef noisyDiffuse;
+  ImageRef noisySpecular;
 };
 
 // What the library does with the engine's input images after its passes.
@@ -297,7 +332,8 @@ class GiContext {
   // Transitions what it needs and leaves inputs as ContextDesc::inputState
   // says. Throws Error naming the input when an image is missing, too
   // small for the render size, of a format not listed above, or a camera is
-  // not finite or not a symmetric perspective.
+  // not finite or not a symmetric perspective, and for a noisy signal
+  // given while the denoiser is off.
   void record(VkCommandBuffer commandBuffer, const FrameInputs& frame);
 
   // Timings and stage copies of the frames recorded so far whose command
@@ -310,12 +346,16 @@ class GiContext {
   // through a white Lambert lobe; multiply by base colour (1 - metallic));
   // RGBA32F (it is the filter's history: half floats lose a little of every
   // frame's increment, measured 5 % over 64 frames), alpha the history length
-  // in frames. See LibraryImage for its state.
+  // in frames. With the denoiser on, its result; with FrameInputs::
+  // noisyDiffuse given, the engine's signal denoised. See LibraryImage for
+  // its state.
   ImageRef indirectDiffuse() const;
   // Indirect specular after the temporal filter, demodulated (divided by
   // the specular reflectance of shaders/shared/brdf.glsl's
   // specularReflectance(F0, n.v, roughness); multiply by it), RGBA32F, alpha
-  // the history length in frames. See LibraryImage for its state.
+  // the history length in frames. With the denoiser on, its result; with
+  // FrameInputs::noisySpecular given, the engine's signal denoised. See
+  // LibraryImage for its state.
   ImageRef indirectSpecular() const;
   // The composited frame: linear HDR, RGBA16F.
   ImageRef composite() const;

@@ -33,6 +33,8 @@ constexpr InputFamily kFamilies[] = {
     {Input::Direct, "direct", kRadiance, false, true},
     {Input::Emissive, "emissive", kRadiance, true, true},
     {Input::Environment, "environment", kEnvironment, false, false},
+    {Input::NoisyDiffuse, "noisyDiffuse", kRadiance, true, true},
+    {Input::NoisySpecular, "noisySpecular", kRadiance, true, true},
 };
 
 const ImageRef& refOf(const FrameInputs& frame, Input input) {
@@ -49,6 +51,10 @@ const ImageRef& refOf(const FrameInputs& frame, Input input) {
       return frame.direct;
     case Input::Emissive:
       return frame.emissive;
+    case Input::NoisyDiffuse:
+      return frame.noisyDiffuse;
+    case Input::NoisySpecular:
+      return frame.noisySpecular;
     case Input::Environment:
     case Input::Count:
       break;
@@ -104,15 +110,19 @@ std::string formatList(std::span<const VkFormat> formats) {
   return list;
 }
 
-void EngineImages::take(const FrameInputs& frame, InputState state) {
+void EngineImages::take(const FrameInputs& frame, InputState state, bool needsEnvironment) {
   // Every check first: a throw leaves nothing half-taken.
   for (const InputFamily& family : kFamilies) {
     const ImageRef& ref = refOf(frame, family.input);
     const std::string input = std::string("gi: frame input ") + family.name;
-    if (ref.image == VK_NULL_HANDLE && family.optional) continue;
+    const bool environment = family.input == Input::Environment;
+    if (ref.image == VK_NULL_HANDLE && (family.optional || (environment && !needsEnvironment))) continue;
     if (ref.image == VK_NULL_HANDLE || ref.view == VK_NULL_HANDLE)
       throw Error(input + " is missing (its " + (ref.image == VK_NULL_HANDLE ? "image" : "view") +
-                  " is VK_NULL_HANDLE)");
+                  " is VK_NULL_HANDLE)" +
+                  (environment ? "; the branches read it (only a frame whose every enabled signal comes from the "
+                                 "engine, noisyDiffuse or noisySpecular, may leave it out)"
+                               : ""));
     if (std::find(family.formats.begin(), family.formats.end(), ref.format) == family.formats.end())
       throw Error(input + " has the format " + gpu::formatName(ref.format) + "; " + family.name + " takes " +
                   formatList(family.formats));
@@ -126,7 +136,7 @@ void EngineImages::take(const FrameInputs& frame, InputState state) {
       throw Error(input + " is in " + gpu::layoutName(ref.layout) +
                   ", whose contents are undefined to a reader; give the layout the engine's last use left it in");
   }
-  if (frame.environmentSampler == VK_NULL_HANDLE)
+  if (frame.environmentSampler == VK_NULL_HANDLE && (needsEnvironment || frame.environment.image != VK_NULL_HANDLE))
     throw Error("gi: frame input environmentSampler is missing (EnvironmentPrefilter::sampler() is one)");
   for (const InputFamily& a : kFamilies)
     for (const InputFamily& b : kFamilies) {

@@ -21,7 +21,18 @@
 
 namespace bounce::gi {
 
-enum class Input : std::size_t { ViewZ, NormalRoughness, BaseColorMetallic, Motion, Direct, Emissive, Environment, Count };
+enum class Input : std::size_t {
+  ViewZ,
+  NormalRoughness,
+  BaseColorMetallic,
+  Motion,
+  Direct,
+  Emissive,
+  Environment,
+  NoisyDiffuse,   // the engine's own signals for the denoiser (optional)
+  NoisySpecular,
+  Count
+};
 
 // "VK_FORMAT_R32_SFLOAT or VK_FORMAT_R16_SFLOAT"
 std::string formatList(std::span<const VkFormat> formats);
@@ -40,8 +51,9 @@ class EngineImages {
 
   // Checks every input of `frame` (throws Error naming the first bad one)
   // and wraps them, reading in place when the layout allows (LeaveGeneral:
-  // in GENERAL).
-  void take(const FrameInputs& frame, InputState state);
+  // in GENERAL). `needsEnvironment`: a branch runs this frame, so the
+  // environment and its sampler must be given (else they are optional).
+  void take(const FrameInputs& frame, InputState state, bool needsEnvironment);
   bool has(Input input) const { return wrapped_[std::size_t(input)] != nullptr; }
   gpu::Image& operator[](Input input) { return *wrapped_[std::size_t(input)]; }
 

@@ -1,10 +1,13 @@
 // The passes GiContext records around the branches, and the images they
 // keep: gi.store_history (this frame's depth and normals, for the next
-// frame, and the depth the visibility marches read) before them, gi.composite (the frame) after them.
-// Shaders: shaders/gi/store_history.comp, shaders/gi/composite.comp.
+// frame, and the depth the visibility marches read) before them, gi.composite (the frame) after them;
+// gi.engine_signal.SIGNAL (an engine's own noisy signal taken in for the
+// denoiser, in place of a branch) when the engine gives one.
+// Shaders: shaders/gi/store_history.comp, shaders/gi/composite.comp, shaders/gi/engine_signal.comp.
 #pragma once
 
 #include <span>
+#include <string>
 
 #include "gi/image_table.h"
 #include "gpu/pass.h"
@@ -17,5 +20,13 @@ gpu::PassDesc compositePass();
 // The frame's own images, in the order of frameImageTable().
 enum FrameImage : std::size_t { kHistorySurface, kMarchDepth, kComposite, kFrameImageCount };
 std::span<const ImageSpec> frameImageTable();
+
+// `signal` ("diffuse", "specular"): gi.engine_signal.SIGNAL, the engine's
+// noisy signal (FrameInputs::noisyDiffuse, noisySpecular) into the
+// library's rgba16f image of it, non-finite values dropped.
+gpu::PassDesc engineSignalPass(const std::string& signal);
+// The images the engine's signals are taken into, one per signal (diffuse
+// first, as DenoiseSignal counts them); made on the first frame that gives one.
+std::span<const ImageSpec> engineSignalImageTable();
 
 }  // namespace bounce::gi

@@ -4,6 +4,7 @@
 // pools and stage copies until collect(). What each branch does is its own
 // business (src/gi/diffuse/); docs/gi.md explains the algorithm.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -44,6 +45,17 @@ constexpr ImageSpec kFrameImages[] = {
 };
 static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per FrameImage");
 
+// Names of the signals as passes and images spell them, in DenoiseSignal order.
+constexpr std::array<const char*, kDenoiseSignals> kSignalNames = {"diffuse", "specular"};
+constexpr std::array<const char*, kDenoiseSignals> kNoisyInputNames = {"noisyDiffuse", "noisySpecular"};
+constexpr std::array<Input, kDenoiseSignals> kNoisyInputs = {Input::NoisyDiffuse, Input::NoisySpecular};
+
+// Which of the signals the engine gives this frame (FrameInputs::noisyDiffuse, noisySpecular).
+using SignalFlags = std::array<bool, kDenoiseSignals>;
+SignalFlags engineSignalsOf(const FrameInputs& frame) {
+  return {frame.noisyDiffuse.image != VK_NULL_HANDLE, frame.noisySpecular.image != VK_NULL_HANDLE};
+}
+
 }  // namespace
 
 std::span<const ImageSpec> frameImageTable() { return kFrameImages; }
@@ -83,6 +95,11 @@ struct GiContext::Impl {
   DepthPyramid depthPyramid;
   std::vector<std::unique_ptr<Branch>> branches;
   std::unique_ptr<Denoiser> denoiser;  // made only when gi.denoise.enabled: its images are large
+  // The engine's own noisy signals as the denoiser reads them, and the
+  // passes that take them in: made on the first frame that gives one, so
+  // a context whose engine never does holds no memory for them.
+  std::unique_ptr<ImageSet> engineSignals;
+  std::array<std::unique_ptr<gpu::ComputePass>, kDenoiseSignals> engineSignalPasses;
   gpu::ComputePass storeHistory, compositor;
   EngineImages engine;
   std::vector<std::unique_ptr<PassLog>> logs;  // one per frame in flight, used in turn
@@ -92,6 +109,8 @@ struct GiContext::Impl {
   std::optional<std::uint64_t> lastFrameIndex;
   Camera lastCamera;
   Extent lastSize;
+  SignalFlags lastEngineSignals{};  // which signals the engine gave
+  bool pyramidBuilt = false;        // the depth pyramid holds last frame's depth
 
   Impl(const Device& device, const ContextDesc& d, const Settings& s)
       : desc(d),
@@ -125,6 +144,17 @@ struct GiContext::Impl {
 
   DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches[0]); }
   SpecularBranch& specular() { return static_cast<SpecularBranch&>(*branches[1]); }
+  Branch& branchOf(DenoiseSignal signal) {
+    return signal == DenoiseSignal::Diffuse ? static_cast<Branch&>(diffuse()) : specular();
+  }
+  bool branchEnabled(DenoiseSignal signal) const {
+    return signal == DenoiseSignal::Diffuse ? settings.diffuse.enabled : settings.specular.enabled;
+  }
+  // Whether the library's branch makes a signal this frame: it is enabled
+  // and the engine does not give the signal itself.
+  SignalFlags branchesRunning(const SignalFlags& given) const {
+    return {branchEnabled(DenoiseSignal::Diffuse) && !given[0], branchEnabled(DenoiseSignal::Specular) && !given[1]};
+  }
   std::uint64_t current() const { return recorded == 0 ? 0 : recorded - 1; }
   // Only the specular trace marches the pyramid (the diffuse visibility
   // marches read gi.march_depth pixel by pixel).
@@ -141,6 +171,33 @@ struct GiContext::Impl {
                   std::to_string(*lastFrameIndex) + "); frame indices must increase");
     screenView(frame.camera, "camera");
     if (!frame.cameraCut) screenView(frame.previousCamera, "previousCamera");
+    const SignalFlags given = engineSignalsOf(frame);
+    for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal)
+      if (given[signal] && !denoiser)
+        throw Error(std::string("gi: frame input ") + kNoisyInputNames[signal] +
+                    " is given, but the denoiser is off (Settings::denoise.enabled, gi.denoise.enabled): the "
+                    "library takes an engine's signal only to denoise it");
+  }
+
+  // The passes and images that take the engine's signals in, made before
+  // the first frame that gives one records anything.
+  void makeEngineSignalUnit() {
+    if (engineSignals) return;
+    engineSignals = std::make_unique<ImageSet>(*context, arena, engineSignalImageTable(),
+                                               Extent{desc.maxWidth, desc.maxHeight});
+    for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal)
+      engineSignalPasses[signal] =
+          std::make_unique<gpu::ComputePass>(*context, engineSignalPass(kSignalNames[signal]));
+  }
+
+  // gi.engine_signal.SIGNAL: the engine's signal into the library's image of it.
+  gpu::Image& takeEngineSignal(const FrameState& state, std::size_t signal) {
+    gpu::Image& taken = engineSignals->current(signal, state.frameIndex);
+    state.recorder.dispatch(*engineSignalPasses[signal], state.renderSize.width, state.renderSize.height,
+                            state.group.binds(GroupPart::Constants),
+                            {{"gIn_Noisy", state.engine[kNoisyInputs[signal]], state.nearestSampler},
+                             {"gOut_Signal", taken}});
+    return taken;
   }
 
   shared::GiFrameConstants frameConstantsOf(const FrameInputs& frame, bool hasHistory, bool usableHistory) const {
@@ -170,13 +227,23 @@ struct GiContext::Impl {
   void record(VkCommandBuffer commandBuffer, const FrameInputs& frame) {
     if (commandBuffer == VK_NULL_HANDLE) throw Error("gi: record() needs a command buffer in the recording state");
     check(frame);
+    const SignalFlags given = engineSignalsOf(frame);
+    const SignalFlags running = branchesRunning(given);
+    const bool anyBranch = running[0] || running[1];
     scene.take(frame);
-    engine.take(frame, desc.inputState);
+    // Only the branches read the environment: without them it may be left out.
+    engine.take(frame, desc.inputState, anyBranch);
+    if (given[0] || given[1]) makeEngineSignalUnit();
 
     const Extent size{frame.width, frame.height};
     // A new render size makes last frame's images another picture: nothing of them is reused.
     const bool hasHistory = recorded > 0 && size.width == lastSize.width && size.height == lastSize.height;
-    const bool usableHistory = hasHistory && !frame.cameraCut;
+    // A signal that changed hands (the branch's last frame, the engine's
+    // now, or back) finds histories the other never wrote: the branch's
+    // reservoirs and filters, the denoiser's history of that signal. All
+    // restart, as on a cut; engines switch rarely (a debug toggle).
+    const bool sameSources = recorded == 0 || given == lastEngineSignals;
+    const bool usableHistory = hasHistory && !frame.cameraCut && sameSources;
     const shared::GiFrameConstants constants = frameConstantsOf(frame, hasHistory, usableHistory);
     const std::uint64_t f = recorded;  // the history images' index
 
@@ -192,7 +259,9 @@ struct GiContext::Impl {
     recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
                       {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
                        {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)}});
-    if (needsDepthPyramid()) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
+    // The specular trace is the pyramid's one reader.
+    pyramidBuilt = needsDepthPyramid() && running[std::size_t(DenoiseSignal::Specular)];
+    if (pyramidBuilt) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
 
     const FrameState state{.recorder = recorder,
                            .group = group,
@@ -208,15 +277,26 @@ struct GiContext::Impl {
                            .marchDepth = frameImages.current(kMarchDepth, f),
                            .depthPyramid = depthPyramid,
                            .capturing = frame.captureStages};
-    const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
-    cache.recordBegin(state, glm::value_ptr(cameraPosition),
-                      denoiser && settings.diffuse.enabled ? denoiser->previousResult(DenoiseSignal::Diffuse, f)
-                                                           : diffuse().previousResult(f));
-    for (const std::unique_ptr<Branch>& branch : branches) branch->record(state);
-    cache.recordEnd(state);
-    if (denoiser)
-      denoiser->record(state, {settings.diffuse.enabled ? &diffuse().resolved(f) : nullptr,
-                               settings.specular.enabled ? &specular().resolved(f) : nullptr});
+    // The radiance cache serves the branches; with none running it rests.
+    if (anyBranch) {
+      const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
+      cache.recordBegin(state, glm::value_ptr(cameraPosition),
+                        denoiser && settings.diffuse.enabled ? denoiser->previousResult(DenoiseSignal::Diffuse, f)
+                                                             : diffuse().previousResult(f));
+    }
+    // A branch whose signal the engine gives records nothing; one that is
+    // disabled records the clearing of its result (what the composite reads).
+    for (const DenoiseSignal signal : {DenoiseSignal::Diffuse, DenoiseSignal::Specular})
+      if (!given[std::size_t(signal)]) branchOf(signal).record(state);
+    if (anyBranch) cache.recordEnd(state);
+    if (denoiser) {
+      std::array<gpu::Image*, kDenoiseSignals> noisy{};
+      for (const DenoiseSignal signal : {DenoiseSignal::Diffuse, DenoiseSignal::Specular}) {
+        const std::size_t s = std::size_t(signal);
+        noisy[s] = given[s] ? &takeEngineSignal(state, s) : running[s] ? &branchOf(signal).resolved(f) : nullptr;
+      }
+      denoiser->record(state, noisy);
+    }
 
     gpu::Image& direct = engine[Input::Direct];
     const VkSampler nearest = context->nearestSampler();
@@ -225,8 +305,8 @@ struct GiContext::Impl {
                        {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
                        // Not read without an emissive image (the constants say so); bound only to fill the slot.
                        {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
-                       {"gIn_IndirectDiffuse", result(DenoiseSignal::Diffuse, f)},
-                       {"gIn_IndirectSpecular", result(DenoiseSignal::Specular, f)},
+                       {"gIn_IndirectDiffuse", result(DenoiseSignal::Diffuse, f, given)},
+                       {"gIn_IndirectSpecular", result(DenoiseSignal::Specular, f, given)},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
 
     engine.handBack(recorder);
@@ -245,22 +325,24 @@ struct GiContext::Impl {
     lastFrameIndex = frame.frameIndex;
     lastCamera = frame.camera;
     lastSize = size;
+    lastEngineSignals = given;
   }
 
   std::vector<ImageSet*> imageSets() {
     std::vector<ImageSet*> sets = {&frameImages, &cache.images()};
     for (const std::unique_ptr<Branch>& branch : branches) sets.push_back(&branch->images());
     if (denoiser) sets.push_back(&denoiser->images());
+    if (engineSignals) sets.push_back(engineSignals.get());
     return sets;
   }
 
-  // What the composite reads for a signal: the denoised one, or the
-  // branch's own filtered one (denoiser off, or the branch off: then it is
-  // the branch's cleared result).
-  gpu::Image& result(DenoiseSignal signal, std::uint64_t f) {
-    Branch& branch = signal == DenoiseSignal::Diffuse ? static_cast<Branch&>(diffuse()) : specular();
-    const bool on = signal == DenoiseSignal::Diffuse ? settings.diffuse.enabled : settings.specular.enabled;
-    return denoiser && on ? denoiser->result(signal, f) : branch.result(f);
+  // What the composite reads for a signal: the denoised one (the branch's
+  // or the engine's), or the branch's own filtered one (denoiser off, or
+  // the branch off: then it is the branch's cleared result). `given`: the
+  // engine gave the signal that frame.
+  gpu::Image& result(DenoiseSignal signal, std::uint64_t f, const SignalFlags& given) {
+    const bool denoised = branchEnabled(signal) || given[std::size_t(signal)];
+    return denoiser && denoised ? denoiser->result(signal, f) : branchOf(signal).result(f);
   }
 
   FrameResults collect(std::uint64_t completedFrameIndex) {
@@ -315,11 +397,11 @@ FrameResults GiContext::collect(std::uint64_t completedFrameIndex) {
 }
 
 ImageRef GiContext::indirectDiffuse() const {
-  return libraryRef(impl_->result(DenoiseSignal::Diffuse, impl_->current()));
+  return libraryRef(impl_->result(DenoiseSignal::Diffuse, impl_->current(), impl_->lastEngineSignals));
 }
 
 ImageRef GiContext::indirectSpecular() const {
-  return libraryRef(impl_->result(DenoiseSignal::Specular, impl_->current()));
+  return libraryRef(impl_->result(DenoiseSignal::Specular, impl_->current(), impl_->lastEngineSignals));
 }
 
 ImageRef GiContext::composite() const { return libraryRef(impl_->frameImages.current(kComposite, impl_->current())); }
@@ -330,7 +412,7 @@ std::vector<LibraryImage> GiContext::images() const {
     const std::vector<ImageSet::Listed> ofSet = set->list(impl_->current());
     listed.insert(listed.end(), ofSet.begin(), ofSet.end());
   }
-  if (impl_->needsDepthPyramid() && impl_->recorded > 0) listed.push_back(impl_->depthPyramid.listed());
+  if (impl_->pyramidBuilt) listed.push_back(impl_->depthPyramid.listed());
   std::vector<LibraryImage> list;
   for (const ImageSet::Listed& image : listed)
     list.push_back({image.name, libraryRef(*image.image), visualization(image.spec->view),

@@ -177,8 +177,9 @@ void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, st
     if (captures)
       for (gi::CapturedStage& stage : results.stages) captures->push_back(capturedStage(std::move(stage), stage.frameIndex));
   });
-  const gi::ImageRef* refs[] = {&inputs.viewZ,  &inputs.normalRoughness, &inputs.baseColorMetallic, &inputs.motion,
-                                &inputs.direct, &inputs.emissive,        &inputs.environment};
+  const gi::ImageRef* refs[] = {&inputs.viewZ,       &inputs.normalRoughness, &inputs.baseColorMetallic,
+                                &inputs.motion,      &inputs.direct,          &inputs.emissive,
+                                &inputs.environment, &inputs.noisyDiffuse,    &inputs.noisySpecular};
   for (gpu::Image* image : images) {
     const auto ref = std::find_if(std::begin(refs), std::end(refs),
                                   [&](const gi::ImageRef* r) { return r->image == image->handle(); });

@@ -1,0 +1,398 @@
+// The denoiser on an engine's own signals (FrameInputs::noisyDiffuse,
+// noisySpecular; docs/gi.md, "Denoising an engine's own signals"). The
+// signals here are made on the CPU, so their truth is known exactly and
+// owes nothing to the library's reservoirs or the path tracer: over
+// cornell's G-buffer (a static view, 64x48), a smooth demodulated light
+// per surface (its normal as a colour), and every frame that light times
+// 4 at a random quarter of the pixels and 0 elsewhere: the mean is the
+// truth, the noise is a 1-spp path tracer's kind (most samples dark, a few
+// bright), relMSE 3 per frame. (bounce denoise does the same with the path
+// tracer's 1-spp signals: tests/test_cli.cpp.)
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bounce/gi.h"
+#include "gpu/frame_loop.h"
+#include "gpu_test.h"
+#include "gpuio/gpu_images.h"
+#include "metrics/image_metrics.h"
+#include "render/frame_renderer.h"
+#include "render/gi_bridge.h"
+#include "scene/builtin_scenes.h"
+#include "shared/color.glsl"
+#include "test_meshes.h"
+
+namespace bounce::gi {
+namespace {
+
+constexpr std::uint32_t kWidth = 64, kHeight = 48;
+constexpr int kDiffuse = 0, kSpecular = 1;
+// The hit distance each signal carries: unknown for diffuse (the widest
+// blur), a near wall for specular.
+constexpr float kHitDistance[2] = {0.0f, 2.0f};
+// A quarter of the samples bright: the mean is the truth.
+constexpr float kBrightShare = 0.25f;
+
+double relMse(const io::ImageF& reference, const io::ImageF& test) {
+  return metrics::valueErrors(reference.pixels, test.pixels).relMse;
+}
+
+io::ImageF rgb(const io::ImageF& image) { return io::firstChannels(image, 3); }
+
+double meanLuminance(const io::ImageF& image) {
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      sum += shared::luminance(glm::vec3(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)));
+  return sum / double(image.width * image.height);
+}
+
+class GiEngineSignals : public testing::GpuTest {
+ protected:
+  struct Run {
+    std::unique_ptr<scene::Scene> scene;  // the renderer keeps a reference to it
+    std::unique_ptr<render::FrameRenderer> renderer;
+    std::unique_ptr<render::GiBridge> gi;
+    std::unique_ptr<gpu::FrameLoop> loop;
+    std::unique_ptr<gpu::Image> noisy[2];  // the engine's signals: sampled rgba32f, as an engine might keep them
+    io::ImageF truth;                      // the noise-free signal (rgb), once the first frame has run
+    io::ImageF lastNoisy[2];               // what the last frame gave, rgb
+    render::FrameView previous{};
+    std::uint32_t frames = 0;
+    std::mt19937 random{7};
+  };
+
+  Run start(const Settings& settings) {
+    Run run;
+    run.scene = std::make_unique<scene::Scene>(scene::makeBuiltinScene("cornell"));
+    run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene,
+                                                           testing::smallRendererOptions(*run.scene, kWidth, kHeight));
+    run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight},
+                                                settings);
+    run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
+    for (int s = 0; s < 2; ++s)
+      run.noisy[s] = std::make_unique<gpu::Image>(
+          context(), gpu::ImageDesc{.name = s == kDiffuse ? "engine.noisy_diffuse" : "engine.noisy_specular",
+                                    .width = kWidth,
+                                    .height = kHeight,
+                                    .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+                                    .storage = false});
+    return run;
+  }
+
+  // The light of each surface: its normal as a colour (constant over each
+  // of cornell's planes), none on the background.
+  static io::ImageF truthOf(const io::ImageF& viewZ, const io::ImageF& normals) {
+    io::ImageF truth(viewZ.width, viewZ.height, {"R", "G", "B"});
+    for (int y = 0; y < viewZ.height; ++y)
+      for (int x = 0; x < viewZ.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          truth.at(x, y, c) = viewZ.at(x, y, 0) > 0.0f ? 0.2f + 0.6f * std::abs(normals.at(x, y, c)) : 0.0f;
+    return truth;
+  }
+
+  // This frame's noisy signals, uploaded; `poison` may change them first.
+  void makeNoisy(Run& run, const std::function<void(int signal, io::ImageF&)>& poison) {
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (int s = 0; s < 2; ++s) {
+      io::ImageF noisy(int(kWidth), int(kHeight), {"R", "G", "B", "A"});
+      for (int y = 0; y < int(kHeight); ++y)
+        for (int x = 0; x < int(kWidth); ++x) {
+          const float weight = uniform(run.random) < kBrightShare ? 1.0f / kBrightShare : 0.0f;
+          for (int c = 0; c < 3; ++c) noisy.at(x, y, c) = run.truth.at(x, y, c) * weight;
+          noisy.at(x, y, 3) = kHitDistance[s];
+        }
+      if (poison) poison(s, noisy);
+      gpuio::uploadImage(context(), *run.noisy[s], noisy);
+      run.lastNoisy[s] = rgb(noisy);
+    }
+  }
+
+  // One frame of the static view: the renderer, then the library with the
+  // signals `give` names (`poison` may change them; `edit` the inputs).
+  void frame(Run& run, std::array<bool, 2> give = {true, true}, bool cut = false,
+             const std::function<void(int signal, io::ImageF&)>& poison = {},
+             const std::function<void(FrameInputs&)>& edit = {}) {
+    if (run.frames == 0) {
+      // The truth comes from the G-buffer, which the first frame makes.
+      const render::FrameView view{*run.scene->suggestedCamera, 0.0f, true};
+      run.renderer->record(run.loop->beginFrame(), run.loop->frameIndex(), view);
+      run.loop->endFrame();
+      run.loop->finish();
+      run.truth = truthOf(gpuio::readbackImage(context(), run.renderer->viewZ()),
+                          gpuio::readbackImage(context(), run.renderer->normalRoughness()));
+    }
+    run.loop->finish();  // the uploads below replace what the last frame read
+    makeNoisy(run, poison);
+    gpu::Recorder& recorder = run.loop->beginFrame();
+    const std::uint64_t index = run.loop->frameIndex();
+    const render::FrameView view{*run.scene->suggestedCamera, 0.0f, cut || run.frames == 0};
+    run.renderer->record(recorder, index, view);
+    render::RendererInputs made = render::rendererInputs(*run.renderer, index, view, run.previous);
+    if (give[kDiffuse]) {
+      made.inputs.noisyDiffuse = render::imageRef(*run.noisy[kDiffuse]);
+      made.images.push_back(run.noisy[kDiffuse].get());
+    }
+    if (give[kSpecular]) {
+      made.inputs.noisySpecular = render::imageRef(*run.noisy[kSpecular]);
+      made.images.push_back(run.noisy[kSpecular].get());
+    }
+    if (edit) edit(made.inputs);
+    run.gi->record(recorder, made.inputs, made.images);
+    run.loop->endFrame();
+    run.previous = view;
+    ++run.frames;
+  }
+
+  // The denoised signals and the frame, once the frames recorded so far have run.
+  struct Output {
+    io::ImageF signal[2];  // rgba: radiance, history length
+    io::ImageF composite;
+  };
+  Output output(Run& run) {
+    run.loop->finish();
+    return {{gpuio::readbackImage(context(), run.gi->indirectDiffuse()),
+             gpuio::readbackImage(context(), run.gi->indirectSpecular())},
+            gpuio::readbackImage(context(), run.gi->composite())};
+  }
+
+  std::vector<std::string> passesRecorded(Run& run) {
+    std::vector<std::string> passes;
+    for (const gpu::PassTiming& t : run.loop->timings().summary()) passes.push_back(t.pass);
+    return passes;
+  }
+
+  static Settings denoised() {
+    Settings settings;
+    settings.denoise.enabled = true;
+    return settings;
+  }
+};
+
+// With the branches enabled, the engine's signals take their place: none of
+// their passes runs, and after 10 frames the library's indirect light is
+// the engine's signal denoised, at a small part of the noisy input's error
+// with the same mean. A denoiser that passed its input through (or blurred
+// one frame only) stays near the input's error; one that lost the signal's
+// scale misses the mean.
+TEST_F(GiEngineSignals, TheEnginesSignalsAreDenoisedInPlaceOfTheBranches) {
+  Run run = start(denoised());
+  for (int f = 0; f < 10; ++f) frame(run);
+  const Output out = output(run);
+  for (const std::string& pass : passesRecorded(run)) {
+    EXPECT_NE(pass.rfind("gi.diffuse.", 0), 0u) << pass << " ran: the engine gave the diffuse signal";
+    EXPECT_NE(pass.rfind("gi.specular.", 0), 0u) << pass << " ran: the engine gave the specular signal";
+  }
+  const std::vector<std::string> passes = passesRecorded(run);
+  for (const char* pass : {"gi.engine_signal.diffuse", "gi.engine_signal.specular",
+                           "gi.denoise.diffuse.temporal_accumulation", "gi.denoise.specular.temporal_accumulation"})
+    EXPECT_NE(std::find(passes.begin(), passes.end(), pass), passes.end()) << pass << " did not run";
+  for (int s = 0; s < 2; ++s) {
+    const io::ImageF denoisedSignal = rgb(out.signal[s]);
+    const double noisyError = relMse(run.truth, run.lastNoisy[s]);
+    const double denoisedError = relMse(run.truth, denoisedSignal);
+    const double meanRatio = meanLuminance(denoisedSignal) / meanLuminance(run.truth);
+    std::printf("%s: relMSE %.4f noisy, %.4f denoised (%.4f of it); mean / truth %.3f\n",
+                s == kDiffuse ? "diffuse" : "specular", noisyError, denoisedError, denoisedError / noisyError,
+                meanRatio);
+    EXPECT_LT(denoisedError, 0.1 * noisyError);
+    EXPECT_NEAR(meanRatio, 1.0, 0.1);
+  }
+  // The composite adds the denoised light to the direct light.
+  const io::ImageF direct = rgb(gpuio::readbackImage(context(), run.renderer->direct()));
+  EXPECT_GT(meanLuminance(rgb(out.composite)), meanLuminance(direct) * 1.05);
+}
+
+// With both signals from the engine and the branches off, nothing reads the
+// environment: an engine that only wants the denoiser need not make one.
+// With a branch to run, its absence is refused by name.
+TEST_F(GiEngineSignals, WithoutBranchesToRunTheEnvironmentMayBeLeftOut) {
+  Settings settings = denoised();
+  settings.diffuse.enabled = false;
+  settings.specular.enabled = false;
+  Run run = start(settings);
+  const auto noEnvironment = [](FrameInputs& inputs) {
+    inputs.environment = {};
+    inputs.environmentSampler = VK_NULL_HANDLE;
+  };
+  for (int f = 0; f < 3; ++f) frame(run, {true, true}, false, {}, noEnvironment);
+  const Output out = output(run);
+  EXPECT_LT(relMse(run.truth, rgb(out.signal[kDiffuse])), relMse(run.truth, run.lastNoisy[kDiffuse]));
+
+  Run branches = start(denoised());
+  frame(branches);
+  try {
+    frame(branches, {true, false}, false, {}, noEnvironment);  // the specular branch runs
+    ADD_FAILURE() << "a frame with a branch to run was taken without its environment";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame input environment is missing"), std::string::npos) << e.what();
+  }
+  branches.loop->endFrame();
+}
+
+TEST_F(GiEngineSignals, BadNoisySignalsAreRefusedWithTheirNames) {
+  Run run = start(denoised());
+  frame(run);
+  run.loop->finish();
+  gpu::Recorder& recorder = run.loop->beginFrame();
+  const render::FrameView view{*run.scene->suggestedCamera, 0.0f, false};
+  run.renderer->record(recorder, run.loop->frameIndex(), view);
+  FrameInputs good = render::rendererInputs(*run.renderer, run.loop->frameIndex(), view, view).inputs;
+  good.noisyDiffuse = render::imageRef(*run.noisy[kDiffuse]);
+  good.noisySpecular = render::imageRef(*run.noisy[kSpecular]);
+  const auto refused = [&](GiContext& gi, const FrameInputs& inputs, const std::string& words) {
+    try {
+      gi.record(recorder.commandBuffer(), inputs);
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted: " << words;
+  };
+  FrameInputs wrongFormat = good;
+  wrongFormat.noisySpecular = render::imageRef(run.renderer->baseColorMetallic());
+  refused(run.gi->library(), wrongFormat,
+          "frame input noisySpecular has the format VK_FORMAT_R8G8B8A8_UNORM; noisySpecular takes "
+          "VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT");
+  gpu::Image small(context(), {.name = "small", .width = 8, .height = 8, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
+  FrameInputs tooSmall = good;
+  tooSmall.noisyDiffuse = render::imageRef(small);
+  tooSmall.noisyDiffuse.layout = VK_IMAGE_LAYOUT_GENERAL;
+  refused(run.gi->library(), tooSmall, "frame input noisyDiffuse is 8x8, smaller than the render size 64x48");
+  FrameInputs noView = good;
+  noView.noisyDiffuse.view = VK_NULL_HANDLE;
+  refused(run.gi->library(), noView, "frame input noisyDiffuse is missing (its view is VK_NULL_HANDLE)");
+  FrameInputs undefinedLayout = good;
+  undefinedLayout.noisySpecular.layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  refused(run.gi->library(), undefinedLayout, "noisySpecular is in VK_IMAGE_LAYOUT_UNDEFINED");
+  // The library takes a signal only to denoise it.
+  Settings denoiserOff;
+  denoiserOff.denoise.enabled = false;
+  GiContext withoutDenoiser(render::giDevice(context()), {.maxWidth = kWidth, .maxHeight = kHeight}, denoiserOff);
+  FrameInputs onlyDiffuse = good;
+  onlyDiffuse.noisySpecular = {};
+  refused(withoutDenoiser, onlyDiffuse,
+          "frame input noisyDiffuse is given, but the denoiser is off (Settings::denoise.enabled, "
+          "gi.denoise.enabled)");
+  run.loop->endFrame();
+}
+
+// Poison in the engine's signal (NaN or +Inf, everywhere or in a block)
+// never reaches what the library keeps or shows, and its history heals:
+// eight frames later the denoised light differs from an unpoisoned run's
+// no more than that of a run whose history was cut at the poisoned frame.
+// Every run draws the same noise, so runs agree until the poisoned frame.
+TEST_F(GiEngineSignals, NonFiniteValuesInTheEnginesSignalsNeverReachTheOutput) {
+  constexpr int kPoisonedFrame = 6, kHealingFrames = 8;
+  const auto runWith = [&](const std::function<void(int, io::ImageF&)>& poison, bool cut) {
+    Run run = start(denoised());
+    for (int f = 0; f < kPoisonedFrame; ++f) frame(run);
+    frame(run, {true, true}, cut, poison);
+    return run;
+  };
+  const auto finite = [](const io::ImageF& image) {
+    return std::all_of(image.pixels.begin(), image.pixels.end(), [](float v) { return std::isfinite(v); });
+  };
+  // Every image the library keeps for the denoised signals: theirs, the
+  // taken-in signals and the composite.
+  const auto firstNonFinite = [&](Run& run) -> std::string {
+    run.loop->finish();
+    for (const render::GiBridge::Named& named : run.gi->images()) {
+      const bool ofTheSignals = named.name.rfind("gi.denoise.", 0) == 0 ||
+                                named.name.rfind("gi.engine_signal.", 0) == 0 || named.name == "gi.composite";
+      if (ofTheSignals && named.name != "gi.denoise.validation" &&
+          !finite(gpuio::readbackImage(context(), *named.image)))
+        return named.name;
+    }
+    return {};
+  };
+  const auto difference = [](const io::ImageF& a, const io::ImageF& b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(double(a.pixels[i]) - double(b.pixels[i]));
+    return sum;
+  };
+  // kHealingFrames more frames (the same noise in every run); `afterFirst`
+  // looks at the run after the first of them.
+  const auto healedSignals = [&](Run& run, const std::function<void(Run&)>& afterFirst = {}) {
+    for (int f = 0; f < kHealingFrames; ++f) {
+      frame(run);
+      if (f == 0 && afterFirst) afterFirst(run);
+    }
+    const Output out = output(run);
+    return std::array<io::ImageF, 2>{rgb(out.signal[kDiffuse]), rgb(out.signal[kSpecular])};
+  };
+  Run clean = runWith({}, false);
+  const std::array<io::ImageF, 2> healedClean = healedSignals(clean);
+  Run cut = runWith({}, true);
+  const std::array<io::ImageF, 2> healedCut = healedSignals(cut);
+
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (const float poison : {nan, inf})
+    for (const bool block : {false, true})
+      for (const int channel : {0, 3}) {  // the radiance, or the hit distance
+        const std::string what = std::string(std::isnan(poison) ? "NaN" : "+Inf") + (block ? " block" : " everywhere") +
+                                 (channel == 3 ? " in the hit distance" : " in the radiance");
+        SCOPED_TRACE(what);
+        Run run = runWith(
+            [&](int, io::ImageF& noisy) {
+              for (int y = 0; y < noisy.height; ++y)
+                for (int x = 0; x < noisy.width; ++x)
+                  if (!block || (x >= 20 && x < 30 && y >= 20 && y < 30)) noisy.at(x, y, channel) = poison;
+            },
+            false);
+        ASSERT_EQ(firstNonFinite(run), "") << "at the poisoned frame";
+        const std::array<io::ImageF, 2> healed =
+            healedSignals(run, [&](Run& r) { EXPECT_EQ(firstNonFinite(r), "") << "the frame after"; });
+        for (int s = 0; s < 2; ++s) {
+          const double poisoned = difference(healedClean[s], healed[s]);
+          const double afterCut = difference(healedClean[s], healedCut[s]);
+          std::printf("%s, %s: %d frames later %.3f from the clean run; a cut's run %.3f\n", what.c_str(),
+                      s == kDiffuse ? "diffuse" : "specular", kHealingFrames, poisoned, afterCut);
+          EXPECT_LE(poisoned, afterCut) << (s == kDiffuse ? "diffuse" : "specular") << ": the history has not healed";
+        }
+      }
+}
+
+// A signal that changes hands (the engine's, then the branch's, then the
+// engine's again) restarts every history for that frame, as a cut does:
+// the branch never wrote its history images while the engine gave the
+// signal, and the denoiser's history was of the other source. The branch's
+// first frame reads nothing of them (no validation message for reading
+// images never written) and everything stays finite.
+TEST_F(GiEngineSignals, ASignalChangingHandsRestartsTheHistory) {
+  Run run = start(denoised());
+  for (int f = 0; f < 6; ++f) frame(run);
+  const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
+  const auto historyOnSurfaces = [&](const io::ImageF& signal) {
+    float longest = 0.0f;
+    for (int y = 0; y < signal.height; ++y)
+      for (int x = 0; x < signal.width; ++x)
+        if (viewZ.at(x, y, 0) > 0.0f) longest = std::max(longest, signal.at(x, y, 3));
+    return longest;
+  };
+  EXPECT_GT(historyOnSurfaces(output(run).signal[kDiffuse]), 1.0f) << "before the change";
+  for (const std::array<bool, 2> give : {std::array<bool, 2>{false, true}, std::array<bool, 2>{true, true}}) {
+    frame(run, give);
+    const Output out = output(run);
+    EXPECT_EQ(historyOnSurfaces(out.signal[kDiffuse]), 1.0f) << "diffuse given: " << give[kDiffuse];
+    EXPECT_EQ(historyOnSurfaces(out.signal[kSpecular]), 1.0f) << "every history restarts";
+    for (const io::ImageF* image : {&out.signal[kDiffuse], &out.signal[kSpecular], &out.composite})
+      for (float v : image->pixels) ASSERT_TRUE(std::isfinite(v));
+    frame(run, give);
+    EXPECT_GT(historyOnSurfaces(output(run).signal[kDiffuse]), 1.0f) << "the frame after";
+  }
+  const std::vector<std::string> passes = passesRecorded(run);
+  EXPECT_NE(std::find(passes.begin(), passes.end(), "gi.diffuse.resolve"), passes.end())
+      << "the diffuse branch ran while the engine did not give the signal";
+}
+
+}  // namespace
+}  // namespace bounce::gi
