@@ -28,6 +28,8 @@ set(commands
   # The path tracer and its resolve, under the sky and under a map.
   "reference|cornell|${size}|--spp|1|--out|${OUT}/reference/sky.exr"
   "reference|cornell|${size}|--spp|1|--env|${OUT}/map/render.exr|--out|${OUT}/reference/map.exr"
+  # The denoiser, on the path tracer's signals handed over as an engine's own.
+  "denoise|cornell|${size}|--frames|2|--reference-spp|1|--dump-stages|--out|${OUT}/denoise"
   # BVH ray throughput and the copy-bandwidth probe.
   "bench|cornell|${size}|--frames|1|--warmup|0|--rays|64|--copy-mb|1")
 foreach(command IN LISTS commands)

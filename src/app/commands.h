@@ -93,13 +93,17 @@ struct GiOptions {
 };
 // `warmup`: whether the command offers --gi-warmup (bench has its own --warmup).
 void addGiOptions(CLI::App& command, GiOptions& options, bool warmup = true);
+// Only --gi-settings and the --gi.KEY flags (a command that decides itself
+// what runs, as denoise does).
+void addGiSettingsOptions(CLI::App& command, GiOptions& options);
 bool giEnabled(const GiOptions& options);
 // The branch names of a --gi value ("diffuse,specular" -> diffuse, specular).
 std::vector<std::string> giBranches(const std::string& mode);
 // With --gi off, warns (stderr) about the GI settings given, which nothing reads.
 void warnIgnoredGiOptions(const GiOptions& options);
-// The settings: defaults, then the file, then the flags; validated.
-gi::Settings giSettings(const GiOptions& options);
+// The settings: `base` (the defaults unless a command starts elsewhere),
+// then the file, then the flags; validated.
+gi::Settings giSettings(const GiOptions& options, const gi::Settings& base = {});
 // The scene bridge the options ask for (none: screen space only).
 gi::SceneBridge giSceneBridge(const GiOptions& options);
 // The library's message for the first --gi.KEY flag in argv whose key is not
@@ -146,6 +150,24 @@ struct ReferenceCommandOptions {
 };
 CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options);
 int runReference(const ReferenceCommandOptions& options);
+
+// bounce denoise: the GI library's denoiser on a path-traced sequence at a
+// few samples per pixel (cmd_denoise.cpp).
+struct DenoiseOptions {
+  GpuOptions gpu;
+  SceneOptions view;
+  GiOptions gi;                      // --gi-settings and --gi.KEY only
+  std::uint32_t frames = 32;         // of the camera path; the last is measured
+  std::uint32_t spp = 1;             // path samples per pixel of every frame's noisy signals
+  std::uint32_t referenceSpp = 512;  // samples of the last frame's converged reference
+  std::uint32_t seed = 0;
+  std::uint32_t maxBounces = 24;
+  std::string out = "denoise";
+  float exposure = 1.0f;
+  bool dumpStages = false;
+};
+CLI::App* addDenoiseCommand(CLI::App& app, DenoiseOptions& options);
+int runDenoise(const DenoiseOptions& options);
 
 struct BenchOptions {
   GpuOptions gpu;

@@ -33,10 +33,7 @@ void addGiOptions(CLI::App& command, GiOptions& options, bool warmup) {
                   "(screen space only, what an engine that hands over a G-buffer alone gets)")
       ->check(CLI::IsMember({"bvh", "none"}))
       ->capture_default_str();
-  command
-      .add_option("--gi-settings", options.settingsFile,
-                  "JSON file of GI settings (docs/gi-settings.md); --gi.KEY flags override it")
-      ->check(CLI::ExistingFile);
+  addGiSettingsOptions(command, options);
   if (warmup)
     command
         .add_option("--gi-warmup", options.warmup,
@@ -44,6 +41,13 @@ void addGiOptions(CLI::App& command, GiOptions& options, bool warmup) {
                     "bounced and histories have filled (GI only)")
         ->check(CLI::Range(0u, 10000u))
         ->capture_default_str();
+}
+
+void addGiSettingsOptions(CLI::App& command, GiOptions& options) {
+  command
+      .add_option("--gi-settings", options.settingsFile,
+                  "JSON file of GI settings (docs/gi-settings.md); --gi.KEY flags override it")
+      ->check(CLI::ExistingFile);
   // One flag per setting, in the table's order; their values are applied
   // after the file, in the order they were given.
   for (const gi::SettingInfo& setting : gi::settingKeys()) {
@@ -81,8 +85,8 @@ void warnIgnoredGiOptions(const GiOptions& options) {
   if (!ignored.empty()) std::fprintf(stderr, "bounce: warning: --gi off: ignoring %s\n", ignored.c_str());
 }
 
-gi::Settings giSettings(const GiOptions& options) {
-  gi::Settings settings;
+gi::Settings giSettings(const GiOptions& options, const gi::Settings& base) {
+  gi::Settings settings = base;
   if (!options.settingsFile.empty()) gi::applySettingsFile(settings, options.settingsFile);
   for (const auto& [key, value] : options.overrides) gi::applySetting(settings, key, value);
   // --gi names the branches that run: one it leaves out is off whatever the settings say.

@@ -93,6 +93,7 @@ int main(int argc, char** argv) {
   CompareOptions compare;
   ReferenceCommandOptions reference;
   SheetOptions sheet;
+  DenoiseOptions denoise;
   CLI::App* infoCommand = addInfoCommand(app, info);
   CLI::App* renderCommand = addRenderCommand(app, render);
   CLI::App* benchCommand = addBenchCommand(app, bench);
@@ -100,6 +101,7 @@ int main(int argc, char** argv) {
   CLI::App* compareCommand = addCompareCommand(app, compare);
   CLI::App* referenceCommand = addReferenceCommand(app, reference);
   CLI::App* sheetCommand = addSheetCommand(app, sheet);
+  CLI::App* denoiseCommand = addDenoiseCommand(app, denoise);
 
   if (const std::string unknown = unknownCommandMessage(app, argc, argv); !unknown.empty()) {
     std::fprintf(stderr, "bounce: error: %s\n", unknown.c_str());
@@ -131,6 +133,7 @@ int main(int argc, char** argv) {
     if (compareCommand->parsed()) return runCompare(compare);
     if (referenceCommand->parsed()) return runReference(reference);
     if (sheetCommand->parsed()) return runSheet(sheet);
+    if (denoiseCommand->parsed()) return runDenoise(denoise);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
     // compare's 1 means "differs beyond a threshold"; trouble is 2, as for cmp and diff.
