@@ -161,7 +161,7 @@ struct SpecularSettings {
 // stabilisation of each branch's resolved signal, in place of the
 // branches' own temporal filters.
 struct DenoiseSettings {
-  bool enabled = false;
+  bool enabled = true;
   std::uint32_t maxAccumulatedFrames = 30;  // the longest history (REBLUR's default)
   std::uint32_t historyFixFrames = 3;       // shorter histories are rebuilt from a wide neighbourhood
   // Radii and strides in pixels of a 1080-row frame, scaled with the render height.
