@@ -169,6 +169,31 @@ struct DenoiseOptions {
 CLI::App* addDenoiseCommand(CLI::App& app, DenoiseOptions& options);
 int runDenoise(const DenoiseOptions& options);
 
+// bounce ghosting: how fast the GI's error on newly uncovered pixels returns
+// to the level of the rest after a fast turn or a moving object
+// (cmd_ghosting.cpp; docs/metrics.md).
+struct GhostingOptions {
+  GpuOptions gpu;
+  SceneOptions view = {.width = 640, .height = 360};
+  GiOptions gi = {.warmup = 32};
+  std::string event = "turn";           // turn (the camera turns in one frame) or object (a moving object uncovers)
+  std::uint32_t eventFrame = 32;        // the (first) event frame; frames 0.. lead up to it, after gi.warmup
+  std::optional<std::uint32_t> events;  // event frames from eventFrame on, pooled (default: turn 1, object 8)
+  std::uint32_t after = 8;              // frames measured after the event
+  std::uint32_t settle = 32;            // then this many more, and the regions measured once more (0: not)
+  std::optional<std::uint32_t> nearby;  // radius of the nearby rest, pixels (default: height / 40, at least 2)
+  std::optional<float> turnDegrees;     // the built-in turn's angle (default kDefaultTurnDegrees)
+  std::uint32_t referenceSpp = 256;     // samples of each measured frame's reference
+  std::uint32_t seed = 0;
+  std::uint32_t maxBounces = 24;
+  double within = 1.5;  // recovered: the uncovered region's error at most this times the rest's
+  std::string out = "ghosting";
+  float exposure = 1.0f;
+};
+inline constexpr float kDefaultTurnDegrees = 20.0f;
+CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options);
+int runGhosting(const GhostingOptions& options);
+
 struct BenchOptions {
   GpuOptions gpu;
   std::string scene;  // as for render

@@ -94,6 +94,7 @@ int main(int argc, char** argv) {
   ReferenceCommandOptions reference;
   SheetOptions sheet;
   DenoiseOptions denoise;
+  GhostingOptions ghosting;
   CLI::App* infoCommand = addInfoCommand(app, info);
   CLI::App* renderCommand = addRenderCommand(app, render);
   CLI::App* benchCommand = addBenchCommand(app, bench);
@@ -102,6 +103,7 @@ int main(int argc, char** argv) {
   CLI::App* referenceCommand = addReferenceCommand(app, reference);
   CLI::App* sheetCommand = addSheetCommand(app, sheet);
   CLI::App* denoiseCommand = addDenoiseCommand(app, denoise);
+  CLI::App* ghostingCommand = addGhostingCommand(app, ghosting);
 
   if (const std::string unknown = unknownCommandMessage(app, argc, argv); !unknown.empty()) {
     std::fprintf(stderr, "bounce: error: %s\n", unknown.c_str());
@@ -134,6 +136,7 @@ int main(int argc, char** argv) {
     if (referenceCommand->parsed()) return runReference(reference);
     if (sheetCommand->parsed()) return runSheet(sheet);
     if (denoiseCommand->parsed()) return runDenoise(denoise);
+    if (ghostingCommand->parsed()) return runGhosting(ghosting);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
     // compare's 1 means "differs beyond a threshold"; trouble is 2, as for cmp and diff.

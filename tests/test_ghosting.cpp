@@ -1,0 +1,210 @@
+// bounce ghosting on lavapipe, in miniature (docs/metrics.md): both events
+// at 96x64 with a few frames and 4-spp references. The references are far
+// too noisy here for the errors to mean much, so beyond their being finite
+// the tests check what the regions are: the pixels a fast turn uncovers are
+// those outside the view before the turn (worked out here from the two
+// cameras alone), and on the uncovered pixels of either event the GI
+// library's own history length (which its reprojection, not the tool's,
+// decides) starts at one frame and grows by one a frame, while the rest
+// keeps its long history.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "io/image_io.h"
+#include "process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exitCode;
+  std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& arguments) {
+  std::vector<std::string> argv = {BOUNCE_BINARY};
+  for (std::string& word : bounce::testing::splitWords(arguments)) argv.push_back(std::move(word));
+  const bounce::testing::ProcessResult r = bounce::testing::runProcess(argv);
+  return {r.exitCode, r.output};
+}
+
+fs::path freshDirectory(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("bounce_ghosting_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+constexpr int kWidth = 96, kHeight = 64;
+const std::string kSmall = " --validate --width 96 --height 64 --gi-warmup 2 --reference-spp 4 --seed 3";
+
+// Labels of regions.exr.
+enum Label { kBackground = 0, kRest = 1, kUncovered = 2, kNeither = 3, kNearby = 4 };
+
+// What every run writes, and the parts of its JSON every run must have.
+nlohmann::json checkOutputs(const fs::path& dir, const Result& r, std::size_t ages) {
+  for (const char* name : {"ghosting.json", "ghosting.png", "regions.exr", "regions.png"})
+    EXPECT_TRUE(fs::exists(dir / name)) << name << "\n" << r.output;
+  for (const char* table : {"\nframe relMSE", "\nindirect diffuse relMSE", "\nindirect specular relMSE"})
+    EXPECT_NE(r.output.find(table), std::string::npos) << table << "\n" << r.output;
+  EXPECT_NE(r.output.find("the uncovered pixels within 1.5 x the rest"), std::string::npos) << r.output;
+  const bounce::io::ImageF plot = bounce::io::readImage(dir / "ghosting.png");
+  EXPECT_GT(plot.width, 500);
+  EXPECT_GT(plot.height, 3 * 200) << "a panel for the frame and one per indirect signal";
+  std::ifstream file(dir / "ghosting.json");
+  const nlohmann::json json = nlohmann::json::parse(file);
+  EXPECT_EQ(json["ages"].size(), ages);
+  for (const nlohmann::json& age : json["ages"])
+    for (const char* region : {"uncovered", "nearby", "rest"}) {
+      EXPECT_GT(age[region]["pixels"].get<int>(), 0) << region << " at +" << age["after_event"];
+      for (const char* part : {"frame", "indirect_diffuse", "indirect_specular"}) {
+        const nlohmann::json& value = age[region]["relmse"][part];
+        EXPECT_TRUE(value.is_number()) << region << " " << part << ": " << value;
+        const double relMse = value.is_number() ? value.get<double>() : std::nan("");
+        EXPECT_TRUE(std::isfinite(relMse) && relMse > 0.0) << region << " " << part << ": " << relMse;
+      }
+    }
+  return json;
+}
+
+// The library's history on the uncovered pixels: one frame at the event
+// (it restarted where the tool says the surface is new), one more each
+// frame after; the rest's long, throughout.
+void checkHistories(const nlohmann::json& json) {
+  for (const nlohmann::json& age : json["ages"]) {
+    const int k = age["after_event"];
+    const double uncovered = age["uncovered"]["history"], rest = age["rest"]["history"];
+    std::printf("+%d: history %.3f on the uncovered pixels, %.3f on the rest; frame relMSE %.4f and %.4f\n", k,
+                uncovered, rest, age["uncovered"]["relmse"]["frame"].get<double>(),
+                age["rest"]["relmse"]["frame"].get<double>());
+    EXPECT_NEAR(uncovered, k + 1.0, 0.5) << "+" << k;
+    EXPECT_GT(rest, uncovered + 2.0) << "+" << k;
+  }
+}
+
+glm::vec3 vec3(const nlohmann::json& v) { return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()}; }
+
+// A camera of the JSON: its basis and the tangents of its half angles.
+struct View {
+  glm::vec3 right, up, forward, position;
+  float tanX, tanY;
+  explicit View(const nlohmann::json& pose) {
+    position = vec3(pose["position"]);
+    forward = glm::normalize(vec3(pose["target"]) - position);
+    right = glm::normalize(glm::cross(forward, vec3(pose["up"])));
+    up = glm::cross(right, forward);
+    tanY = std::tan(glm::radians(pose["fovY"].get<float>()) / 2.0f);
+    tanX = tanY * float(kWidth) / float(kHeight);
+  }
+};
+
+TEST(Ghosting, AFastTurnUncoversWhatTheViewBeforeDidNotShow) {
+  const fs::path dir = freshDirectory("turn");
+  const Result r = run("ghosting sun-room --event-frame 5 --after 3 --settle 2" + kSmall + " --out " + dir.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json json = checkOutputs(dir, r, 4);
+  checkHistories(json);
+  EXPECT_TRUE(json["settled"].is_object()) << "--settle 2 measures once more";
+
+  // A turn about the camera's own position moves nothing in front of
+  // anything: a surface is new exactly when its direction lay outside the
+  // view before. Every pixel the tool put in a region is checked.
+  const View before(json["camera_before_event"]), after(json["camera_at_event"]);
+  ASSERT_EQ(before.position, after.position);
+  const bounce::io::ImageF labels = bounce::io::readImage(dir / "regions.exr");
+  ASSERT_EQ(labels.width, kWidth);
+  int agree = 0, disagree = 0, neither = 0, uncovered = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const int label = int(labels.at(x, y, 0));
+      if (label == kBackground) continue;
+      if (label == kNeither) {
+        ++neither;
+        continue;
+      }
+      const float ndcX = 2.0f * (float(x) + 0.5f) / kWidth - 1.0f, ndcY = 1.0f - 2.0f * (float(y) + 0.5f) / kHeight;
+      const glm::vec3 ray = after.forward + ndcX * after.tanX * after.right + ndcY * after.tanY * after.up;
+      const float depth = glm::dot(ray, before.forward);
+      const bool outside = !(depth > 0.0f && std::abs(glm::dot(ray, before.right)) <= before.tanX * depth &&
+                             std::abs(glm::dot(ray, before.up)) <= before.tanY * depth);
+      uncovered += label == kUncovered;
+      ((label == kUncovered) == outside ? agree : disagree) += 1;
+    }
+  std::printf("fast turn: %d pixels uncovered; %d agree with the cameras, %d do not, %d in no region\n", uncovered,
+              agree, disagree, neither);
+  EXPECT_GT(uncovered, kWidth * kHeight / 10) << "20 degrees of a 77-degree-wide view";
+  EXPECT_LE(disagree + neither, kHeight) << "at most a column along the old view's edge";
+  EXPECT_EQ(json["events"][0]["uncovered_pixels"].get<int>(), uncovered);
+  fs::remove_all(dir);
+}
+
+TEST(Ghosting, AMovingObjectUncoversStripsTheLibraryStartsOverOn) {
+  const fs::path dir = freshDirectory("object");
+  const Result r = run("ghosting --event object --event-frame 5 --events 3 --after 3 --settle 0" + kSmall + " --out " +
+                       dir.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json json = checkOutputs(dir, r, 4);
+  EXPECT_EQ(json["scene"], "sun-room-animated");
+  EXPECT_TRUE(json["settled"].is_null());
+  EXPECT_EQ(json["ages"][3]["frames"], nlohmann::json({8, 9, 10})) << "age +3 pools the three events";
+  checkHistories(json);
+  // The strips lie beside the box: some of the nearby rest shows it.
+  const bounce::io::ImageF labels = bounce::io::readImage(dir / "regions.exr");
+  int uncovered = 0;
+  for (float label : labels.pixels) uncovered += int(label) == kUncovered;
+  EXPECT_GT(uncovered, 0);
+  fs::remove_all(dir);
+}
+
+TEST(Ghosting, BadArgumentsAreOneClearLine) {
+  const fs::path dir = freshDirectory("bad");
+  fs::create_directories(dir);
+  // A settings file where an output will go: outputs never replace inputs.
+  const fs::path settings = dir / "ghosting.json";
+  std::ofstream(settings) << "{}\n";
+  const std::string out = " --out " + dir.string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"ghosting --event spin", "--event"},
+      {"ghosting cornell --event object" + out, "has no animation"},
+      {"ghosting --event-frame 4 --after 8" + out, "too early for --after 8"},
+      {"ghosting --event object --turn-degrees 10" + out, "--turn-degrees is for --event turn"},
+      {"ghosting --camera static --turn-degrees 10" + out, "leave one of them out"},
+      {"ghosting --turn-degrees 0" + out, "does not turn"},
+      {"ghosting --gi off" + out, "--gi off"},
+      {"ghosting --within nan" + out, "--within"},
+      {"ghosting --turn-degrees inf" + out, "--turn-degrees"},
+      {"ghosting --gi-settings " + settings.string() + out, "refusing to write --out over the input"}};
+  for (const auto& [arguments, words] : cases) {
+    const Result r = run(arguments);
+    EXPECT_NE(r.exitCode, 0) << arguments;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << arguments << ": " << r.output;
+    EXPECT_EQ(r.output.rfind("bounce: error:", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << arguments << ": " << r.output;
+  }
+  // A camera that never moves uncovers nothing: said (last, after the
+  // device and scene lines) once the event frame is rendered.
+  const Result still =
+      run("ghosting cornell --camera static --width 24 --height 16 --gi-warmup 0 --event-frame 2 --after 1" + out);
+  EXPECT_NE(still.exitCode, 0);
+  EXPECT_NE(still.output.find("\nbounce: error: nothing is newly uncovered at frame 2"), std::string::npos)
+      << still.output;
+  std::ifstream kept(settings);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "{}\n") << "the input was left as it was";
+  const Result help = run("ghosting --help");
+  EXPECT_EQ(help.exitCode, 0) << help.output;
+  EXPECT_NE(help.output.find("--event"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+}  // namespace
