@@ -658,13 +658,14 @@ TEST_F(GiTest, SpatialReuseDoesNotDarkenSkyLightThroughAWindow) {
     advance(run, camera, 24u);
     return meanLuminance(averageIndirect(run, camera, 8));
   };
-  Settings withoutSpatial;
+  // The branch's own output (its filter, not the denoiser): what spatial reuse makes of the sky light.
+  Settings withoutSpatial = filtersOnly();
   withoutSpatial.diffuse.spatialSamples = 0;
   withoutSpatial.diffuse.spatial2Samples = 0;
-  Settings untested;
+  Settings untested = filtersOnly();
   untested.diffuse.skyReuseVisibility = false;
   const double reference = meanAfterWarmUp(withoutSpatial);
-  const double tested = meanAfterWarmUp(Settings{});
+  const double tested = meanAfterWarmUp(filtersOnly());
   const double notTested = meanAfterWarmUp(untested);
   std::printf("sun-room indirect mean / without spatial reuse: %.3f with the sky test, %.3f without\n",
               tested / reference, notTested / reference);

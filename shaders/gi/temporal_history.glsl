@@ -25,15 +25,20 @@ struct History {
   float frames;  // history length
 };
 
-// Last frame's filtered value at continuous pixel position `previous`
-// (texel space: a pixel's centre + motion - 0.5), bilinear over the taps
-// that show the expected surface.
-History fetchHistory(vec2 previous, ExpectedSurface expected) {
+History noHistory() {
   History h;
   h.found = false;
   h.radiance = vec3(0.0f);
   h.moments = vec3(0.0f);
   h.frames = 0.0f;
+  return h;
+}
+
+// Last frame's filtered value at continuous pixel position `previous`
+// (texel space: a pixel's centre + motion - 0.5), bilinear over the taps
+// that show the expected surface.
+History fetchHistory(vec2 previous, ExpectedSurface expected) {
+  History h = noHistory();
   ivec2 corner;
   vec4 weights = historyTapWeights(previous, expected, corner);
   vec4 accumulated = vec4(0.0f);
@@ -63,11 +68,7 @@ History fetchHistory(vec2 previous, ExpectedSurface expected) {
 // history is. The overshoot of the negative lobes is cut at 0. One pass
 // over the footprint: each tap is tested and read once.
 History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
-  History h;
-  h.found = false;
-  h.radiance = vec3(0.0f);
-  h.moments = vec3(0.0f);
-  h.frames = 0.0f;
+  History h = noHistory();
   ivec2 origin = ivec2(floor(previous));  // the first of the centre four
   vec2 f = previous - vec2(origin);
   vec4 wx = catmullRomWeights(f.x), wy = catmullRomWeights(f.y);
@@ -112,8 +113,7 @@ History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
 // point at another pixel of the same reflector, whose plane the taps must
 // lie on. Not found where the point was behind last frame's camera.
 History fetchVirtualHistory(Surface x, float hitDistance, float depthTolerance, float cosNormalTolerance) {
-  History h;
-  h.found = false;
+  History h = noHistory();
   vec3 camera = viewPosition(gIn_Frame.frame.view);
   vec3 virtualPoint = x.position + normalize(x.position - camera) * hitDistance;
   vec3 projected = projectToScreen(gIn_Frame.frame.previousView, virtualPoint, fullSize());
