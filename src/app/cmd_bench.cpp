@@ -97,13 +97,8 @@ int runBench(const BenchOptions& options) {
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   std::unique_ptr<render::GiBridge> gi;
   if (settings)
-    gi = std::make_unique<render::GiBridge>(
-        *context,
-        gi::ContextDesc{.maxWidth = options.width,
-                        .maxHeight = options.height,
-                        .framesInFlight = render::FrameRenderer::kFramesInFlight,
-                        .sceneBridge = giSceneBridge(options.gi)},
-        *settings);
+    gi = std::make_unique<render::GiBridge>(*context, giContextDesc(options.width, options.height, options.gi),
+                                            *settings);
   checkDeviceMemoryFits(*context, options.width, options.height);
   std::fprintf(report, "scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
   if (gi)

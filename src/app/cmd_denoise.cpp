@@ -149,10 +149,8 @@ int runDenoise(const DenoiseOptions& options) {
 
   const SceneOptions& shot = options.view;
   const scene::Scene scene = loadScene(shot);
-  const std::unique_ptr<scene::CameraPath> path =
-      shot.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(shot.camera, scene);
-  const std::vector<scene::CameraFrame> cameraFrames = scene::sampleCameraPath(*path, int(options.frames), shot.fps);
-  checkCameraFrames(cameraFrames, 0, shot);
+  const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, shot);
+  const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, 0, options.frames, shot);
   const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
 
   // A stage dump of an earlier run would mix with this one's.

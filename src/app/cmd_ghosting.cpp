@@ -635,16 +635,12 @@ int runGhosting(const GhostingOptions& options) {
   const std::uint32_t frameCount = settledFrame + 1;
   const std::uint32_t firstFollowed = firstEvent - options.after - 1;  // the rest: on screen since this frame
   const int nearbyRadius = int(options.nearby.value_or(std::max(2u, (shot.height + 20) / 40)));
-  std::unique_ptr<scene::CameraPath> path;
-  if (!shot.camera.empty())
-    path = scene::makeCameraPath(shot.camera, scene);
-  else if (turn)
-    path = std::make_unique<TurnPath>(scene::defaultCameraPath(scene)->pose(0.0f), turnDegrees,
-                                      (float(firstEvent) - 0.5f) / shot.fps);
-  else
-    path = scene::defaultCameraPath(scene);
-  const std::vector<scene::CameraFrame> cameraFrames = scene::sampleCameraPath(*path, int(frameCount), shot.fps);
-  checkCameraFrames(cameraFrames, 0, shot);
+  const std::unique_ptr<scene::CameraPath> path =
+      turn && shot.camera.empty()
+          ? std::unique_ptr<scene::CameraPath>(std::make_unique<TurnPath>(
+                scene::defaultCameraPath(scene)->pose(0.0f), turnDegrees, (float(firstEvent) - 0.5f) / shot.fps))
+          : cameraPathOf(scene, shot);
+  const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, 0, frameCount, shot);
   for (std::uint32_t f = firstFollowed + 1; f < frameCount; ++f)
     if (cameraFrames[f].cut)
       throw std::runtime_error("--camera " + shot.camera + " cuts at frame " + std::to_string(f) +
@@ -656,12 +652,7 @@ int runGhosting(const GhostingOptions& options) {
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
-  render::GiBridge gi(*context,
-                      gi::ContextDesc{.maxWidth = shot.width,
-                                      .maxHeight = shot.height,
-                                      .framesInFlight = render::FrameRenderer::kFramesInFlight,
-                                      .sceneBridge = giSceneBridge(options.gi)},
-                      settings);
+  render::GiBridge gi(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
   checkDeviceMemoryFits(*context, shot.width, shot.height);
   const std::string eventName = turn ? (shot.camera.empty() ? "fast turn" : "camera path") : "moving object";
   const std::string eventFrames = events == 1

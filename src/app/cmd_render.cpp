@@ -101,10 +101,8 @@ int runRender(const RenderOptions& options) {
 
   const SceneOptions& shot = options.view;
   const scene::Scene scene = loadScene(shot);
-  const std::unique_ptr<scene::CameraPath> path =
-      shot.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(shot.camera, scene);
-  const std::vector<scene::CameraFrame> cameraFrames = scene::sampleCameraPath(*path, int(options.frames), shot.fps);
-  checkCameraFrames(cameraFrames, 0, shot);
+  const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, shot);
+  const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, 0, options.frames, shot);
   render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
   rendererOptions.jitter = options.jitter;
 
@@ -135,13 +133,8 @@ int runRender(const RenderOptions& options) {
   // The GI library on this device, through its public interface (render/gi_bridge.h).
   std::unique_ptr<render::GiBridge> giBridge;
   if (gi) {
-    giBridge = std::make_unique<render::GiBridge>(
-        *context,
-        gi::ContextDesc{.maxWidth = shot.width,
-                        .maxHeight = shot.height,
-                        .framesInFlight = render::FrameRenderer::kFramesInFlight,
-                        .sceneBridge = giSceneBridge(options.gi)},
-        settings);
+    giBridge = std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi),
+                                                  settings);
   }
   checkDeviceMemoryFits(*context, shot.width, shot.height);
   // What the frame is: the GI library's composite, or direct light alone.

@@ -69,12 +69,16 @@ scene::Scene loadScene(const SceneOptions& options);
 // throws naming the argument and the problem (an unknown material lists the
 // scene's).
 void applyMaterialChange(scene::Scene& scene, const std::string& change);
-// Checks the camera of every frame before any is rendered (render::
-// checkCamera): a path that passes through its target or looks along its up
-// vector half-way fails now, not after minutes of frames. Throws naming the
-// camera path, the frame (numbered from `firstFrame`), its time and the problem.
-void checkCameraFrames(const std::vector<scene::CameraFrame>& frames, std::uint32_t firstFrame,
-                       const SceneOptions& options);
+// The camera path --camera names, or the scene's own (its first glTF
+// camera, else its suggested view) when none is given.
+std::unique_ptr<scene::CameraPath> cameraPathOf(const scene::Scene& scene, const SceneOptions& options);
+// Frames first .. first + count - 1 of `path` at --fps, the camera of every
+// one checked before any is rendered (render::checkCamera): a path that
+// passes through its target or looks along its up vector half-way fails
+// now, not after minutes of frames. Throws naming the camera path, the
+// frame, its time and the problem.
+std::vector<scene::CameraFrame> checkedCameraFrames(const scene::CameraPath& path, std::uint32_t first,
+                                                    std::uint32_t count, const SceneOptions& options);
 
 // The renderer options (size, environment, sun) for a loaded scene as the
 // flags say; throws for contradictory flags.
@@ -106,6 +110,9 @@ void warnIgnoredGiOptions(const GiOptions& options);
 gi::Settings giSettings(const GiOptions& options, const gi::Settings& base = {});
 // The scene bridge the options ask for (none: screen space only).
 gi::SceneBridge giSceneBridge(const GiOptions& options);
+// The GI library's context for frames up to width x height from the frame
+// renderer (its frames in flight), with the scene bridge the options ask for.
+gi::ContextDesc giContextDesc(std::uint32_t width, std::uint32_t height, const GiOptions& options);
 // The library's message for the first --gi.KEY flag in argv whose key is not
 // a setting (naming the closest keys), or "" when every one is known. CLI11
 // alone would only say the argument was not expected.

@@ -77,6 +77,13 @@ gi::SceneBridge giSceneBridge(const GiOptions& options) {
   return options.sceneBridge == "bvh" ? render::bvhSceneBridge() : gi::SceneBridge{};
 }
 
+gi::ContextDesc giContextDesc(std::uint32_t width, std::uint32_t height, const GiOptions& options) {
+  return {.maxWidth = width,
+          .maxHeight = height,
+          .framesInFlight = render::FrameRenderer::kFramesInFlight,
+          .sceneBridge = giSceneBridge(options)};
+}
+
 void warnIgnoredGiOptions(const GiOptions& options) {
   if (giEnabled(options)) return;
   std::string ignored;

@@ -142,8 +142,13 @@ void addSceneOptions(CLI::App& command, SceneOptions& options) {
                      "multiplies the factor, e.g. --material 'oak floor:roughness=0.1'");
 }
 
-void checkCameraFrames(const std::vector<scene::CameraFrame>& frames, std::uint32_t firstFrame,
-                       const SceneOptions& options) {
+std::unique_ptr<scene::CameraPath> cameraPathOf(const scene::Scene& scene, const SceneOptions& options) {
+  return options.camera.empty() ? scene::defaultCameraPath(scene) : scene::makeCameraPath(options.camera, scene);
+}
+
+std::vector<scene::CameraFrame> checkedCameraFrames(const scene::CameraPath& path, std::uint32_t firstFrame,
+                                                    std::uint32_t count, const SceneOptions& options) {
+  std::vector<scene::CameraFrame> frames = scene::sampleCameraFrames(path, firstFrame, count, options.fps);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     try {
       render::checkCamera(frames[i].pose);
@@ -156,6 +161,7 @@ void checkCameraFrames(const std::vector<scene::CameraFrame>& frames, std::uint3
       throw std::runtime_error(path + ": frame " + std::to_string(frame) + " (at " + time + " s): " + problem.what());
     }
   }
+  return frames;
 }
 
 render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, const SceneOptions& options) {
