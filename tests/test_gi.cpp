@@ -25,6 +25,7 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
+#include "image_statistics.h"
 #include "gpuio/gpu_images.h"
 #include "metrics/image_metrics.h"
 #include "render/frame_renderer.h"
@@ -548,13 +549,7 @@ double relMse(const io::ImageF& reference, const io::ImageF& test) {
   return metrics::valueErrors(reference.pixels, test.pixels).relMse;
 }
 
-double meanLuminance(const io::ImageF& image) {
-  double sum = 0.0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      sum += shared::luminance(glm::vec3(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)));
-  return sum / double(image.width * image.height);
-}
+using bounce::testing::meanLuminance;
 
 // ReSTIR's reuse off, measured on the branch's own output.
 Settings noReuse() {

@@ -22,6 +22,7 @@
 #include "bounce/gi.h"
 #include "gpu/frame_loop.h"
 #include "gpu_test.h"
+#include "image_statistics.h"
 #include "gpuio/gpu_images.h"
 #include "metrics/image_metrics.h"
 #include "render/frame_renderer.h"
@@ -47,13 +48,7 @@ double relMse(const io::ImageF& reference, const io::ImageF& test) {
 
 io::ImageF rgb(const io::ImageF& image) { return io::firstChannels(image, 3); }
 
-double meanLuminance(const io::ImageF& image) {
-  double sum = 0.0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      sum += shared::luminance(glm::vec3(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)));
-  return sum / double(image.width * image.height);
-}
+using bounce::testing::meanLuminance;
 
 class GiEngineSignals : public testing::GpuTest {
  protected:

@@ -16,6 +16,7 @@
 #include "gpu/format.h"
 #include "gpu/frame_loop.h"
 #include "gpu_test.h"
+#include "image_statistics.h"
 #include "gpuio/gpu_images.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
@@ -164,13 +165,7 @@ class GiInputs : public testing::GpuTest {
   }
 };
 
-double meanLuminance(const io::ImageF& image) {
-  double sum = 0.0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      sum += shared::luminance(glm::vec3(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)));
-  return sum / (double(image.width) * image.height);
-}
+using bounce::testing::meanLuminance;
 
 // The fraction of pixels whose history lengths (alpha) agree.
 double sameHistory(const io::ImageF& a, const io::ImageF& b) {
