@@ -2,11 +2,23 @@
 # The whole test suite, as CI runs it (README's test command calls this after
 # building): every test on lavapipe with the validation layer, the ten
 # slowest of them, then the sanitizer job. Exits non-zero if anything failed,
-# after running everything.
+# after running everything, and then names what failed last of all: CI shows
+# only the end of the output, and a failure of the first run would
+# otherwise scroll away under the sanitizer job's.
 set -uo pipefail
 cd "$(dirname "$0")/.."
-status=0
-ctest --test-dir build --output-on-failure -j2 || status=1
-./scripts/slowest-tests.sh build || status=1
-./scripts/sanitize.sh || status=1
-exit $status
+failed=()
+failed_builds=()
+ctest --test-dir build --output-on-failure -j2 || { failed+=("the test suite (build)"); failed_builds+=(build); }
+./scripts/slowest-tests.sh build || failed+=("scripts/slowest-tests.sh")
+./scripts/sanitize.sh || { failed+=("the sanitizer job (build-sanitize)"); failed_builds+=(build-sanitize); }
+[ ${#failed[@]} -eq 0 ] && exit 0
+echo
+echo "FAILED: ${failed[*]}"
+for build in "${failed_builds[@]}"; do
+  list="$build/Testing/Temporary/LastTestsFailed.log"
+  [ -s "$list" ] || continue
+  echo "failed tests in $build (number:name; their output is above, under ***Failed):"
+  sed 's/^/  /' "$list"
+done
+exit 1
