@@ -37,6 +37,10 @@ struct Conversion {
   VkFormat baseColorMetallic = VK_FORMAT_R8G8B8A8_UNORM;
   VkFormat motion = VK_FORMAT_R16G16_SFLOAT;
   VkFormat direct = VK_FORMAT_R16G16B16A16_SFLOAT;
+  // VK_FORMAT_UNDEFINED: the renderer's ids image (instance << 16 | material).
+  // Else the ids' low 8 bits in this format, or what `materialIdOf` makes of them.
+  VkFormat materialId = VK_FORMAT_UNDEFINED;
+  std::function<std::uint32_t(std::size_t frame, int x, int y, std::uint32_t id)> materialIdOf;
   bool motionInUvYUp = false;  // motion stored as uv, y pointing up
   Settings settings;           // of the second context
   std::uint32_t imageWidth = kWidth, imageHeight = kHeight;  // the images; the render size stays kWidth x kHeight
@@ -85,6 +89,9 @@ class GiInputs : public testing::GpuTest {
     auto albedo = image("engine.baseColorMetallic", conversion.baseColorMetallic);
     auto motion = image("engine.motion", conversion.motion);
     auto direct = image("engine.direct", conversion.direct);
+    auto materialId = conversion.materialId != VK_FORMAT_UNDEFINED
+                          ? image("engine.materialId", conversion.materialId)
+                          : std::unique_ptr<gpu::Image>();
 
     Result result;
     render::FrameView previous{};
@@ -135,14 +142,31 @@ class GiInputs : public testing::GpuTest {
                          convert(gpuio::readbackImage(context(), renderer.direct()), conversion.direct, w, h,
                                  [](const float* from, float* to) { std::copy_n(from, 4, to); }));
 
+      if (materialId)
+        gpuio::uploadImage(context(), *materialId,
+                           convert(gpuio::readbackImage(context(), renderer.ids()), conversion.materialId, w, h,
+                                   [&, frame, texel = 0](const float* from, float* to) mutable {
+                                     const int x = texel % int(w), y = texel / int(w);
+                                     ++texel;
+                                     const std::uint32_t id = std::uint32_t(from[0]) & 0xFFu;
+                                     to[0] = float(conversion.materialIdOf ? conversion.materialIdOf(frame, x, y, id)
+                                                                           : id);
+                                   }));
+
       gi::FrameInputs inputs = made.inputs;
       inputs.viewZ = render::imageRef(*viewZ);
       inputs.normalRoughness = render::imageRef(*normals);
       inputs.baseColorMetallic = render::imageRef(*albedo);
       inputs.motion = render::imageRef(*motion);
       inputs.direct = render::imageRef(*direct);
-      gpu::Image* images[] = {viewZ.get(), normals.get(), albedo.get(), motion.get(), direct.get(),
-                              &renderer.environment().radiance()};
+      std::vector<gpu::Image*> images = {viewZ.get(),  normals.get(), albedo.get(),
+                                         motion.get(), direct.get(),  &renderer.environment().radiance()};
+      if (materialId) {
+        inputs.materialId = render::imageRef(*materialId);
+        images.push_back(materialId.get());
+      } else {
+        images.push_back(&renderer.ids());
+      }
       second.record(loop.beginFrame(), inputs, images);
       loop.endFrame();
       loop.finish();
@@ -201,14 +225,50 @@ void expectSameFrames(const char* what, const std::vector<io::ImageF> (&composit
 }
 
 // The other format of each G-buffer family at once: R16F viewZ, octahedral
-// normals in RGB10A2, sRGB base colour, RG32F motion.
+// normals in RGB10A2, sRGB base colour, RG32F motion, R8UI material ids
+// (then R16UI).
 TEST_F(GiInputs, EveryFormatOfEachFamilyMakesTheSameFrame) {
-  const Conversion other{.viewZ = VK_FORMAT_R16_SFLOAT,
-                         .normalRoughness = VK_FORMAT_A2B10G10R10_UNORM_PACK32,
-                         .baseColorMetallic = VK_FORMAT_R8G8B8A8_SRGB,
-                         .motion = VK_FORMAT_R32G32_SFLOAT};
+  Conversion other{.viewZ = VK_FORMAT_R16_SFLOAT,
+                   .normalRoughness = VK_FORMAT_A2B10G10R10_UNORM_PACK32,
+                   .baseColorMetallic = VK_FORMAT_R8G8B8A8_SRGB,
+                   .motion = VK_FORMAT_R32G32_SFLOAT,
+                   .materialId = VK_FORMAT_R8_UINT};
   const Result r = run(other, stillThenTurn());
-  expectSameFrames("R16F, RGB10A2, sRGB, RG32F", r.composites, r.histories);
+  expectSameFrames("R16F, RGB10A2, sRGB, RG32F, R8UI", r.composites, r.histories);
+  other.materialId = VK_FORMAT_R16_UINT;
+  const Result r16 = run(other, stillThenTurn());
+  expectSameFrames("R16F, RGB10A2, sRGB, RG32F, R16UI", r16.composites, r16.histories);
+}
+
+// REBLUR's material test: where the material id of a still surface
+// changes, the denoiser keeps none of its history (the history length
+// the composite reads starts over at 1), and elsewhere keeps it. With the
+// ids unchanged (the first context, the renderer's own) nothing restarts.
+TEST_F(GiInputs, AChangedMaterialIdRestartsTheDenoisersHistoryThere) {
+  constexpr std::size_t kChange = 6;
+  const scene::CameraPose front = *scene::makeBuiltinScene("cornell").suggestedCamera;
+  const Conversion changed{.materialId = VK_FORMAT_R32_UINT,
+                           .materialIdOf = [](std::size_t frame, int x, int, std::uint32_t id) {
+                             return frame >= kChange && x < int(kWidth) / 2 ? id + 1u : id;
+                           }};
+  const Result r = run(changed, std::vector<scene::CameraPose>(kChange + 2, front));
+  const io::ImageF& unchanged = r.histories[0][kChange];
+  const io::ImageF& left = r.histories[1][kChange];
+  const io::ImageF& after = r.histories[1][kChange + 1];
+  int surfaces = 0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      if (unchanged.at(x, y, 3) <= 0.0f) continue;  // no surface
+      ++surfaces;
+      ASSERT_GT(unchanged.at(x, y, 3), 1.0f) << x << "," << y << ": the renderer's ids did not change";
+      if (x < int(kWidth) / 2) {
+        ASSERT_EQ(left.at(x, y, 3), 1.0f) << x << "," << y << ": the material changed here";
+        ASSERT_EQ(after.at(x, y, 3), 2.0f) << x << "," << y << ": and stayed the new one";
+      } else {
+        ASSERT_GT(left.at(x, y, 3), 1.0f) << x << "," << y << ": the material did not change here";
+      }
+    }
+  EXPECT_GT(surfaces, int(kWidth * kHeight) / 2);
 }
 
 // Motion as fractions of the render size with y up, told by the settings:

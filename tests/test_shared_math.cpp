@@ -152,6 +152,22 @@ TEST(Packing, OctahedralRoundTripIsWithinHundredthOfADegree) {
 }
 
 TEST(Packing, PixelIndexAndUvRoundTrip) {
+TEST(Packing, NormalAndMaterialRoundTripWithinATenthOfADegree) {
+  uint material = 0;
+  for (glm::vec3 n : randomUnitVectors(20000, 4321u)) {
+    material = (material * 37u + 11u) % 1000u;  // ids past 255 keep their low 8 bits
+    const uint packed = packNormalMaterial(n, material);
+    EXPECT_EQ(unpackMaterialOfNormalMaterial(packed), material & 0xFFu);
+    glm::dvec3 a(unpackNormalOfNormalMaterial(packed)), b(n);
+    double degrees = glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
+    ASSERT_LT(degrees, 0.1) << n.x << " " << n.y << " " << n.z;
+  }
+  // The id does not disturb the normal's bits, nor the normal the id's.
+  const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.8f, 0.5f));
+  EXPECT_EQ(packNormalMaterial(n, 0u) & 0xFFFFFFu, packNormalMaterial(n, 255u) & 0xFFFFFFu);
+  EXPECT_EQ(unpackMaterialOfNormalMaterial(packNormalMaterial(glm::vec3(0.0f, 0.0f, -1.0f), 200u)), 200u);
+}
+
   const uint width = 37;
   for (uint i = 0; i < 37u * 23u; ++i) EXPECT_EQ(pixelToIndex(indexToPixel(i, width), width), i);
   const glm::vec2 size(37, 23);

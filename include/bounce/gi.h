@@ -190,6 +190,8 @@ struct Camera {
 //                      chain (mip k = GGX roughness k / (levels - 1)): EnvironmentPrefilter makes one
 //   noisyDiffuse,      optional, R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT: a noisy signal of the
 //   noisySpecular      engine's own for the library's denoiser (below)
+//   materialId         optional, R8_UINT, R16_UINT or R32_UINT: a material id per pixel, of which
+//                      the low 8 bits count (below)
 // A NaN or infinite value in any input is treated as invalid (no surface,
 // no light, no history), never passed on (docs/reliability.md).
 struct FrameInputs {
@@ -199,6 +201,13 @@ struct FrameInputs {
   ImageRef motion;
   ImageRef direct;
   ImageRef emissive;
+  // Optional (VK_NULL_HANDLE: every pixel is one material). The denoiser's
+  // temporal passes reuse no history across a change of material id
+  // (REBLUR's material test): where the surface stays put but its material
+  // changes (a decal appears, an editor swaps a material, two materials
+  // meet on one plane) the pixel's history starts over instead of blending
+  // the old material's light into the new one's.
+  ImageRef materialId;
   ImageRef environment;
   VkSampler environmentSampler = VK_NULL_HANDLE;  // linear, repeating in u, clamped in v
   std::uint32_t width = 0;                        // the render size, at most the context's maximum

@@ -59,9 +59,11 @@ Surface surfaceAt(ScreenView view, ivec2 pixel, float viewZ, vec3 normal) {
   return s;
 }
 
-// The history surface format (gi.store_history): rg32ui, x = viewZ bits, y = octahedral normal.
+// The history surface format (gi.store_history): rg32ui, x = viewZ bits,
+// y = octahedral normal and material id (shared/packing.glsl, packNormalMaterial).
 Surface historySurfaceAt(ivec2 pixel, uvec2 packed) {
-  return surfaceAt(gIn_Frame.frame.previousView, pixel, uintBitsToFloat(packed.x), unpackNormalOct32(packed.y));
+  return surfaceAt(gIn_Frame.frame.previousView, pixel, uintBitsToFloat(packed.x),
+                   unpackNormalOfNormalMaterial(packed.y));
 }
 
 // Whether two surfaces are the same one seen twice: depths within a fraction

@@ -28,6 +28,7 @@ struct GiFrameConstants {
   uint seed;            // Settings::seed
   uint normalEncoding;  // kNormalEncoding*
   uint hasEmissive;     // 1: the engine gave emission apart from the direct light
+  uint hasMaterialId;   // 1: the engine gave material ids (FrameInputs::materialId); else every pixel is material 0
 };
 
 #ifdef __cplusplus

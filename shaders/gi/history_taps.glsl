@@ -8,6 +8,8 @@
 
 // Below this share of the bilinear weight the history counts as lost.
 const float kMinHistoryWeight = 0.05f;
+// An expected material that every tap matches (the passes that do not read this frame's ids).
+const uint kAnyMaterial = 0xFFFFFFFFu;
 
 // Which surface a history tap must show.
 struct ExpectedSurface {
@@ -16,16 +18,23 @@ struct ExpectedSurface {
   float viewZ;           // where the previous camera saw it (surface motion), or 0: test the plane (virtual motion)
   float depthTolerance;  // fraction of viewZ
   float cosNormalTolerance;
+  uint material;  // this frame's material id (low 8 bits; gi.store_history), or kAnyMaterial
 };
 
+// This frame's material id at a pixel, from this frame's history surface
+// (gi.store_history), for ExpectedSurface::material.
+uint materialOf(uvec2 packedSurface) { return unpackMaterialOfNormalMaterial(packedSurface.y); }
+
 // Whether last frame's pixel `tap` (its gi.history_surface texel `packed`)
-// shows the expected surface. The depth test comes first and the tap's
-// position is rebuilt only for the plane test: most taps cost a compare.
+// shows the expected surface, of the expected material. The depth test
+// comes first and the tap's position is rebuilt only for the plane test:
+// most taps cost a compare.
 bool tapShows(ExpectedSurface expected, ivec2 tap, uvec2 packed) {
   float viewZ = uintBitsToFloat(packed.x);
   if (viewZ <= 0.0f) return false;
   if (expected.viewZ > 0.0f && abs(viewZ - expected.viewZ) > expected.depthTolerance * expected.viewZ) return false;
-  if (dot(expected.normal, unpackNormalOct32(packed.y)) < expected.cosNormalTolerance) return false;
+  if (expected.material != kAnyMaterial && unpackMaterialOfNormalMaterial(packed.y) != expected.material) return false;
+  if (dot(expected.normal, unpackNormalOfNormalMaterial(packed.y)) < expected.cosNormalTolerance) return false;
   if (expected.viewZ > 0.0f) return true;
   // Virtual motion lands elsewhere on the reflecting surface: the tap must lie on its plane.
   vec3 position = reconstructPosition(gIn_Frame.frame.previousView, vec2(tap), viewZ, fullSize());

@@ -110,16 +110,18 @@ History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
 // The reflection's (virtual) history of a specular pixel: the hit seen in
 // the mirror lies hit distance beyond the surface along the view ray (a
 // virtual point behind a flat reflector), and last frame's camera saw that
-// point at another pixel of the same reflector, whose plane the taps must
-// lie on. Not found where the point was behind last frame's camera.
-History fetchVirtualHistory(Surface x, float hitDistance, float depthTolerance, float cosNormalTolerance) {
+// point at another pixel of the same reflector, whose plane (and material,
+// unless kAnyMaterial) the taps must have. Not found where the point was
+// behind last frame's camera.
+History fetchVirtualHistory(Surface x, float hitDistance, float depthTolerance, float cosNormalTolerance,
+                            uint material) {
   History h = noHistory();
   vec3 camera = viewPosition(gIn_Frame.frame.view);
   vec3 virtualPoint = x.position + normalize(x.position - camera) * hitDistance;
   vec3 projected = projectToScreen(gIn_Frame.frame.previousView, virtualPoint, fullSize());
   if (projected.z <= 0.0f) return h;
   return fetchHistory(vec2(projected) - 0.5f,
-                      ExpectedSurface(x.position, x.normal, 0.0f, depthTolerance, cosNormalTolerance));
+                      ExpectedSurface(x.position, x.normal, 0.0f, depthTolerance, cosNormalTolerance, material));
 }
 
 // Surface and virtual histories blended: each weighs its prior (by

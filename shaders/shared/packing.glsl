@@ -31,6 +31,26 @@ vec3 decodeOctahedral(vec2 e) {
 uint packNormalOct32(vec3 n) { return packSnorm2x16(encodeOctahedral(n)); }
 vec3 unpackNormalOct32(uint packed) { return decodeOctahedral(unpackSnorm2x16(packed)); }
 
+// A unit normal in 24 bits (12-bit unorm per octahedral axis: worst case
+// about 0.06 degrees, far below any history test's tolerance) and a
+// material id in the top 8 bits: the second word of the library's history
+// surface (gi.history_surface), which lets reprojection compare both in one
+// load. Only the id's low 8 bits are kept.
+const uint kMaterialIdMask = 0xFFu;
+const float kOct12Scale = 4095.0f;
+
+uint packNormalMaterial(vec3 n, uint material) {
+  uvec2 q = uvec2(round(clamp(encodeOctahedral(n) * 0.5f + 0.5f, 0.0f, 1.0f) * kOct12Scale));
+  return q.x | (q.y << 12u) | ((material & kMaterialIdMask) << 24u);
+}
+
+vec3 unpackNormalOfNormalMaterial(uint packed) {
+  vec2 q = vec2(float(packed & 0xFFFu), float((packed >> 12u) & 0xFFFu));
+  return decodeOctahedral(q * (2.0f / kOct12Scale) - 1.0f);
+}
+
+uint unpackMaterialOfNormalMaterial(uint packed) { return packed >> 24u; }
+
 // Row-major linear index of a pixel, and back.
 uint pixelToIndex(uvec2 pixel, uint width) { return pixel.y * width + pixel.x; }
 uvec2 indexToPixel(uint index, uint width) { return uvec2(index % width, index / width); }

@@ -29,7 +29,8 @@ struct FrameState {
   bool hasHistory;     // last frame's images hold a frame (perhaps of another camera: a cut)
   bool usableHistory;  // ... and it may be reused (no cut, same render size)
   gpu::Image& previousComposite;  // last frame's composite: the light the next bounce gathers
-  gpu::Image& previousSurface;    // last frame's viewZ and normals (gi.store_history)
+  gpu::Image& previousSurface;    // last frame's viewZ, normals and material ids (gi.store_history)
+  gpu::Image& currentSurface;     // this frame's: its material ids
   gpu::Image& marchDepth;         // this frame's viewZ as visibility marches read it (gi.store_history)
   // This frame's min-max pyramid of marchDepth, for Hi-Z traces: built when
   // a branch that traces it is on (GiContext::Impl::needsDepthPyramid).

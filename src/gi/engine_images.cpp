@@ -23,6 +23,7 @@ constexpr VkFormat kMotion[] = {VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R32G32_SFLOAT
 // B10G11R11_UFLOAT is not taken yet: given it, the composite's colours came
 // out wrong on lavapipe and on an H100 alike (docs/known-issues.md).
 constexpr VkFormat kRadiance[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT};
+constexpr VkFormat kMaterialId[] = {VK_FORMAT_R8_UINT, VK_FORMAT_R16_UINT, VK_FORMAT_R32_UINT};
 constexpr VkFormat kEnvironment[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT};
 
 constexpr InputFamily kFamilies[] = {
@@ -35,6 +36,7 @@ constexpr InputFamily kFamilies[] = {
     {Input::Environment, "environment", kEnvironment, false, false},
     {Input::NoisyDiffuse, "noisyDiffuse", kRadiance, true, true},
     {Input::NoisySpecular, "noisySpecular", kRadiance, true, true},
+    {Input::MaterialId, "materialId", kMaterialId, true, true},
 };
 
 const ImageRef& refOf(const FrameInputs& frame, Input input) {
@@ -55,6 +57,8 @@ const ImageRef& refOf(const FrameInputs& frame, Input input) {
       return frame.noisyDiffuse;
     case Input::NoisySpecular:
       return frame.noisySpecular;
+    case Input::MaterialId:
+      return frame.materialId;
     case Input::Environment:
     case Input::Count:
       break;

@@ -31,6 +31,7 @@ enum class Input : std::size_t {
   Environment,
   NoisyDiffuse,   // the engine's own signals for the denoiser (optional)
   NoisySpecular,
+  MaterialId,     // optional
   Count
 };
 

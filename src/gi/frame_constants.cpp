@@ -50,7 +50,8 @@ std::vector<gpu::ResourceDecl> frameGroupDecls(GroupPart part) {
 gpu::ConstantsDecl frameConstantsLayout() {
   using shared::GiFrameConstants;
   return BOUNCE_CONSTANTS_LAYOUT("gIn_Frame", GiFrameConstants, view, previousView, renderSize, halfSize, motionScale,
-                                 frameIndex, noHistory, seed, normalEncoding, hasEmissive);
+                                 frameIndex, noHistory, seed, normalEncoding, hasEmissive,
+                                 hasMaterialId);
 }
 
 FrameGroup::FrameGroup(gpu::Buffer& frameConstants, gpu::Image& viewZ, gpu::Image& normalRoughness,

@@ -37,7 +37,7 @@ using namespace gpu::formats;
 
 constexpr ImageSpec kFrameImages[] = {
     {"gi.history_surface", Resolution::Full, kRg32ui, true, gpu::Visualize::Raw,
-     "viewZ bits and octahedral normal of every pixel, for the next frame"},
+     "viewZ bits, octahedral normal and material id of every pixel, for the next frame (and this frame's id)"},
     {"gi.march_depth", Resolution::Full, kR32f, false, gpu::Visualize::Range,
      "this frame's viewZ (0 where unusable) in the library's own storage image: what visibility marches read"},
     {"gi.composite", Resolution::Full, kRgba16f, true, gpu::Visualize::Radiance,
@@ -256,9 +256,16 @@ struct GiContext::Impl {
     recorder.updateBuffer(*frameConstants, &constants, sizeof constants);
     const FrameGroup group(*frameConstants, engine[Input::ViewZ], engine[Input::NormalRoughness],
                            context->nearestSampler());
+    c.hasMaterialId = frame.materialId.image != VK_NULL_HANDLE ? 1u : 0u;
     recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
                       {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
-                       {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)}});
+                       {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)},
+                       // Not read without material ids (the constants say so): last frame's
+                       // surfaces, an unsigned-integer image, only fill the slot.
+                       {"gIn_MaterialId",
+                        engine.has(Input::MaterialId) ? engine[Input::MaterialId]
+                                                      : frameImages.previous(kHistorySurface, f),
+                        context->nearestSampler()}});
     // The specular trace is the pyramid's one reader.
     pyramidBuilt = needsDepthPyramid() && running[std::size_t(DenoiseSignal::Specular)];
     if (pyramidBuilt) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
@@ -309,6 +316,7 @@ struct GiContext::Impl {
                        {"gIn_IndirectSpecular", result(DenoiseSignal::Specular, f, given)},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
 
+                           .currentSurface = frameImages.current(kHistorySurface, f),
     engine.handBack(recorder);
     // Stage copies moved some images to transfer layouts: every library
     // image is left as LibraryImage says.

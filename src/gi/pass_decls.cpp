@@ -9,7 +9,13 @@ using gpu::Access;
 using gpu::ResourceDecl;
 
 ResourceDecl previousSurfaceDecl() {
-  return {"gPrev_Surface", Access::Read, gpu::formats::kRg32ui, "last frame's viewZ and octahedral normal"};
+  return {"gPrev_Surface", Access::Read, gpu::formats::kRg32ui,
+          "last frame's viewZ, octahedral normal and material id"};
+}
+
+ResourceDecl currentSurfaceDecl() {
+  return {"gIn_Surface", Access::Read, gpu::formats::kRg32ui,
+          "this frame's viewZ, octahedral normal and material id (gi.store_history): its material ids"};
 }
 
 ResourceDecl motionDecl() {

@@ -13,6 +13,7 @@
 namespace bounce::gi {
 
 gpu::ResourceDecl previousSurfaceDecl();  // gPrev_Surface
+gpu::ResourceDecl currentSurfaceDecl();   // gIn_Surface
 gpu::ResourceDecl motionDecl();           // gIn_Motion
 // A reservoir image pair, `prefix`_Reservoir0/1: rgba32ui each, 32 bytes a
 // reservoir (shared/reservoir.glsl).

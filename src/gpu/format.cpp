@@ -20,6 +20,8 @@ const FormatInfo kFormats[] = {
     {VK_FORMAT_R16G16B16A16_SFLOAT, "rgba16f", 4, 8, spv::ImageFormatRgba16f},
     {VK_FORMAT_R32G32B32A32_SFLOAT, "rgba32f", 4, 16, spv::ImageFormatRgba32f},
     {VK_FORMAT_R32_UINT, "r32ui", 1, 4, spv::ImageFormatR32ui},
+    {VK_FORMAT_R16_UINT, "r16ui", 1, 2, spv::ImageFormatR16ui},
+    {VK_FORMAT_R8_UINT, "r8ui", 1, 1, spv::ImageFormatR8ui},
     {VK_FORMAT_R32G32_UINT, "rg32ui", 2, 8, spv::ImageFormatRg32ui},
     {VK_FORMAT_R32G32B32A32_UINT, "rgba32ui", 4, 16, spv::ImageFormatRgba32ui},
     {VK_FORMAT_R8G8B8A8_UNORM, "rgba8", 4, 4, spv::ImageFormatRgba8},
@@ -110,6 +112,16 @@ void texelsToFloats(VkFormat format, const void* texels, std::size_t pixelCount,
       for (std::size_t i = 0; i < values; ++i) out[i] = float(words[i]);
       return;
     }
+    case VK_FORMAT_R16_UINT: {
+      const auto* shorts = static_cast<const std::uint16_t*>(texels);
+      for (std::size_t i = 0; i < values; ++i) out[i] = float(shorts[i]);
+      return;
+    }
+    case VK_FORMAT_R8_UINT: {
+      const auto* bytes = static_cast<const std::uint8_t*>(texels);
+      for (std::size_t i = 0; i < values; ++i) out[i] = float(bytes[i]);
+      return;
+    }
     case VK_FORMAT_R8G8B8A8_UNORM: {
       const auto* bytes = static_cast<const std::uint8_t*>(texels);
       for (std::size_t i = 0; i < values; ++i) out[i] = float(bytes[i]) / 255.0f;
@@ -142,6 +154,14 @@ std::vector<std::uint8_t> floatsToTexels(VkFormat format, const float* values, s
       for (std::size_t i = 0; i < count; ++i) words[i] = std::uint32_t(std::max(0.0f, values[i]));
       break;
     }
+    case VK_FORMAT_R16_UINT: {
+      auto* shorts = reinterpret_cast<std::uint16_t*>(bytes.data());
+      for (std::size_t i = 0; i < count; ++i) shorts[i] = std::uint16_t(std::clamp(values[i], 0.0f, 65535.0f));
+      break;
+    }
+    case VK_FORMAT_R8_UINT:
+      for (std::size_t i = 0; i < count; ++i) bytes[i] = std::uint8_t(std::clamp(values[i], 0.0f, 255.0f));
+      break;
     case VK_FORMAT_R8G8B8A8_UNORM:
       for (std::size_t i = 0; i < count; ++i) bytes[i] = unorm8(values[i]);
       break;

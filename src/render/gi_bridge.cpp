@@ -127,14 +127,17 @@ RendererInputs rendererInputs(FrameRenderer& renderer, std::uint64_t frameIndex,
                               const FrameView& previous, const GiFrameOptions& options) {
   const std::uint32_t w = renderer.width(), h = renderer.height();
   RendererInputs made;
-  made.images = {&renderer.viewZ(), &renderer.normalRoughness(), &renderer.baseColorMetallic(),
-                 &renderer.motion(), &renderer.direct(),         &renderer.environment().radiance()};
+  made.images = {&renderer.viewZ(),  &renderer.normalRoughness(), &renderer.baseColorMetallic(),
+                 &renderer.motion(), &renderer.direct(),          &renderer.environment().radiance(),
+                 &renderer.ids()};
   gi::FrameInputs& inputs = made.inputs;
   inputs.viewZ = imageRef(renderer.viewZ());
   inputs.normalRoughness = imageRef(renderer.normalRoughness());
   inputs.baseColorMetallic = imageRef(renderer.baseColorMetallic());
   inputs.motion = imageRef(renderer.motion());
   inputs.direct = imageRef(renderer.direct());  // holds the emission too
+  // instance << 16 | material: the low 8 bits the library compares are the material's.
+  inputs.materialId = imageRef(renderer.ids());
   if (options.separateEmissive) {
     inputs.emissive = imageRef(renderer.emissive());
     made.images.push_back(&renderer.emissive());
@@ -177,9 +180,10 @@ void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, st
     if (captures)
       for (gi::CapturedStage& stage : results.stages) captures->push_back(capturedStage(std::move(stage), stage.frameIndex));
   });
-  const gi::ImageRef* refs[] = {&inputs.viewZ,       &inputs.normalRoughness, &inputs.baseColorMetallic,
-                                &inputs.motion,      &inputs.direct,          &inputs.emissive,
-                                &inputs.environment, &inputs.noisyDiffuse,    &inputs.noisySpecular};
+  const gi::ImageRef* refs[] = {&inputs.viewZ,        &inputs.normalRoughness, &inputs.baseColorMetallic,
+                                &inputs.motion,       &inputs.direct,          &inputs.emissive,
+                                &inputs.environment,  &inputs.noisyDiffuse,    &inputs.noisySpecular,
+                                &inputs.materialId};
   for (gpu::Image* image : images) {
     const auto ref = std::find_if(std::begin(refs), std::end(refs),
                                   [&](const gi::ImageRef* r) { return r->image == image->handle(); });

@@ -7,7 +7,7 @@
 // where some did not (gi/temporal_history.glsl), so a disocclusion starts
 // over. A tap shows the same surface when its depth lies within REBLUR's
 // disocclusion threshold (wider at grazing angles, and for a still camera)
-// and its normal agrees. Specular light also fetches the reflection's
+// and its normal and material id agree. Specular light also fetches the reflection's
 // (virtual) history and blends the two as the specular branch's filter
 // does (virtual for smooth lobes, each weighed by its agreement with this
 // frame's neighbourhood); the virtual share goes to the moments' alpha for
@@ -38,6 +38,7 @@ layout(set = 0, binding = 11, rgba32f) writeonly uniform image2D gOut_Moments;
 
 #include "gi/motion.glsl"
 #include "gi/temporal_history.glsl"
+layout(set = 0, binding = 12, rg32ui) readonly uniform uimage2D gIn_Surface;
 
 // The longest history a specular lobe keeps: a mirror's reflection moves
 // with the view and keeps few frames, a rough lobe's barely does.
@@ -155,14 +156,15 @@ void main() {
     if (expectedViewZ > 0.0f)
       history = fetchHistoryCatmullRom(vec2(pixel) + motion,
                                        ExpectedSurface(x.position, x.normal, expectedViewZ, disocclusionTolerance(x),
-                                                       d.cosNormalTolerance));
+                                                       d.cosNormalTolerance, material));
     if (gSignal.signal == kSignalSpecular) {
       float hitDistance = imageLoad(gIn_Signal, pixel).w;
       History virtualHistory = fetchVirtualHistory(x, max(finiteOr(hitDistance, 0.0f), 0.0f),
-                                                   d.depthTolerance, d.cosNormalTolerance);
+                                                   d.depthTolerance, d.cosNormalTolerance, material);
       float deviation = sqrt(max(neighbourhood.y - neighbourhood.x * neighbourhood.x, 0.0f));
       history = blendReflectionHistories(history, virtualHistory, roughness, neighbourhood.x, deviation, virtualShare);
     }
+    uint material = materialOf(imageLoad(gIn_Surface, pixel).xy);
   }
   float historyLength = history.found ? history.frames : 0.0f;
   float frames = min(historyLength + 1.0f, maxFrames(roughness));

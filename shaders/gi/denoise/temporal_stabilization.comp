@@ -21,6 +21,7 @@ layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_Filtered;
 layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
 layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Stabilized;
 layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Stabilized;
+layout(set = 0, binding = 10, rg32ui) readonly uniform uimage2D gIn_Surface;
 
 #include "gi/motion.glsl"
 #include "gi/history_taps.glsl"
@@ -35,8 +36,10 @@ vec4 stabilizedHistory(Surface x) {
   float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
   if (!(expectedViewZ > 0.0f)) return vec4(0.0f);
   ivec2 corner;
+  uint material = materialOf(imageLoad(gIn_Surface, pixel).xy);
   vec4 weights = historyTapWeights(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
-                                                                          d.depthTolerance, d.cosNormalTolerance),
+                                                                          d.depthTolerance, d.cosNormalTolerance,
+                                                                          material),
                                    corner);
   vec4 sum = vec4(0.0f);
   float weightSum = 0.0f;

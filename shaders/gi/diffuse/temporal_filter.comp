@@ -58,7 +58,7 @@ void main() {
     if (expectedViewZ > 0.0f)
       history = fetchHistory(vec2(pixel) + motion,
                              ExpectedSurface(x.position, x.normal, expectedViewZ, d.temporalDepthTolerance,
-                                             d.temporalCosNormalTolerance));
+                                             d.temporalCosNormalTolerance, kAnyMaterial));
   }
   float historyLength = history.found ? history.frames : 0.0f;
   float frames = min(historyLength + 1.0f, d.temporalFilterFrames);

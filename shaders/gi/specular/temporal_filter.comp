@@ -65,9 +65,10 @@ void main() {
     if (c.reprojection != kReprojectionVirtual && expectedViewZ > 0.0f)
       surface = fetchHistory(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
                                                                    c.temporalDepthTolerance,
-                                                                   c.temporalCosNormalTolerance));
+                                                                   c.temporalCosNormalTolerance, kAnyMaterial));
     if (c.reprojection != kReprojectionSurface)
-      virtualHistory = fetchVirtualHistory(x, resolved.w, c.temporalDepthTolerance, c.temporalCosNormalTolerance);
+      virtualHistory = fetchVirtualHistory(x, resolved.w, c.temporalDepthTolerance, c.temporalCosNormalTolerance,
+                                           kAnyMaterial);
   }
 
   // This frame's local statistics, which judge the two sources.

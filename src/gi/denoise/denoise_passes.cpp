@@ -81,7 +81,8 @@ gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal) {
                      {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's post-blurred signal, history length"},
                      {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
                      {"gOut_Accumulated", Access::Write, kRgba32f, "radiance, history length"},
-                     {"gOut_Moments", Access::Write, kRgba32f, "luminance moments: mean, mean square, fast mean"}});
+                     {"gOut_Moments", Access::Write, kRgba32f, "luminance moments: mean, mean square, fast mean"},
+                     currentSurfaceDecl()});
 }
 
 gpu::PassDesc denoiseHistoryFixPass(const std::string& signal) {
@@ -104,7 +105,8 @@ gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal) {
                      {"gIn_Filtered", Access::Read, kRgba32f, "post-blur's output"},
                      previousSurfaceDecl(),
                      {"gPrev_Stabilized", Access::Read, kRgba32f, "last frame's stabilised signal"},
-                     {"gOut_Stabilized", Access::Write, kRgba32f, "the denoised signal, history length"}},
+                     {"gOut_Stabilized", Access::Write, kRgba32f, "the denoised signal, history length"},
+                     currentSurfaceDecl()},
                     false);
 }
 

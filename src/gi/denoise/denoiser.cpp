@@ -166,7 +166,8 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
                        {"gPrev_Filtered", previous(kDenoiseHistory)},
                        {"gPrev_Moments", previous(kDenoiseMoments)},
                        {"gOut_Accumulated", image(kDenoiseAccumulated)},
-                       {"gOut_Moments", image(kDenoiseMoments)}},
+                       {"gOut_Moments", image(kDenoiseMoments)},
+                       {"gIn_Surface", frame.currentSurface}},
                       atFullRadius);
     recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind,
@@ -188,7 +189,8 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
                        {"gIn_Filtered", image(kDenoiseHistory)},
                        {"gPrev_Surface", frame.previousSurface},
                        {"gPrev_Stabilized", previous(kDenoiseStabilized)},
-                       {"gOut_Stabilized", image(kDenoiseStabilized)}});
+                       {"gOut_Stabilized", image(kDenoiseStabilized)},
+                       {"gIn_Surface", frame.currentSurface}});
   }
   if (frame.capturing) recordValidation(frame, noisy);
 }
