@@ -360,6 +360,41 @@ TEST(Brdf, ReciprocalFiniteAndZeroBelowTheHorizon) {
 // with the history and with the roughness, weights that are 1 at the pixel
 // and 0 past their reach.
 TEST(DenoiseWeights, HitDistanceNormalisationFollowsReblur) {
+// REBLUR's virtual motion: curvature from two points of a surface, the
+// thin-lens image of a curved mirror, the virtual point.
+TEST(DenoiseWeights, CurvatureIsOneOverTheRadiusOfASphere) {
+  for (float radius : {0.5f, 2.0f, 10.0f}) {
+    const glm::vec3 centre(1.0f, -2.0f, 3.0f);
+    const glm::vec3 n = glm::normalize(glm::vec3(0.2f, 0.9f, 0.3f));
+    const glm::vec3 m = glm::normalize(n + glm::vec3(0.02f, -0.01f, 0.015f));  // a neighbour a little away
+    const float convex = surfaceCurvature(centre + n * radius, n, centre + m * radius, m);
+    const float concave = surfaceCurvature(centre + n * radius, -n, centre + m * radius, -m);
+    EXPECT_NEAR(convex, 1.0f / radius, 0.01f / radius) << radius;
+    EXPECT_NEAR(concave, -1.0f / radius, 0.01f / radius) << radius;
+  }
+  const glm::vec3 up(0.0f, 1.0f, 0.0f);
+  EXPECT_EQ(surfaceCurvature(glm::vec3(0.0f), up, glm::vec3(1.0f, 0.0f, 0.3f), up), 0.0f) << "a plane";
+  EXPECT_EQ(surfaceCurvature(glm::vec3(1.0f), up, glm::vec3(1.0f), glm::vec3(1.0f, 0.0f, 0.0f)), 0.0f)
+      << "one point: no edge";
+}
+
+TEST(DenoiseWeights, ThinLensImageFollowsTheMirrorEquation) {
+  // A plane mirror: the image lies as far behind as the object in front.
+  EXPECT_FLOAT_EQ(thinLensImageDistance(0.7f, 3.0f, 0.0f), 3.0f);
+  // A convex mirror of radius R seen head-on: 1 / image = 1 / object + 2 / R.
+  const float radius = 2.0f, object = 3.0f;
+  EXPECT_NEAR(1.0f / thinLensImageDistance(1.0f, object, 1.0f / radius), 1.0f / object + 2.0f / radius, 1e-5f);
+  // A concave mirror: past the focal point (R / 2) the image is real, in front (negative).
+  EXPECT_LT(thinLensImageDistance(1.0f, 3.0f, -1.0f / radius), 0.0f);
+  EXPECT_GT(thinLensImageDistance(1.0f, 0.5f, -1.0f / radius), 0.5f) << "inside the focal point: farther";
+  EXPECT_TRUE(std::isfinite(thinLensImageDistance(1.0f, 1.0f, -0.5f))) << "exactly at the focal point";
+  // The virtual point: on the view ray, at the image distance times the dominant factor.
+  const glm::vec3 x(1.0f, 2.0f, 3.0f), v = glm::normalize(glm::vec3(0.0f, -0.6f, -0.8f));
+  EXPECT_NEAR(glm::distance(virtualPoint(x, v, 0.8f, 4.0f, 0.0f, 1.0f), x + v * 4.0f), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::distance(virtualPoint(x, v, 0.8f, 4.0f, 0.0f, 0.0f), x), 0.0f, 1e-6f) << "a rough lobe";
+  EXPECT_LT(glm::distance(virtualPoint(x, v, 0.8f, 4.0f, 0.5f, 1.0f), x), 4.0f) << "convex: nearer";
+}
+
   const vec4 abcd(3.0f, 0.1f, 20.0f, -25.0f);
   // Rough lobes: (A + viewZ B) * C at roughness 1 (exp2(-25) ~ 0).
   EXPECT_NEAR(hitDistanceScale(abcd, 10.0f, 0.0f), 4.0f * 20.0f, 1e-3f);

@@ -107,18 +107,26 @@ History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
   return h;
 }
 
-// The reflection's (virtual) history of a specular pixel: the hit seen in
-// the mirror lies hit distance beyond the surface along the view ray (a
-// virtual point behind a flat reflector), and last frame's camera saw that
-// point at another pixel of the same reflector, whose plane (and material,
-// unless kAnyMaterial) the taps must have. Not found where the point was
-// behind last frame's camera.
-History fetchVirtualHistory(Surface x, float hitDistance, float depthTolerance, float cosNormalTolerance,
+// Where last frame's camera saw the reflection's (virtual) point of a
+// specular pixel (shared/denoise_weights.glsl, virtualPoint): behind the
+// surface along the view ray, at the hit distance for a flat mirror
+// (curvature 0, dominant factor 1), nearer for a convex one and a rougher
+// lobe. z <= 0 where the point was behind last frame's camera.
+vec3 virtualReprojection(Surface x, float hitDistance, float curvature, float dominantFactor) {
+  vec3 viewDirection = normalize(x.position - viewPosition(gIn_Frame.frame.view));
+  float cosView = abs(dot(x.normal, viewDirection));
+  vec3 point = virtualPoint(x.position, viewDirection, cosView, hitDistance, curvature, dominantFactor);
+  return projectToScreen(gIn_Frame.frame.previousView, point, fullSize());
+}
+
+// The reflection's (virtual) history of a specular pixel: last frame's
+// pixels around where last frame's camera saw the reflection
+// (virtualReprojection, `projected`), on the pixel's reflector, whose plane
+// (and material, unless kAnyMaterial) the taps must have. Not found where
+// the point was behind last frame's camera.
+History fetchVirtualHistory(Surface x, vec3 projected, float depthTolerance, float cosNormalTolerance,
                             uint material) {
   History h = noHistory();
-  vec3 camera = viewPosition(gIn_Frame.frame.view);
-  vec3 virtualPoint = x.position + normalize(x.position - camera) * hitDistance;
-  vec3 projected = projectToScreen(gIn_Frame.frame.previousView, virtualPoint, fullSize());
   if (projected.z <= 0.0f) return h;
   return fetchHistory(vec2(projected) - 0.5f,
                       ExpectedSurface(x.position, x.normal, 0.0f, depthTolerance, cosNormalTolerance, material));

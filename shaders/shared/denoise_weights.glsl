@@ -77,6 +77,38 @@ float disocclusionReach(float threshold, float cosView, float parallaxPixels) {
   return clamp(relaxed / max(strictCosView, 0.01f), 0.0f, 1.0f);
 }
 
+// A surface's curvature along the edge from point x (normal n) to a
+// neighbouring point y (normal m) of the same surface (REBLUR's estimate):
+// how fast the normal turns per unit of distance, projected on the edge.
+// 1 / R on a sphere of radius R seen from outside (convex), -1 / R from
+// inside (concave), 0 on a plane; 0 where the two points coincide.
+float surfaceCurvature(vec3 x, vec3 n, vec3 y, vec3 m) {
+  vec3 edge = y - x;
+  float lengthSquared = dot(edge, edge);
+  return lengthSquared > 1e-12f ? dot(m - n, edge) / lengthSquared : 0.0f;
+}
+
+// Where a curved mirror shows what it reflects (REBLUR's thin-lens
+// equation for a spherical mirror, focal length R / 2): the reflected point
+// lies `hitDistance` away along the reflected ray; its image lies this far
+// behind the surface. A plane (curvature 0) keeps the hit distance, a
+// convex mirror pulls the image towards the surface, a concave one pushes
+// it away and, past its focal point, in front of the surface (negative).
+float thinLensImageDistance(float cosView, float hitDistance, float curvature) {
+  float denominator = 2.0f * curvature * hitDistance * cosView + 1.0f;
+  return abs(denominator) > 1e-6f ? hitDistance / denominator : hitDistance * 1e6f;
+}
+
+// The point whose motion a glossy reflection follows (REBLUR's virtual
+// point): the mirror image along the view ray, `viewDirection` pointing
+// from the camera to the surface at `x`, at the thin lens's image distance
+// times the GGX lobe's dominant factor (a rough lobe's reflection sticks
+// to the surface: factor 0).
+vec3 virtualPoint(vec3 x, vec3 viewDirection, float cosView, float hitDistance, float curvature,
+                  float dominantFactor) {
+  return x + viewDirection * thinLensImageDistance(cosView, hitDistance, curvature) * dominantFactor;
+}
+
 // Reflection (virtual) motion against surface motion (seed 000's
 // dual-source reprojection): the prior for the virtual history, 1 on a
 // mirror (its reflection swims over the surface with the view), 0 on rough

@@ -28,6 +28,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
+#include "shared/sampling.glsl"
 layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_Signal;
 layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
@@ -134,6 +135,44 @@ void main() {
     return;
   }
   loadNeighbourhood();
+// The surface's curvature along its motion (REBLUR's estimate): from the
+// neighbour as many pixels along the motion as the surface moved (at most
+// kCurvatureReach), where that neighbour lies on the surface (depth within
+// kCurvatureDepthError), else from the next pixel along it; 0 where
+// neither does. A still surface looks along x.
+const float kCurvatureReach = 8.0f;
+const float kCurvatureDepthError = 0.1f;
+
+float curvatureAlongMotion(Surface x, ivec2 pixel, vec2 motion) {
+  float moved = length(motion);
+  vec2 direction = moved > 1e-3f ? motion / moved : vec2(1.0f, 0.0f);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    float reach = attempt == 0 ? clamp(moved, 1.0f, kCurvatureReach) : 1.0f;
+    ivec2 tap = pixel + ivec2(round(direction * reach));
+    if (!insideFull(tap) || tap == pixel) continue;
+    Surface y = gbufferSurface(tap);
+    if (y.viewZ > 0.0f && abs(y.viewZ - x.viewZ) < kCurvatureDepthError * max(x.viewZ, y.viewZ))
+      return surfaceCurvature(x.position, x.normal, y.position, y.normal);
+  }
+  return 0.0f;
+}
+
+// Where last frame's camera saw this pixel's reflection (REBLUR's virtual
+// motion): through the thin lens of the surface's curvature, at the GGX
+// lobe's dominant factor. Where the curved estimate travels more than 3x
+// the surface's own motion (a curvature misread at an edge, or a surface
+// too curved for one estimate), the flat mirror's point is used, as
+// REBLUR's curvature correction does.
+vec3 reflectionReprojection(Surface x, ivec2 pixel, vec2 motion, float roughness, float hitDistance) {
+  float dominantFactor = ggxDominantFactor(roughness * roughness);
+  float curvature = curvatureAlongMotion(x, pixel, motion);
+  vec3 projected = virtualReprojection(x, hitDistance, curvature, dominantFactor);
+  vec2 surfaceThere = vec2(pixel) + 0.5f + motion;
+  if (curvature != 0.0f && length(projected.xy - surfaceThere) > 3.0f * length(motion) + 0.01f)
+    projected = virtualReprojection(x, hitDistance, 0.0f, dominantFactor);
+  return projected;
+}
+
   if (!insideFull(pixel)) return;
   float roughness;
   Surface x = gbufferSurfaceRoughness(pixel, roughness);
@@ -159,8 +198,8 @@ void main() {
                                                        d.cosNormalTolerance, material));
     if (gSignal.signal == kSignalSpecular) {
       float hitDistance = imageLoad(gIn_Signal, pixel).w;
-      History virtualHistory = fetchVirtualHistory(x, max(finiteOr(hitDistance, 0.0f), 0.0f),
-                                                   d.depthTolerance, d.cosNormalTolerance, material);
+      vec3 projected = reflectionReprojection(x, pixel, motion, roughness, max(finiteOr(hitDistance, 0.0f), 0.0f));
+      History virtualHistory = fetchVirtualHistory(x, projected, d.depthTolerance, d.cosNormalTolerance, material);
       float deviation = sqrt(max(neighbourhood.y - neighbourhood.x * neighbourhood.x, 0.0f));
       history = blendReflectionHistories(history, virtualHistory, roughness, neighbourhood.x, deviation, virtualShare);
     }

@@ -67,8 +67,8 @@ void main() {
                                                                    c.temporalDepthTolerance,
                                                                    c.temporalCosNormalTolerance, kAnyMaterial));
     if (c.reprojection != kReprojectionSurface)
-      virtualHistory = fetchVirtualHistory(x, resolved.w, c.temporalDepthTolerance, c.temporalCosNormalTolerance,
-                                           kAnyMaterial);
+      virtualHistory = fetchVirtualHistory(x, virtualReprojection(x, resolved.w, 0.0f, 1.0f),
+                                           c.temporalDepthTolerance, c.temporalCosNormalTolerance, kAnyMaterial);
   }
 
   // This frame's local statistics, which judge the two sources.
