@@ -151,7 +151,6 @@ TEST(Packing, OctahedralRoundTripIsWithinHundredthOfADegree) {
   }
 }
 
-TEST(Packing, PixelIndexAndUvRoundTrip) {
 TEST(Packing, NormalAndMaterialRoundTripWithinATenthOfADegree) {
   uint material = 0;
   for (glm::vec3 n : randomUnitVectors(20000, 4321u)) {
@@ -168,6 +167,7 @@ TEST(Packing, NormalAndMaterialRoundTripWithinATenthOfADegree) {
   EXPECT_EQ(unpackMaterialOfNormalMaterial(packNormalMaterial(glm::vec3(0.0f, 0.0f, -1.0f), 200u)), 200u);
 }
 
+TEST(Packing, PixelIndexAndUvRoundTrip) {
   const uint width = 37;
   for (uint i = 0; i < 37u * 23u; ++i) EXPECT_EQ(pixelToIndex(indexToPixel(i, width), width), i);
   const glm::vec2 size(37, 23);
@@ -359,7 +359,6 @@ TEST(Brdf, ReciprocalFiniteAndZeroBelowTheHorizon) {
 // distance normalisation at its published constants, a cone that narrows
 // with the history and with the roughness, weights that are 1 at the pixel
 // and 0 past their reach.
-TEST(DenoiseWeights, HitDistanceNormalisationFollowsReblur) {
 // REBLUR's virtual motion: curvature from two points of a surface, the
 // thin-lens image of a curved mirror, the virtual point.
 TEST(DenoiseWeights, CurvatureIsOneOverTheRadiusOfASphere) {
@@ -395,6 +394,7 @@ TEST(DenoiseWeights, ThinLensImageFollowsTheMirrorEquation) {
   EXPECT_LT(glm::distance(virtualPoint(x, v, 0.8f, 4.0f, 0.5f, 1.0f), x), 4.0f) << "convex: nearer";
 }
 
+TEST(DenoiseWeights, HitDistanceNormalisationFollowsReblur) {
   const vec4 abcd(3.0f, 0.1f, 20.0f, -25.0f);
   // Rough lobes: (A + viewZ B) * C at roughness 1 (exp2(-25) ~ 0).
   EXPECT_NEAR(hitDistanceScale(abcd, 10.0f, 0.0f), 4.0f * 20.0f, 1e-3f);

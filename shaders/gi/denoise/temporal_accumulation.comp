@@ -123,18 +123,6 @@ float disocclusionTolerance(Surface x) {
   return frustumWidth * disocclusionReach(threshold, cosView, parallax);
 }
 
-void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  // A workgroup lies inside one 16x16 tile: an empty tile leaves it whole,
-  // before the shared load.
-  if (tileEmpty(pixel)) {
-    if (insideFull(pixel)) {
-      imageStore(gOut_Accumulated, pixel, vec4(0.0f));
-      imageStore(gOut_Moments, pixel, vec4(0.0f));
-    }
-    return;
-  }
-  loadNeighbourhood();
 // The surface's curvature along its motion (REBLUR's estimate): from the
 // neighbour as many pixels along the motion as the surface moved (at most
 // kCurvatureReach), where that neighbour lies on the surface (depth within
@@ -173,6 +161,18 @@ vec3 reflectionReprojection(Surface x, ivec2 pixel, vec2 motion, float roughness
   return projected;
 }
 
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // A workgroup lies inside one 16x16 tile: an empty tile leaves it whole,
+  // before the shared load.
+  if (tileEmpty(pixel)) {
+    if (insideFull(pixel)) {
+      imageStore(gOut_Accumulated, pixel, vec4(0.0f));
+      imageStore(gOut_Moments, pixel, vec4(0.0f));
+    }
+    return;
+  }
+  loadNeighbourhood();
   if (!insideFull(pixel)) return;
   float roughness;
   Surface x = gbufferSurfaceRoughness(pixel, roughness);
@@ -191,6 +191,7 @@ vec3 reflectionReprojection(Surface x, ivec2 pixel, vec2 motion, float roughness
   float virtualShare = 0.0f;
   vec2 motion = d.hasHistory != 0u ? motionAt(pixel) : vec2(0.0f);
   if (d.hasHistory != 0u && usableMotion(motion)) {
+    uint material = materialOf(imageLoad(gIn_Surface, pixel).xy);
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
     if (expectedViewZ > 0.0f)
       history = fetchHistoryCatmullRom(vec2(pixel) + motion,
@@ -203,7 +204,6 @@ vec3 reflectionReprojection(Surface x, ivec2 pixel, vec2 motion, float roughness
       float deviation = sqrt(max(neighbourhood.y - neighbourhood.x * neighbourhood.x, 0.0f));
       history = blendReflectionHistories(history, virtualHistory, roughness, neighbourhood.x, deviation, virtualShare);
     }
-    uint material = materialOf(imageLoad(gIn_Surface, pixel).xy);
   }
   float historyLength = history.found ? history.frames : 0.0f;
   float frames = min(historyLength + 1.0f, maxFrames(roughness));
