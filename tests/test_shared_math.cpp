@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "shared/brdf.glsl"
+#include "shared/checkerboard.glsl"
 #include "shared/color.glsl"
 #include "shared/denoise_weights.glsl"
 #include "shared/finite.glsl"
@@ -502,6 +503,43 @@ TEST(DenoiseWeights, TheDiskTurnsEveryFrameAndDiffersPerPass) {
     EXPECT_LT(rotation, 6.2832f);
     EXPECT_GT(std::abs(rotation - diskRotation(frame + 1, 0)), 0.1f) << frame;
     EXPECT_GT(std::abs(rotation - diskRotation(frame, 1)), 0.1f) << frame;
+  }
+}
+
+// The checkerboard input (gi.denoise.checkerboard): REBLUR's parity
+// ((x ^ y) ^ frame) & 1; every other pixel of a row holds a sample, the
+// next row and the next frame the others; diffuse and specular take
+// opposite pixels; a row's samples pack into ceil(width / 2) columns
+// without two sharing one.
+TEST(Checkerboard, SamplesAlternateByRowAndFrameAndPackIntoHalfTheWidth) {
+  EXPECT_EQ(checkerboardParity(uvec2(0, 0), 0), 0u);
+  EXPECT_EQ(checkerboardParity(uvec2(1, 0), 0), 1u);
+  EXPECT_EQ(checkerboardParity(uvec2(1, 1), 0), 0u);
+  EXPECT_EQ(checkerboardParity(uvec2(0, 0), 1), 1u);
+  EXPECT_EQ(checkerboardParity(uvec2(6, 3), 0xFFFFFFFFu), 0u);
+  EXPECT_NE(kCheckerboardDiffuseParity, kCheckerboardSpecularParity);
+  for (uint width : {1u, 2u, 7u, 64u, 65u}) {
+    EXPECT_EQ(checkerboardPackedWidth(width), (width + 1) / 2);
+    for (uint frame : {0u, 1u, 2u, 9u})
+      for (uint y = 0; y < 3; ++y)
+        for (uint parity : {kCheckerboardDiffuseParity, kCheckerboardSpecularParity}) {
+          std::set<uint> columns;
+          uint samples = 0;
+          for (uint x = 0; x < width; ++x) {
+            const bool has = checkerboardHasData(uvec2(x, y), frame, parity);
+            EXPECT_NE(has, checkerboardHasData(uvec2(x, y), frame + 1, parity)) << "the next frame: the others";
+            EXPECT_NE(has, checkerboardHasData(uvec2(x, y + 1), frame, parity)) << "the next row: the others";
+            EXPECT_NE(has, checkerboardHasData(uvec2(x, y), frame, 1u - parity)) << "the other signal";
+            if (x + 1 < width) {
+              EXPECT_NE(has, checkerboardHasData(uvec2(x + 1, y), frame, parity)) << "every other pixel";
+            }
+            if (!has) continue;
+            ++samples;
+            EXPECT_TRUE(columns.insert(checkerboardPackedColumn(x)).second) << "two samples in one column";
+            EXPECT_LT(checkerboardPackedColumn(x), checkerboardPackedWidth(width));
+          }
+          EXPECT_GE(samples, width / 2);
+        }
   }
 }
 
