@@ -221,6 +221,7 @@ struct GiContext::Impl {
                            ? shared::kNormalEncodingOctahedral
                            : shared::kNormalEncodingXyz;
     c.hasEmissive = frame.emissive.image != VK_NULL_HANDLE ? 1u : 0u;
+    c.hasMaterialId = frame.materialId.image != VK_NULL_HANDLE ? 1u : 0u;
     return c;
   }
 
@@ -256,7 +257,6 @@ struct GiContext::Impl {
     recorder.updateBuffer(*frameConstants, &constants, sizeof constants);
     const FrameGroup group(*frameConstants, engine[Input::ViewZ], engine[Input::NormalRoughness],
                            context->nearestSampler());
-    c.hasMaterialId = frame.materialId.image != VK_NULL_HANDLE ? 1u : 0u;
     recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
                       {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
                        {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)},
@@ -281,6 +281,7 @@ struct GiContext::Impl {
                            .usableHistory = usableHistory,
                            .previousComposite = frameImages.previous(kComposite, f),
                            .previousSurface = frameImages.previous(kHistorySurface, f),
+                           .currentSurface = frameImages.current(kHistorySurface, f),
                            .marchDepth = frameImages.current(kMarchDepth, f),
                            .depthPyramid = depthPyramid,
                            .capturing = frame.captureStages};
@@ -316,7 +317,6 @@ struct GiContext::Impl {
                        {"gIn_IndirectSpecular", result(DenoiseSignal::Specular, f, given)},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
 
-                           .currentSurface = frameImages.current(kHistorySurface, f),
     engine.handBack(recorder);
     // Stage copies moved some images to transfer layouts: every library
     // image is left as LibraryImage says.
