@@ -7,7 +7,9 @@
 // 4 at a random quarter of the pixels and 0 elsewhere: the mean is the
 // truth, the noise is a 1-spp path tracer's kind (most samples dark, a few
 // bright), relMSE 3 per frame. (bounce denoise does the same with the path
-// tracer's 1-spp signals: tests/test_cli.cpp.)
+// tracer's 1-spp signals: tests/test_cli.cpp.) In checkerboard mode
+// (gi.denoise.checkerboard) the engine hands over half of each frame's
+// samples, packed to half the width: the same noise, every other pixel.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +30,7 @@
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "scene/builtin_scenes.h"
+#include "shared/checkerboard.glsl"
 #include "shared/color.glsl"
 #include "test_meshes.h"
 
@@ -50,6 +53,26 @@ io::ImageF rgb(const io::ImageF& image) { return io::firstChannels(image, 3); }
 
 using bounce::testing::meanLuminance;
 
+shared::uint checkerboardParityOf(int signal) {
+  return signal == kDiffuse ? shared::kCheckerboardDiffuseParity : shared::kCheckerboardSpecularParity;
+}
+
+bool hasSample(int x, int y, int signal, std::uint64_t frameIndex) {
+  return shared::checkerboardHasData(glm::uvec2(x, y), shared::uint(frameIndex), checkerboardParityOf(signal));
+}
+
+// What an engine in checkerboard mode hands over of a full signal: the
+// pixels of the signal's parity in frame `frameIndex`, packed to half width.
+io::ImageF packCheckerboard(const io::ImageF& full, int signal, std::uint64_t frameIndex) {
+  io::ImageF packed(int(shared::checkerboardPackedWidth(shared::uint(full.width))), full.height, full.channels);
+  for (int y = 0; y < full.height; ++y)
+    for (int x = 0; x < full.width; ++x)
+      if (hasSample(x, y, signal, frameIndex))
+        for (std::size_t c = 0; c < full.channelCount(); ++c)
+          packed.at(int(shared::checkerboardPackedColumn(shared::uint(x))), y, int(c)) = full.at(x, y, int(c));
+  return packed;
+}
+
 class GiEngineSignals : public testing::GpuTest {
  protected:
   struct Run {
@@ -58,9 +81,11 @@ class GiEngineSignals : public testing::GpuTest {
     std::unique_ptr<render::GiBridge> gi;
     std::unique_ptr<gpu::FrameLoop> loop;
     std::unique_ptr<gpu::Image> noisy[2];  // the engine's signals: sampled rgba32f, as an engine might keep them
+    bool checkerboard = false;             // gi.denoise.checkerboard: they are packed to half width
     io::ImageF truth;                      // the noise-free signal (rgb), once the first frame has run
-    io::ImageF lastNoisy[2];               // what the last frame gave, rgb
+    io::ImageF lastNoisy[2];               // the last frame's signals before any packing, rgb
     render::FrameView previous{};
+    std::uint64_t lastFrameIndex = 0;  // FrameInputs::frameIndex of the last frame
     std::uint32_t frames = 0;
     std::mt19937 random{7};
   };
@@ -73,10 +98,11 @@ class GiEngineSignals : public testing::GpuTest {
     run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight},
                                                 settings);
     run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
+    run.checkerboard = settings.denoise.checkerboard;
     for (int s = 0; s < 2; ++s)
       run.noisy[s] = std::make_unique<gpu::Image>(
           context(), gpu::ImageDesc{.name = s == kDiffuse ? "engine.noisy_diffuse" : "engine.noisy_specular",
-                                    .width = kWidth,
+                                    .width = run.checkerboard ? shared::checkerboardPackedWidth(kWidth) : kWidth,
                                     .height = kHeight,
                                     .format = VK_FORMAT_R32G32B32A32_SFLOAT,
                                     .storage = false});
@@ -94,8 +120,10 @@ class GiEngineSignals : public testing::GpuTest {
     return truth;
   }
 
-  // This frame's noisy signals, uploaded; `poison` may change them first.
-  void makeNoisy(Run& run, const std::function<void(int signal, io::ImageF&)>& poison) {
+  // This frame's noisy signals, uploaded (packed in checkerboard mode, for
+  // frame `frameIndex`); `poison` may change them first. The random draws
+  // are the same in either mode.
+  void makeNoisy(Run& run, std::uint64_t frameIndex, const std::function<void(int signal, io::ImageF&)>& poison) {
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
     for (int s = 0; s < 2; ++s) {
       io::ImageF noisy(int(kWidth), int(kHeight), {"R", "G", "B", "A"});
@@ -106,7 +134,7 @@ class GiEngineSignals : public testing::GpuTest {
           noisy.at(x, y, 3) = kHitDistance[s];
         }
       if (poison) poison(s, noisy);
-      gpuio::uploadImage(context(), *run.noisy[s], noisy);
+      gpuio::uploadImage(context(), *run.noisy[s], run.checkerboard ? packCheckerboard(noisy, s, frameIndex) : noisy);
       run.lastNoisy[s] = rgb(noisy);
     }
   }
@@ -126,9 +154,12 @@ class GiEngineSignals : public testing::GpuTest {
                           gpuio::readbackImage(context(), run.renderer->normalRoughness()));
     }
     run.loop->finish();  // the uploads below replace what the last frame read
-    makeNoisy(run, poison);
+    // The frame the signals are for: the next after the renderer's last.
+    const std::uint64_t next = run.loop->frameIndex() + 1;
+    makeNoisy(run, next, poison);
     gpu::Recorder& recorder = run.loop->beginFrame();
     const std::uint64_t index = run.loop->frameIndex();
+    EXPECT_EQ(index, next) << "the checkerboard was packed for another frame";
     const render::FrameView view{*run.scene->suggestedCamera, 0.0f, cut || run.frames == 0};
     run.renderer->record(recorder, index, view);
     render::RendererInputs made = render::rendererInputs(*run.renderer, index, view, run.previous);
@@ -144,6 +175,7 @@ class GiEngineSignals : public testing::GpuTest {
     run.gi->record(recorder, made.inputs, made.images);
     run.loop->endFrame();
     run.previous = view;
+    run.lastFrameIndex = index;
     ++run.frames;
   }
 
@@ -159,7 +191,18 @@ class GiEngineSignals : public testing::GpuTest {
             gpuio::readbackImage(context(), run.gi->composite())};
   }
 
+  // A library image by name, once the frames recorded so far have run.
+  io::ImageF libraryImage(Run& run, const std::string& name) {
+    run.loop->finish();
+    for (const render::GiBridge::Named& named : run.gi->images())
+      if (named.name == name) return gpuio::readbackImage(context(), *named.image);
+    ADD_FAILURE() << "the library lists no image " << name;
+    return {};
+  }
+
+  // The passes of the frames recorded so far, once they have run.
   std::vector<std::string> passesRecorded(Run& run) {
+    run.loop->finish();
     std::vector<std::string> passes;
     for (const gpu::PassTiming& t : run.loop->timings().summary()) passes.push_back(t.pass);
     return passes;
@@ -168,6 +211,12 @@ class GiEngineSignals : public testing::GpuTest {
   static Settings denoised() {
     Settings settings;
     settings.denoise.enabled = true;
+    return settings;
+  }
+
+  static Settings checkerboarded() {
+    Settings settings = denoised();
+    settings.denoise.checkerboard = true;
     return settings;
   }
 };
@@ -387,6 +436,230 @@ TEST_F(GiEngineSignals, ASignalChangingHandsRestartsTheHistory) {
   const std::vector<std::string> passes = passesRecorded(run);
   EXPECT_NE(std::find(passes.begin(), passes.end(), "gi.diffuse.resolve"), passes.end())
       << "the diffuse branch ran while the engine did not give the signal";
+}
+
+// Checkerboard mode: the engine hands over every other pixel of the same
+// noisy signals (half of the samples), packed to half width. After 10
+// frames the denoised light is within 2x the full signals' relMSE (half
+// the samples: twice the error of a mere average; measured 1.6-1.8x), far
+// below the input's error, with the same mean. A
+// denoiser that left the pixels without a sample dark would miss the mean
+// by a third or more; one that read the packed image as a full one would
+// scramble the picture.
+TEST_F(GiEngineSignals, CheckerboardedSignalsDenoiseCloseToTheFullOnes) {
+  constexpr double kMaxErrorRatio = 2.0;
+  Run full = start(denoised());
+  Run halves = start(checkerboarded());
+  for (int f = 0; f < 10; ++f) frame(full);
+  for (int f = 0; f < 10; ++f) frame(halves);
+  const Output fullOut = output(full);
+  const Output halvesOut = output(halves);
+  const std::vector<std::string> passes = passesRecorded(halves);
+  for (const char* pass : {"gi.engine_signal.diffuse", "gi.denoise.diffuse.pre_pass", "gi.denoise.specular.pre_pass"})
+    EXPECT_NE(std::find(passes.begin(), passes.end(), pass), passes.end()) << pass << " did not run";
+  for (int s = 0; s < 2; ++s) {
+    const double noisyError = relMse(halves.truth, halves.lastNoisy[s]);
+    const double fullError = relMse(full.truth, rgb(fullOut.signal[s]));
+    const io::ImageF denoisedHalves = rgb(halvesOut.signal[s]);
+    const double halvesError = relMse(halves.truth, denoisedHalves);
+    const double meanRatio = meanLuminance(denoisedHalves) / meanLuminance(halves.truth);
+    std::printf("%s: relMSE %.4f noisy (every pixel), %.4f denoised from every pixel, %.4f from the checkerboard "
+                "(%.2fx); mean / truth %.3f\n",
+                s == kDiffuse ? "diffuse" : "specular", noisyError, fullError, halvesError, halvesError / fullError,
+                meanRatio);
+    EXPECT_LT(halvesError, kMaxErrorRatio * fullError);
+    EXPECT_LT(halvesError, 0.05 * noisyError);
+    EXPECT_NEAR(meanRatio, 1.0, 0.1);
+  }
+}
+
+// The checkerboard resolve, seen alone (pre-pass radius 0: the pre-pass
+// runs in checkerboard mode all the same, and only fills in): over
+// cornell's G-buffer, a signal whose every pixel differs (each surface's
+// colour times a ramp across the frame), given in checkerboard mode. A
+// pixel with a sample keeps it; one without whose left and right
+// neighbours lie on its surface takes their mean; one with a neighbour on
+// its surface on one side and another surface (another normal, or none)
+// on the other takes that one neighbour's value, nothing across the edge.
+// Both signals, of opposite parities. With the radius 0 and the mode off,
+// no pre-pass runs.
+TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnly) {
+  Settings settings = checkerboarded();
+  settings.denoise.diffusePrePassRadius = 0.0f;
+  settings.denoise.specularPrePassRadius = 0.0f;
+  Run run = start(settings);
+  const auto pattern = [&](int, io::ImageF& noisy) {
+    for (int y = 0; y < noisy.height; ++y)
+      for (int x = 0; x < noisy.width; ++x)
+        for (int c = 0; c < 3; ++c) noisy.at(x, y, c) = run.truth.at(x, y, c) * (1.0f + 2.0f * float(x) / kWidth);
+  };
+  frame(run, {true, true}, false, pattern);
+  const std::vector<std::string> passes = passesRecorded(run);
+  ASSERT_NE(std::find(passes.begin(), passes.end(), "gi.denoise.diffuse.pre_pass"), passes.end())
+      << "checkerboard mode needs the pre-pass even at radius 0";
+  const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
+  const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
+  const auto normalAt = [&](int x, int y) {
+    return glm::vec3(normals.at(x, y, 0), normals.at(x, y, 1), normals.at(x, y, 2));
+  };
+  const auto sameSurface = [&](int x, int y, int nx) {
+    const float z = viewZ.at(x, y, 0), nz = viewZ.at(nx, y, 0);
+    return nz > 0.0f && glm::dot(normalAt(x, y), normalAt(nx, y)) > 0.999f && std::abs(nz - z) < 0.02f * z;
+  };
+  // Another normal (beyond the widest cone the weights grant) or no surface.
+  const auto otherSurface = [&](int x, int y, int nx) {
+    return viewZ.at(nx, y, 0) <= 0.0f || glm::dot(normalAt(x, y), normalAt(nx, y)) < 0.3f;
+  };
+  const auto close = [](const io::ImageF& image, int x, int y, const io::ImageF& expected, int ex, int ey,
+                        const io::ImageF* other, int ox, int oy, float tolerance) {
+    for (int c = 0; c < 3; ++c) {
+      const float want = other ? 0.5f * (expected.at(ex, ey, c) + other->at(ox, oy, c)) : expected.at(ex, ey, c);
+      if (std::abs(image.at(x, y, c) - want) > tolerance * std::max(want, 1e-3f)) return false;
+    }
+    return true;
+  };
+  for (int s = 0; s < 2; ++s) {
+    SCOPED_TRACE(s == kDiffuse ? "diffuse" : "specular");
+    const io::ImageF prePassed =
+        libraryImage(run, std::string("gi.denoise.") + (s == kDiffuse ? "diffuse" : "specular") + ".pre_passed");
+    ASSERT_EQ(prePassed.width, int(kWidth));
+    const io::ImageF& given = run.lastNoisy[s];
+    int kept = 0, keptWrong = 0, between = 0, betweenWrong = 0, oneSided = 0, oneSidedWrong = 0;
+    for (int y = 0; y < int(kHeight); ++y)
+      for (int x = 1; x + 1 < int(kWidth); ++x) {
+        if (viewZ.at(x, y, 0) <= 0.0f) continue;
+        if (hasSample(x, y, s, run.lastFrameIndex)) {
+          ++kept;  // rgba16f keeps 11 bits
+          if (!close(prePassed, x, y, given, x, y, nullptr, 0, 0, 2e-3f)) ++keptWrong;
+          continue;
+        }
+        const bool left = sameSurface(x, y, x - 1), right = sameSurface(x, y, x + 1);
+        if (left && right) {
+          ++between;
+          if (!close(prePassed, x, y, given, x - 1, y, &given, x + 1, y, 3e-3f)) ++betweenWrong;
+        } else if (left != right && otherSurface(x, y, left ? x + 1 : x - 1)) {
+          ++oneSided;
+          if (!close(prePassed, x, y, given, left ? x - 1 : x + 1, y, nullptr, 0, 0, 3e-3f)) {
+            ++oneSidedWrong;
+            ADD_FAILURE() << "pixel (" << x << ", " << y << ") took " << prePassed.at(x, y, 0) << ", its neighbour "
+                          << "on the surface has " << given.at(left ? x - 1 : x + 1, y, 0) << ", across the edge "
+                          << given.at(left ? x + 1 : x - 1, y, 0);
+          }
+        }
+      }
+    std::printf("%s: %d pixels with a sample (%d changed), %d filled between two neighbours (%d wrong), %d at an "
+                "edge (%d wrong)\n",
+                s == kDiffuse ? "diffuse" : "specular", kept, keptWrong, between, betweenWrong, oneSided,
+                oneSidedWrong);
+    EXPECT_GT(kept, int(kWidth * kHeight) / 4);
+    EXPECT_EQ(keptWrong, 0);
+    EXPECT_GT(between, kept / 3) << "too few pixels between two neighbours on their surface to judge";
+    EXPECT_EQ(betweenWrong, 0);
+    EXPECT_GE(oneSided, 10) << "too few edges to judge";
+  }
+
+  Settings off = denoised();
+  off.denoise.diffusePrePassRadius = 0.0f;
+  off.denoise.specularPrePassRadius = 0.0f;
+  Run full = start(off);
+  frame(full);
+  const std::vector<std::string> fullPasses = passesRecorded(full);
+  EXPECT_EQ(std::find(fullPasses.begin(), fullPasses.end(), "gi.denoise.diffuse.pre_pass"), fullPasses.end());
+}
+
+// In checkerboard mode a noisy signal must cover half the render width
+// (rounded up) and its height; outside it, the whole render size, as
+// before. Each refusal names the input, what it must cover and its size.
+TEST_F(GiEngineSignals, CheckerboardedSignalsMustCoverHalfTheWidth) {
+  Run run = start(checkerboarded());
+  frame(run);
+  run.loop->finish();
+  gpu::Recorder& recorder = run.loop->beginFrame();
+  const render::FrameView view{*run.scene->suggestedCamera, 0.0f, false};
+  run.renderer->record(recorder, run.loop->frameIndex(), view);
+  FrameInputs good = render::rendererInputs(*run.renderer, run.loop->frameIndex(), view, view).inputs;
+  good.noisyDiffuse = render::imageRef(*run.noisy[kDiffuse]);
+  good.noisySpecular = render::imageRef(*run.noisy[kSpecular]);
+  ASSERT_EQ(good.noisyDiffuse.width, 32u);
+  const auto refused = [&](GiContext& gi, const FrameInputs& inputs, const std::string& words) {
+    try {
+      gi.record(recorder.commandBuffer(), inputs);
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted: " << words;
+  };
+  gpu::Image narrow(context(), {.name = "narrow", .width = 31, .height = 48, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
+  FrameInputs tooNarrow = good;
+  tooNarrow.noisyDiffuse = render::imageRef(narrow);
+  tooNarrow.noisyDiffuse.layout = VK_IMAGE_LAYOUT_GENERAL;
+  refused(run.gi->library(), tooNarrow,
+          "frame input noisyDiffuse is 31x48; with gi.denoise.checkerboard on it holds every other pixel of each "
+          "row, packed to half width: it must cover 32x48 (ceil(width / 2) x height of the render size 64x48)");
+  gpu::Image low(context(), {.name = "low", .width = 32, .height = 40, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
+  FrameInputs tooLow = good;
+  tooLow.noisySpecular = render::imageRef(low);
+  tooLow.noisySpecular.layout = VK_IMAGE_LAYOUT_GENERAL;
+  refused(run.gi->library(), tooLow, "frame input noisySpecular is 32x40; with gi.denoise.checkerboard on");
+  // Without the mode, the packed images are too small.
+  GiContext fullMode(render::giDevice(context()), {.maxWidth = kWidth, .maxHeight = kHeight}, denoised());
+  refused(fullMode, good, "frame input noisyDiffuse is 32x48, smaller than the render size 64x48");
+  run.loop->endFrame();
+}
+
+// NaN and +Inf in a checkerboarded signal (radiance and hit distance, in a
+// block and at every third pixel, so the resolve and the pre-blur meet
+// them on every side) never reach an image the library keeps.
+TEST_F(GiEngineSignals, NonFiniteValuesInACheckerboardedSignalNeverReachTheOutput) {
+  Run run = start(checkerboarded());
+  for (int f = 0; f < 3; ++f) frame(run);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const auto poison = [&](int signal, io::ImageF& noisy) {
+    for (int y = 0; y < noisy.height; ++y)
+      for (int x = 0; x < noisy.width; ++x) {
+        if (x >= 20 && x < 30 && y >= 20 && y < 30) noisy.at(x, y, signal == kDiffuse ? 0 : 3) = nan;
+        if ((x + 2 * y) % 3 == 0) noisy.at(x, y, (x % 2) * 3) = (y % 2) ? inf : nan;
+      }
+  };
+  // Every image the library keeps for the denoised signals (the branches' never ran).
+  const auto firstNonFinite = [&]() -> std::string {
+    run.loop->finish();
+    for (const render::GiBridge::Named& named : run.gi->images()) {
+      const bool ofTheSignals = named.name.rfind("gi.denoise.", 0) == 0 ||
+                                named.name.rfind("gi.engine_signal.", 0) == 0 || named.name == "gi.composite";
+      if (!ofTheSignals || named.name == "gi.denoise.validation") continue;
+      const io::ImageF image = gpuio::readbackImage(context(), *named.image);
+      if (!std::all_of(image.pixels.begin(), image.pixels.end(), [](float v) { return std::isfinite(v); }))
+        return named.name;
+    }
+    return {};
+  };
+  frame(run, {true, true}, false, poison);
+  EXPECT_EQ(firstNonFinite(), "") << "at the poisoned frame";
+  frame(run, {true, true}, false, poison);
+  EXPECT_EQ(firstNonFinite(), "") << "the frame after, poisoned again with the other parity";
+  frame(run);
+  EXPECT_EQ(firstNonFinite(), "") << "a clean frame after";
+}
+
+// The mode is the engine's: the branches' own signals are full resolution
+// and denoised as they are, bit for bit, whatever gi.denoise.checkerboard
+// says (nothing of theirs is taken for a pixel without a sample).
+TEST_F(GiEngineSignals, CheckerboardModeLeavesTheBranchesSignalsAlone) {
+  Run on = start(checkerboarded());
+  Run off = start(denoised());
+  for (int f = 0; f < 3; ++f) {
+    frame(on, {false, false});
+    frame(off, {false, false});
+  }
+  const Output onOut = output(on);
+  const Output offOut = output(off);
+  for (int s = 0; s < 2; ++s) {
+    EXPECT_EQ(onOut.signal[s].pixels, offOut.signal[s].pixels) << (s == kDiffuse ? "diffuse" : "specular");
+    EXPECT_GT(meanLuminance(rgb(onOut.signal[s])), 0.0) << "the branches made no light to compare";
+  }
+  EXPECT_EQ(onOut.composite.pixels, offOut.composite.pixels);
 }
 
 // A moving emitter's light does not stay behind: after 40 still frames,

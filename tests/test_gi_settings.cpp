@@ -106,6 +106,7 @@ std::vector<ExpectedField> expectedFields() {
       {"denoise.disocclusion_threshold", [](const Settings& s) { return double(s.denoise.disocclusionThreshold); }},
       {"denoise.clamp_sigma", [](const Settings& s) { return double(s.denoise.clampSigma); }},
       {"denoise.anti_firefly", [](const Settings& s) { return double(s.denoise.antiFirefly); }},
+      {"denoise.checkerboard", [](const Settings& s) { return double(s.denoise.checkerboard); }},
       {"cache.enabled", [](const Settings& s) { return double(s.cache.enabled); }},
       {"cache.memory_mib", [](const Settings& s) { return double(s.cache.memoryMib); }},
       {"cache.cell_size", [](const Settings& s) { return double(s.cache.cellSize); }},

@@ -244,6 +244,13 @@ struct FrameInputs {
   //        pixel's samples), 0 where unknown; a ray that escaped to the
   //        sky: any distance beyond the scene. It sets how far the
   //        specular blur may reach (a contact reflection stays sharp).
+  // Checkerboard mode (Settings::denoise.checkerboard, REBLUR's): an
+  // engine that traces every other pixel hands each signal packed to
+  // ceil(width / 2) x height, pixel (x, y) of the frame at (x / 2, y), for
+  // the pixels where x + y + frameIndex is odd in noisyDiffuse and even in
+  // noisySpecular (shaders/shared/checkerboard.glsl; the two together
+  // cover every pixel of a frame). The denoiser fills the other pixels from
+  // their neighbours on the same surface. The branches' signals stay full.
   // NaN and infinite radiance counts as no light, a non-finite or negative
   // distance as unknown. Starting or stopping to give a signal restarts
   // every history for that frame, as a camera cut does. When every enabled
@@ -340,7 +347,8 @@ class GiContext {
   // after everything recorded before and before everything recorded after.
   // Transitions what it needs and leaves inputs as ContextDesc::inputState
   // says. Throws Error naming the input when an image is missing, too
-  // small for the render size, of a format not listed above, or a camera is
+  // small for the render size (a checkerboarded noisy signal: for half its
+  // width), of a format not listed above, or a camera is
   // not finite or not a symmetric perspective, and for a noisy signal
   // given while the denoiser is off.
   void record(VkCommandBuffer commandBuffer, const FrameInputs& frame);

@@ -178,6 +178,13 @@ struct DenoiseSettings {
   float disocclusionThreshold = 0.01f;      // last frame's depth may differ by this fraction of the frustum (REBLUR's)
   float clampSigma = 1.5f;                  // history clamping to the fast history and the neighbourhood, in sigmas
   bool antiFirefly = true;                  // history fix brings outliers down to their neighbours' mean + 2 sigma
+  // The engine's noisy signals (FrameInputs::noisyDiffuse, noisySpecular)
+  // are checkerboarded, REBLUR's checkerboard mode: each holds every other
+  // pixel of a row, packed to ceil(width / 2) x height, pixel (x, y) at
+  // (x / 2, y) where (x + y + frameIndex) is odd for diffuse, even for
+  // specular (shaders/shared/checkerboard.glsl); the pre-pass fills the
+  // rest. The branches' own signals are full resolution whatever it says.
+  bool checkerboard = false;
 };
 
 // What the engine's motion vectors are in (the library's own convention:

@@ -13,7 +13,8 @@ struct InputFamily {
   const char* name;  // as in FrameInputs: "viewZ"
   std::span<const VkFormat> formats;
   bool optional;     // may be absent (image VK_NULL_HANDLE)
-  bool renderSized;  // must cover the render size (the environment need not)
+  bool renderSized;  // must cover the render size (the environment need not; GiContext checks the noisy
+                     // signals, whose size gi.denoise.checkerboard halves)
 };
 
 constexpr VkFormat kViewZ[] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16_SFLOAT};
@@ -34,8 +35,8 @@ constexpr InputFamily kFamilies[] = {
     {Input::Direct, "direct", kRadiance, false, true},
     {Input::Emissive, "emissive", kRadiance, true, true},
     {Input::Environment, "environment", kEnvironment, false, false},
-    {Input::NoisyDiffuse, "noisyDiffuse", kRadiance, true, true},
-    {Input::NoisySpecular, "noisySpecular", kRadiance, true, true},
+    {Input::NoisyDiffuse, "noisyDiffuse", kRadiance, true, false},
+    {Input::NoisySpecular, "noisySpecular", kRadiance, true, false},
     {Input::MaterialId, "materialId", kMaterialId, true, true},
 };
 

@@ -4,9 +4,12 @@
 // resolved signals; an engine's image is sampled only and may be rgba32f,
 // so one full-resolution pass copies it into an image of the library's,
 // and drops non-finite values on the way (docs/gi.md, "Denoising an
-// engine's own signals").
+// engine's own signals"). In checkerboard mode (gi.denoise.checkerboard)
+// the engine's image is half as wide: the same pass unpacks it, marking the
+// pixels without a sample for the denoiser's pre-pass to fill.
 #include "gi/frame_passes.h"
 #include "gi/pass_decls.h"
+#include "gpu/constants_layout.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -14,9 +17,9 @@ namespace {
 
 constexpr ImageSpec kEngineSignalImages[] = {
     {"gi.engine_signal.diffuse", Resolution::Full, gpu::formats::kRgba16f, false, gpu::Visualize::Radiance,
-     "the engine's noisy indirect diffuse as the denoiser reads it: demodulated radiance, hit distance"},
+     "the engine's noisy indirect diffuse as the denoiser reads it: demodulated radiance, hit distance (-1: no sample, checkerboard mode)"},
     {"gi.engine_signal.specular", Resolution::Full, gpu::formats::kRgba16f, false, gpu::Visualize::Radiance,
-     "the engine's noisy indirect specular as the denoiser reads it: demodulated radiance, hit distance"},
+     "the engine's noisy indirect specular as the denoiser reads it: demodulated radiance, hit distance (-1: no sample, checkerboard mode)"},
 };
 
 }  // namespace
@@ -24,12 +27,16 @@ constexpr ImageSpec kEngineSignalImages[] = {
 std::span<const ImageSpec> engineSignalImageTable() { return kEngineSignalImages; }
 
 gpu::PassDesc engineSignalPass(const std::string& signal) {
-  return framePass("gi.engine_signal." + signal, "gi/engine_signal", GroupPart::Constants,
-                   {{"gIn_Noisy", gpu::Access::Read, VK_FORMAT_UNDEFINED,
-                     "the engine's noisy signal: demodulated radiance, hit distance (world units, 0 unknown)",
-                     gpu::ResourceKind::SampledImage},
-                    {"gOut_Signal", gpu::Access::Write, gpu::formats::kRgba16f,
-                     "the same, finite: what the denoiser reads"}});
+  gpu::PassDesc desc = framePass(
+      "gi.engine_signal." + signal, "gi/engine_signal", GroupPart::Constants,
+      {{"gIn_Noisy", gpu::Access::Read, VK_FORMAT_UNDEFINED,
+        "the engine's noisy signal: demodulated radiance, hit distance (world units, 0 unknown); in checkerboard "
+        "mode half as wide, the pixels with a sample packed",
+        gpu::ResourceKind::SampledImage},
+       {"gOut_Signal", gpu::Access::Write, gpu::formats::kRgba16f,
+        "the same, finite, full width: what the denoiser reads (checkerboard: hit distance -1 where no sample)"}});
+  desc.constants.push_back(BOUNCE_CONSTANTS_LAYOUT("", EngineSignalParams, checkerboard, dataParity));
+  return desc;
 }
 
 }  // namespace bounce::gi

@@ -6,6 +6,7 @@
 // Shaders: shaders/gi/store_history.comp, shaders/gi/composite.comp, shaders/gi/engine_signal.comp.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 
@@ -23,8 +24,15 @@ std::span<const ImageSpec> frameImageTable();
 
 // `signal` ("diffuse", "specular"): gi.engine_signal.SIGNAL, the engine's
 // noisy signal (FrameInputs::noisyDiffuse, noisySpecular) into the
-// library's rgba16f image of it, non-finite values dropped.
+// library's rgba16f image of it, non-finite values dropped; in
+// checkerboard mode unpacked to full width, the pixels without a sample
+// marked (shaders/gi/engine_signal.comp).
 gpu::PassDesc engineSignalPass(const std::string& signal);
+// Its push constants.
+struct EngineSignalParams {
+  std::uint32_t checkerboard;  // 1: gi.denoise.checkerboard, the engine's image is packed to half width
+  std::uint32_t dataParity;    // shared::kCheckerboardDiffuseParity or kCheckerboardSpecularParity
+};
 // The images the engine's signals are taken into, one per signal (diffuse
 // first, as DenoiseSignal counts them); made on the first frame that gives one.
 std::span<const ImageSpec> engineSignalImageTable();

@@ -29,6 +29,7 @@
 #include "gpu/format.h"
 #include "gpu/recorder.h"
 #include "gpu/timing.h"
+#include "shared/checkerboard.glsl"
 
 namespace bounce::gi {
 namespace {
@@ -49,11 +50,22 @@ static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per 
 constexpr std::array<const char*, kDenoiseSignals> kSignalNames = {"diffuse", "specular"};
 constexpr std::array<const char*, kDenoiseSignals> kNoisyInputNames = {"noisyDiffuse", "noisySpecular"};
 constexpr std::array<Input, kDenoiseSignals> kNoisyInputs = {Input::NoisyDiffuse, Input::NoisySpecular};
+// Which pixels of a checkerboarded signal hold samples (gi.denoise.checkerboard).
+constexpr std::array<std::uint32_t, kDenoiseSignals> kCheckerboardParities = {
+    shared::kCheckerboardDiffuseParity, shared::kCheckerboardSpecularParity};
 
 // Which of the signals the engine gives this frame (FrameInputs::noisyDiffuse, noisySpecular).
 using SignalFlags = std::array<bool, kDenoiseSignals>;
 SignalFlags engineSignalsOf(const FrameInputs& frame) {
   return {frame.noisyDiffuse.image != VK_NULL_HANDLE, frame.noisySpecular.image != VK_NULL_HANDLE};
+}
+
+const ImageRef& noisyInputOf(const FrameInputs& frame, std::size_t signal) {
+  return signal == 0 ? frame.noisyDiffuse : frame.noisySpecular;
+}
+
+std::string sizeText(std::uint32_t width, std::uint32_t height) {
+  return std::to_string(width) + "x" + std::to_string(height);
 }
 
 }  // namespace
@@ -177,6 +189,26 @@ struct GiContext::Impl {
         throw Error(std::string("gi: frame input ") + kNoisyInputNames[signal] +
                     " is given, but the denoiser is off (Settings::denoise.enabled, gi.denoise.enabled): the "
                     "library takes an engine's signal only to denoise it");
+    // The noisy signals' size depends on the mode (EngineImages checks the
+    // rest of them): the render size, or in checkerboard mode half its
+    // width, rounded up. As every input, an image may be larger.
+    for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal) {
+      if (!given[signal]) continue;
+      const ImageRef& ref = noisyInputOf(frame, signal);
+      const std::string input = std::string("gi: frame input ") + kNoisyInputNames[signal];
+      if (!settings.denoise.checkerboard) {
+        if (ref.width < frame.width || ref.height < frame.height)
+          throw Error(input + " is " + sizeText(ref.width, ref.height) + ", smaller than the render size " +
+                      sizeText(frame.width, frame.height));
+        continue;
+      }
+      const std::uint32_t packedWidth = shared::checkerboardPackedWidth(frame.width);
+      if (ref.width < packedWidth || ref.height < frame.height)
+        throw Error(input + " is " + sizeText(ref.width, ref.height) +
+                    "; with gi.denoise.checkerboard on it holds every other pixel of each row, packed to half "
+                    "width: it must cover " + sizeText(packedWidth, frame.height) + " (ceil(width / 2) x height of "
+                    "the render size " + sizeText(frame.width, frame.height) + ")");
+    }
   }
 
   // The passes and images that take the engine's signals in, made before
@@ -190,13 +222,16 @@ struct GiContext::Impl {
           std::make_unique<gpu::ComputePass>(*context, engineSignalPass(kSignalNames[signal]));
   }
 
-  // gi.engine_signal.SIGNAL: the engine's signal into the library's image of it.
+  // gi.engine_signal.SIGNAL: the engine's signal into the library's image
+  // of it (in checkerboard mode, unpacked to full width).
   gpu::Image& takeEngineSignal(const FrameState& state, std::size_t signal) {
     gpu::Image& taken = engineSignals->current(signal, state.frameIndex);
+    const EngineSignalParams params{settings.denoise.checkerboard ? 1u : 0u, kCheckerboardParities[signal]};
     state.recorder.dispatch(*engineSignalPasses[signal], state.renderSize.width, state.renderSize.height,
                             state.group.binds(GroupPart::Constants),
                             {{"gIn_Noisy", state.engine[kNoisyInputs[signal]], state.nearestSampler},
-                             {"gOut_Signal", taken}});
+                             {"gOut_Signal", taken}},
+                            params);
     return taken;
   }
 
@@ -299,11 +334,14 @@ struct GiContext::Impl {
     if (anyBranch) cache.recordEnd(state);
     if (denoiser) {
       std::array<gpu::Image*, kDenoiseSignals> noisy{};
+      // Checkerboard mode is the engine's: the branches' signals are full.
+      std::array<bool, kDenoiseSignals> checkerboarded{};
       for (const DenoiseSignal signal : {DenoiseSignal::Diffuse, DenoiseSignal::Specular}) {
         const std::size_t s = std::size_t(signal);
         noisy[s] = given[s] ? &takeEngineSignal(state, s) : running[s] ? &branchOf(signal).resolved(f) : nullptr;
+        checkerboarded[s] = given[s] && settings.denoise.checkerboard;
       }
-      denoiser->record(state, noisy);
+      denoiser->record(state, noisy, checkerboarded);
     }
 
     gpu::Image& direct = engine[Input::Direct];

@@ -314,6 +314,11 @@ constexpr std::array kEntries{
           "history clamping (accumulation and stabilisation): mean +- this many sigma"},
     Entry{"denoise.anti_firefly", inDenoise(&DenoiseSettings::antiFirefly), kNoBounds,
           "history fix brings a pixel above its neighbours' mean + 2 sigma down to it"},
+    Entry{"denoise.checkerboard", inDenoise(&DenoiseSettings::checkerboard), kNoBounds,
+          "the engine's noisy signals (noisyDiffuse, noisySpecular) are checkerboarded, as REBLUR's checkerboard "
+          "mode: ceil(width / 2) x height, pixel (x, y) stored at (x / 2, y) where x + y + frameIndex is odd "
+          "(diffuse) or even (specular); the pre-pass fills the other pixels. Ignored for the branches' own "
+          "signals, which are full resolution"},
     Entry{"cache.enabled", inCache(&CacheSettings::enabled), kNoBounds,
           "the world-space radiance cache lights what world rays hit off screen (more bounces; needs a scene bridge)"},
     Entry{"cache.memory_mib", inCache(&CacheSettings::memoryMib), closed(1, 128),

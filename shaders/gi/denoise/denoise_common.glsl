@@ -4,7 +4,9 @@
 // GLSL (std140) and C++; the two signals it denoises side by side (0:
 // diffuse, 1: specular; radiance in xyz, hit distance in world units in w,
 // 0 where unknown); REBLUR's hit-distance normalisation and the edge-
-// stopping weights of its spatial passes (shared/denoise_weights.glsl). The including shader includes
+// stopping weights of its spatial passes (shared/denoise_weights.glsl);
+// which pixels of a checkerboarded signal hold samples
+// (shared/checkerboard.glsl). The including shader includes
 // gi/gi_common.glsl and gi/gbuffer.glsl first; its own resources start at
 // binding 4.
 #ifndef BOUNCE_GI_DENOISE_COMMON_GLSL
@@ -35,13 +37,15 @@ struct DenoiseConstants {
   uint hasHistory;                  // 0: a cut or the first frame; nothing is reprojected
   uint frameIndex;                  // rotates the blur kernels
   uint antiFirefly;                 // history fix clamps outliers to their neighbourhood
-  float diffusePrePassRadius;       // pixels (scaled with the height); 0: no pre-pass
+  float diffusePrePassRadius;       // pixels (scaled with the height); 0: no pre-pass (but in checkerboard mode)
   float specularPrePassRadius;
+  uint checkerboard;                // bit 0: diffuse, bit 1: specular is an engine's checkerboarded signal
 };
 
 #ifdef __cplusplus
 }  // namespace bounce::shared
 #else
+#include "shared/checkerboard.glsl"
 #include "shared/denoise_weights.glsl"
 
 layout(set = 0, binding = 3, std140) CONSTANT_BLOCK DenoiseBlock { DenoiseConstants denoise; } gIn_DenoiseConstants;
@@ -57,6 +61,18 @@ layout(push_constant) uniform SignalParams {
   uint signal;        // kSignalDiffuse or kSignalSpecular: which weights and radii apply
   float radiusScale;  // of the blur passes' radius
 } gSignal;
+
+// Checkerboard mode (gi.denoise.checkerboard, an engine's signal only):
+// whether this pass's signal came with every other pixel, and whether
+// `pixel` holds a sample of it this frame (the others the pre-pass
+// reconstructs). The parity follows FrameInputs::frameIndex, as the
+// engine's does. Any other signal has a sample everywhere.
+bool signalCheckerboarded() { return (gIn_DenoiseConstants.denoise.checkerboard & (1u << gSignal.signal)) != 0u; }
+bool pixelHasSample(ivec2 pixel) {
+  if (!signalCheckerboarded()) return true;
+  uint parity = gSignal.signal == kSignalDiffuse ? kCheckerboardDiffuseParity : kCheckerboardSpecularParity;
+  return checkerboardHasData(uvec2(pixel), gIn_Frame.frame.frameIndex, parity);
+}
 
 #ifdef DENOISE_READS_TILES
 // 1 where a 16x16 tile holds a surface (gi.denoise.classify_tiles).

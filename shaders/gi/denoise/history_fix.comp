@@ -8,7 +8,11 @@
 // history fix). Then anti-firefly: a pixel brighter than its eight
 // neighbours' mean + 2 sigma is brought down to that (REBLUR's anti-firefly
 // sigma scale): a single reservoir's outlier would otherwise be spread by
-// the blurs; ordinary noise, within 2 sigma, is left to them.
+// the blurs; ordinary noise, within 2 sigma, is left to them. For a
+// checkerboarded signal, the six neighbours off the pixel's row: its left
+// and right neighbours share its samples (the pre-pass's checkerboard
+// resolve copies a pixel's sample into both, or theirs into it), and a
+// firefly copied beside itself would pass for the neighbourhood's light.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
@@ -43,13 +47,15 @@ vec3 rebuiltFromNeighbours(ivec2 pixel, Surface x, float roughness, vec3 own, fl
   return sum / weightSum;
 }
 
-// `radiance` brought down to its neighbours' mean + kAntiFireflySigmas sigma.
+// `radiance` brought down to its neighbours' mean + kAntiFireflySigmas sigma
+// (checkerboard: its neighbours off its row).
 vec3 withoutFirefly(ivec2 pixel, vec3 radiance) {
+  bool sameRowShares = signalCheckerboarded();
   float mean = 0.0f, meanSquare = 0.0f, count = 0.0f;
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
       ivec2 tap = pixel + ivec2(i, j);
-      if ((i == 0 && j == 0) || !insideFull(tap) || gbufferDepth(tap) <= 0.0f) continue;
+      if ((j == 0 && (i == 0 || sameRowShares)) || !insideFull(tap) || gbufferDepth(tap) <= 0.0f) continue;
       float l = luminance(imageLoad(gIn_Accumulated, tap).xyz);
       mean += l;
       meanSquare += l * l;

@@ -15,6 +15,18 @@
 // distance between the two points reflects something else). Radiance and
 // hit distance are both averaged: the blurs and the reflection motion read
 // the averaged hit distance.
+// Checkerboard mode (an engine's signal with gi.denoise.checkerboard:
+// every other pixel of a row has a sample, pixelHasSample): the pass runs
+// even at radius 0, and first fills each pixel without a sample (REBLUR's
+// checkerboard resolve) from its left and right neighbours, which have
+// one, each weighed by how well it lies on the pixel's surface; from the
+// neighbours above and below (which have one too) where neither does, and
+// where none of the four does (a surface a pixel wide), from every
+// neighbour with a surface alike, rather than no light. The pre-blur then
+// takes the filled value as its centre and reads only pixels with a
+// sample: a tap that lands on one without moves a pixel sideways (to the
+// left on even taps, to the right on odd ones, as REBLUR's), so a sample
+// is never counted again through a neighbour's reconstruction of it.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
@@ -36,9 +48,65 @@ const float kPrePassWidening = 2.0f;
 const float kHitWeightFloor = 0.2f;
 const float kPrePassLobeShare = 0.3f;
 
+// The signal at a pixel with a sample.
 vec4 signalAt(ivec2 pixel) {
   vec4 s = imageLoad(gIn_Signal, pixel);
   return vec4(sanitizeRadiance(s.xyz), max(finiteOr(s.w, 0.0f), 0.0f));
+}
+
+// Checkerboard resolve of a pixel without a sample (surface x): its four
+// direct neighbours have samples. Each weighs as the blur weighs a
+// neighbour of a history just begun (plane, normal cone, roughness: the
+// widest reach it grants); left and right first (REBLUR's), then above
+// and below, then every neighbour with a surface alike. The hit distance
+// averages over the neighbours that know theirs.
+vec4 checkerboardResolve(ivec2 pixel, Surface x, float roughness) {
+  const ivec2 kSteps[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+  vec4 samples[4];
+  float weights[4];
+  bool onSurface[4];
+  for (int i = 0; i < 4; ++i) {
+    ivec2 tap = pixel + kSteps[i];
+    samples[i] = vec4(0.0f);
+    weights[i] = 0.0f;
+    onSurface[i] = false;
+    if (!insideFull(tap)) continue;
+    float tapRoughness;
+    Surface y = gbufferSurfaceRoughness(tap, tapRoughness);
+    if (y.viewZ <= 0.0f) continue;
+    onSurface[i] = true;
+    samples[i] = signalAt(tap);
+    weights[i] = neighbourWeight(x, roughness, 0.0f, y, tapRoughness);
+  }
+  if (weights[0] + weights[1] > 0.0f) {
+    weights[2] = 0.0f;
+    weights[3] = 0.0f;
+  } else if (weights[2] + weights[3] <= 0.0f) {
+    for (int i = 0; i < 4; ++i) weights[i] = onSurface[i] ? 1.0f : 0.0f;
+  }
+  vec3 radiance = vec3(0.0f);
+  float weightSum = 0.0f, hitSum = 0.0f, hitWeightSum = 0.0f;
+  for (int i = 0; i < 4; ++i) {
+    radiance += samples[i].xyz * weights[i];
+    weightSum += weights[i];
+    if (samples[i].w > 0.0f) {
+      hitSum += samples[i].w * weights[i];
+      hitWeightSum += weights[i];
+    }
+  }
+  return vec4(weightSum > 0.0f ? radiance / weightSum : vec3(0.0f),
+              hitWeightSum > 0.0f ? hitSum / hitWeightSum : 0.0f);
+}
+
+// Where a pre-blur tap reads: the tap itself, or in checkerboard mode,
+// where it has no sample, its neighbour to the left (even taps) or right
+// (odd ones), the other way at the frame's edge (outside a frame one
+// pixel wide: the caller skips it).
+ivec2 tapWithSample(ivec2 tap, uint index) {
+  if (pixelHasSample(tap)) return tap;
+  int shift = (index & 1u) == 0u ? -1 : 1;
+  ivec2 moved = tap + ivec2(shift, 0);
+  return insideFull(moved) ? moved : tap - ivec2(shift, 0);
 }
 
 void main() {
@@ -51,8 +119,14 @@ void main() {
     return;
   }
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  vec4 center = signalAt(pixel);
+  vec4 center = pixelHasSample(pixel) ? signalAt(pixel) : checkerboardResolve(pixel, x, roughness);
   bool specular = gSignal.signal == kSignalSpecular;
+  float maxRadius = (specular ? d.specularPrePassRadius : d.diffusePrePassRadius) * gSignal.radiusScale;
+  // Radius 0: the pass runs for the checkerboard resolve alone.
+  if (maxRadius <= 0.0f) {
+    imageStore(gOut_PrePassed, pixel, vec4(sanitizeRadiance(center.xyz), center.w));
+    return;
+  }
   float r = specular ? roughness : 1.0f;
   float hit = center.w;
 
@@ -71,7 +145,6 @@ void main() {
     float pixelWorld = 2.0f * tanHalfY * (x.viewZ + reach * dominant) / size.y;
     lobePixels = lobeWorld / max(pixelWorld, 1e-6f);
   }
-  float maxRadius = (specular ? d.specularPrePassRadius : d.diffusePrePassRadius) * gSignal.radiusScale;
   float radius = max(prePassRadius(maxRadius, hitFraction, r, specular, lobePixels),
                      d.minBlurRadius * (specular ? specularMagicCurve(r) : 1.0f));
 
@@ -86,6 +159,8 @@ void main() {
   for (uint i = 0u; i < 8u; ++i) {
     vec2 offset = diskTap(i, rotation);
     ivec2 tap = pixel + ivec2(round(offset * radius));
+    if (!insideFull(tap)) continue;
+    tap = tapWithSample(tap, i);
     if (!insideFull(tap) || tap == pixel) continue;
     float tapRoughness;
     Surface y = gbufferSurfaceRoughness(tap, tapRoughness);

@@ -18,6 +18,9 @@
 // clamped to the fast history (about 6 frames) +- clamp_sigma sigma, and
 // where the fast history has left the long one the history counts as fewer
 // frames (anti-lag), so lighting changes come through within a few frames.
+// Checkerboard mode: a pixel without a sample of its own this frame (the
+// pre-pass filled it from its neighbours) trusts its history more, as
+// REBLUR's checkerboard resolve does (kCheckerboardResolveAccumSpeed).
 // Output alpha: the history length; the moments are the next frame's.
 // Pixels without a surface (and empty tiles) store 0.
 #include "gi/gi_common.glsl"
@@ -61,6 +64,15 @@ const int kMomentsStride = 2;
 // losing 1 / 30 blends: measured, H100, 640x360 and 1080p.)
 const float kMomentsSamples = 150.0f;
 const float kAntiLagSigmas = 3.0f;
+
+// Checkerboard mode: on a pixel the pre-pass filled from its neighbours,
+// this frame's weight 1 / frames shrinks by up to this share, the more the
+// longer the history (REBLUR's gCheckerboardResolveAccumSpeed:
+// w *= mix(1 - k, 1, w)); a history just begun (w = 1) keeps all of it.
+// The filled value is an interpolation, not a sample; the pixel's own
+// sample of the frame before is in its history. REBLUR sets k from the
+// frame rate, 0.88 at 30 frames a second with a still jitter.
+const float kCheckerboardResolveAccumSpeed = 0.88f;
 
 // The workgroup's pixels and the moments' reach around them, read once
 // into shared memory (each pixel is a tap of up to 25 others): world
@@ -222,6 +234,7 @@ void main() {
     float excess = max(abs(moments.z - moments.x) - noise, 0.0f) / noise;
     frames = max(1.0f, frames / (1.0f + excess));
     blend = 1.0f / frames;
+    if (!pixelHasSample(pixel)) blend *= mix(1.0f - kCheckerboardResolveAccumSpeed, 1.0f, blend);
   }
   imageStore(gOut_Accumulated, pixel, vec4(sanitizeRadiance(mix(previous, current, blend)), frames));
   imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), virtualShare));

@@ -28,7 +28,7 @@ gpu::ConstantsDecl denoiseConstantsLayout() {
                                  postBlurRadiusScale, minBlurRadius, planeDistanceSensitivity, lobeAngleFraction,
                                  roughnessFraction, stabilizationFrames, clampSigma, depthTolerance,
                                  cosNormalTolerance, disocclusionThreshold, hasHistory, frameIndex, antiFirefly,
-                                 diffusePrePassRadius, specularPrePassRadius);
+                                 diffusePrePassRadius, specularPrePassRadius, checkerboard);
 }
 
 ResourceDecl tilesDecl() {
@@ -68,9 +68,12 @@ gpu::PassDesc denoiseClassifyTilesPass() {
 
 gpu::PassDesc denoisePrePass(const std::string& signal) {
   return signalPass("pre_pass", signal, "gi/denoise/pre_pass",
-                    {noisyDecl(),
+                    {{"gIn_Signal", Access::Read, kRgba16f,
+                      "the noisy signal: radiance, hit distance (world units, 0 unknown; checkerboard mode: -1 "
+                      "where the pixel has no sample)"},
                      {"gOut_PrePassed", Access::Write, kRgba16f,
-                      "the pre-blurred signal: radiance, hit distance (world units, 0 unknown)"}});
+                      "the pre-blurred signal, every pixel with a value: radiance, hit distance (world units, 0 "
+                      "unknown)"}});
 }
 
 gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal) {

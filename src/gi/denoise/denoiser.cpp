@@ -101,7 +101,8 @@ gpu::Image& Denoiser::previousResult(DenoiseSignal signal, std::uint64_t frameIn
   return images_.previous(imageOf(std::size_t(signal), kDenoiseStabilized), frameIndex);
 }
 
-void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy) {
+void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy,
+                      const std::array<bool, kDenoiseSignals>& checkerboarded) {
   gpu::Recorder& recorder = frame.recorder;
   const std::uint64_t f = frame.frameIndex;
   const DenoiseSettings& s = settings_.denoise;
@@ -110,8 +111,10 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
   shared::DenoiseConstants c{};
   // REBLUR's hit-distance normalisation (A, B, C, D).
   c.hitDistanceParameters = glm::vec4(3.0f, 0.1f, 20.0f, -25.0f);
-  for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal)
+  for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal) {
     if (noisy[signal]) c.signals |= 1u << signal;
+    if (noisy[signal] && checkerboarded[signal]) c.checkerboard |= 1u << signal;
+  }
   c.maxAccumulatedFrames = float(s.maxAccumulatedFrames);
   c.historyFixFrames = float(s.historyFixFrames);
   // Radii are set for 1080 rows (REBLUR's pixels) and follow the render
@@ -152,14 +155,18 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
     };
     const DenoiseSignalParams atFullRadius{std::uint32_t(signal), 1.0f};
     const DenoiseSignalParams post{std::uint32_t(signal), s.postBlurRadiusScale};
-    // The pre-pass's output takes the noisy signal's place in every later pass; without a pre-pass, the noisy signal.
+    // The pre-pass's output takes the noisy signal's place in every later
+    // pass; without a pre-pass, the noisy signal. A checkerboarded signal
+    // always has one: it fills the pixels without a sample, even where it
+    // blurs nothing (radius 0).
     const float prePassRadius = signal == 0 ? s.diffusePrePassRadius : s.specularPrePassRadius;
-    if (prePassRadius > 0.0f)
+    const bool prePass = prePassRadius > 0.0f || checkerboarded[signal];
+    if (prePass)
       recorder.dispatch(p.prePass, full.width, full.height, frame.group.binds(),
                         {constants, tilesBind, {"gIn_Signal", *noisy[signal]},
                          {"gOut_PrePassed", image(kDenoisePrePassed)}},
                         atFullRadius);
-    const gpu::Bind input("gIn_Signal", prePassRadius > 0.0f ? image(kDenoisePrePassed) : *noisy[signal]);
+    const gpu::Bind input("gIn_Signal", prePass ? image(kDenoisePrePassed) : *noisy[signal]);
     recorder.dispatch(p.temporalAccumulation, full.width, full.height, frame.group.binds(),
                       {constants, tilesBind, motion, input,
                        {"gPrev_Surface", frame.previousSurface},

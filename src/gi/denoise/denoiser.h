@@ -4,7 +4,8 @@
 // frame's surfaces (viewZ, normal, roughness), the motion vectors and last
 // frame's surfaces, and nothing of the branches. Its passes, per signal:
 //   gi.denoise.classify_tiles                   16x16 tiles with a surface (both signals)
-//   gi.denoise.SIGNAL.pre_pass                 8-tap pre-blur, radius from hit distance and lobe
+//   gi.denoise.SIGNAL.pre_pass                 checkerboard resolve; 8-tap pre-blur, radius from hit distance
+//                                              and lobe
 //   gi.denoise.SIGNAL.temporal_accumulation    Catmull-Rom surface-motion history (specular: + reflection
 //                                              motion), history length, fast-history clamp, anti-lag
 //   gi.denoise.SIGNAL.history_fix              short histories rebuilt from a wide neighbourhood; anti-firefly
@@ -51,8 +52,12 @@ class Denoiser {
   ImageSet& images() { return images_; }
   // Denoises each signal whose noisy image is given (rgba16f: demodulated
   // radiance, hit distance in world units or 0): `noisy[signal]`, null for
-  // a signal that is off.
-  void record(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy);
+  // a signal that is off. `checkerboarded[signal]`: the image holds samples
+  // only at the pixels of the signal's checkerboard parity
+  // (shared/checkerboard.glsl; an engine's signal in gi.denoise.checkerboard
+  // mode, unpacked by gi.engine_signal), which the pre-pass fills in.
+  void record(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy,
+              const std::array<bool, kDenoiseSignals>& checkerboarded);
   // This frame's denoised signal (rgba32f: radiance, history length).
   gpu::Image& result(DenoiseSignal signal, std::uint64_t frameIndex);
   gpu::Image& previousResult(DenoiseSignal signal, std::uint64_t frameIndex);
