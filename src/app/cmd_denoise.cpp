@@ -8,14 +8,20 @@
 // the test that the denoiser is a general one (issue 14: the 1-spp
 // sequence of cornell at 1/10 of its input's relMSE after 32 frames), and
 // the worked example of an engine handing the library its own signals.
+// --checkerboard (or --gi.denoise.checkerboard on) hands them over as an
+// engine in the denoiser's checkerboard mode would: each frame, of every
+// pixel's samples, those of each signal's checkerboard parity, packed to
+// half width; the noisy images and their relMSE stay every pixel's.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "app/checkerboard_pack.h"
 #include "app/commands.h"
 #include "app/images.h"
 #include "app/option_checks.h"
@@ -112,6 +118,10 @@ CLI::App* addDenoiseCommand(CLI::App& app, DenoiseOptions& options) {
       ->capture_default_str();
   command->add_option("--out", options.out, "Output directory (created if missing)")->capture_default_str();
   command->add_option("--exposure", options.exposure, "Exposure multiplier of the PNGs")->check(finitePositive());
+  command->add_flag("--checkerboard", options.checkerboard,
+                    "Hand the denoiser checkerboarded signals (sets --gi.denoise.checkerboard on): of each frame's "
+                    "path-traced signals the pixels of each signal's checkerboard parity, packed to half width, as "
+                    "an engine tracing every other pixel would; the noisy images and relMSE stay every pixel's");
   command->add_flag("--dump-stages", options.dumpStages,
                     "Write every pass's output of the last frame (EXR + PNG) to OUT/stages/, the denoiser's "
                     "and its validation sheet among them");
@@ -140,7 +150,9 @@ int runDenoise(const DenoiseOptions& options) {
   base.denoise.enabled = true;
   base.diffuse.enabled = false;
   base.specular.enabled = false;
+  base.denoise.checkerboard = options.checkerboard;
   const gi::Settings settings = giSettings(options.gi, base);
+  const bool checkerboard = settings.denoise.checkerboard;
   if (!settings.denoise.enabled)
     throw std::runtime_error("bounce denoise runs the denoiser: gi.denoise.enabled off (from " +
                              std::string(options.gi.settingsFile.empty() ? "--gi.denoise.enabled"
@@ -186,6 +198,12 @@ int runDenoise(const DenoiseOptions& options) {
   std::printf("scene: %s, %zu triangles, %zu emissive; %u frames at %ux%u, %u spp each; reference %u spp\n",
               scene.name.c_str(), renderer.triangleCount(), pathTracer.emissiveTriangleCount(), options.frames,
               shot.width, shot.height, options.spp, options.referenceSpp);
+  std::unique_ptr<CheckerboardPacker> packer;
+  if (checkerboard) {
+    packer = std::make_unique<CheckerboardPacker>(*context, shot.width, shot.height);
+    std::printf("checkerboard: the denoiser gets every other pixel of each signal, packed to half width "
+                "(gi.denoise.checkerboard); the noisy images and relMSE are every pixel's\n");
+  }
   PartImages reference;
   {
     gpu::FrameLoop sampling(*context, render::FrameRenderer::kFramesInFlight);
@@ -234,10 +252,16 @@ int runDenoise(const DenoiseOptions& options) {
     pathTracer.recordResolve(recorder);
     render::RendererInputs made =
         render::rendererInputs(renderer, index, view, previous, {.captureStages = dump});
-    made.inputs.noisyDiffuse = render::imageRef(pathTracer.indirectDiffuseImage());
-    made.inputs.noisySpecular = render::imageRef(pathTracer.indirectSpecularImage());
-    made.images.push_back(&pathTracer.indirectDiffuseImage());
-    made.images.push_back(&pathTracer.indirectSpecularImage());
+    gpu::Image* given[2] = {&pathTracer.indirectDiffuseImage(), &pathTracer.indirectSpecularImage()};
+    if (packer)
+      for (std::size_t signal = 0; signal < CheckerboardPacker::kSignals; ++signal) {
+        packer->record(recorder, signal, *given[signal], made.inputs.frameIndex);
+        given[signal] = &packer->packed(signal);
+      }
+    made.inputs.noisyDiffuse = render::imageRef(*given[0]);
+    made.inputs.noisySpecular = render::imageRef(*given[1]);
+    made.images.push_back(given[0]);
+    made.images.push_back(given[1]);
     gi.record(recorder, made.inputs, made.images);
     loop.endFrame();
     previous = view;
@@ -308,6 +332,7 @@ int runDenoise(const DenoiseOptions& options) {
                                {"width", shot.width},
                                {"height", shot.height},
                                {"spp", options.spp},
+                               {"checkerboard", checkerboard},
                                {"reference_spp", options.referenceSpp},
                                {"seed", options.seed},
                                {"max_bounces", options.maxBounces},

@@ -172,6 +172,7 @@ struct DenoiseOptions {
   std::string out = "denoise";
   float exposure = 1.0f;
   bool dumpStages = false;
+  bool checkerboard = false;  // hand the signals over checkerboarded (gi.denoise.checkerboard)
 };
 CLI::App* addDenoiseCommand(CLI::App& app, DenoiseOptions& options);
 int runDenoise(const DenoiseOptions& options);

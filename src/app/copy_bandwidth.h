@@ -13,7 +13,7 @@
 
 namespace bounce::app {
 
-// The shaders of the bounce command itself (shaders/bench/).
+// The shaders of the bounce command itself (shaders/bench/, shaders/app/).
 std::span<const gpu::EmbeddedShader> shaders();
 
 class CopyBandwidthProbe {
