@@ -24,8 +24,8 @@
 #include "bounce/gi.h"
 #include "gpu/frame_loop.h"
 #include "gpu_test.h"
-#include "image_statistics.h"
 #include "gpuio/gpu_images.h"
+#include "image_statistics.h"
 #include "metrics/image_metrics.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
@@ -95,8 +95,8 @@ class GiEngineSignals : public testing::GpuTest {
     run.scene = std::make_unique<scene::Scene>(scene::makeBuiltinScene("cornell"));
     run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene,
                                                            testing::smallRendererOptions(*run.scene, kWidth, kHeight));
-    run.gi = std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight},
-                                                settings);
+    run.gi =
+        std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight}, settings);
     run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
     run.checkerboard = settings.denoise.checkerboard;
     for (int s = 0; s < 2; ++s)
@@ -200,6 +200,33 @@ class GiEngineSignals : public testing::GpuTest {
     return {};
   }
 
+  // Refusals of bad inputs: after a frame of `run`, a frame is begun and
+  // the renderer records into it; `good` holds the inputs the library
+  // takes (the renderer's G-buffer and both noisy signals), and each
+  // `refused(gi, inputs, words)` in `checks` records `inputs` into `gi`
+  // and expects an Error containing `words`. The frame ends after them.
+  using Refused = std::function<void(GiContext& gi, const FrameInputs& inputs, const std::string& words)>;
+  void expectRefusals(Run& run, const std::function<void(const FrameInputs& good, const Refused& refused)>& checks) {
+    frame(run);
+    run.loop->finish();
+    gpu::Recorder& recorder = run.loop->beginFrame();
+    const render::FrameView view{*run.scene->suggestedCamera, 0.0f, false};
+    run.renderer->record(recorder, run.loop->frameIndex(), view);
+    FrameInputs good = render::rendererInputs(*run.renderer, run.loop->frameIndex(), view, view).inputs;
+    good.noisyDiffuse = render::imageRef(*run.noisy[kDiffuse]);
+    good.noisySpecular = render::imageRef(*run.noisy[kSpecular]);
+    checks(good, [&](GiContext& gi, const FrameInputs& inputs, const std::string& words) {
+      try {
+        gi.record(recorder.commandBuffer(), inputs);
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+        return;
+      }
+      ADD_FAILURE() << "accepted: " << words;
+    });
+    run.loop->endFrame();
+  }
+
   // The passes of the frames recorded so far, once they have run.
   std::vector<std::string> passesRecorded(Run& run) {
     run.loop->finish();
@@ -284,49 +311,33 @@ TEST_F(GiEngineSignals, WithoutBranchesToRunTheEnvironmentMayBeLeftOut) {
 
 TEST_F(GiEngineSignals, BadNoisySignalsAreRefusedWithTheirNames) {
   Run run = start(denoised());
-  frame(run);
-  run.loop->finish();
-  gpu::Recorder& recorder = run.loop->beginFrame();
-  const render::FrameView view{*run.scene->suggestedCamera, 0.0f, false};
-  run.renderer->record(recorder, run.loop->frameIndex(), view);
-  FrameInputs good = render::rendererInputs(*run.renderer, run.loop->frameIndex(), view, view).inputs;
-  good.noisyDiffuse = render::imageRef(*run.noisy[kDiffuse]);
-  good.noisySpecular = render::imageRef(*run.noisy[kSpecular]);
-  const auto refused = [&](GiContext& gi, const FrameInputs& inputs, const std::string& words) {
-    try {
-      gi.record(recorder.commandBuffer(), inputs);
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
-      return;
-    }
-    ADD_FAILURE() << "accepted: " << words;
-  };
-  FrameInputs wrongFormat = good;
-  wrongFormat.noisySpecular = render::imageRef(run.renderer->baseColorMetallic());
-  refused(run.gi->library(), wrongFormat,
-          "frame input noisySpecular has the format VK_FORMAT_R8G8B8A8_UNORM; noisySpecular takes "
-          "VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT");
-  gpu::Image small(context(), {.name = "small", .width = 8, .height = 8, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
-  FrameInputs tooSmall = good;
-  tooSmall.noisyDiffuse = render::imageRef(small);
-  tooSmall.noisyDiffuse.layout = VK_IMAGE_LAYOUT_GENERAL;
-  refused(run.gi->library(), tooSmall, "frame input noisyDiffuse is 8x8, smaller than the render size 64x48");
-  FrameInputs noView = good;
-  noView.noisyDiffuse.view = VK_NULL_HANDLE;
-  refused(run.gi->library(), noView, "frame input noisyDiffuse is missing (its view is VK_NULL_HANDLE)");
-  FrameInputs undefinedLayout = good;
-  undefinedLayout.noisySpecular.layout = VK_IMAGE_LAYOUT_UNDEFINED;
-  refused(run.gi->library(), undefinedLayout, "noisySpecular is in VK_IMAGE_LAYOUT_UNDEFINED");
-  // The library takes a signal only to denoise it.
-  Settings denoiserOff;
-  denoiserOff.denoise.enabled = false;
-  GiContext withoutDenoiser(render::giDevice(context()), {.maxWidth = kWidth, .maxHeight = kHeight}, denoiserOff);
-  FrameInputs onlyDiffuse = good;
-  onlyDiffuse.noisySpecular = {};
-  refused(withoutDenoiser, onlyDiffuse,
-          "frame input noisyDiffuse is given, but the denoiser is off (Settings::denoise.enabled, "
-          "gi.denoise.enabled)");
-  run.loop->endFrame();
+  expectRefusals(run, [&](const FrameInputs& good, const Refused& refused) {
+    FrameInputs wrongFormat = good;
+    wrongFormat.noisySpecular = render::imageRef(run.renderer->baseColorMetallic());
+    refused(run.gi->library(), wrongFormat,
+            "frame input noisySpecular has the format VK_FORMAT_R8G8B8A8_UNORM; noisySpecular takes "
+            "VK_FORMAT_R16G16B16A16_SFLOAT or VK_FORMAT_R32G32B32A32_SFLOAT");
+    gpu::Image small(context(), {.name = "small", .width = 8, .height = 8, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
+    FrameInputs tooSmall = good;
+    tooSmall.noisyDiffuse = render::imageRef(small);
+    tooSmall.noisyDiffuse.layout = VK_IMAGE_LAYOUT_GENERAL;
+    refused(run.gi->library(), tooSmall, "frame input noisyDiffuse is 8x8, smaller than the render size 64x48");
+    FrameInputs noView = good;
+    noView.noisyDiffuse.view = VK_NULL_HANDLE;
+    refused(run.gi->library(), noView, "frame input noisyDiffuse is missing (its view is VK_NULL_HANDLE)");
+    FrameInputs undefinedLayout = good;
+    undefinedLayout.noisySpecular.layout = VK_IMAGE_LAYOUT_UNDEFINED;
+    refused(run.gi->library(), undefinedLayout, "noisySpecular is in VK_IMAGE_LAYOUT_UNDEFINED");
+    // The library takes a signal only to denoise it.
+    Settings denoiserOff;
+    denoiserOff.denoise.enabled = false;
+    GiContext withoutDenoiser(render::giDevice(context()), {.maxWidth = kWidth, .maxHeight = kHeight}, denoiserOff);
+    FrameInputs onlyDiffuse = good;
+    onlyDiffuse.noisySpecular = {};
+    refused(withoutDenoiser, onlyDiffuse,
+            "frame input noisyDiffuse is given, but the denoiser is off (Settings::denoise.enabled, "
+            "gi.denoise.enabled)");
+  });
 }
 
 // Poison in the engine's signal (NaN or +Inf, everywhere or in a block)
@@ -463,10 +474,10 @@ TEST_F(GiEngineSignals, CheckerboardedSignalsDenoiseCloseToTheFullOnes) {
     const io::ImageF denoisedHalves = rgb(halvesOut.signal[s]);
     const double halvesError = relMse(halves.truth, denoisedHalves);
     const double meanRatio = meanLuminance(denoisedHalves) / meanLuminance(halves.truth);
-    std::printf("%s: relMSE %.4f noisy (every pixel), %.4f denoised from every pixel, %.4f from the checkerboard "
-                "(%.2fx); mean / truth %.3f\n",
-                s == kDiffuse ? "diffuse" : "specular", noisyError, fullError, halvesError, halvesError / fullError,
-                meanRatio);
+    std::printf(
+        "%s: relMSE %.4f noisy (every pixel), %.4f denoised from every pixel, %.4f from the checkerboard "
+        "(%.2fx); mean / truth %.3f\n",
+        s == kDiffuse ? "diffuse" : "specular", noisyError, fullError, halvesError, halvesError / fullError, meanRatio);
     EXPECT_LT(halvesError, kMaxErrorRatio * fullError);
     EXPECT_LT(halvesError, 0.05 * noisyError);
     EXPECT_NEAR(meanRatio, 1.0, 0.1);
@@ -547,10 +558,10 @@ TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnl
           }
         }
       }
-    std::printf("%s: %d pixels with a sample (%d changed), %d filled between two neighbours (%d wrong), %d at an "
-                "edge (%d wrong)\n",
-                s == kDiffuse ? "diffuse" : "specular", kept, keptWrong, between, betweenWrong, oneSided,
-                oneSidedWrong);
+    std::printf(
+        "%s: %d pixels with a sample (%d changed), %d filled between two neighbours (%d wrong), %d at an "
+        "edge (%d wrong)\n",
+        s == kDiffuse ? "diffuse" : "specular", kept, keptWrong, between, betweenWrong, oneSided, oneSidedWrong);
     EXPECT_GT(kept, int(kWidth * kHeight) / 4);
     EXPECT_EQ(keptWrong, 0);
     EXPECT_GT(between, kept / 3) << "too few pixels between two neighbours on their surface to judge";
@@ -572,40 +583,25 @@ TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnl
 // before. Each refusal names the input, what it must cover and its size.
 TEST_F(GiEngineSignals, CheckerboardedSignalsMustCoverHalfTheWidth) {
   Run run = start(checkerboarded());
-  frame(run);
-  run.loop->finish();
-  gpu::Recorder& recorder = run.loop->beginFrame();
-  const render::FrameView view{*run.scene->suggestedCamera, 0.0f, false};
-  run.renderer->record(recorder, run.loop->frameIndex(), view);
-  FrameInputs good = render::rendererInputs(*run.renderer, run.loop->frameIndex(), view, view).inputs;
-  good.noisyDiffuse = render::imageRef(*run.noisy[kDiffuse]);
-  good.noisySpecular = render::imageRef(*run.noisy[kSpecular]);
-  ASSERT_EQ(good.noisyDiffuse.width, 32u);
-  const auto refused = [&](GiContext& gi, const FrameInputs& inputs, const std::string& words) {
-    try {
-      gi.record(recorder.commandBuffer(), inputs);
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
-      return;
-    }
-    ADD_FAILURE() << "accepted: " << words;
-  };
-  gpu::Image narrow(context(), {.name = "narrow", .width = 31, .height = 48, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
-  FrameInputs tooNarrow = good;
-  tooNarrow.noisyDiffuse = render::imageRef(narrow);
-  tooNarrow.noisyDiffuse.layout = VK_IMAGE_LAYOUT_GENERAL;
-  refused(run.gi->library(), tooNarrow,
-          "frame input noisyDiffuse is 31x48; with gi.denoise.checkerboard on it holds every other pixel of each "
-          "row, packed to half width: it must cover 32x48 (ceil(width / 2) x height of the render size 64x48)");
-  gpu::Image low(context(), {.name = "low", .width = 32, .height = 40, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
-  FrameInputs tooLow = good;
-  tooLow.noisySpecular = render::imageRef(low);
-  tooLow.noisySpecular.layout = VK_IMAGE_LAYOUT_GENERAL;
-  refused(run.gi->library(), tooLow, "frame input noisySpecular is 32x40; with gi.denoise.checkerboard on");
-  // Without the mode, the packed images are too small.
-  GiContext fullMode(render::giDevice(context()), {.maxWidth = kWidth, .maxHeight = kHeight}, denoised());
-  refused(fullMode, good, "frame input noisyDiffuse is 32x48, smaller than the render size 64x48");
-  run.loop->endFrame();
+  expectRefusals(run, [&](const FrameInputs& good, const Refused& refused) {
+    ASSERT_EQ(good.noisyDiffuse.width, 32u);
+    gpu::Image narrow(context(),
+                      {.name = "narrow", .width = 31, .height = 48, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
+    FrameInputs tooNarrow = good;
+    tooNarrow.noisyDiffuse = render::imageRef(narrow);
+    tooNarrow.noisyDiffuse.layout = VK_IMAGE_LAYOUT_GENERAL;
+    refused(run.gi->library(), tooNarrow,
+            "frame input noisyDiffuse is 31x48; with gi.denoise.checkerboard on it holds every other pixel of each "
+            "row, packed to half width: it must cover 32x48 (ceil(width / 2) x height of the render size 64x48)");
+    gpu::Image low(context(), {.name = "low", .width = 32, .height = 40, .format = VK_FORMAT_R16G16B16A16_SFLOAT});
+    FrameInputs tooLow = good;
+    tooLow.noisySpecular = render::imageRef(low);
+    tooLow.noisySpecular.layout = VK_IMAGE_LAYOUT_GENERAL;
+    refused(run.gi->library(), tooLow, "frame input noisySpecular is 32x40; with gi.denoise.checkerboard on");
+    // Without the mode, the packed images are too small.
+    GiContext fullMode(render::giDevice(context()), {.maxWidth = kWidth, .maxHeight = kHeight}, denoised());
+    refused(fullMode, good, "frame input noisyDiffuse is 32x48, smaller than the render size 64x48");
+  });
 }
 
 // NaN and +Inf in a checkerboarded signal (radiance and hit distance, in a
