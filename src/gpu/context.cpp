@@ -36,7 +36,8 @@ bool hasLayer(const char* name) {
                      [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
-VkInstance createInstance(bool validation, bool debugUtils, void* pNext) {
+VkInstance createInstance(bool validation, bool debugUtils, void* pNext,
+                          const std::vector<std::string>& extraExtensions = {}) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "bounce";
   app.pEngineName = "bounce";
@@ -51,6 +52,11 @@ VkInstance createInstance(bool validation, bool debugUtils, void* pNext) {
     layers.push_back(kValidationLayer);
   }
   if (debugUtils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  for (const std::string& name : extraExtensions) {
+    if (!hasInstanceExtension(name.c_str()))
+      throw GpuError("the Vulkan loader does not offer the instance extension " + name);
+    extensions.push_back(name.c_str());
+  }
 
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pNext = pNext;
@@ -101,7 +107,9 @@ int typeRank(VkPhysicalDeviceType type) {
 // The queue family Bounce uses: compute with timestamps; a universal
 // (graphics+compute) family is preferred because it is the fast path on most
 // drivers and lets an engine share its queue.
-std::optional<std::uint32_t> chooseQueueFamily(VkPhysicalDevice device) {
+// `usable`, when given, must also accept the family (a window's present test).
+std::optional<std::uint32_t> chooseQueueFamily(VkPhysicalDevice device,
+                                               const std::function<bool(std::uint32_t)>& usable = {}) {
   std::uint32_t count = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
   std::vector<VkQueueFamilyProperties> families(count);
@@ -110,6 +118,7 @@ std::optional<std::uint32_t> chooseQueueFamily(VkPhysicalDevice device) {
   for (std::uint32_t i = 0; i < count; ++i) {
     const auto& f = families[i];
     if (!(f.queueFlags & VK_QUEUE_COMPUTE_BIT) || f.timestampValidBits == 0) continue;
+    if (usable && !usable(i)) continue;
     if (!best || (f.queueFlags & VK_QUEUE_GRAPHICS_BIT)) best = i;
     if (f.queueFlags & VK_QUEUE_GRAPHICS_BIT) break;
   }
@@ -213,7 +222,7 @@ Context::Context(const ContextOptions& options)
   // itself are caught.
   features.pNext = &messengerInfo;
 
-  instance_ = createInstance(validation_, debugUtils_, validation_ ? &features : nullptr);
+  instance_ = createInstance(validation_, debugUtils_, validation_ ? &features : nullptr, options.instanceExtensions);
   try {
     if (validation_) {
       auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
@@ -224,7 +233,20 @@ Context::Context(const ContextOptions& options)
     std::vector<VkPhysicalDevice> devices = physicalDevices(instance_);
     if (devices.empty()) throw GpuError(std::string("no Vulkan device found. ") + kNoDeviceHelp);
     std::vector<DeviceInfo> infos;
-    for (std::size_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], int(i)));
+    // A window's family test, bound to one device.
+    const auto usableFamily = [&](VkPhysicalDevice device) -> std::function<bool(std::uint32_t)> {
+      if (!options.queueFamilyUsable) return {};
+      return [&, device](std::uint32_t family) { return options.queueFamilyUsable(instance_, device, family); };
+    };
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+      DeviceInfo info = describe(devices[i], int(i));
+      for (const std::string& name : options.deviceExtensions)
+        if (info.suitable && !hasDeviceExtension(devices[i], name.c_str())) info.unsuitableReason = "no " + name;
+      if (info.suitable && info.unsuitableReason.empty() && !chooseQueueFamily(devices[i], usableFamily(devices[i])))
+        info.unsuitableReason = "no compute queue family that can present to the window";
+      info.suitable = info.unsuitableReason.empty();
+      infos.push_back(std::move(info));
+    }
     // One line, like every error: "0: NAME (TYPE); 1: ...".
     auto listing = [&] {
       std::string text;
@@ -255,7 +277,7 @@ Context::Context(const ContextOptions& options)
     }
     physicalDevice_ = devices[chosen];
     deviceInfo_ = infos[chosen];
-    queueFamily_ = *chooseQueueFamily(physicalDevice_);
+    queueFamily_ = *chooseQueueFamily(physicalDevice_, usableFamily(physicalDevice_));
     timestampValidBits_ = 64;  // chooseQueueFamily takes only families with timestamps
 
     float priority = 1.0f;
@@ -270,13 +292,14 @@ Context::Context(const ContextOptions& options)
     features13.maintenance4 = VK_TRUE;
     VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     features12.pNext = &features13;
-    const char* deviceExtensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    std::vector<const char*> deviceExtensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    for (const std::string& name : options.deviceExtensions) deviceExtensions.push_back(name.c_str());
     VkDeviceCreateInfo deviceCreate{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     deviceCreate.pNext = &features12;
     deviceCreate.queueCreateInfoCount = 1;
     deviceCreate.pQueueCreateInfos = &queueInfo;
-    deviceCreate.enabledExtensionCount = 1;
-    deviceCreate.ppEnabledExtensionNames = deviceExtensions;
+    deviceCreate.enabledExtensionCount = std::uint32_t(deviceExtensions.size());
+    deviceCreate.ppEnabledExtensionNames = deviceExtensions.data();
     check(vkCreateDevice(physicalDevice_, &deviceCreate, nullptr, &device_), "vkCreateDevice");
     vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
     initialiseDeviceObjects(options.constantsInStorageBuffers);
@@ -337,8 +360,8 @@ void Context::initialiseDeviceObjects(std::optional<bool> constantsInStorageBuff
   if (debugUtils_) {
     cmdBeginDebugLabel = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
         vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
-    cmdEndDebugLabel =
-        reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+    cmdEndDebugLabel = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
     setObjectName = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
         vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
   }

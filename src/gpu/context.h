@@ -31,6 +31,14 @@ struct ContextOptions {
   // Empty = the environment variable BOUNCE_CONSTANT_BLOCKS (storage or
   // uniform) if set, else storage buffers on lavapipe, uniform blocks elsewhere.
   std::optional<bool> constantsInStorageBuffers;
+  // What a window needs besides (bounce view): instance extensions (the
+  // window system's surface ones), device extensions (VK_KHR_swapchain), and
+  // which queue families can serve it (present to the window's surface).
+  // A device without the extensions, or without a family that passes the
+  // test, cannot be chosen.
+  std::vector<std::string> instanceExtensions;
+  std::vector<std::string> deviceExtensions;
+  std::function<bool(VkInstance, VkPhysicalDevice, std::uint32_t family)> queueFamilyUsable;
 };
 
 // A device someone else made (an engine's): the context uses it and

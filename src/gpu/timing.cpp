@@ -12,6 +12,7 @@ void TimingStats::add(const std::string& pass, double milliseconds) {
   s.min = s.count == 0 ? milliseconds : std::min(s.min, milliseconds);
   s.max = s.count == 0 ? milliseconds : std::max(s.max, milliseconds);
   ++s.count;
+  s.last = milliseconds;
   if (s.kept.size() < kMaxSamples) {
     s.kept.push_back(milliseconds);
     return;
@@ -32,7 +33,7 @@ std::vector<PassTiming> TimingStats::summary() const {
     std::sort(values.begin(), values.end());
     const std::size_t n = values.size();
     const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-    rows.push_back({pass, median, s.min, s.max, s.count});
+    rows.push_back({pass, median, s.min, s.max, s.count, s.last});
   }
   return rows;
 }

@@ -15,6 +15,7 @@ struct PassTiming {
   double minMs = 0;
   double maxMs = 0;
   std::size_t samples = 0;
+  double lastMs = 0;  // the latest frame's (a live view shows it)
 };
 
 // Memory stays bounded however long a program runs: each pass keeps its
@@ -40,6 +41,7 @@ class TimingStats {
     std::size_t count = 0;
     double min = 0.0;
     double max = 0.0;
+    double last = 0.0;
     std::uint64_t random = 0x9E3779B97F4A7C15ull;  // fixed seed: the same run keeps the same samples
   };
   std::vector<std::string> order_;
