@@ -426,9 +426,8 @@ void validateForWrite(const fs::path& path, const ImageF& image) {
   }
 }
 
-// Writes the bytes to "<path>.tmp-<pid>" beside the target and renames it into
-// place: a reader sees the old file or the complete new one, never a half file,
-// and a failed write removes its temporary.
+}  // namespace
+
 void writeFileAtomically(const fs::path& path, const void* data, std::size_t size) {
   if (path.empty() || !path.has_filename()) fail(path, "not a file path");
   const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -461,6 +460,8 @@ void writeFileAtomically(const fs::path& path, const void* data, std::size_t siz
     fail(path, "cannot move the written file into place (" + reason + ")");
   }
 }
+
+namespace {
 
 // The colour of one pixel of an image with 1 to 4 channels.
 glm::vec3 pixelColour(const float* in, std::size_t channelCount) {

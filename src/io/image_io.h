@@ -75,6 +75,13 @@ struct Rgba8Image {
 // side"). `name` is used in the error message.
 Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name, int maxSide);
 
+// Writes the bytes to "<path>.tmp-<pid>" beside the target and renames it into
+// place: a reader sees the old file or the complete new one, never a half file,
+// and a failed write removes its temporary. For any file, not only images.
+// Throws ImageIoError "<path>: <reason>" (a folder that does not exist or
+// cannot be written, a full disk).
+void writeFileAtomically(const std::filesystem::path& path, const void* data, std::size_t size);
+
 // Writes float32 channels with their names (ZIP compression). The file is
 // written beside the target and renamed into place, so a failed write never
 // leaves a half file. Throws ImageIoError.
