@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -220,7 +222,7 @@ gpu::PassDesc directLightDesc() {
 }  // namespace
 
 FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, const FrameRendererOptions& options)
-    : context_(context), scene_(scene), options_(options) {
+    : context_(context), scene_(scene), options_(options), materials_(scene.materials) {
   if (options.width == 0 || options.height == 0 || options.width > 16384 || options.height > 16384)
     throw gpu::GpuError("frame size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
                         " is outside 1..16384");
@@ -279,17 +281,22 @@ FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, c
 FrameRenderer::~FrameRenderer() = default;
 
 void FrameRenderer::uploadStatic() {
-  std::vector<GpuMaterial> materials;
-  for (const scene::Material& m : scene_.materials) materials.push_back(packMaterial(m));
   // A buffer may not be empty; a scene without materials has nothing that reads one.
-  if (materials.empty()) materials.push_back(packMaterial(scene::Material{}));
-  materials_ = std::make_unique<gpu::Buffer>(context_, "scene.materials", materials.size() * sizeof(GpuMaterial),
-                                             gpu::BufferUsage::DeviceLocal);
-  gpu::uploadBuffer(context_, *materials_, materials.data(), materials.size() * sizeof(GpuMaterial));
+  const std::size_t tableBytes = std::max<std::size_t>(1, materials_.size()) * sizeof(GpuMaterial);
+  materialTable_ =
+      std::make_unique<gpu::Buffer>(context_, "scene.materials", tableBytes, gpu::BufferUsage::DeviceLocal);
+  uploadMaterials();
   const std::vector<glm::uvec4> attributes = packVertexAttributes(scene_);
   vertexAttributes_ = std::make_unique<gpu::Buffer>(
       context_, "scene.vertex_attributes", attributes.size() * sizeof(glm::uvec4), gpu::BufferUsage::DeviceLocal);
   gpu::uploadBuffer(context_, *vertexAttributes_, attributes.data(), attributes.size() * sizeof(glm::uvec4));
+}
+
+void FrameRenderer::uploadMaterials() {
+  std::vector<GpuMaterial> packed;
+  for (const scene::Material& m : materials_) packed.push_back(packMaterial(m));
+  if (packed.empty()) packed.push_back(packMaterial(scene::Material{}));
+  gpu::uploadBuffer(context_, *materialTable_, packed.data(), packed.size() * sizeof(GpuMaterial));
 }
 
 void FrameRenderer::warnAboutUntraceableInstances(std::span<const scene::Instance> instances) {
@@ -412,9 +419,79 @@ void FrameRenderer::record(gpu::Recorder& recorder, std::uint64_t frameIndex, co
   for (const scene::Instance& instance : instances) previousTransforms_.push_back(instance.objectToWorld);
 }
 
+std::optional<std::uint32_t> FrameRenderer::materialAt(std::uint32_t x, std::uint32_t y) {
+  if (x >= options_.width || y >= options_.height) return std::nullopt;
+  gpu::Buffer texel(context_, "gbuffer.ids.texel", sizeof(std::uint32_t), gpu::BufferUsage::Readback);
+  context_.submitAndWait([&](gpu::Recorder& recorder) {
+    recorder.copyImageToBuffer(*ids_, texel, gpu::ImageRegion{.x = x, .y = y, .width = 1, .height = 1});
+    recorder.makeHostReadable(texel);
+  });
+  std::uint32_t ids = 0;
+  std::memcpy(&ids, texel.mapped(), sizeof ids);
+  // render.gbuffer writes instance << 16 | material, and all ones for the background.
+  if (ids == 0xffffffffu) return std::nullopt;
+  return ids & 0xffffu;
+}
+
+namespace {
+
+// Why setMaterial refuses `m` as material `index` ("" when it does not), so
+// that a refused edit changes nothing.
+std::string materialProblem(const scene::Material& m) {
+  const auto finite = [](const auto& v) {
+    for (int i = 0; i < v.length(); ++i)
+      if (!std::isfinite(v[i])) return false;
+    return true;
+  };
+  const auto within = [](const auto& v, float low, float high) {
+    for (int i = 0; i < v.length(); ++i)
+      if (!(v[i] >= low && v[i] <= high)) return false;
+    return true;
+  };
+  const auto vectorText = [](const glm::vec4& v, int n) {
+    std::string t = "(";
+    for (int i = 0; i < n; ++i) t += (i ? ", " : "") + text(v[i]);
+    return t + ")";
+  };
+  if (!finite(m.baseColorFactor) || !within(m.baseColorFactor, 0.0f, 1.0f))
+    return "base colour factor " + vectorText(m.baseColorFactor, 4) + " is not within [0, 1]";
+  if (!(m.metallicFactor >= 0.0f && m.metallicFactor <= 1.0f))
+    return "metallic " + text(m.metallicFactor) + " is not within [0, 1]";
+  if (!(m.roughnessFactor >= 0.0f && m.roughnessFactor <= 1.0f))
+    return "roughness " + text(m.roughnessFactor) + " is not within [0, 1]";
+  if (!finite(m.emissiveFactor) || !within(m.emissiveFactor, 0.0f, std::numeric_limits<float>::max()))
+    return "emissive factor " + vectorText(glm::vec4(m.emissiveFactor, 0.0f), 3) + " is not finite and >= 0";
+  if (!(std::isfinite(m.emissiveStrength) && m.emissiveStrength >= 0.0f))
+    return "emissive strength " + text(m.emissiveStrength) + " is not finite and >= 0";
+  const double emission =
+      double(m.emissiveStrength) * double(std::max({m.emissiveFactor.x, m.emissiveFactor.y, m.emissiveFactor.z}));
+  if (const std::string problem = scene::lightStrengthProblem(emission); !problem.empty())
+    return "emission (strength x factor) " + text(float(emission)) + " is " + problem;
+  return {};
+}
+
+}  // namespace
+
+void FrameRenderer::setMaterial(std::size_t index, const scene::Material& material) {
+  if (index >= materials_.size())
+    throw std::out_of_range("setMaterial: material index " + std::to_string(index) +
+                            " is out of range; the scene has " + std::to_string(materials_.size()) + " materials");
+  scene::Material& target = materials_[index];
+  if (const std::string problem = materialProblem(material); !problem.empty())
+    throw std::invalid_argument("setMaterial: material " + std::to_string(index) +
+                                (target.name.empty() ? "" : " '" + target.name + "'") + ": " + problem);
+  target.baseColorFactor = material.baseColorFactor;
+  target.metallicFactor = material.metallicFactor;
+  target.roughnessFactor = material.roughnessFactor;
+  target.emissiveFactor = material.emissiveFactor;
+  target.emissiveStrength = material.emissiveStrength;
+  uploadMaterials();
+  ++materialRevision_;
+}
+
 std::vector<gpu::Bind> FrameRenderer::sceneBinds(std::uint64_t frameIndex) {
   std::vector<gpu::Bind> binds = {{"gIn_Frame", frameConstants(frameIndex)},
-                                  {"gIn_Materials", *materials_},
+                                  {"gIn_Materials", *materialTable_},
                                   {"gIn_Instances", *instances_},
                                   {"gIn_VertexAttributes", *vertexAttributes_},
                                   {"gIn_TextureAtlas", atlas_->pages(), context_.nearestSampler()},

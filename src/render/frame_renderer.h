@@ -13,6 +13,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -105,6 +106,34 @@ class FrameRenderer {
   std::uint32_t height() const { return options_.height; }
   std::size_t triangleCount() const { return triangleCount_; }
 
+  // The material index of the surface that pixel (x, y) of the last
+  // completed frame shows (the low 16 bits of its ids texel), or nullopt for
+  // the background and for a pixel outside the image. Reads that one texel
+  // back (blocking). Precondition: the GPU is idle (FrameLoop::finish()), so
+  // the ids image holds a finished frame.
+  std::optional<std::uint32_t> materialAt(std::uint32_t x, std::uint32_t y);
+
+  // The materials as the renderer draws them: the scene's, with the edits of
+  // setMaterial.
+  const std::vector<scene::Material>& materials() const { return materials_; }
+  // Replaces material `index`'s editable values (base colour factor,
+  // metallic, roughness, emissive factor and strength; name, textures, alpha
+  // mode and the rest stay) and uploads the material table, so every pass
+  // that reads it through sceneBinds() (the G-buffer, direct light, the GI
+  // library's scene bridge, the reference path tracer) draws the new values
+  // from the next recorded frame on. Throws std::out_of_range for an index
+  // past the materials, std::invalid_argument for a value that is not
+  // finite, a base colour, metallic or roughness outside [0, 1], a negative
+  // emissive factor or strength, or an emission above
+  // scene::kMaxLightStrength; nothing changes then.
+  // Precondition: the GPU is idle (FrameLoop::finish()) and no frame is
+  // being recorded: the upload is blocking (submitAndWait) and overwrites
+  // the table frames in flight would read.
+  void setMaterial(std::size_t index, const scene::Material& material);
+  // Goes up by one with every setMaterial, so whoever built something from
+  // materials() (the reference's emissive-triangle list) sees it is stale.
+  std::uint64_t materialRevision() const { return materialRevision_; }
+
   static constexpr std::uint32_t kFramesInFlight = 2;
   static constexpr std::uint32_t kMaxLights = 256;
 
@@ -115,6 +144,7 @@ class FrameRenderer {
     std::unique_ptr<gpu::Buffer> lightsStaging;
   };
   void uploadStatic();
+  void uploadMaterials();
   // Once per renderer: which instances the BVH could not take (their node
   // transforms have no inverse in floats), so they are not silently missing.
   void warnAboutUntraceableInstances(std::span<const scene::Instance> instances);
@@ -128,7 +158,9 @@ class FrameRenderer {
   std::unique_ptr<GpuBvh> gpuBvh_;
   std::unique_ptr<TextureAtlas> atlas_;
   std::unique_ptr<Environment> environment_;
-  std::unique_ptr<gpu::Buffer> materials_, vertexAttributes_, instances_, lights_;
+  std::vector<scene::Material> materials_;
+  std::uint64_t materialRevision_ = 0;
+  std::unique_ptr<gpu::Buffer> materialTable_, vertexAttributes_, instances_, lights_;
   std::array<Slot, kFramesInFlight> slots_;
   std::unique_ptr<gpu::Image> viewZ_, normalRoughness_, geometricNormal_, baseColorMetallic_, emissive_, motion_, ids_,
       direct_;

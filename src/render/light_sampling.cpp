@@ -95,9 +95,14 @@ std::vector<float> EnvironmentDistribution::packed() const {
 
 EmissiveTriangles collectEmissiveTriangles(const scene::Scene& scene, const SceneBvh& bvh,
                                            std::span<const scene::Instance> instances) {
-  std::vector<float> materialPower(scene.materials.size());
-  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-    const scene::Material& material = scene.materials[m];
+  return collectEmissiveTriangles(scene.materials, bvh, instances);
+}
+
+EmissiveTriangles collectEmissiveTriangles(std::span<const scene::Material> materials, const SceneBvh& bvh,
+                                           std::span<const scene::Instance> instances) {
+  std::vector<float> materialPower(materials.size());
+  for (std::size_t m = 0; m < materials.size(); ++m) {
+    const scene::Material& material = materials[m];
     materialPower[m] = std::max(0.0f, shared::luminance(material.emissiveFactor * material.emissiveStrength));
   }
   struct Entry {

@@ -75,5 +75,9 @@ struct EmissiveTriangles {
 // emissiveStrength is positive (an emissive texture only modulates that).
 EmissiveTriangles collectEmissiveTriangles(const scene::Scene& scene, const SceneBvh& bvh,
                                            std::span<const scene::Instance> instances);
+// The same with other values for the scene's materials, one per material
+// (a FrameRenderer's materials() after setMaterial).
+EmissiveTriangles collectEmissiveTriangles(std::span<const scene::Material> materials, const SceneBvh& bvh,
+                                           std::span<const scene::Instance> instances);
 
 }  // namespace bounce::render

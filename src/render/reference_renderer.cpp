@@ -139,7 +139,7 @@ ReferenceRenderer::~ReferenceRenderer() = default;
 // Every emissive triangle where the scene is at `time`, in a new buffer.
 void ReferenceRenderer::uploadEmissiveTriangles(float time) {
   const std::vector<scene::Instance> instances = scene::instancesAt(scene_, time);
-  EmissiveTriangles emissive = collectEmissiveTriangles(scene_, frame_.bvh(), instances);
+  EmissiveTriangles emissive = collectEmissiveTriangles(frame_.materials(), frame_.bvh(), instances);
   emissiveCount_ = emissive.count();
   emissivePower_ = float(emissive.totalPower);
   if (emissive.packed.empty()) emissive.packed.emplace_back(0u);
@@ -149,6 +149,7 @@ void ReferenceRenderer::uploadEmissiveTriangles(float time) {
   gpu::uploadBuffer(context_, *emissiveTriangles_, emissive.packed.data(),
                     emissive.packed.size() * sizeof(glm::uvec4));
   time_ = time;
+  materialRevision_ = frame_.materialRevision();
 }
 
 void ReferenceRenderer::clearSums(gpu::Recorder& recorder) {
@@ -160,9 +161,11 @@ void ReferenceRenderer::clearSums(gpu::Recorder& recorder) {
 }
 
 void ReferenceRenderer::restart(gpu::Recorder& recorder, std::uint64_t frameIndex, float time) {
-  // Lights move only in an animated scene; elsewhere the list made for the
-  // first frame holds for every frame, and nothing needs waiting for.
-  if (scene::isAnimated(scene_) && time != time_) uploadEmissiveTriangles(time);
+  // Lights move only in an animated scene and change only with the
+  // materials; elsewhere the list made for the first frame holds for every
+  // frame, and nothing needs waiting for.
+  if ((scene::isAnimated(scene_) && time != time_) || frame_.materialRevision() != materialRevision_)
+    uploadEmissiveTriangles(time);
   clearSums(recorder);
   sampleBase_ += samples_;
   samples_ = 0;
@@ -183,6 +186,10 @@ std::uint64_t ReferenceRenderer::samplesPerPixel(ReferenceHalf half) const {
 }
 
 std::uint32_t ReferenceRenderer::record(gpu::Recorder& recorder, std::uint32_t samples) {
+  if (frame_.materialRevision() != materialRevision_)
+    throw gpu::GpuError(
+        "reference: the renderer's materials changed (setMaterial) since the reference started; restart() it, so its "
+        "sums and emissive triangles are the new materials'");
   if (samples == 0) return 0;
   const std::uint32_t count = std::min(samples, samplesPerDispatch_);
   const shared::ReferencePathParams params{

@@ -76,7 +76,10 @@ class ReferenceRenderer {
   ~ReferenceRenderer();
 
   // Adds up to `samples` samples per pixel (one dispatch; fewer when
-  // samplesPerDispatch is smaller); returns how many it added.
+  // samplesPerDispatch is smaller); returns how many it added. Throws
+  // gpu::GpuError when the FrameRenderer's materials changed since the
+  // reference (re)started: its sums and light list hold the old ones, so
+  // restart() it first.
   std::uint32_t record(gpu::Recorder& recorder, std::uint32_t samples);
   std::uint64_t samplesPerPixel() const { return samples_; }
   std::uint64_t samplesPerPixel(ReferenceHalf half) const;
@@ -88,9 +91,10 @@ class ReferenceRenderer {
   // the scene at `time`): records the clearing of the sums, and
   // samplesPerPixel() is 0 again. The samples drawn next are numbered on
   // from every sample drawn before, so each frame's noise is independent
-  // of the earlier frames'. In an animated scene the emissive triangles
-  // are made anew for `time` (blocking): the frames that used the old ones
-  // must have completed (FrameLoop::finish()).
+  // of the earlier frames'. In an animated scene, and after
+  // FrameRenderer::setMaterial, the emissive triangles are made anew (for
+  // `time`, from the renderer's materials; blocking): the frames that used
+  // the old ones must have completed (FrameLoop::finish()).
   void restart(gpu::Recorder& recorder, std::uint64_t frameIndex, float time);
   // Records the resolve of the samples so far (as resolve() does) without
   // waiting or reading back: the images below hold them once it has run.
@@ -116,6 +120,7 @@ class ReferenceRenderer {
   const scene::Scene& scene_;
   std::uint64_t frameIndex_;
   float time_;  // the scene time the emissive triangles are placed at
+  std::uint64_t materialRevision_ = 0;  // the FrameRenderer's materialRevision() they were made from
   ReferenceOptions options_;
   std::uint32_t samplesPerDispatch_ = 1;
   std::uint32_t environmentWidth_ = 0, environmentHeight_ = 0;
