@@ -11,6 +11,8 @@ packages=(
   libglm-dev libstb-dev libopenexr-dev libcli11-dev libgtest-dev
   nlohmann-json3-dev libtinygltf-dev zlib1g-dev
   assimp-testmodels  # malformed glTF files the importer tests must refuse cleanly
+  libglfw3-dev libimgui-dev  # bounce view's window and UI
+  xvfb xauth  # an X server without a screen: the viewer's tests under lavapipe
 )
 
 missing=()

@@ -141,6 +141,18 @@ struct RenderOptions {
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options);
 int runRender(const RenderOptions& options);
 
+// bounce view: the interactive viewer (cmd_view.cpp, src/viewer/).
+struct ViewOptions {
+  GpuOptions gpu;
+  SceneOptions view;
+  GiOptions gi;
+  std::string script;  // empty: interactive
+  std::string out = "out";
+  float exposure = 1.0f;
+};
+CLI::App* addViewCommand(CLI::App& app, ViewOptions& options);
+int runView(const ViewOptions& options);
+
 struct ReferenceCommandOptions {
   GpuOptions gpu;
   SceneOptions view;

@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
   SheetOptions sheet;
   DenoiseOptions denoise;
   GhostingOptions ghosting;
+  ViewOptions view;
   CLI::App* infoCommand = addInfoCommand(app, info);
   CLI::App* renderCommand = addRenderCommand(app, render);
   CLI::App* benchCommand = addBenchCommand(app, bench);
@@ -104,6 +105,7 @@ int main(int argc, char** argv) {
   CLI::App* sheetCommand = addSheetCommand(app, sheet);
   CLI::App* denoiseCommand = addDenoiseCommand(app, denoise);
   CLI::App* ghostingCommand = addGhostingCommand(app, ghosting);
+  CLI::App* viewCommand = addViewCommand(app, view);
 
   if (const std::string unknown = unknownCommandMessage(app, argc, argv); !unknown.empty()) {
     std::fprintf(stderr, "bounce: error: %s\n", unknown.c_str());
@@ -137,6 +139,7 @@ int main(int argc, char** argv) {
     if (sheetCommand->parsed()) return runSheet(sheet);
     if (denoiseCommand->parsed()) return runDenoise(denoise);
     if (ghostingCommand->parsed()) return runGhosting(ghosting);
+    if (viewCommand->parsed()) return runView(view);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", e.what());
     // compare's 1 means "differs beyond a threshold"; trouble is 2, as for cmp and diff.

@@ -1,0 +1,71 @@
+// bounce view: the interactive viewer (src/viewer/, docs/viewer.md) for a
+// built-in scene or a glTF file, with the same scene, camera and GI options
+// as bounce render; --script runs it unattended (a list of input events and
+// waits, ending in screenshots).
+#include <cstdio>
+
+#include "app/commands.h"
+#include "app/option_checks.h"
+#include "app/output_files.h"
+#include "viewer/viewer.h"
+
+namespace bounce::app {
+
+CLI::App* addViewCommand(CLI::App& app, ViewOptions& options) {
+  CLI::App* command = app.add_subcommand(
+      "view",
+      "Interactive viewer: the GI frame of a scene in a window, fly camera, live settings and timings, "
+      "material editor (keys: docs/viewer.md, or H in the window)");
+  addGpuOptions(*command, options.gpu);
+  addSceneOptions(*command, options.view);
+  addGiOptions(*command, options.gi, false);
+  command->add_option("--script", options.script,
+                      "Run this script of input events and waits instead of reading the keyboard and mouse, then "
+                      "quit (commands: docs/viewer.md)");
+  command->add_option("--out", options.out, "Folder for screenshots (created if missing)");
+  command->add_option("--exposure", options.exposure, "Exposure multiplier before tonemapping")
+      ->check(finitePositive());
+  return command;
+}
+
+int runView(const ViewOptions& options) {
+  // Before the window opens: a bad script or output folder fails now.
+  std::vector<viewer::ScriptCommand> script;
+  if (!options.script.empty()) script = viewer::loadScript(options.script);
+  checkWritableDirectory(options.out, "--out");
+  const SceneOptions& shot = options.view;
+  const scene::Scene scene = loadScene(shot);
+  const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, shot);
+  const std::vector<scene::CameraFrame> first = checkedCameraFrames(*path, 0, 1, shot);
+
+  viewer::ViewerOptions viewerOptions;
+  viewerOptions.window = {.width = shot.width,
+                          .height = shot.height,
+                          .title = "bounce view - " + scene.name,
+                          .validation = options.gpu.validate,
+                          .deviceIndex = options.gpu.device};
+  viewerOptions.renderer = frameRendererOptions(scene, shot);
+  viewerOptions.camera = first[0].pose;
+  // --gi off starts with GI off; the window can still switch it on, with
+  // both branches.
+  const bool gi = giEnabled(options.gi);
+  GiOptions branches = options.gi;
+  if (!gi) branches.mode = GiOptions{}.mode;
+  viewerOptions.mode = !gi                                ? viewer::GiMode::Off
+                       : options.gi.sceneBridge == "none" ? viewer::GiMode::ScreenOnly
+                                                          : viewer::GiMode::Hybrid;
+  viewerOptions.settings = giSettings(options.gi);
+  GiOptions screenOnly = branches, hybrid = branches;
+  screenOnly.sceneBridge = "none";
+  hybrid.sceneBridge = "bvh";
+  viewerOptions.screenOnly = giContextDesc(shot.width, shot.height, screenOnly);
+  viewerOptions.hybrid = giContextDesc(shot.width, shot.height, hybrid);
+  viewerOptions.script = std::move(script);
+  viewerOptions.scripted = !options.script.empty();
+  viewerOptions.out = options.out;
+  viewerOptions.exposure = options.exposure;
+  viewerOptions.fps = shot.fps;
+  return viewer::runViewer(scene, viewerOptions);
+}
+
+}  // namespace bounce::app

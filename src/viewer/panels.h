@@ -1,0 +1,63 @@
+// bounce view's Dear ImGui panels: the GI settings (every key of the one
+// settings table, gi::settingKeys(), grouped by branch, its type, range,
+// default and description as the tooltip, so the panel cannot drift from
+// --gi.KEY), the GI mode, live timings per pass and memory, the material
+// editor, and the help overlay. The panels edit a copy of the state; the
+// viewer applies what changed after the frame's UI is built.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bounce/gi_settings.h"
+#include "gpu/timing.h"
+#include "scene/scene.h"
+
+namespace bounce::viewer {
+
+enum class GiMode { Off, ScreenOnly, Hybrid };
+const char* giModeName(GiMode mode);  // off, screen-only, hybrid
+
+struct PanelState {
+  GiMode mode = GiMode::Hybrid;
+  gi::Settings settings;
+  std::string settingsMessage;  // the last refused value or file, shown in red; or what was saved
+  char settingsFile[512] = "gi-settings.json";
+  std::optional<std::uint32_t> pickedMaterial;
+  scene::Material material;  // the picked one, as edited
+  std::vector<gpu::PassTiming> timings;
+  double frameMs = 0.0;           // GPU time of the latest frame
+  std::uint64_t memoryBytes = 0;  // device memory in use
+  float exposure = 1.0f;
+  float cameraSpeed = 0.0f;
+  bool paused = false;
+  bool showHelp = false;
+};
+
+// What the user asked for this frame.
+struct PanelActions {
+  bool settingsChanged = false;  // state.settings holds the new settings (valid)
+  bool modeChanged = false;
+  bool materialChanged = false;  // state.material holds the edited values
+  bool loadSettings = false;     // from state.settingsFile
+  bool saveSettings = false;
+  bool screenshot = false;
+};
+
+// Builds this frame's panels (between ImGui::NewFrame and ImGui::Render).
+void drawPanels(PanelState& state, PanelActions& actions);
+
+// The help overlay's lines: key, what it does.
+struct KeyHelp {
+  const char* key;
+  const char* action;
+};
+const std::vector<KeyHelp>& keyHelp();
+
+// The settings as a JSON object of dotted keys, the form
+// gi::applySettingsFile reads back.
+std::string settingsJson(const gi::Settings& settings);
+
+}  // namespace bounce::viewer

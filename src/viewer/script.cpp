@@ -1,0 +1,195 @@
+#include "viewer/script.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace bounce::viewer {
+namespace {
+
+using Kind = ScriptCommand::Kind;
+
+constexpr double kMaxFrames = 100000.0;
+constexpr std::array<std::string_view, 7> kKeys = {"w", "a", "s", "d", "q", "e", "shift"};
+
+struct Syntax {
+  std::string_view name;
+  Kind kind;
+};
+constexpr std::array<Syntax, 12> kCommands = {{{"wait", Kind::Wait},
+                                               {"key", Kind::Key},
+                                               {"look", Kind::Look},
+                                               {"camera", Kind::Camera},
+                                               {"click", Kind::Click},
+                                               {"set", Kind::Set},
+                                               {"gi", Kind::Gi},
+                                               {"material", Kind::Material},
+                                               {"screenshot", Kind::Screenshot},
+                                               {"stages", Kind::Stages},
+                                               {"window", Kind::Window},
+                                               {"quit", Kind::Quit}}};
+
+std::vector<std::string> splitWords(std::string_view line) {
+  std::vector<std::string> words;
+  std::istringstream stream{std::string(line)};
+  for (std::string word; stream >> word;) words.push_back(word);
+  return words;
+}
+
+class LineParser {
+ public:
+  LineParser(const std::string& source, int line, std::vector<std::string> words)
+      : source_(source), line_(line), words_(std::move(words)) {}
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw std::runtime_error(source_ + ":" + std::to_string(line_) + ": " + problem);
+  }
+  void expectArguments(std::size_t count, const char* usage) const {
+    if (words_.size() - 1 != count)
+      fail("'" + words_[0] + "' takes " + std::to_string(count) + " argument" + (count == 1 ? "" : "s") + " (" + usage +
+           "), got " + std::to_string(words_.size() - 1));
+  }
+  double number(std::size_t index, double low, double high) const {
+    const std::string& word = words_[index];
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+    if (error != std::errc() || end != word.data() + word.size() || !std::isfinite(value))
+      fail("'" + word + "' is not a number");
+    if (value < low || value > high) fail(word + " is out of range [" + format(low) + ", " + format(high) + "]");
+    return value;
+  }
+  double count(std::size_t index) const {
+    const double value = number(index, 1.0, kMaxFrames);
+    if (value != std::floor(value)) fail("'" + words_[index] + "' is not a whole number of frames");
+    return value;
+  }
+  const std::vector<std::string>& words() const { return words_; }
+
+ private:
+  static std::string format(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+  }
+  const std::string& source_;
+  int line_;
+  std::vector<std::string> words_;
+};
+
+ScriptCommand parseLine(const LineParser& p, int line) {
+  const std::vector<std::string>& w = p.words();
+  const Syntax* syntax = nullptr;
+  for (const Syntax& s : kCommands)
+    if (s.name == w[0]) syntax = &s;
+  if (!syntax) {
+    std::string known;
+    for (const Syntax& s : kCommands) known += (known.empty() ? "" : ", ") + std::string(s.name);
+    p.fail("unknown command '" + w[0] + "' (known: " + known + ")");
+  }
+  ScriptCommand command;
+  command.kind = syntax->kind;
+  command.line = line;
+  constexpr double kHuge = 1.0e9;
+  switch (syntax->kind) {
+    case Kind::Wait:
+      p.expectArguments(1, "frames");
+      command.numbers = {p.count(1)};
+      break;
+    case Kind::Key:
+      p.expectArguments(2, "key, frames");
+      if (!isScriptKey(w[1])) p.fail("unknown key '" + w[1] + "' (keys: w, a, s, d, q, e, shift)");
+      command.words = {w[1]};
+      command.numbers = {p.count(2)};
+      break;
+    case Kind::Look:
+      p.expectArguments(2, "dx, dy in pixels");
+      command.numbers = {p.number(1, -kHuge, kHuge), p.number(2, -kHuge, kHuge)};
+      break;
+    case Kind::Camera:
+      p.expectArguments(6, "position x y z, target x y z");
+      for (std::size_t i = 1; i <= 6; ++i) command.numbers.push_back(p.number(i, -kHuge, kHuge));
+      if (command.numbers[0] == command.numbers[3] && command.numbers[1] == command.numbers[4] &&
+          command.numbers[2] == command.numbers[5])
+        p.fail("the camera's position and target are the same point");
+      break;
+    case Kind::Click:
+      p.expectArguments(2, "pixel x, y of the frame");
+      command.numbers = {p.number(1, 0.0, kHuge), p.number(2, 0.0, kHuge)};
+      break;
+    case Kind::Set:
+      p.expectArguments(2, "key, value");
+      command.words = {w[1], w[2]};
+      break;
+    case Kind::Gi:
+      p.expectArguments(1, "off, screen-only or hybrid");
+      if (w[1] != "off" && w[1] != "screen-only" && w[1] != "hybrid")
+        p.fail("'gi' takes off, screen-only or hybrid, not '" + w[1] + "'");
+      command.words = {w[1]};
+      break;
+    case Kind::Material: {
+      if (w.size() < 2) p.fail("'material' takes a field (base_color, roughness, metallic, emission) and its value");
+      const std::string& field = w[1];
+      const bool colour = field == "base_color" || field == "emission";
+      if (!colour && field != "roughness" && field != "metallic")
+        p.fail("unknown material field '" + field + "' (base_color, roughness, metallic, emission)");
+      p.expectArguments(colour ? 4 : 2, colour ? "field, r g b" : "field, value");
+      const double high = field == "emission" ? kHuge : 1.0;
+      for (std::size_t i = 2; i < w.size(); ++i) command.numbers.push_back(p.number(i, 0.0, high));
+      command.words = {field};
+      break;
+    }
+    case Kind::Screenshot:
+    case Kind::Stages:
+    case Kind::Window: {
+      p.expectArguments(1, "a file name without folders");
+      const std::string& name = w[1];
+      if (name == "." || name == ".." || name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+        p.fail("'" + name + "' is not a plain file name (no folders; it goes into the --out folder)");
+      command.words = {name};
+      break;
+    }
+    case Kind::Quit:
+      p.expectArguments(0, "none");
+      break;
+  }
+  return command;
+}
+
+}  // namespace
+
+bool isScriptKey(std::string_view name) {
+  for (std::string_view key : kKeys)
+    if (key == name) return true;
+  return false;
+}
+
+std::vector<ScriptCommand> parseScript(std::string_view text, const std::string& source) {
+  std::vector<ScriptCommand> commands;
+  int line = 0;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view content = text.substr(start, end - start);
+    ++line;
+    if (const std::size_t hash = content.find('#'); hash != std::string_view::npos) content = content.substr(0, hash);
+    std::vector<std::string> words = splitWords(content);
+    if (!words.empty()) commands.push_back(parseLine(LineParser(source, line, std::move(words)), line));
+    start = end + 1;
+  }
+  return commands;
+}
+
+std::vector<ScriptCommand> loadScript(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot read the script (no such file, or not readable)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw std::runtime_error(file.string() + ": reading the script failed");
+  return parseScript(text.str(), file.string());
+}
+
+}  // namespace bounce::viewer

@@ -1,0 +1,52 @@
+// bounce view --script FILE: a reproducible run of the viewer, one command a
+// line, run in order, each at the start of a frame ('#' starts a comment):
+//
+//   wait N                  render N frames before the next command
+//   key KEY N               hold KEY (w a s d q e, shift) for N frames
+//   look DX DY              turn the camera as a mouse drag of DX, DY pixels would
+//   camera PX PY PZ TX TY TZ  place the camera at P looking at T (a cut)
+//   click X Y               a left click on pixel (X, Y) of the frame: picks
+//                           the material seen there for the editor
+//   set KEY VALUE           a GI setting, as --gi.KEY VALUE (restarts the GI)
+//   gi MODE                 off, screen-only or hybrid
+//   material FIELD VALUE..  edit the picked material: base_color R G B,
+//                           roughness V, metallic V, emission R G B
+//   screenshot NAME         the frame as OUT/NAME.png and OUT/NAME.exr (HDR)
+//   stages NAME             every stage of the next frame to OUT/NAME-stages/
+//   window NAME             what the window shows (frame and panels) as OUT/NAME.png
+//   quit                    close the viewer (the end of the file does too)
+//
+// The same actions the window's keys, mouse and panels take: a script is a
+// user's session written down.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace bounce::viewer {
+
+struct ScriptCommand {
+  enum class Kind { Wait, Key, Look, Camera, Click, Set, Gi, Material, Screenshot, Stages, Window, Quit };
+  Kind kind = Kind::Wait;
+  int line = 0;  // in the file, for messages
+  std::vector<std::string>
+      words;                    // the arguments as written (Set, Gi, Material, Screenshot, Stages, Window, Key's name)
+  std::vector<double> numbers;  // the numeric arguments (Wait, Key's frames, Look, Camera, Click, Material's values)
+};
+
+// Parses a script's text; `source` names it in errors. Throws
+// std::runtime_error "SOURCE:LINE: PROBLEM" for an unknown command, a wrong
+// number of arguments, a number that is not one (or not finite, or out of
+// range: frames 1..100000, pixels >= 0), an unknown key or material field,
+// or a screenshot name that is not a plain file name (no folders, no '..').
+std::vector<ScriptCommand> parseScript(std::string_view text, const std::string& source);
+// Reads and parses a file; a missing or unreadable file is an error naming it.
+std::vector<ScriptCommand> loadScript(const std::filesystem::path& file);
+
+// The keys `key` takes, as their names in scripts.
+bool isScriptKey(std::string_view name);
+
+}  // namespace bounce::viewer

@@ -1,0 +1,96 @@
+// bounce view's window: a GLFW window, the Vulkan context made for it (the
+// surface extensions, VK_KHR_swapchain, a queue family that presents to
+// it), and what puts a frame on it: the swapchain, the blit of the
+// rendered frame and Dear ImGui's draw lists on top. The GI library runs on
+// this same device through its engine-device path (render::GiBridge).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/context.h"
+#include "gpu/resources.h"
+
+struct GLFWwindow;
+struct ImDrawData;
+
+namespace bounce::viewer {
+
+struct WindowOptions {
+  std::uint32_t width = 960;  // the window's client area at start (it may be resized)
+  std::uint32_t height = 540;
+  std::string title = "bounce view";
+  bool validation = false;
+  std::optional<int> deviceIndex;
+};
+
+class Window {
+ public:
+  // Throws std::runtime_error when there is no display (DISPLAY unset, no
+  // X server) or GLFW cannot make a Vulkan window, gpu::GpuError when no
+  // device can present to it.
+  explicit Window(const WindowOptions& options);
+  ~Window();
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
+
+  gpu::Context& context() { return *context_; }
+  GLFWwindow* handle() { return window_; }
+  bool closeRequested() const;
+  void setTitle(const std::string& title);
+  // The client area in pixels (the swapchain's size).
+  VkExtent2D extent() const { return extent_; }
+
+  // Puts `frame` (the display image: rgba8, handed over in
+  // TRANSFER_SRC_OPTIMAL for the blit, Recorder::handOver) on the window,
+  // scaled to fill it, with the UI's draw lists on top, and presents. The
+  // frame's own command buffer must have been submitted before (the blit
+  // follows it in queue order). Waits only when both of its own command
+  // buffers are still in flight.
+  void present(gpu::Image& frame, ImDrawData* ui);
+  // Waits for every present submission.
+  void waitIdle();
+  // The next present() also writes what the window shows (the frame and
+  // the UI over it) to `png`. Throws when the swapchain cannot be copied
+  // from (VK_IMAGE_USAGE_TRANSFER_SRC_BIT not offered).
+  void captureNextPresent(const std::filesystem::path& png);
+
+ private:
+  void release();
+  void createSwapchain();
+  void destroySwapchain();
+  void initialiseImGui();
+
+  GLFWwindow* window_ = nullptr;
+  std::unique_ptr<gpu::Context> context_;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+  VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
+  VkFormat format_ = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent_{};
+  std::vector<VkImage> images_;
+  std::vector<VkImageView> views_;
+  std::vector<VkFramebuffer> framebuffers_;
+  std::vector<VkSemaphore> renderFinished_;  // one per swapchain image
+  VkRenderPass renderPass_ = VK_NULL_HANDLE;
+  VkDescriptorPool imguiPool_ = VK_NULL_HANDLE;
+  VkCommandPool commandPool_ = VK_NULL_HANDLE;
+  struct Slot {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    VkSemaphore acquired = VK_NULL_HANDLE;
+  };
+  std::vector<Slot> slots_;
+  std::uint64_t presented_ = 0;
+  bool canCapture_ = false;            // the swapchain's images can be copied from
+  std::filesystem::path capturePath_;  // non-empty: the next present writes it
+  bool imguiReady_ = false;
+  bool glfwReady_ = false;
+};
+
+}  // namespace bounce::viewer

@@ -1,0 +1,147 @@
+// bounce view's parts that need no window: the script parser, the fly
+// camera, the settings file the panel saves.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include <glm/glm.hpp>
+
+#include "bounce/gi_settings.h"
+#include "viewer/fly_camera.h"
+#include "viewer/panels.h"
+#include "viewer/script.h"
+
+namespace {
+
+using bounce::viewer::parseScript;
+using Kind = bounce::viewer::ScriptCommand::Kind;
+
+std::string errorOf(const std::string& text) {
+  try {
+    parseScript(text, "s.txt");
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(ViewerScript, ParsesEveryCommandWithItsLineAndArguments) {
+  const auto commands = parseScript(
+      "# a session\n"
+      "wait 8\n"
+      "\n"
+      "key w 3   # forward\n"
+      "look -10 2.5\n"
+      "camera 0 1 5 0 1 0\n"
+      "click 20 27\n"
+      "set diffuse.spatial_radius 12\n"
+      "gi screen-only\n"
+      "material base_color 0.9 0.2 0.2\n"
+      "material roughness 0.3\n"
+      "screenshot after\n"
+      "stages all\n"
+      "window shot\n"
+      "quit\n",
+      "s.txt");
+  ASSERT_EQ(commands.size(), 13u);
+  EXPECT_EQ(commands[0].kind, Kind::Wait);
+  EXPECT_EQ(commands[0].numbers, std::vector<double>{8.0});
+  EXPECT_EQ(commands[1].kind, Kind::Key);
+  EXPECT_EQ(commands[1].line, 4);
+  EXPECT_EQ(commands[1].words, std::vector<std::string>{"w"});
+  EXPECT_EQ(commands[2].numbers, (std::vector<double>{-10.0, 2.5}));
+  EXPECT_EQ(commands[3].numbers.size(), 6u);
+  EXPECT_EQ(commands[4].numbers, (std::vector<double>{20.0, 27.0}));
+  EXPECT_EQ(commands[5].words, (std::vector<std::string>{"diffuse.spatial_radius", "12"}));
+  EXPECT_EQ(commands[6].words, std::vector<std::string>{"screen-only"});
+  EXPECT_EQ(commands[7].words, std::vector<std::string>{"base_color"});
+  EXPECT_EQ(commands[7].numbers, (std::vector<double>{0.9, 0.2, 0.2}));
+  EXPECT_EQ(commands[8].numbers, std::vector<double>{0.3});
+  EXPECT_EQ(commands[9].kind, Kind::Screenshot);
+  EXPECT_EQ(commands[10].kind, Kind::Stages);
+  EXPECT_EQ(commands[11].kind, Kind::Window);
+  EXPECT_EQ(commands[12].kind, Kind::Quit);
+  EXPECT_EQ(commands[12].line, 15);
+}
+
+TEST(ViewerScript, MistakesNameTheFileLineAndProblem) {
+  EXPECT_EQ(errorOf("wait 2\njump 3\n").rfind("s.txt:2: unknown command 'jump'", 0), 0u) << errorOf("jump 3");
+  EXPECT_NE(errorOf("wait\n").find("s.txt:1: 'wait' takes 1 argument"), std::string::npos);
+  EXPECT_NE(errorOf("wait 0\n").find("out of range"), std::string::npos);
+  EXPECT_NE(errorOf("wait 2.5\n").find("not a whole number"), std::string::npos);
+  EXPECT_NE(errorOf("wait nan\n").find("not a number"), std::string::npos);
+  EXPECT_NE(errorOf("key x 3\n").find("unknown key 'x'"), std::string::npos);
+  EXPECT_NE(errorOf("click -1 4\n").find("out of range"), std::string::npos);
+  EXPECT_NE(errorOf("material shininess 3\n").find("unknown material field"), std::string::npos);
+  EXPECT_NE(errorOf("material roughness 1.5\n").find("out of range"), std::string::npos);
+  EXPECT_NE(errorOf("material base_color 1 0\n").find("takes 4 arguments"), std::string::npos);
+  EXPECT_NE(errorOf("gi sideways\n").find("off, screen-only or hybrid"), std::string::npos);
+  EXPECT_NE(errorOf("screenshot ../x\n").find("not a plain file name"), std::string::npos);
+  EXPECT_NE(errorOf("screenshot a/b\n").find("not a plain file name"), std::string::npos);
+  EXPECT_NE(errorOf("camera 1 2 3 1 2 3\n").find("same point"), std::string::npos);
+  EXPECT_EQ(errorOf("# only a comment\n\n   \n"), "");
+}
+
+TEST(ViewerScript, AMissingFileIsAnErrorNamingIt) {
+  try {
+    bounce::viewer::loadScript("/nonexistent/bounce-script.txt");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("/nonexistent/bounce-script.txt"), std::string::npos);
+  }
+}
+
+TEST(ViewerFlyCamera, KeysMoveAlongTheViewAndTheMouseTurnsWithoutRolling) {
+  bounce::scene::CameraPose pose;
+  pose.position = {0.0f, 1.0f, 5.0f};
+  pose.target = {0.0f, 1.0f, 0.0f};
+  bounce::viewer::FlyCamera camera(pose, 20.0f);
+  EXPECT_FLOAT_EQ(camera.speed(), 2.0f);  // a tenth of the scene a second
+  bounce::viewer::FlyInput forward;
+  forward.forward = true;
+  EXPECT_TRUE(camera.update(forward, 0.5f));
+  EXPECT_NEAR(camera.pose().position.z, 4.0f, 1e-5f);
+  EXPECT_NEAR(camera.pose().position.y, 1.0f, 1e-5f);
+  forward.fast = true;
+  camera.update(forward, 0.5f);
+  EXPECT_NEAR(camera.pose().position.z, 0.0f, 1e-5f);  // shift: 4x
+
+  bounce::viewer::FlyInput turn;
+  turn.turnPixels = {-100.0f, 0.0f};  // a drag to the left turns left (towards -x)
+  camera.update(turn, 0.0f);
+  const glm::vec3 look = camera.pose().target - camera.pose().position;
+  EXPECT_NEAR(glm::length(look), 1.0f, 1e-5f);
+  EXPECT_NEAR(look.y, 0.0f, 1e-5f);
+  EXPECT_LT(look.x, -0.2f);
+  // Pitch stops short of straight up, whatever the drag.
+  turn.turnPixels = {0.0f, -1.0e6f};
+  camera.update(turn, 0.0f);
+  const glm::vec3 up = glm::normalize(camera.pose().target - camera.pose().position);
+  EXPECT_GT(up.y, 0.99f);
+  EXPECT_LT(up.y, 1.0f);
+  bounce::viewer::FlyInput wheel;
+  wheel.wheel = 2.0f;
+  camera.update(wheel, 0.0f);
+  EXPECT_NEAR(camera.speed(), 2.0f * 1.44f, 1e-4f);
+}
+
+TEST(ViewerPanels, SavedSettingsLoadBackToTheSameSettings) {
+  bounce::gi::Settings edited;
+  bounce::gi::applySetting(edited, "diffuse.spatial_radius", "12");
+  bounce::gi::applySetting(edited, "denoise.enabled", "off");
+  bounce::gi::applySetting(edited, "restir", "off");
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / ("bounce_viewer_settings_" + std::to_string(::getpid()) + ".json");
+  std::ofstream(file) << bounce::viewer::settingsJson(edited);
+  bounce::gi::Settings loaded;
+  bounce::gi::applySettingsFile(loaded, file);
+  std::filesystem::remove(file);
+  for (const bounce::gi::SettingInfo& info : bounce::gi::settingKeys())
+    EXPECT_EQ(bounce::gi::settingValue(loaded, info.key), bounce::gi::settingValue(edited, info.key)) << info.key;
+}
+
+}  // namespace
