@@ -13,6 +13,8 @@
 
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "io/image_io.h"
 #include "process.h"
 
@@ -119,6 +121,71 @@ TEST(Viewer, AScriptedSessionMatchesOfflineRendersOfTheSameSettingsAndMaterial) 
   const bounce::io::ImageF window = bounce::io::readImage(dir / "view" / "panels.png");
   EXPECT_EQ(window.width, 64);
   EXPECT_EQ(window.height, 48);
+  fs::remove_all(dir);
+}
+
+// A line of the viewer's output that starts with `prefix`, or "".
+std::string lineStartingWith(const std::string& output, const std::string& prefix) {
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind(prefix, 0) == 0) return line;
+  return "";
+}
+
+TEST(Viewer, TheSplitReferenceStageViewInspectorAndGltfSaveWork) {
+  ASSERT_TRUE(fs::exists(kXvfbRun)) << "xvfb-run is missing: scripts/install-deps.sh installs xvfb";
+  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_view_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path script = dir / "session.txt";
+  std::ofstream(script) << "wait 2\n"
+                           "split reference   # the error readout comes at 4 and 8 samples per pixel\n"
+                           "wait 8\n"
+                           "inspect 32 30\n"
+                           "panels off\n"
+                           "stage render.normal\n"
+                           "wait 1\n"
+                           "window normals\n"
+                           "click 32 12\n"
+                           "material roughness 0.2\n"
+                           "save-gltf edited.gltf\n";
+  const bounce::testing::ProcessResult r =
+      bounceInWindow({"view", "cornell", "--script", script.string(), "--out", (dir / "view").string(), "--validate",
+                      "--width", "64", "--height", "48"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("alidation"), std::string::npos) << r.output;
+
+  // The GI frame against the reference: closer as the reference's noise falls.
+  const auto relMseAt = [&](const std::string& spp) {
+    const std::string line = lineStartingWith(r.output, "against the reference (" + spp + " spp): relMSE ");
+    EXPECT_FALSE(line.empty()) << r.output;
+    return line.empty() ? 0.0 : std::stod(line.substr(line.find("relMSE ") + 7));
+  };
+  EXPECT_LT(relMseAt("8"), relMseAt("4"));
+  EXPECT_GT(relMseAt("8"), 0.0);
+
+  // The inspector reads the renderer's images at the pixel: the back wall,
+  // white (cornell white's 0.73), facing the camera, a few units away.
+  const std::string depth = lineStartingWith(r.output, "inspect (32, 30) render.viewZ: ");
+  ASSERT_FALSE(depth.empty()) << r.output;
+  const double viewZ = std::stod(depth.substr(depth.find(": ") + 2));
+  EXPECT_GT(viewZ, 1.0);
+  EXPECT_LT(viewZ, 100.0);
+  EXPECT_NE(lineStartingWith(r.output, "inspect (32, 30) render.albedo: 0.729412 0.729412 0.729412"), "") << r.output;
+  EXPECT_NE(lineStartingWith(r.output, "inspect (32, 30) gi.composite"), "") << r.output;
+
+  // The stage view shows the normals in the dumps' false colour (x 0.5 + 0.5):
+  // the back wall faces +z, so the window is blue there.
+  const bounce::io::ImageF window = bounce::io::readImage(dir / "view" / "normals.png");
+  const float* centre = &window.pixels[(std::size_t(24) * std::size_t(window.width) + 32) * window.channelCount()];
+  EXPECT_GT(centre[2], centre[0] + 0.2f);
+  EXPECT_GT(centre[2], centre[1] + 0.2f);
+
+  // The saved glTF holds the edit.
+  std::ifstream gltf(dir / "view" / "edited.gltf");
+  ASSERT_TRUE(gltf) << r.output;
+  const nlohmann::json document = nlohmann::json::parse(gltf);
+  EXPECT_FLOAT_EQ(document["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"].get<float>(), 0.2f);
   fs::remove_all(dir);
 }
 

@@ -68,6 +68,25 @@ TEST(ViewerScript, ParsesEveryCommandWithItsLineAndArguments) {
   EXPECT_EQ(commands[12].line, 15);
 }
 
+TEST(ViewerScript, ParsesTheViewCommands) {
+  const auto commands = parseScript(
+      "split reference\nmeasure\nstage render.normal\ninspect 3 4\nsave-gltf edited.glb\npanels off\n", "s.txt");
+  ASSERT_EQ(commands.size(), 6u);
+  EXPECT_EQ(commands[0].kind, Kind::Split);
+  EXPECT_EQ(commands[0].words, std::vector<std::string>{"reference"});
+  EXPECT_EQ(commands[1].kind, Kind::Measure);
+  EXPECT_EQ(commands[2].words, std::vector<std::string>{"render.normal"});
+  EXPECT_EQ(commands[3].kind, Kind::Inspect);
+  EXPECT_EQ(commands[3].numbers, (std::vector<double>{3.0, 4.0}));
+  EXPECT_EQ(commands[4].words, std::vector<std::string>{"edited.glb"});
+  EXPECT_EQ(commands[5].words, std::vector<std::string>{"off"});
+  EXPECT_NE(errorOf("split left\n").find("none, gi-off or reference"), std::string::npos);
+  EXPECT_NE(errorOf("save-gltf edited.obj\n").find("ending in .gltf or .glb"), std::string::npos);
+  EXPECT_NE(errorOf("save-gltf ../x.gltf\n").find("plain file name"), std::string::npos);
+  EXPECT_NE(errorOf("panels maybe\n").find("on or off"), std::string::npos);
+  EXPECT_NE(errorOf("measure now\n").find("takes 0 arguments"), std::string::npos);
+}
+
 TEST(ViewerScript, MistakesNameTheFileLineAndProblem) {
   EXPECT_EQ(errorOf("wait 2\njump 3\n").rfind("s.txt:2: unknown command 'jump'", 0), 0u) << errorOf("jump 3");
   EXPECT_NE(errorOf("wait\n").find("s.txt:1: 'wait' takes 1 argument"), std::string::npos);

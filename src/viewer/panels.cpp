@@ -148,7 +148,48 @@ void timingsPanel(const PanelState& state) {
   }
 }
 
+void viewPanel(PanelState& state, PanelActions& actions) {
+  const char* current = state.stageNames.empty() ? "final" : state.stageNames[std::size_t(state.stage)].c_str();
+  if (ImGui::BeginCombo("image", current)) {
+    for (std::size_t i = 0; i < state.stageNames.size(); ++i)
+      if (ImGui::Selectable(state.stageNames[i].c_str(), int(i) == state.stage)) {
+        state.stage = int(i);
+        actions.viewChanged = true;
+      }
+    ImGui::EndCombo();
+  }
+  int split = int(state.split);
+  ImGui::TextUnformatted("right half");
+  for (SplitMode m : {SplitMode::None, SplitMode::GiOff, SplitMode::Reference}) {
+    ImGui::SameLine();
+    if (ImGui::RadioButton(splitModeName(m), &split, int(m))) actions.viewChanged = true;
+  }
+  state.split = SplitMode(split);
+  if (state.split == SplitMode::Reference) {
+    ImGui::Text("reference: %llu spp (accumulates while the camera is still)",
+                static_cast<unsigned long long>(state.referenceSpp));
+    if (state.relMse && state.flip)
+      ImGui::Text("GI frame against it: relMSE %.4g, HDR-FLIP %.4g", *state.relMse, *state.flip);
+    if (ImGui::Button("measure now")) actions.measure = true;
+  }
+  ImGui::Checkbox("pixel inspector", &state.inspector);
+  if (state.inspector && state.inspectedPixel) {
+    ImGui::Text("pixel (%u, %u)", state.inspectedPixel->x, state.inspectedPixel->y);
+    for (const InspectedValue& v : state.inspected) {
+      if (v.channels == 1)
+        ImGui::Text("%-40s %.5g", v.image.c_str(), double(v.value.x));
+      else
+        ImGui::Text("%-40s %.4g %.4g %.4g %.4g", v.image.c_str(), double(v.value.x), double(v.value.y),
+                    double(v.value.z), double(v.value.w));
+    }
+  }
+}
+
 void materialPanel(PanelState& state, PanelActions& actions) {
+  ImGui::InputText("glTF", state.gltfFile, sizeof state.gltfFile);
+  ImGui::SameLine();
+  if (ImGui::Button("save")) actions.saveGltf = true;
+  if (!state.materialMessage.empty()) ImGui::TextWrapped("%s", state.materialMessage.c_str());
   if (!state.pickedMaterial) {
     ImGui::TextWrapped("Click a surface (left button) to edit its material.");
     return;
@@ -185,6 +226,18 @@ const char* giModeName(GiMode mode) {
   return "hybrid";
 }
 
+const char* splitModeName(SplitMode mode) {
+  switch (mode) {
+    case SplitMode::None:
+      return "none";
+    case SplitMode::GiOff:
+      return "gi-off";
+    case SplitMode::Reference:
+      break;
+  }
+  return "reference";
+}
+
 const std::vector<KeyHelp>& keyHelp() {
   static const std::vector<KeyHelp> keys = {
       {"W A S D", "move forward, left, back, right"},
@@ -197,21 +250,26 @@ const std::vector<KeyHelp>& keyHelp() {
       {"N", "one frame while paused"},
       {"F12", "screenshot: PNG + EXR of the frame (shift: every stage too)"},
       {"H", "this help"},
+      {"U", "hide / show the panels"},
       {"Esc", "quit"},
   };
   return keys;
 }
 
 void drawPanels(PanelState& state, PanelActions& actions) {
+  if (state.hidden) return;
   ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(380.0f, 520.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(330.0f, 430.0f), ImGuiCond_FirstUseEver);
+  // See-through, so the frame under the panels still shows.
+  ImGui::SetNextWindowBgAlpha(0.7f);
   if (ImGui::Begin("bounce")) {
     ImGui::SliderFloat("exposure", &state.exposure, 0.05f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
     ImGui::Text("camera speed %.3g / s%s", double(state.cameraSpeed), state.paused ? "   (paused)" : "");
     if (ImGui::Button("screenshot (F12)")) actions.screenshot = true;
-    if (ImGui::CollapsingHeader("GI settings", ImGuiTreeNodeFlags_DefaultOpen)) settingsPanel(state, actions);
+    if (ImGui::CollapsingHeader("GI settings")) settingsPanel(state, actions);
+    if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen)) viewPanel(state, actions);
     if (ImGui::CollapsingHeader("timings", ImGuiTreeNodeFlags_DefaultOpen)) timingsPanel(state);
-    if (ImGui::CollapsingHeader("material", ImGuiTreeNodeFlags_DefaultOpen)) materialPanel(state, actions);
+    if (ImGui::CollapsingHeader("material")) materialPanel(state, actions);
   }
   ImGui::End();
   if (state.showHelp) {

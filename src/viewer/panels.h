@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
 #include "bounce/gi_settings.h"
+
 #include "gpu/timing.h"
 #include "scene/scene.h"
 
@@ -19,6 +21,17 @@ namespace bounce::viewer {
 
 enum class GiMode { Off, ScreenOnly, Hybrid };
 const char* giModeName(GiMode mode);  // off, screen-only, hybrid
+
+// What the right half of the window shows beside the GI frame.
+enum class SplitMode { None, GiOff, Reference };
+const char* splitModeName(SplitMode mode);  // none, gi-off, reference
+
+// One image's value at the inspected pixel.
+struct InspectedValue {
+  std::string image;
+  glm::vec4 value;
+  std::uint32_t channels;
+};
 
 struct PanelState {
   GiMode mode = GiMode::Hybrid;
@@ -34,6 +47,21 @@ struct PanelState {
   float cameraSpeed = 0.0f;
   bool paused = false;
   bool showHelp = false;
+  bool hidden = false;  // no panels: the frame alone (U, or a script's 'panels off')
+  // The view: which image fills the window ("final" or a stage's name,
+  // false colour as --dump-stages writes it), the split screen, the
+  // reference's samples and the GI frame's error against it.
+  std::vector<std::string> stageNames;
+  int stage = 0;
+  SplitMode split = SplitMode::None;
+  std::uint64_t referenceSpp = 0;
+  std::optional<double> relMse, flip;
+  // The pixel inspector: every image's value under the cursor.
+  bool inspector = false;
+  std::optional<glm::uvec2> inspectedPixel;
+  std::vector<InspectedValue> inspected;
+  char gltfFile[512] = "edited.gltf";
+  std::string materialMessage;  // what the last save did
 };
 
 // What the user asked for this frame.
@@ -44,6 +72,9 @@ struct PanelActions {
   bool loadSettings = false;     // from state.settingsFile
   bool saveSettings = false;
   bool screenshot = false;
+  bool viewChanged = false;  // stage or split
+  bool measure = false;      // compare the GI frame with the reference now
+  bool saveGltf = false;     // the scene with the edited materials, to state.gltfFile
 };
 
 // Builds this frame's panels (between ImGui::NewFrame and ImGui::Render).

@@ -19,7 +19,7 @@ struct Syntax {
   std::string_view name;
   Kind kind;
 };
-constexpr std::array<Syntax, 12> kCommands = {{{"wait", Kind::Wait},
+constexpr std::array<Syntax, 18> kCommands = {{{"wait", Kind::Wait},
                                                {"key", Kind::Key},
                                                {"look", Kind::Look},
                                                {"camera", Kind::Camera},
@@ -30,6 +30,12 @@ constexpr std::array<Syntax, 12> kCommands = {{{"wait", Kind::Wait},
                                                {"screenshot", Kind::Screenshot},
                                                {"stages", Kind::Stages},
                                                {"window", Kind::Window},
+                                               {"split", Kind::Split},
+                                               {"panels", Kind::Panels},
+                                               {"measure", Kind::Measure},
+                                               {"stage", Kind::Stage},
+                                               {"inspect", Kind::Inspect},
+                                               {"save-gltf", Kind::SaveGltf},
                                                {"quit", Kind::Quit}}};
 
 std::vector<std::string> splitWords(std::string_view line) {
@@ -116,6 +122,7 @@ ScriptCommand parseLine(const LineParser& p, int line) {
         p.fail("the camera's position and target are the same point");
       break;
     case Kind::Click:
+    case Kind::Inspect:
       p.expectArguments(2, "pixel x, y of the frame");
       command.numbers = {p.number(1, 0.0, kHuge), p.number(2, 0.0, kHuge)};
       break;
@@ -151,6 +158,31 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       command.words = {name};
       break;
     }
+    case Kind::Split:
+      p.expectArguments(1, "none, gi-off or reference");
+      if (w[1] != "none" && w[1] != "gi-off" && w[1] != "reference")
+        p.fail("'split' takes none, gi-off or reference, not '" + w[1] + "'");
+      command.words = {w[1]};
+      break;
+    case Kind::Panels:
+      p.expectArguments(1, "on or off");
+      if (w[1] != "on" && w[1] != "off") p.fail("'panels' takes on or off, not '" + w[1] + "'");
+      command.words = {w[1]};
+      break;
+    case Kind::Stage:
+      p.expectArguments(1, "an image's name, or final");
+      command.words = {w[1]};
+      break;
+    case Kind::SaveGltf: {
+      p.expectArguments(1, "a file name ending in .gltf or .glb, without folders");
+      const std::string& name = w[1];
+      const bool gltf = name.size() > 5 && (name.ends_with(".gltf") || name.ends_with(".glb"));
+      if (!gltf || name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+        p.fail("'" + name + "' is not a plain file name ending in .gltf or .glb");
+      command.words = {name};
+      break;
+    }
+    case Kind::Measure:
     case Kind::Quit:
       p.expectArguments(0, "none");
       break;

@@ -14,6 +14,12 @@
 //   screenshot NAME         the frame as OUT/NAME.png and OUT/NAME.exr (HDR)
 //   stages NAME             every stage of the next frame to OUT/NAME-stages/
 //   window NAME             what the window shows (frame and panels) as OUT/NAME.png
+//   panels on|off           show or hide the panels (the window shows the frame alone)
+//   split MODE              the right half: none, gi-off, or reference (progressive path tracing)
+//   measure                 print the GI frame's relMSE and HDR-FLIP against the reference
+//   stage NAME              show that image (a stage's, as --dump-stages names it; final: the frame)
+//   inspect X Y             print every image's value at pixel (X, Y)
+//   save-gltf NAME          the scene with the edited materials as OUT/NAME (.gltf or .glb)
 //   quit                    close the viewer (the end of the file does too)
 //
 // The same actions the window's keys, mouse and panels take: a script is a
@@ -29,7 +35,26 @@
 namespace bounce::viewer {
 
 struct ScriptCommand {
-  enum class Kind { Wait, Key, Look, Camera, Click, Set, Gi, Material, Screenshot, Stages, Window, Quit };
+  enum class Kind {
+    Wait,
+    Key,
+    Look,
+    Camera,
+    Click,
+    Set,
+    Gi,
+    Material,
+    Screenshot,
+    Stages,
+    Window,
+    Split,
+    Panels,
+    Measure,
+    Stage,
+    Inspect,
+    SaveGltf,
+    Quit
+  };
   Kind kind = Kind::Wait;
   int line = 0;  // in the file, for messages
   std::vector<std::string>

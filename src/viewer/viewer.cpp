@@ -19,7 +19,10 @@
 #include "gpuio/gpu_images.h"
 #include "gpuio/stage_dump.h"
 #include "io/image_io.h"
+#include "metrics/image_metrics.h"
 #include "render/gi_bridge.h"
+#include "render/reference_renderer.h"
+#include "scene/gltf_export.h"
 #include "viewer/fly_camera.h"
 #include "viewer/viewer_shaders.h"
 
@@ -32,7 +35,20 @@ struct DisplayParams {
   std::uint32_t width;
   std::uint32_t height;
   float exposure;
+  std::uint32_t splitColumn;
 };
+
+// Samples per pixel the progressive reference adds each frame: few enough
+// that the window stays interactive on a CPU device.
+constexpr std::uint32_t kReferenceSamplesPerFrame = 1;
+
+// Bytes each inspected image's texel gets in the readback buffer: a
+// multiple of every texel size, as copies to buffers need.
+constexpr VkDeviceSize kInspectStride = 16;
+
+bool samePose(const scene::CameraPose& a, const scene::CameraPose& b) {
+  return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
+}
 
 gpu::PassDesc displayPassDesc() {
   return gpu::PassDesc{.name = "viewer.display",
@@ -40,9 +56,12 @@ gpu::PassDesc displayPassDesc() {
                        .shaders = viewer::shaders(),
                        .resources = {{"gIn_Frame", gpu::Access::Read, VK_FORMAT_UNDEFINED,
                                       "the frame: linear HDR radiance", gpu::ResourceKind::SampledImage},
+                                     {"gIn_Right", gpu::Access::Read, VK_FORMAT_UNDEFINED,
+                                      "split screen: the right half's image (GI off, or the reference)",
+                                      gpu::ResourceKind::SampledImage},
                                      {"gOut_Display", gpu::Access::Write, gpu::formats::kRgba8,
                                       "tonemapped, sRGB-encoded: what the window shows"}},
-                       .constants = {BOUNCE_CONSTANTS_LAYOUT("", DisplayParams, width, height, exposure)}};
+                       .constants = {BOUNCE_CONSTANTS_LAYOUT("", DisplayParams, width, height, exposure, splitColumn)}};
 }
 
 // The viewer's state between frames.
@@ -85,6 +104,18 @@ class Session {
   void pick(std::uint32_t x, std::uint32_t y);
   void editMaterial(const scene::Material& material);
   void screenshot(const std::string& name);
+  struct NamedImage {
+    std::string name;
+    gpu::Image* image;
+  };
+  // Every image a user may look at: the renderer's (render.NAME) and the GI library's.
+  std::vector<NamedImage> namedImages();
+  void refreshStageNames();
+  void showStage();
+  void inspect(std::uint32_t x, std::uint32_t y);
+  void measure();
+  void saveGltf(const fs::path& file);
+  void setSplit(SplitMode split);
   void writeStages(const std::string& name);
   void updateTitle();
   [[noreturn]] void scriptFailure(const ScriptCommand& command, const std::string& problem) const {
@@ -117,6 +148,14 @@ class Session {
   std::chrono::steady_clock::time_point lastFrame_ = std::chrono::steady_clock::now();
   glm::dvec2 lastCursor_{0.0};
   bool dragging_ = false;
+  // The progressive reference of the split screen, and what it was started for.
+  std::unique_ptr<render::ReferenceRenderer> reference_;
+  scene::CameraPose referencePose_;
+  std::uint64_t referenceRevision_ = 0;
+  bool referenceStale_ = true;
+  float referenceTime_ = 0.0f;  // the scene stands still at this time while the reference shows
+  std::uint64_t measuredAtSpp_ = 0;
+  std::unique_ptr<gpu::Buffer> inspectBuffer_;
 };
 
 void Session::makeGi() {
@@ -126,6 +165,119 @@ void Session::makeGi() {
     gi_ = std::make_unique<render::GiBridge>(
         context_, panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly, panels_.settings);
   cut_ = true;  // a new library has no history
+  refreshStageNames();
+}
+
+std::vector<Session::NamedImage> Session::namedImages() {
+  std::vector<NamedImage> all;
+  for (const render::Aov& aov : renderer_.aovs()) all.push_back({"render." + aov.name, aov.image});
+  if (gi_)
+    for (const render::GiBridge::Named& named : gi_->images()) all.push_back({named.name, named.image});
+  return all;
+}
+
+void Session::refreshStageNames() {
+  const std::string shown = panels_.stageNames.empty() ? "final" : panels_.stageNames[std::size_t(panels_.stage)];
+  panels_.stageNames = {"final"};
+  for (const NamedImage& named : namedImages()) panels_.stageNames.push_back(named.name);
+  const auto at = std::find(panels_.stageNames.begin(), panels_.stageNames.end(), shown);
+  panels_.stage = at == panels_.stageNames.end() ? 0 : int(at - panels_.stageNames.begin());
+}
+
+void Session::showStage() {
+  const std::string& name = panels_.stageNames[std::size_t(panels_.stage)];
+  gpu::Image* image = nullptr;
+  for (const NamedImage& named : namedImages())
+    if (named.name == name) image = named.image;
+  if (!image) {
+    panels_.stage = 0;  // the image went with the GI (turned off)
+    return;
+  }
+  loop_.finish();
+  const io::ImageF pixels = gpuio::readbackImage(context_, *image);
+  const gpuio::VisualizedImage shown = gpuio::visualize(pixels, image->desc().visualize);
+  const io::ImageF display = io::toDisplay(shown.image, shown.encoding, panels_.exposure);
+  // Half- and tile-resolution images fill the window too (nearest texel).
+  io::ImageF rgba(int(display_.width()), int(display_.height()), {"R", "G", "B", "A"});
+  for (std::uint32_t y = 0; y < display_.height(); ++y)
+    for (std::uint32_t x = 0; x < display_.width(); ++x) {
+      const std::size_t sx = std::size_t(x) * std::size_t(display.width) / display_.width();
+      const std::size_t sy = std::size_t(y) * std::size_t(display.height) / display_.height();
+      const float* in = &display.pixels[(sy * std::size_t(display.width) + sx) * 3];
+      float* out = &rgba.pixels[(std::size_t(y) * display_.width() + x) * 4];
+      out[0] = in[0], out[1] = in[1], out[2] = in[2], out[3] = 1.0f;
+    }
+  gpuio::uploadImage(context_, display_, rgba);
+  context_.submitAndWait([&](gpu::Recorder& recorder) {
+    recorder.handOver(display_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                      VK_ACCESS_2_TRANSFER_READ_BIT);
+    recorder.flush();
+  });
+}
+
+void Session::inspect(std::uint32_t x, std::uint32_t y) {
+  loop_.finish();
+  const std::vector<NamedImage> all = namedImages();
+  const VkDeviceSize bytes = kInspectStride * all.size();
+  if (!inspectBuffer_ || inspectBuffer_->size() < bytes)
+    inspectBuffer_ = std::make_unique<gpu::Buffer>(context_, "viewer.inspector", bytes, gpu::BufferUsage::Readback);
+  // Each image at the same place of the picture (half-resolution ones at half the pixel).
+  const auto texelOf = [&](const gpu::Image& image) {
+    return glm::uvec2(std::uint32_t(std::uint64_t(x) * image.width() / display_.width()),
+                      std::uint32_t(std::uint64_t(y) * image.height() / display_.height()));
+  };
+  context_.submitAndWait([&](gpu::Recorder& recorder) {
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const glm::uvec2 texel = texelOf(*all[i].image);
+      recorder.copyImageToBuffer(
+          *all[i].image, *inspectBuffer_,
+          gpu::ImageRegion{.x = texel.x, .y = texel.y, .width = 1, .height = 1, .bufferOffset = kInspectStride * i});
+    }
+    recorder.makeHostReadable(*inspectBuffer_);
+  });
+  panels_.inspectedPixel = glm::uvec2(x, y);
+  panels_.inspected.clear();
+  const auto* texels = static_cast<const std::uint8_t*>(inspectBuffer_->mapped());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const gpu::FormatInfo& format = gpu::formatInfo(all[i].image->format());
+    float values[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    gpu::texelsToFloats(format.format, texels + kInspectStride * i, 1, values);
+    panels_.inspected.push_back({all[i].name, glm::vec4(values[0], values[1], values[2], values[3]), format.channels});
+  }
+}
+
+void Session::measure() {
+  if (!reference_) return;
+  loop_.finish();
+  const io::ImageF reference = gpuio::readbackImage(context_, reference_->radianceImage());
+  const io::ImageF frame = gpuio::readbackImage(context_, frameImage());
+  const metrics::Comparison comparison = metrics::compareImages(reference, frame, {.flipMode = metrics::FlipMode::Hdr});
+  panels_.relMse = comparison.values.relMse;
+  panels_.flip = comparison.flip.mean;
+  measuredAtSpp_ = reference_->samplesPerPixel();
+  std::printf("against the reference (%llu spp): relMSE %.5g, HDR-FLIP %.5g\n",
+              static_cast<unsigned long long>(measuredAtSpp_), *panels_.relMse, *panels_.flip);
+}
+
+void Session::saveGltf(const fs::path& file) {
+  std::error_code error;
+  if (fs::exists(file, error)) {
+    panels_.materialMessage = file.string() + " exists; not overwritten (choose another name)";
+    throw std::runtime_error(panels_.materialMessage);
+  }
+  scene::Scene edited = scene_;
+  edited.materials = renderer_.materials();
+  scene::writeGltf(edited, file);
+  panels_.materialMessage = "saved " + file.string();
+  std::printf("wrote %s (the scene with its edited materials)\n", file.c_str());
+}
+
+void Session::setSplit(SplitMode split) {
+  if (split == SplitMode::Reference && panels_.split != SplitMode::Reference) {
+    referenceStale_ = true;
+    referenceTime_ = previous_.time;
+  }
+  panels_.split = split;
 }
 
 bool Session::stepScript(FlyInput& input) {
@@ -220,6 +372,45 @@ bool Session::stepScript(FlyInput& input) {
       case Kind::Window:
         window_.captureNextPresent(options_.out / (c.words[0] + ".png"));
         break;
+      case Kind::Panels:
+        panels_.hidden = c.words[0] == "off";
+        break;
+      case Kind::Split:
+        setSplit(c.words[0] == "none"     ? SplitMode::None
+                 : c.words[0] == "gi-off" ? SplitMode::GiOff
+                                          : SplitMode::Reference);
+        break;
+      case Kind::Measure:
+        if (!reference_) scriptFailure(c, "no reference to measure against: 'split reference' and a frame first");
+        measure();
+        break;
+      case Kind::Stage: {
+        const auto at = std::find(panels_.stageNames.begin(), panels_.stageNames.end(), c.words[0]);
+        if (at == panels_.stageNames.end()) {
+          std::string known;
+          for (const std::string& name : panels_.stageNames) known += (known.empty() ? "" : ", ") + name;
+          scriptFailure(c, "no image '" + c.words[0] + "' (images: " + known + ")");
+        }
+        panels_.stage = int(at - panels_.stageNames.begin());
+        break;
+      }
+      case Kind::Inspect: {
+        if (c.numbers[0] >= options_.renderer.width || c.numbers[1] >= options_.renderer.height)
+          scriptFailure(c, "pixel outside the frame");
+        inspect(std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]));
+        for (const InspectedValue& v : panels_.inspected)
+          std::printf("inspect (%u, %u) %s: %g %g %g %g\n", std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]),
+                      v.image.c_str(), double(v.value.x), double(v.value.y), double(v.value.z), double(v.value.w));
+        break;
+      }
+      case Kind::SaveGltf:
+        try {
+          fs::create_directories(options_.out);
+          saveGltf(options_.out / c.words[0]);
+        } catch (const std::exception& error) {
+          scriptFailure(c, error.what());
+        }
+        break;
       case Kind::Quit:
         return false;
     }
@@ -242,6 +433,7 @@ FlyInput Session::interactiveInput() {
     input.fast = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS;
     if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) quit_ = true;
     if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) panels_.showHelp = !panels_.showHelp;
+    if (ImGui::IsKeyPressed(GLFW_KEY_U, false)) panels_.hidden = !panels_.hidden;
     if (ImGui::IsKeyPressed(GLFW_KEY_P, false)) panels_.paused = !panels_.paused;
     if (ImGui::IsKeyPressed(GLFW_KEY_N, false)) stepOnce_ = true;
     if (ImGui::IsKeyPressed(GLFW_KEY_F12, false)) {
@@ -259,6 +451,13 @@ FlyInput Session::interactiveInput() {
   lastCursor_ = cursor;
   if (!io.WantCaptureMouse) {
     input.wheel = io.MouseWheel;
+    if (panels_.inspector) {
+      const VkExtent2D extent = window_.extent();
+      const double x = cursor.x * options_.renderer.width / std::max(1u, extent.width);
+      const double y = cursor.y * options_.renderer.height / std::max(1u, extent.height);
+      if (x >= 0.0 && y >= 0.0 && x < options_.renderer.width && y < options_.renderer.height)
+        inspect(std::uint32_t(x), std::uint32_t(y));
+    }
     if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
       // Window pixels to frame pixels: the frame is stretched over the window.
       const VkExtent2D extent = window_.extent();
@@ -296,6 +495,15 @@ void Session::applyPanelActions(const PanelActions& actions) {
     static int shot = 0;
     screenshot("screenshot-ui-" + std::to_string(shot++));
   }
+  if (actions.viewChanged) setSplit(panels_.split);
+  if (actions.measure) measure();
+  if (actions.saveGltf) {
+    try {
+      saveGltf(panels_.gltfFile);
+    } catch (const std::exception& error) {
+      panels_.materialMessage = error.what();
+    }
+  }
   if (actions.loadSettings) {
     try {
       gi::Settings loaded = panels_.settings;
@@ -329,14 +537,47 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   camera_.update(input, std::min(seconds, 0.25f));
   panels_.cameraSpeed = camera_.speed();
 
-  const render::FrameView view{camera_.pose(), float(rendered_) / options_.fps, cut_};
+  const bool referenceShown = panels_.split == SplitMode::Reference;
+  // The reference traces the renderer's last frame, whose environment must
+  // be built: it starts after the first frame.
+  if (referenceShown && !reference_ && rendered_ > 0) {
+    loop_.finish();
+    reference_ = std::make_unique<render::ReferenceRenderer>(context_, renderer_, scene_, loop_.frameIndex(),
+                                                             previous_.time, render::ReferenceOptions{});
+    referenceStale_ = true;
+  }
+  const float time = referenceShown ? referenceTime_ : float(rendered_) / options_.fps;
+  const render::FrameView view{camera_.pose(), time, cut_};
   gpu::Recorder& recorder = loop_.beginFrame(capture);
   const std::uint64_t index = loop_.frameIndex();
   renderer_.record(recorder, index, view);
   if (gi_) gi_->record(recorder, renderer_, index, view, previous_, {.captureStages = capture});
-  const DisplayParams params{display_.width(), display_.height(), panels_.exposure};
+  gpu::Image* right = nullptr;
+  if (panels_.split == SplitMode::GiOff) right = &renderer_.direct();
+  if (referenceShown && reference_) {
+    // Accumulates while the camera and the materials stay; anything else starts it over.
+    if (referenceStale_ || !samePose(view.camera, referencePose_) ||
+        renderer_.materialRevision() != referenceRevision_) {
+      reference_->restart(recorder, index, view.time);
+      referencePose_ = view.camera;
+      referenceRevision_ = renderer_.materialRevision();
+      referenceStale_ = false;
+      measuredAtSpp_ = 0;
+      panels_.relMse.reset();
+      panels_.flip.reset();
+    }
+    reference_->record(recorder, kReferenceSamplesPerFrame);
+    reference_->recordResolve(recorder);
+    panels_.referenceSpp = reference_->samplesPerPixel();
+    right = &reference_->radianceImage();
+  }
+  const DisplayParams params{display_.width(), display_.height(), panels_.exposure,
+                             right ? display_.width() / 2 : display_.width()};
   recorder.dispatch(displayPass_, display_.width(), display_.height(),
-                    {{"gIn_Frame", frameImage(), context_.nearestSampler()}, {"gOut_Display", display_}}, params);
+                    {{"gIn_Frame", frameImage(), context_.nearestSampler()},
+                     {"gIn_Right", right ? *right : frameImage(), context_.nearestSampler()},
+                     {"gOut_Display", display_}},
+                    params);
   recorder.handOver(display_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
                     VK_ACCESS_2_TRANSFER_READ_BIT);
   recorder.flush();
@@ -402,7 +643,13 @@ int Session::run() {
     const bool capture = !pendingStages_.empty();
     const bool render = !lastPresent && (!panels_.paused || stepOnce_ || options_.scripted);
     stepOnce_ = false;
-    if (render) renderFrame(input, capture);
+    if (render) {
+      renderFrame(input, capture);
+      // The error readout at 4, 8, 16... samples per pixel: each doubling halves the reference's noise.
+      const std::uint64_t spp = reference_ && panels_.split == SplitMode::Reference ? reference_->samplesPerPixel() : 0;
+      if (spp >= 4 && (spp & (spp - 1)) == 0 && spp != measuredAtSpp_) measure();
+      if (panels_.stage > 0) showStage();
+    }
     if (capture && render) {
       writeStages(pendingStages_);
       pendingStages_.clear();
