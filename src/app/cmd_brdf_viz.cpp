@@ -3,10 +3,8 @@
 // spread over the hemisphere as roughness sweeps 0..1 at a fixed view, and
 // as the view sweeps to grazing at fixed roughness. Each frame is labelled
 // with its parameters; the animations are written as APNG. The plots
-// evaluate the same shared functions the shaders run
-// (shaders/shared/brdf.glsl, sampling.glsl), on the CPU.
-#include <array>
-#include <cmath>
+// (plot/hemisphere_plot.h) evaluate the same shared functions the shaders
+// run (shaders/shared/brdf.glsl, sampling.glsl), on the CPU.
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -15,34 +13,14 @@
 
 #include "app/commands.h"
 #include "app/option_checks.h"
-#include "app/plot.h"
 #include "app/progress.h"
-#include "io/colormap.h"
 #include "io/image_io.h"
-#include "shared/brdf.glsl"
-#include "shared/color.glsl"
-#include "shared/sampling.glsl"
+#include "plot/hemisphere_plot.h"
 
 namespace bounce::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The upper hemisphere (z up) in a unit disk, area-preserving (Lambert
-// azimuthal): equal areas on the disk are equal solid angles, so a lobe's
-// visual size is its real share of directions.
-glm::vec3 diskToDirection(glm::vec2 p) {
-  const float r2 = glm::dot(p, p);  // in [0, 1] inside the disk
-  const float cosTheta = 1.0f - r2;
-  const float scale = std::sqrt(std::max(0.0f, 2.0f - r2));
-  return {p.x * scale, p.y * scale, cosTheta};
-}
-
-glm::vec2 directionToDisk(glm::vec3 d) {
-  const float r = std::sqrt(std::max(0.0f, 1.0f - d.z));
-  const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
-  return horizontal > 0.0f ? glm::vec2(d.x, d.y) * (r / horizontal) : glm::vec2(0.0f);
-}
 
 struct Parameters {
   float roughness;
@@ -59,47 +37,22 @@ constexpr std::uint32_t kSampleCount = 384;
 io::ImageF drawFrame(const BrdfVizOptions& options, const Parameters& p) {
   const int size = int(options.size);
   const int margin = 12, titleHeight = 24, labelHeight = 60;
-  Canvas canvas(3 * size + 4 * margin, size + 2 * margin + titleHeight + labelHeight, glm::vec3(0.08f));
-  const float viewRadians = glm::radians(p.viewDegrees);
-  const glm::vec3 n(0.0f, 0.0f, 1.0f);
-  const glm::vec3 v(std::sin(viewRadians), 0.0f, std::cos(viewRadians));
-  const glm::vec3 baseColor(options.baseColor[0], options.baseColor[1], options.baseColor[2]);
-  const float radius = 0.5f * float(size);
+  plot::Canvas canvas(3 * size + 4 * margin, size + 2 * margin + titleHeight + labelHeight, glm::vec3(0.08f));
+  const plot::MaterialView material{glm::vec3(options.baseColor[0], options.baseColor[1], options.baseColor[2]),
+                                    options.metallic, p.roughness, p.viewDegrees};
   const int top = margin + titleHeight;
   const auto panelLeft = [&](int panel) { return margin + panel * (size + margin); };
-  const auto centre = [&](int panel) { return glm::vec2(float(panelLeft(panel)) + radius, float(top) + radius); };
-  // A fixed, saturating tone curve keeps frames comparable with each other.
-  const auto plot = [&](int panel, const std::function<float(glm::vec3)>& value) {
-    for (int y = 0; y < size; ++y)
-      for (int x = 0; x < size; ++x) {
-        const glm::vec2 disk((float(x) + 0.5f - radius) / radius, (radius - float(y) - 0.5f) / radius);
-        if (glm::dot(disk, disk) > 1.0f) continue;
-        const std::array<std::uint8_t, 3> colour = io::magma(1.0f - std::exp(-value(diskToDirection(disk))));
-        canvas.set(panelLeft(panel) + x, top + y, glm::vec3(colour[0], colour[1], colour[2]) / 255.0f);
-      }
-  };
-  plot(0, [&](glm::vec3 l) {
-    return shared::luminance(shared::materialBrdfCosine(n, v, l, baseColor, options.metallic, p.roughness));
-  });
-  plot(1, [&](glm::vec3 l) { return shared::pdfMaterial(n, v, l, baseColor, options.metallic, p.roughness); });
-  plot(2, [](glm::vec3) { return 0.0f; });
-  const auto mark = [&](int panel, glm::vec3 d, float size, glm::vec3 colour) {
-    const glm::vec2 q = directionToDisk(d);
-    canvas.dot(centre(panel).x + q.x * radius, centre(panel).y - q.y * radius, size, colour);
-  };
-  const float specularProbability = shared::specularSelectionProbability(baseColor, options.metallic, v.z);
+  const auto panel = [&](int index) { return plot::HemispherePanel{panelLeft(index), top, size}; };
+  panel(0).fill(canvas, [&](glm::vec3 l) { return material.brdfCosine(l); });
+  panel(1).fill(canvas, [&](glm::vec3 l) { return material.pdf(l); });
+  panel(2).fill(canvas, [](glm::vec3) { return 0.0f; });
   for (std::uint32_t i = 0; i < kSampleCount; ++i) {
-    const glm::vec2 u2 = shared::r2Point(i);
-    const glm::vec3 u(u2.x, u2.y, shared::radicalInverseBase2(i));
     glm::vec3 l;
-    float pdf;
-    if (!shared::sampleMaterial(n, v, baseColor, options.metallic, p.roughness, u, l, pdf)) continue;
-    mark(2, l, 1.5f, u.z < specularProbability ? glm::vec3(1.0f, 0.6f, 0.2f) : glm::vec3(0.4f, 0.9f, 0.4f));
+    bool specular;
+    if (material.sample(i, l, specular))
+      panel(2).mark(canvas, l, 1.5f, specular ? plot::kSpecularSampleColour : plot::kDiffuseSampleColour);
   }
-  for (int panel = 0; panel < 3; ++panel) {
-    mark(panel, v, 4.0f, glm::vec3(0.3f, 0.8f, 1.0f));
-    mark(panel, glm::reflect(-v, n), 4.0f, glm::vec3(1.0f));
-  }
+  for (int index = 0; index < 3; ++index) panel(index).markViewAndMirror(canvas, material);
   canvas.text(panelLeft(0), margin, "f cos", glm::vec3(0.9f));
   canvas.text(panelLeft(1), margin, "pdf", glm::vec3(0.9f));
   canvas.text(panelLeft(2), margin, "samples", glm::vec3(0.9f));
@@ -111,7 +64,7 @@ io::ImageF drawFrame(const BrdfVizOptions& options, const Parameters& p) {
   canvas.text(margin, labels + 20, line, glm::vec3(1.0f));
   std::snprintf(line, sizeof line, "metallic %.2f", double(options.metallic));
   canvas.text(margin, labels + 40, line, glm::vec3(0.6f));
-  std::snprintf(line, sizeof line, "p spec %.2f", double(specularProbability));
+  std::snprintf(line, sizeof line, "p spec %.2f", double(material.specularProbability()));
   canvas.text(panelLeft(2), labels, line, glm::vec3(0.6f));
   return canvas.image();
 }

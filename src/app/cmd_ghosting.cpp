@@ -36,7 +36,6 @@
 #include "app/commands.h"
 #include "app/option_checks.h"
 #include "app/output_files.h"
-#include "app/plot.h"
 #include "app/progress.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
@@ -44,6 +43,7 @@
 #include "io/image_io.h"
 #include "metrics/image_metrics.h"
 #include "metrics/uncovered.h"
+#include "plot/canvas.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
@@ -246,7 +246,7 @@ struct Recovery {
 const glm::vec3 kUncoveredColour(1.0f, 0.55f, 0.1f), kNearbyColour(0.35f, 0.85f, 0.75f), kRestColour(0.35f, 0.6f, 1.0f),
     kMarkColour(0.45f, 0.95f, 0.35f);
 
-void drawLine(Canvas& canvas, glm::vec2 a, glm::vec2 b, glm::vec3 colour, float radius, float gap = 0.0f) {
+void drawLine(plot::Canvas& canvas, glm::vec2 a, glm::vec2 b, glm::vec3 colour, float radius, float gap = 0.0f) {
   const float length = glm::length(b - a);
   const int steps = std::max(1, int(std::ceil(length / 0.5f)));
   float sinceDot = gap;
@@ -301,14 +301,14 @@ struct Panel {
 io::ImageF errorPlot(const std::string& title, const std::vector<Panel>& panels, double within, const std::string& axis,
                      std::uint32_t settledFrame) {
   constexpr int kWidth = 760, kHeader = 72, kPanelHeight = 250, kLeft = 78, kRight = 24, kTop = 30, kBottom = 44;
-  Canvas canvas(kWidth, kHeader + kPanelHeight * int(panels.size()), glm::vec3(0.08f));
+  plot::Canvas canvas(kWidth, kHeader + kPanelHeight * int(panels.size()), glm::vec3(0.08f));
   canvas.text(12, 10, title, glm::vec3(0.95f), 2);
   // The legend, two rows.
   int x = 12, y = 36;
   const auto entry = [&](const std::string& text, const std::function<void(int, int)>& swatch) {
     swatch(x, y);
     canvas.text(x + 24, y, text, glm::vec3(0.9f), 1);
-    x += 24 + Canvas::textWidth(text, 1) + 20;
+    x += 24 + plot::Canvas::textWidth(text, 1) + 20;
   };
   const auto solid = [&](glm::vec3 colour) {
     return [&canvas, colour](int sx, int sy) { canvas.fillRect(sx, sy + 3, 18, 4, colour); };
@@ -360,7 +360,7 @@ io::ImageF errorPlot(const std::string& title, const std::vector<Panel>& panels,
       const float gy = yOf(std::pow(10.0, d));
       canvas.fillRect(left, int(gy), right - left, 1, glm::vec3(0.3f));
       const std::string label = decadeLabel(d);
-      canvas.text(left - 8 - Canvas::textWidth(label, 1), int(gy) - 3, label, glm::vec3(0.8f), 1);
+      canvas.text(left - 8 - plot::Canvas::textWidth(label, 1), int(gy) - 3, label, glm::vec3(0.8f), 1);
       if (d < d1)
         for (double m : {2.0, 5.0})
           canvas.fillRect(left, int(yOf(m * std::pow(10.0, d))), right - left, 1, glm::vec3(0.17f));
@@ -370,14 +370,14 @@ io::ImageF errorPlot(const std::string& title, const std::vector<Panel>& panels,
     for (std::size_t k = 0; k < count; ++k) {
       const std::string label = afterLabel(k);
       canvas.fillRect(int(xOf(k)), bottom, 1, 5, glm::vec3(0.6f));
-      canvas.text(int(xOf(k)) - Canvas::textWidth(label, 1) / 2, bottom + 8, label, glm::vec3(0.8f), 1);
+      canvas.text(int(xOf(k)) - plot::Canvas::textWidth(label, 1) / 2, bottom + 8, label, glm::vec3(0.8f), 1);
     }
-    canvas.text((left + right - Canvas::textWidth(axis, 1)) / 2, bottom + 24, axis, glm::vec3(0.7f), 1);
+    canvas.text((left + right - plot::Canvas::textWidth(axis, 1)) / 2, bottom + 24, axis, glm::vec3(0.7f), 1);
     if (panel.recovered) {
       const int mx = int(xOf(*panel.recovered));
       canvas.fillRect(mx - 1, top, 3, bottom - top, kMarkColour);
       const std::string mark = afterLabel(*panel.recovered);
-      canvas.text(std::min(mx + 6, right - Canvas::textWidth(mark, 1)), top + 4, mark, kMarkColour, 1);
+      canvas.text(std::min(mx + 6, right - plot::Canvas::textWidth(mark, 1)), top + 4, mark, kMarkColour, 1);
     }
     if (std::isfinite(panel.settled) && panel.settled > 0.0)
       drawLine(canvas, {float(left), yOf(panel.settled)}, {float(right), yOf(panel.settled)}, kUncoveredColour, 1.0f,

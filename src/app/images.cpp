@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <map>
 
-#include "app/plot.h"
 #include "gpu/transfer.h"
 #include "gpuio/gpu_images.h"
 #include "gpuio/stage_dump.h"
 #include "io/colormap.h"
+#include "plot/canvas.h"
 
 namespace bounce::app {
 
@@ -60,10 +60,10 @@ io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector
   // Large text where the longest label fits its cell, else small.
   std::size_t longest = 0;
   for (const std::string& label : labels) longest = std::max(longest, label.size());
-  const int scale = Canvas::textWidth(std::string(longest, 'x'), 2) + 12 <= cellWidth ? 2 : 1;
+  const int scale = plot::Canvas::textWidth(std::string(longest, 'x'), 2) + 12 <= cellWidth ? 2 : 1;
   const int kStrip = 7 * scale + 8;
   const int rows = (int(cells.size()) + columns - 1) / columns;
-  Canvas canvas(cellWidth * columns, (cellHeight + kStrip) * rows, glm::vec3(0.08f));
+  plot::Canvas canvas(cellWidth * columns, (cellHeight + kStrip) * rows, glm::vec3(0.08f));
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const int ox = int(i) % columns * cellWidth, oy = int(i) / columns * (cellHeight + kStrip);
     const std::size_t fits = std::size_t(std::max(0, cellWidth - 8) / (6 * scale));

@@ -1,6 +1,7 @@
-// A small raster canvas for the pictures the CLI draws (BRDF plots): filled
-// rectangles, dots, and text in a built-in 5x7 pixel font, so labels need no
-// font files or libraries. Colours are display values in [0,1].
+// A small raster canvas for the pictures the tools draw (BRDF plots, the
+// ghosting plot, contact sheets' labels): filled rectangles, dots, and text in
+// a built-in 5x7 pixel font, so labels need no font files or libraries.
+// Colours are display values in [0,1].
 #pragma once
 
 #include <string_view>
@@ -9,7 +10,7 @@
 
 #include "io/image_io.h"
 
-namespace bounce::app {
+namespace bounce::plot {
 
 class Canvas {
  public:
@@ -31,4 +32,4 @@ class Canvas {
   io::ImageF image_;
 };
 
-}  // namespace bounce::app
+}  // namespace bounce::plot

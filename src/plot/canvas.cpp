@@ -1,10 +1,11 @@
-#include "app/plot.h"
+#include "plot/canvas.h"
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 
-namespace bounce::app {
+namespace bounce::plot {
 namespace {
 
 // 5x7 glyphs, one string of 7 rows of 5 columns each ('#' = ink).
@@ -80,4 +81,4 @@ void Canvas::text(int x, int y, std::string_view text, glm::vec3 colour, int sca
   }
 }
 
-}  // namespace bounce::app
+}  // namespace bounce::plot
