@@ -189,6 +189,40 @@ TEST(Viewer, TheSplitReferenceStageViewInspectorAndGltfSaveWork) {
   fs::remove_all(dir);
 }
 
+TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
+  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_headless_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path script = dir / "costs.txt";
+  std::ofstream(script) << "panels off\nwait 4\ntimings hidden\nwindow bare\npanels on\nwait 4\ntimings shown\n"
+                           "window panels\n";
+  // No X server: the environment has no DISPLAY, and none is needed.
+  const bounce::testing::ProcessResult r =
+      bounce::testing::runProcess({BOUNCE_BINARY, "view", "cornell", "--headless", "--script", script.string(), "--out",
+                                   (dir / "view").string(), "--validate", "--width", "64", "--height", "48"},
+                                  {"DISPLAY=", "WAYLAND_DISPLAY="});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("alidation"), std::string::npos) << r.output;
+  for (const char* label : {"timings hidden: ", "timings shown: "}) {
+    const std::string line = lineStartingWith(r.output, label);
+    ASSERT_FALSE(line.empty()) << r.output;
+    EXPECT_NE(line.find("GI library "), std::string::npos) << line;
+    EXPECT_NE(line.find("viewer's own "), std::string::npos) << line;
+  }
+  // With the panels the image differs from the frame alone.
+  const bounce::io::ImageF bare = bounce::io::readImage(dir / "view" / "bare.png");
+  const bounce::io::ImageF panels = bounce::io::readImage(dir / "view" / "panels.png");
+  ASSERT_EQ(bare.pixels.size(), panels.pixels.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < bare.pixels.size(); ++i) differing += bare.pixels[i] != panels.pixels[i] ? 1 : 0;
+  EXPECT_GT(differing, bare.pixels.size() / 4);
+  fs::remove_all(dir);
+
+  const bounce::testing::ProcessResult noScript = bounce({"view", "cornell", "--headless"});
+  EXPECT_EQ(noScript.exitCode, 1);
+  EXPECT_NE(noScript.output.find("--headless needs --script"), std::string::npos) << noScript.output;
+}
+
 TEST(Viewer, ABadScriptIsOneLineNamingItsLineBeforeAnyWindowOpens) {
   const fs::path script = fs::temp_directory_path() / ("bounce_viewer_bad_" + std::to_string(::getpid()) + ".txt");
   std::ofstream(script) << "wait 2\nmaterial shininess 4\n";

@@ -70,8 +70,11 @@ TEST(ViewerScript, ParsesEveryCommandWithItsLineAndArguments) {
 
 TEST(ViewerScript, ParsesTheViewCommands) {
   const auto commands = parseScript(
-      "split reference\nmeasure\nstage render.normal\ninspect 3 4\nsave-gltf edited.glb\npanels off\n", "s.txt");
-  ASSERT_EQ(commands.size(), 6u);
+      "split reference\nmeasure\nstage render.normal\ninspect 3 4\nsave-gltf edited.glb\npanels off\ntimings ui\n",
+      "s.txt");
+  ASSERT_EQ(commands.size(), 7u);
+  EXPECT_EQ(commands[6].kind, Kind::Timings);
+  EXPECT_EQ(commands[6].words, std::vector<std::string>{"ui"});
   EXPECT_EQ(commands[0].kind, Kind::Split);
   EXPECT_EQ(commands[0].words, std::vector<std::string>{"reference"});
   EXPECT_EQ(commands[1].kind, Kind::Measure);

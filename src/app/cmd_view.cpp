@@ -3,6 +3,7 @@
 // as bounce render; --script runs it unattended (a list of input events and
 // waits, ending in screenshots).
 #include <cstdio>
+#include <stdexcept>
 
 #include "app/commands.h"
 #include "app/option_checks.h"
@@ -22,6 +23,9 @@ CLI::App* addViewCommand(CLI::App& app, ViewOptions& options) {
   command->add_option("--script", options.script,
                       "Run this script of input events and waits instead of reading the keyboard and mouse, then "
                       "quit (commands: docs/viewer.md)");
+  command->add_flag("--headless", options.headless,
+                    "No window (a machine without a display; needs --script): the panels are drawn into an image "
+                    "that is never presented, e.g. to measure the viewer's own cost (script command timings)");
   command->add_option("--out", options.out, "Folder for screenshots (created if missing)");
   command->add_option("--exposure", options.exposure, "Exposure multiplier before tonemapping")
       ->check(finitePositive());
@@ -30,6 +34,8 @@ CLI::App* addViewCommand(CLI::App& app, ViewOptions& options) {
 
 int runView(const ViewOptions& options) {
   // Before the window opens: a bad script or output folder fails now.
+  if (options.headless && options.script.empty())
+    throw std::runtime_error("--headless needs --script FILE: without a window there is no keyboard or mouse");
   std::vector<viewer::ScriptCommand> script;
   if (!options.script.empty()) script = viewer::loadScript(options.script);
   checkWritableDirectory(options.out, "--out");
@@ -43,7 +49,8 @@ int runView(const ViewOptions& options) {
                           .height = shot.height,
                           .title = "bounce view - " + scene.name,
                           .validation = options.gpu.validate,
-                          .deviceIndex = options.gpu.device};
+                          .deviceIndex = options.gpu.device,
+                          .headless = options.headless};
   viewerOptions.renderer = frameRendererOptions(scene, shot);
   viewerOptions.camera = first[0].pose;
   // --gi off starts with GI off; the window can still switch it on, with

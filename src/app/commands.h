@@ -147,6 +147,7 @@ struct ViewOptions {
   SceneOptions view;
   GiOptions gi;
   std::string script;  // empty: interactive
+  bool headless = false;  // no window (needs a script): the panels drawn into an image, never presented
   std::string out = "out";
   float exposure = 1.0f;
 };

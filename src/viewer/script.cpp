@@ -19,7 +19,7 @@ struct Syntax {
   std::string_view name;
   Kind kind;
 };
-constexpr std::array<Syntax, 18> kCommands = {{{"wait", Kind::Wait},
+constexpr std::array<Syntax, 19> kCommands = {{{"wait", Kind::Wait},
                                                {"key", Kind::Key},
                                                {"look", Kind::Look},
                                                {"camera", Kind::Camera},
@@ -32,6 +32,7 @@ constexpr std::array<Syntax, 18> kCommands = {{{"wait", Kind::Wait},
                                                {"window", Kind::Window},
                                                {"split", Kind::Split},
                                                {"panels", Kind::Panels},
+                                               {"timings", Kind::Timings},
                                                {"measure", Kind::Measure},
                                                {"stage", Kind::Stage},
                                                {"inspect", Kind::Inspect},
@@ -167,6 +168,10 @@ ScriptCommand parseLine(const LineParser& p, int line) {
     case Kind::Panels:
       p.expectArguments(1, "on or off");
       if (w[1] != "on" && w[1] != "off") p.fail("'panels' takes on or off, not '" + w[1] + "'");
+      command.words = {w[1]};
+      break;
+    case Kind::Timings:
+      p.expectArguments(1, "a label for the printed line");
       command.words = {w[1]};
       break;
     case Kind::Stage:

@@ -13,7 +13,9 @@
 //                           roughness V, metallic V, emission R G B
 //   screenshot NAME         the frame as OUT/NAME.png and OUT/NAME.exr (HDR)
 //   stages NAME             every stage of the next frame to OUT/NAME-stages/
-//   window NAME             what the window shows (frame and panels) as OUT/NAME.png
+//   window NAME             the next frame as the window shows it (frame and panels) as OUT/NAME.png
+//   timings LABEL           print the median costs since the last 'timings' (GPU: the frame's
+//                           passes, the GI library's, the viewer's own; CPU time a frame)
 //   panels on|off           show or hide the panels (the window shows the frame alone)
 //   split MODE              the right half: none, gi-off, or reference (progressive path tracing)
 //   measure                 print the GI frame's relMSE and HDR-FLIP against the reference
@@ -49,6 +51,7 @@ struct ScriptCommand {
     Window,
     Split,
     Panels,
+    Timings,
     Measure,
     Stage,
     Inspect,

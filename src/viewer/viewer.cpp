@@ -1,9 +1,11 @@
 #include "viewer/viewer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -116,6 +118,9 @@ class Session {
   void measure();
   void saveGltf(const fs::path& file);
   void setSplit(SplitMode split);
+  // The frame's costs, sampled once a frame for the `timings` command.
+  void recordCosts();
+  void printCosts(const std::string& label);
   void writeStages(const std::string& name);
   void updateTitle();
   [[noreturn]] void scriptFailure(const ScriptCommand& command, const std::string& problem) const {
@@ -156,7 +161,19 @@ class Session {
   float referenceTime_ = 0.0f;  // the scene stands still at this time while the reference shows
   std::uint64_t measuredAtSpp_ = 0;
   std::unique_ptr<gpu::Buffer> inspectBuffer_;
+  std::map<std::string, std::size_t> timingCounts_;  // samples per pass at the last look
+  struct CostSamples {
+    std::vector<double> frameGpuMs, giGpuMs, viewerGpuMs, presentGpuMs, cpuMs;
+  } costs_;
+  std::chrono::steady_clock::time_point lastCostSample_ = std::chrono::steady_clock::now();
 };
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
 
 void Session::makeGi() {
   loop_.finish();
@@ -371,6 +388,9 @@ bool Session::stepScript(FlyInput& input) {
         return true;  // the next frame is captured
       case Kind::Window:
         window_.captureNextPresent(options_.out / (c.words[0] + ".png"));
+        return true;  // this frame's window, as the commands so far left it
+      case Kind::Timings:
+        printCosts(c.words[0]);
         break;
       case Kind::Panels:
         panels_.hidden = c.words[0] == "off";
@@ -608,8 +628,17 @@ void Session::writeStages(const std::string& name) {
 }
 
 void Session::updateTitle() {
+  // The passes of the latest completed frame: those whose count of samples
+  // grew (a pass that ran once, as the environment's prefilter, drops out).
+  std::vector<gpu::PassTiming> ran;
+  for (const gpu::PassTiming& t : loop_.timings().summary()) {
+    std::size_t& seen = timingCounts_[t.pass];
+    if (t.samples > seen) ran.push_back(t);
+    seen = t.samples;
+  }
+  if (ran.empty()) return;  // no frame completed since the last look
+  panels_.timings = std::move(ran);
   double frameMs = 0.0;
-  panels_.timings = loop_.timings().summary();
   for (const gpu::PassTiming& t : panels_.timings) frameMs += t.lastMs;
   panels_.frameMs = frameMs;
   panels_.memoryBytes = context_.deviceLocalBytesInUse();
@@ -620,19 +649,41 @@ void Session::updateTitle() {
   window_.setTitle(title);
 }
 
+void Session::recordCosts() {
+  const auto now = std::chrono::steady_clock::now();
+  costs_.cpuMs.push_back(std::chrono::duration<double, std::milli>(now - lastCostSample_).count());
+  lastCostSample_ = now;
+  double frame = 0.0, gi = 0.0, viewer = 0.0;
+  for (const gpu::PassTiming& t : panels_.timings) {
+    frame += t.lastMs;
+    if (t.pass.rfind("gi.", 0) == 0) gi += t.lastMs;
+    if (t.pass.rfind("viewer.", 0) == 0) viewer += t.lastMs;
+  }
+  costs_.frameGpuMs.push_back(frame);
+  costs_.giGpuMs.push_back(gi);
+  costs_.viewerGpuMs.push_back(viewer + window_.lastPresentGpuMs());
+  costs_.presentGpuMs.push_back(window_.lastPresentGpuMs());
+}
+
+void Session::printCosts(const std::string& label) {
+  std::printf(
+      "timings %s: %zu frames, median GPU ms: frame passes %.4f (GI library %.4f), viewer's own %.4f (display "
+      "%.4f + blit and panels %.4f); CPU ms a frame %.3f\n",
+      label.c_str(), costs_.cpuMs.size(), median(costs_.frameGpuMs), median(costs_.giGpuMs), median(costs_.viewerGpuMs),
+      median(costs_.viewerGpuMs) - median(costs_.presentGpuMs), median(costs_.presentGpuMs), median(costs_.cpuMs));
+  costs_ = {};
+}
+
 int Session::run() {
   bool scriptRunning = options_.scripted;
   while (!quit_ && !window_.closeRequested()) {
-    glfwPollEvents();
-    ImGui_ImplVulkan_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
-    ImGui::NewFrame();
+    window_.beginUiFrame();
     FlyInput input;
     bool lastPresent = false;  // the script ended: show (and capture) what there is, then close
     if (scriptRunning) {
       scriptRunning = stepScript(input);
       lastPresent = !scriptRunning;
-    } else {
+    } else if (!window_.headless()) {
       input = interactiveInput();
     }
     PanelActions actions;
@@ -656,6 +707,7 @@ int Session::run() {
     }
     window_.present(display_, ImGui::GetDrawData());
     updateTitle();
+    recordCosts();
     if (lastPresent) break;
   }
   loop_.finish();

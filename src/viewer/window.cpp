@@ -35,6 +35,20 @@ void checkImGui(VkResult result) { check(result, "Dear ImGui's Vulkan backend");
 }  // namespace
 
 Window::Window(const WindowOptions& options) {
+  if (options.headless) {
+    try {
+      context_ = std::make_unique<gpu::Context>(
+          gpu::ContextOptions{.validation = options.validation, .deviceIndex = options.deviceIndex});
+      extent_ = {options.width, options.height};
+      createCommandSlots();
+      createOffscreenTarget();
+      initialiseImGui();
+    } catch (...) {
+      release();
+      throw;
+    }
+    return;
+  }
   glfwSetErrorCallback(onGlfwError);
   if (!glfwInit()) {
     const char* display = std::getenv("DISPLAY");
@@ -71,23 +85,7 @@ Window::Window(const WindowOptions& options) {
         "vkGetPhysicalDeviceSurfaceSupportKHR");
     if (!supported) throw gpu::GpuError("the device's queue cannot present to this window");
 
-    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    poolInfo.queueFamilyIndex = context_->queueFamily();
-    check(vkCreateCommandPool(context_->device(), &poolInfo, nullptr, &commandPool_), "vkCreateCommandPool");
-    slots_.resize(kPresentSlots);
-    for (Slot& slot : slots_) {
-      VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-      allocate.commandPool = commandPool_;
-      allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-      allocate.commandBufferCount = 1;
-      check(vkAllocateCommandBuffers(context_->device(), &allocate, &slot.cmd), "vkAllocateCommandBuffers");
-      VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-      fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-      check(vkCreateFence(context_->device(), &fence, nullptr, &slot.fence), "vkCreateFence");
-      VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-      check(vkCreateSemaphore(context_->device(), &semaphore, nullptr, &slot.acquired), "vkCreateSemaphore");
-    }
+    createCommandSlots();
     createSwapchain();
     initialiseImGui();
   } catch (...) {
@@ -98,17 +96,94 @@ Window::Window(const WindowOptions& options) {
 
 Window::~Window() { release(); }
 
+void Window::createCommandSlots() {
+  const VkDevice device = context_->device();
+  VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  poolInfo.queueFamilyIndex = context_->queueFamily();
+  check(vkCreateCommandPool(device, &poolInfo, nullptr, &commandPool_), "vkCreateCommandPool");
+  if (context_->hasTimestamps()) {
+    VkQueryPoolCreateInfo queries{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    queries.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    queries.queryCount = 2 * kPresentSlots;
+    check(vkCreateQueryPool(device, &queries, nullptr, &timestamps_), "vkCreateQueryPool");
+  }
+  slots_.resize(kPresentSlots);
+  for (Slot& slot : slots_) {
+    VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    allocate.commandPool = commandPool_;
+    allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    allocate.commandBufferCount = 1;
+    check(vkAllocateCommandBuffers(device, &allocate, &slot.cmd), "vkAllocateCommandBuffers");
+    VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+    check(vkCreateFence(device, &fence, nullptr, &slot.fence), "vkCreateFence");
+    VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    check(vkCreateSemaphore(device, &semaphore, nullptr, &slot.acquired), "vkCreateSemaphore");
+  }
+}
+
+void Window::createOffscreenTarget() {
+  const VkDevice device = context_->device();
+  format_ = VK_FORMAT_R8G8B8A8_UNORM;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format_;
+  info.extent = {extent_.width, extent_.height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  check(vkCreateImage(device, &info, nullptr, &offscreen_), "vkCreateImage");
+  VkMemoryRequirements requirements;
+  vkGetImageMemoryRequirements(device, offscreen_, &requirements);
+  VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  allocate.allocationSize = requirements.size;
+  allocate.memoryTypeIndex = context_->findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  check(vkAllocateMemory(device, &allocate, nullptr, &offscreenMemory_), "vkAllocateMemory");
+  check(vkBindImageMemory(device, offscreen_, offscreenMemory_, 0), "vkBindImageMemory");
+  images_ = {offscreen_};
+  canCapture_ = true;
+  createRenderPassAndFramebuffers();
+}
+
+VkImageLayout Window::targetLayout() const {
+  return window_ ? VK_IMAGE_LAYOUT_PRESENT_SRC_KHR : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+}
+
+void Window::beginUiFrame() {
+  if (window_) {
+    glfwPollEvents();
+    ImGui_ImplGlfw_NewFrame();
+  } else {
+    // No window, no input: the panels are laid out for the image's size.
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(float(extent_.width), float(extent_.height));
+    io.DeltaTime = 1.0f / 60.0f;
+  }
+  ImGui_ImplVulkan_NewFrame();
+  ImGui::NewFrame();
+}
+
 void Window::release() {
   if (context_) {
     vkDeviceWaitIdle(context_->device());
     if (imguiReady_) {
       ImGui_ImplVulkan_Shutdown();
-      ImGui_ImplGlfw_Shutdown();
+      if (window_) ImGui_ImplGlfw_Shutdown();
       ImGui::DestroyContext();
       imguiReady_ = false;
     }
     const VkDevice device = context_->device();
     destroySwapchain();
+    if (offscreen_) vkDestroyImage(device, offscreen_, nullptr);
+    if (offscreenMemory_) vkFreeMemory(device, offscreenMemory_, nullptr);
+    offscreen_ = VK_NULL_HANDLE;
+    offscreenMemory_ = VK_NULL_HANDLE;
+    if (timestamps_) vkDestroyQueryPool(device, timestamps_, nullptr);
+    timestamps_ = VK_NULL_HANDLE;
     if (renderPass_) vkDestroyRenderPass(device, renderPass_, nullptr);
     if (imguiPool_) vkDestroyDescriptorPool(device, imguiPool_, nullptr);
     for (Slot& slot : slots_) {
@@ -130,9 +205,11 @@ void Window::release() {
   glfwReady_ = false;
 }
 
-bool Window::closeRequested() const { return glfwWindowShouldClose(window_) == GLFW_TRUE; }
+bool Window::closeRequested() const { return window_ && glfwWindowShouldClose(window_) == GLFW_TRUE; }
 
-void Window::setTitle(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
+void Window::setTitle(const std::string& title) {
+  if (window_) glfwSetWindowTitle(window_, title.c_str());
+}
 
 void Window::createSwapchain() {
   const VkPhysicalDevice physical = context_->physicalDevice();
@@ -187,6 +264,11 @@ void Window::createSwapchain() {
   images_.resize(count);
   vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data());
 
+  createRenderPassAndFramebuffers();
+}
+
+void Window::createRenderPassAndFramebuffers() {
+  const VkDevice device = context_->device();
   if (!renderPass_) {
     // The UI is drawn over the blitted frame: loaded, not cleared.
     VkAttachmentDescription attachment{};
@@ -197,7 +279,7 @@ void Window::createSwapchain() {
     attachment.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
     attachment.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
     attachment.initialLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-    attachment.finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    attachment.finalLayout = targetLayout();
     VkAttachmentReference colour{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription subpass{};
     subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -216,8 +298,18 @@ void Window::createSwapchain() {
     passInfo.pAttachments = &attachment;
     passInfo.subpassCount = 1;
     passInfo.pSubpasses = &subpass;
-    passInfo.dependencyCount = 1;
-    passInfo.pDependencies = &dependency;
+    // And the UI's writes (with the final layout transition) before a
+    // window screenshot's copy; a present waits on its semaphore instead.
+    VkSubpassDependency toCopy{};
+    toCopy.srcSubpass = 0;
+    toCopy.dstSubpass = VK_SUBPASS_EXTERNAL;
+    toCopy.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    toCopy.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    toCopy.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    toCopy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    const VkSubpassDependency dependencies[] = {dependency, toCopy};
+    passInfo.dependencyCount = 2;
+    passInfo.pDependencies = dependencies;
     check(vkCreateRenderPass(device, &passInfo, nullptr, &renderPass_), "vkCreateRenderPass");
   }
   for (VkImage image : images_) {
@@ -265,7 +357,7 @@ void Window::initialiseImGui() {
   ImGui::GetIO().IniFilename = nullptr;  // the layout is the program's, not a file left in the working folder
   ImGui::StyleColorsDark();
   imguiReady_ = true;
-  ImGui_ImplGlfw_InitForVulkan(window_, true);
+  if (window_) ImGui_ImplGlfw_InitForVulkan(window_, true);
 
   const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -294,30 +386,45 @@ void Window::initialiseImGui() {
 
 void Window::present(gpu::Image& frame, ImDrawData* ui) {
   const VkDevice device = context_->device();
-  if (!swapchain_) {
+  if (window_ && !swapchain_) {
     // Minimised (or lost): try again at this size; nothing to show on.
     vkDeviceWaitIdle(device);
     destroySwapchain();
     createSwapchain();
     if (!swapchain_) return;
   }
-  Slot& slot = slots_[presented_ % slots_.size()];
+  const std::size_t slotIndex = presented_ % slots_.size();
+  Slot& slot = slots_[slotIndex];
   check(vkWaitForFences(device, 1, &slot.fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
-  std::uint32_t imageIndex = 0;
-  VkResult acquired = vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, slot.acquired, VK_NULL_HANDLE, &imageIndex);
-  if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
-    vkDeviceWaitIdle(device);
-    destroySwapchain();
-    createSwapchain();
-    return;  // this frame is skipped; the next one gets the new swapchain
+  if (slot.timed) {
+    std::uint64_t ticks[2] = {0, 0};
+    if (vkGetQueryPoolResults(device, timestamps_, std::uint32_t(2 * slotIndex), 2, sizeof ticks, ticks,
+                              sizeof ticks[0], VK_QUERY_RESULT_64_BIT) == VK_SUCCESS)
+      lastPresentGpuMs_ = double(ticks[1] - ticks[0]) * context_->timestampPeriodNs() * 1.0e-6;
+    slot.timed = false;
   }
-  if (acquired != VK_SUBOPTIMAL_KHR) check(acquired, "vkAcquireNextImageKHR");
+  std::uint32_t imageIndex = 0;
+  if (window_) {
+    VkResult acquired =
+        vkAcquireNextImageKHR(device, swapchain_, UINT64_MAX, slot.acquired, VK_NULL_HANDLE, &imageIndex);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+      vkDeviceWaitIdle(device);
+      destroySwapchain();
+      createSwapchain();
+      return;  // this frame is skipped; the next one gets the new swapchain
+    }
+    if (acquired != VK_SUBOPTIMAL_KHR) check(acquired, "vkAcquireNextImageKHR");
+  }
   check(vkResetFences(device, 1, &slot.fence), "vkResetFences");
 
   check(vkResetCommandBuffer(slot.cmd, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(slot.cmd, &begin), "vkBeginCommandBuffer");
+  if (timestamps_) {
+    vkCmdResetQueryPool(slot.cmd, timestamps_, std::uint32_t(2 * slotIndex), 2);
+    vkCmdWriteTimestamp(slot.cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, std::uint32_t(2 * slotIndex));
+  }
   VkImageMemoryBarrier toTransfer{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
   toTransfer.srcAccessMask = 0;
   toTransfer.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -352,7 +459,7 @@ void Window::present(gpu::Image& frame, ImDrawData* ui) {
     VkImageMemoryBarrier toCopy{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
     toCopy.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
     toCopy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    toCopy.oldLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    toCopy.oldLayout = targetLayout();
     toCopy.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     toCopy.srcQueueFamilyIndex = toCopy.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     toCopy.image = images_[imageIndex];
@@ -368,7 +475,7 @@ void Window::present(gpu::Image& frame, ImDrawData* ui) {
     back.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
     back.dstAccessMask = 0;
     back.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    back.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    back.newLayout = targetLayout();
     VkBufferMemoryBarrier toHost{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
     toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -379,17 +486,23 @@ void Window::present(gpu::Image& frame, ImDrawData* ui) {
                          VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &toHost,
                          1, &back);
   }
+  if (timestamps_) {
+    vkCmdWriteTimestamp(slot.cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, std::uint32_t(2 * slotIndex + 1));
+    slot.timed = true;
+  }
   check(vkEndCommandBuffer(slot.cmd), "vkEndCommandBuffer");
 
   const VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_TRANSFER_BIT;
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.waitSemaphoreCount = 1;
-  submit.pWaitSemaphores = &slot.acquired;
-  submit.pWaitDstStageMask = &waitStage;
+  if (window_) {
+    submit.waitSemaphoreCount = 1;
+    submit.pWaitSemaphores = &slot.acquired;
+    submit.pWaitDstStageMask = &waitStage;
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &renderFinished_[imageIndex];
+  }
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &slot.cmd;
-  submit.signalSemaphoreCount = 1;
-  submit.pSignalSemaphores = &renderFinished_[imageIndex];
   check(vkQueueSubmit(context_->queue(), 1, &submit, slot.fence), "vkQueueSubmit");
   ++presented_;
   if (capture) {
@@ -403,6 +516,7 @@ void Window::present(gpu::Image& frame, ImDrawData* ui) {
     std::printf("wrote %s (the window, %ux%u)\n", capturePath_.c_str(), extent_.width, extent_.height);
     capturePath_.clear();
   }
+  if (!window_) return;  // headless: nothing to present to
 
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.waitSemaphoreCount = 1;

@@ -28,6 +28,10 @@ struct WindowOptions {
   std::string title = "bounce view";
   bool validation = false;
   std::optional<int> deviceIndex;
+  // No window: the panels are drawn into an image of this size that is
+  // never presented (a GPU machine without a display, to measure the
+  // viewer's own cost). Input comes from a script only.
+  bool headless = false;
 };
 
 class Window {
@@ -44,6 +48,10 @@ class Window {
   GLFWwindow* handle() { return window_; }
   bool closeRequested() const;
   void setTitle(const std::string& title);
+  bool headless() const { return !window_; }
+  // Once a frame, before the panels are built: the window's events, and
+  // Dear ImGui's new frame (size, time, input).
+  void beginUiFrame();
   // The client area in pixels (the swapchain's size).
   VkExtent2D extent() const { return extent_; }
 
@@ -60,10 +68,19 @@ class Window {
   // the UI over it) to `png`. Throws when the swapchain cannot be copied
   // from (VK_IMAGE_USAGE_TRANSFER_SRC_BIT not offered).
   void captureNextPresent(const std::filesystem::path& png);
+  // GPU time (timestamps) of the latest completed present: the blit and
+  // the panels' draw; 0 until one completed.
+  double lastPresentGpuMs() const { return lastPresentGpuMs_; }
 
  private:
   void release();
   void createSwapchain();
+  void createOffscreenTarget();
+  void createRenderPassAndFramebuffers();
+  void createCommandSlots();
+  // The layout the render pass leaves the target in: PRESENT_SRC_KHR, or
+  // TRANSFER_SRC_OPTIMAL when headless.
+  VkImageLayout targetLayout() const;
   void destroySwapchain();
   void initialiseImGui();
 
@@ -80,7 +97,13 @@ class Window {
   VkRenderPass renderPass_ = VK_NULL_HANDLE;
   VkDescriptorPool imguiPool_ = VK_NULL_HANDLE;
   VkCommandPool commandPool_ = VK_NULL_HANDLE;
+  // Headless: the image the panels are drawn into, in place of a swapchain's.
+  VkImage offscreen_ = VK_NULL_HANDLE;
+  VkDeviceMemory offscreenMemory_ = VK_NULL_HANDLE;
+  VkQueryPool timestamps_ = VK_NULL_HANDLE;  // two per slot: the start and end of its present
+  double lastPresentGpuMs_ = 0.0;
   struct Slot {
+    bool timed = false;  // its queries hold a submitted present's times
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     VkSemaphore acquired = VK_NULL_HANDLE;
