@@ -5,8 +5,10 @@
 // with zero validation messages.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@
 
 #include "io/image_io.h"
 #include "process.h"
+#include "viewer/brdf_plot.h"
 
 namespace {
 
@@ -221,6 +224,65 @@ TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
   const bounce::testing::ProcessResult noScript = bounce({"view", "cornell", "--headless"});
   EXPECT_EQ(noScript.exitCode, 1);
   EXPECT_NE(noScript.output.find("--headless needs --script"), std::string::npos) << noScript.output;
+}
+
+// The bytes of a PNG as stored (readImage would decode sRGB to linear).
+bounce::io::Rgba8Image pngBytes(const fs::path& png) {
+  std::ifstream in(png, std::ios::binary);
+  const std::vector<unsigned char> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return bounce::io::decodeRgba8(file, png.string(), 16384);
+}
+
+// Whether `window` shows `plot`'s image byte for byte somewhere in the
+// BRDF window's corner of the window (right of the panels, near the top).
+bool showsPlot(const bounce::io::Rgba8Image& window, const bounce::viewer::BrdfPlot& plot) {
+  const std::vector<std::uint8_t>& bytes = plot.rgba();
+  const auto matches = [&](int x0, int y0) {
+    for (int y = 0; y < plot.height(); ++y)
+      for (int x = 0; x < plot.width(); ++x)
+        for (std::size_t c = 0; c < 3; ++c)
+          if (window.rgba8[(std::size_t(y0 + y) * std::size_t(window.width) + std::size_t(x0 + x)) * 4 + c] !=
+              bytes[(std::size_t(y) * std::size_t(plot.width()) + std::size_t(x)) * 4 + c])
+            return false;
+    return true;
+  };
+  for (int y0 = 0; y0 + plot.height() <= window.height && y0 < 80; ++y0)
+    for (int x0 = 300; x0 + plot.width() <= window.width; ++x0)
+      if (matches(x0, y0)) return true;
+  return false;
+}
+
+TEST(Viewer, ThePickedMaterialsBrdfPlotsFollowItsEdits) {
+  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_brdf_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path script = dir / "brdf.txt";
+  std::ofstream(script) << "wait 1\nclick 360 200\nmaterial metallic 1\nmaterial roughness 0.15\nwait 8\n"
+                           "window smooth\nmaterial roughness 0.9\nwait 8\nwindow rough\n";
+  // GI off: the plots need none, and the frame is cheaper on the CPU.
+  const bounce::testing::ProcessResult r = bounce::testing::runProcess(
+      {BOUNCE_BINARY, "view", "cornell", "--gi", "off", "--headless", "--script", script.string(), "--out",
+       (dir / "view").string(), "--validate", "--width", "720", "--height", "300"},
+      {"DISPLAY="});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("alidation"), std::string::npos) << r.output;
+  const bounce::io::Rgba8Image smooth = pngBytes(dir / "view" / "smooth.png");
+  const bounce::io::Rgba8Image rough = pngBytes(dir / "view" / "rough.png");
+  // The window shows the plots of the edited values, refined by 4096
+  // samples a frame (8 frames after each edit, the capture's frame the 9th),
+  // texel for texel as BrdfPlot makes them; and not the other edit's.
+  const glm::vec3 white(0.73f);  // cornell white
+  bounce::viewer::BrdfPlot smoothPlot(90), roughPlot(90);
+  smoothPlot.setMaterial(white, 0.15f, 1.0f);
+  roughPlot.setMaterial(white, 0.9f, 1.0f);
+  for (int frame = 0; frame < 9; ++frame) {
+    smoothPlot.refine(4096);
+    roughPlot.refine(4096);
+  }
+  EXPECT_TRUE(showsPlot(smooth, smoothPlot));
+  EXPECT_TRUE(showsPlot(rough, roughPlot));
+  EXPECT_FALSE(showsPlot(rough, smoothPlot));
+  fs::remove_all(dir);
 }
 
 TEST(Viewer, ABadScriptIsOneLineNamingItsLineBeforeAnyWindowOpens) {

@@ -185,6 +185,26 @@ void viewPanel(PanelState& state, PanelActions& actions) {
   }
 }
 
+// The picked material's BRDF plots, in a window of their own beside the
+// panels. The image is blitted where this window keeps an empty item
+// (Dear ImGui 1.86's Vulkan backend draws no images of ours).
+void brdfPanel(PanelState& state) {
+  ImGui::SetNextWindowPos(ImVec2(346.0f, 8.0f), ImGuiCond_FirstUseEver);
+  if (ImGui::Begin("BRDF", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("%s: view at 45 degrees, %u samples", state.material.name.c_str(), state.brdfPlotSamples);
+    const ImVec2 size(float(state.brdfPlotSize.x), float(state.brdfPlotSize.y));
+    ImGui::Dummy(size);
+    const ImVec2 at = ImGui::GetItemRectMin();
+    const ImVec2 windowMin = ImGui::GetWindowPos();
+    const ImVec2 windowMax(windowMin.x + ImGui::GetWindowWidth(), windowMin.y + ImGui::GetWindowHeight());
+    // Only where the window shows all of it, so it covers no other widget.
+    if (ImGui::IsItemVisible() && at.x >= windowMin.x && at.y >= windowMin.y && at.x + size.x <= windowMax.x &&
+        at.y + size.y <= windowMax.y)
+      state.brdfPlotAt = glm::ivec2(int(at.x), int(at.y));
+  }
+  ImGui::End();
+}
+
 void materialPanel(PanelState& state, PanelActions& actions) {
   ImGui::InputText("glTF", state.gltfFile, sizeof state.gltfFile);
   ImGui::SameLine();
@@ -204,6 +224,7 @@ void materialPanel(PanelState& state, PanelActions& actions) {
   changed |= ImGui::DragFloat("emission strength", &m.emissiveStrength, 0.05f, 0.0f, 1000.0f);
   if (m.baseColorTexture >= 0 || m.metallicRoughnessTexture >= 0)
     ImGui::TextDisabled("textured: the factors multiply its textures");
+
   if (changed) {
     m.baseColorFactor = glm::clamp(m.baseColorFactor, 0.0f, 1.0f);
     m.emissiveFactor = glm::max(m.emissiveFactor, glm::vec3(0.0f));
@@ -257,6 +278,7 @@ const std::vector<KeyHelp>& keyHelp() {
 }
 
 void drawPanels(PanelState& state, PanelActions& actions) {
+  state.brdfPlotAt.reset();
   if (state.hidden) return;
   ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(330.0f, 430.0f), ImGuiCond_FirstUseEver);
@@ -269,9 +291,13 @@ void drawPanels(PanelState& state, PanelActions& actions) {
     if (ImGui::CollapsingHeader("GI settings")) settingsPanel(state, actions);
     if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen)) viewPanel(state, actions);
     if (ImGui::CollapsingHeader("timings", ImGuiTreeNodeFlags_DefaultOpen)) timingsPanel(state);
+    // Opens when a click picks a material.
+    if (state.openMaterialPanel) ImGui::SetNextItemOpen(true);
+    state.openMaterialPanel = false;
     if (ImGui::CollapsingHeader("material")) materialPanel(state, actions);
   }
   ImGui::End();
+  if (state.pickedMaterial) brdfPanel(state);
   if (state.showHelp) {
     ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
     if (ImGui::Begin("keys (H)", &state.showHelp, ImGuiWindowFlags_AlwaysAutoResize)) {

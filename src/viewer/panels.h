@@ -62,6 +62,13 @@ struct PanelState {
   std::vector<InspectedValue> inspected;
   char gltfFile[512] = "edited.gltf";
   std::string materialMessage;  // what the last save did
+  // The picked material's BRDF plots (viewer/brdf_plot.h): their size, the
+  // samples so far, and where the panel kept room for them this frame
+  // (window pixels; empty when that room is not on screen).
+  glm::ivec2 brdfPlotSize{0};
+  std::uint32_t brdfPlotSamples = 0;
+  std::optional<glm::ivec2> brdfPlotAt;
+  bool openMaterialPanel = false;  // a material was just picked
 };
 
 // What the user asked for this frame.

@@ -25,6 +25,7 @@
 #include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
 #include "scene/gltf_export.h"
+#include "viewer/brdf_plot.h"
 #include "viewer/fly_camera.h"
 #include "viewer/viewer_shaders.h"
 
@@ -47,6 +48,11 @@ constexpr std::uint32_t kReferenceSamplesPerFrame = 1;
 // Bytes each inspected image's texel gets in the readback buffer: a
 // multiple of every texel size, as copies to buffers need.
 constexpr VkDeviceSize kInspectStride = 16;
+
+// The BRDF plots' panels, pixels a side: three fit the panel's width. Each
+// frame adds kBrdfSamplesPerFrame samples (about half a millisecond of CPU).
+constexpr int kBrdfPlotPanelSize = 90;
+constexpr std::uint32_t kBrdfSamplesPerFrame = 4096;
 
 bool samePose(const scene::CameraPose& a, const scene::CameraPose& b) {
   return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
@@ -82,7 +88,13 @@ class Session {
                                           .height = options.renderer.height,
                                           .format = gpu::formats::kRgba8,
                                           .visualize = gpu::Visualize::Color}),
-        displayPass_(context_, displayPassDesc()) {
+        displayPass_(context_, displayPassDesc()),
+        brdfImage_(context_, gpu::ImageDesc{.name = "viewer.brdf_plot",
+                                            .width = std::uint32_t(brdfPlot_.width()),
+                                            .height = std::uint32_t(brdfPlot_.height()),
+                                            .format = gpu::formats::kRgba8,
+                                            .visualize = gpu::Visualize::Color}) {
+    panels_.brdfPlotSize = glm::ivec2(brdfPlot_.width(), brdfPlot_.height());
     panels_.mode = options.mode;
     panels_.settings = options.settings;
     panels_.exposure = options.exposure;
@@ -161,6 +173,10 @@ class Session {
   float referenceTime_ = 0.0f;  // the scene stands still at this time while the reference shows
   std::uint64_t measuredAtSpp_ = 0;
   std::unique_ptr<gpu::Buffer> inspectBuffer_;
+  // The picked material's BRDF plots, refined a little every frame.
+  BrdfPlot brdfPlot_{kBrdfPlotPanelSize};
+  gpu::Image brdfImage_;
+  void refineBrdfPlot();
   std::map<std::string, std::size_t> timingCounts_;  // samples per pass at the last look
   struct CostSamples {
     std::vector<double> frameGpuMs, giGpuMs, viewerGpuMs, presentGpuMs, cpuMs;
@@ -495,6 +511,7 @@ void Session::pick(std::uint32_t x, std::uint32_t y) {
   panels_.pickedMaterial = renderer_.materialAt(x, y);
   if (panels_.pickedMaterial) {
     panels_.material = renderer_.materials().at(*panels_.pickedMaterial);
+    panels_.openMaterialPanel = true;
     std::printf("picked material %u (%s) at pixel (%u, %u)\n", *panels_.pickedMaterial, panels_.material.name.c_str(),
                 x, y);
   } else {
@@ -674,6 +691,25 @@ void Session::printCosts(const std::string& label) {
   costs_ = {};
 }
 
+void Session::refineBrdfPlot() {
+  if (!panels_.pickedMaterial) return;
+  const scene::Material& m = panels_.material;
+  brdfPlot_.setMaterial(glm::vec3(m.baseColorFactor), m.roughnessFactor, m.metallicFactor);
+  const bool first = brdfPlot_.samples() == 0;
+  if (!brdfPlot_.refine(kBrdfSamplesPerFrame) && !first) return;
+  panels_.brdfPlotSamples = brdfPlot_.samples();
+  // The bytes are display values already: the UNORM image keeps them as they are.
+  io::ImageF pixels(brdfPlot_.width(), brdfPlot_.height(), {"R", "G", "B", "A"});
+  const std::vector<std::uint8_t>& bytes = brdfPlot_.rgba();
+  for (std::size_t i = 0; i < bytes.size(); ++i) pixels.pixels[i] = float(bytes[i]) / 255.0f;
+  gpuio::uploadImage(context_, brdfImage_, pixels);
+  context_.submitAndWait([&](gpu::Recorder& recorder) {
+    recorder.handOver(brdfImage_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                      VK_ACCESS_2_TRANSFER_READ_BIT);
+    recorder.flush();
+  });
+}
+
 int Session::run() {
   bool scriptRunning = options_.scripted;
   while (!quit_ && !window_.closeRequested()) {
@@ -705,7 +741,11 @@ int Session::run() {
       writeStages(pendingStages_);
       pendingStages_.clear();
     }
-    window_.present(display_, ImGui::GetDrawData());
+    refineBrdfPlot();
+    std::vector<Window::Overlay> overlays;
+    if (panels_.brdfPlotAt && panels_.brdfPlotSamples > 0)
+      overlays.push_back({&brdfImage_, panels_.brdfPlotAt->x, panels_.brdfPlotAt->y});
+    window_.present(display_, ImGui::GetDrawData(), overlays);
     updateTitle();
     recordCosts();
     if (lastPresent) break;

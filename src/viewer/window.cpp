@@ -306,7 +306,7 @@ void Window::createRenderPassAndFramebuffers() {
     toCopy.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     toCopy.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
     toCopy.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    toCopy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    toCopy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
     const VkSubpassDependency dependencies[] = {dependency, toCopy};
     passInfo.dependencyCount = 2;
     passInfo.pDependencies = dependencies;
@@ -384,7 +384,7 @@ void Window::initialiseImGui() {
   ImGui_ImplVulkan_DestroyFontUploadObjects();
 }
 
-void Window::present(gpu::Image& frame, ImDrawData* ui) {
+void Window::present(gpu::Image& frame, ImDrawData* ui, std::span<const Overlay> overlays) {
   const VkDevice device = context_->device();
   if (window_ && !swapchain_) {
     // Minimised (or lost): try again at this size; nothing to show on.
@@ -451,21 +451,59 @@ void Window::present(gpu::Image& frame, ImDrawData* ui) {
   vkCmdBeginRenderPass(slot.cmd, &pass, VK_SUBPASS_CONTENTS_INLINE);
   if (ui) ImGui_ImplVulkan_RenderDrawData(ui, slot.cmd);
   vkCmdEndRenderPass(slot.cmd);
+  if (!overlays.empty()) {
+    // Images beside the panels (Dear ImGui 1.86's Vulkan backend draws no
+    // images of ours): blitted over the UI, into the rectangles it kept.
+    VkImageMemoryBarrier toBlit{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    toBlit.srcAccessMask = 0;  // the render pass's dependency to EXTERNAL made its writes available
+    toBlit.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    toBlit.oldLayout = targetLayout();
+    toBlit.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    toBlit.srcQueueFamilyIndex = toBlit.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    toBlit.image = images_[imageIndex];
+    toBlit.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(slot.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &toBlit);
+    for (const Overlay& overlay : overlays) {
+      // Clipped to the window: a panel dragged half out of it keeps its image's visible part.
+      const std::int32_t x0 = std::max(overlay.x, 0), y0 = std::max(overlay.y, 0);
+      const std::int32_t x1 = std::min(overlay.x + std::int32_t(overlay.image->width()), std::int32_t(extent_.width));
+      const std::int32_t y1 = std::min(overlay.y + std::int32_t(overlay.image->height()), std::int32_t(extent_.height));
+      if (x1 <= x0 || y1 <= y0) continue;
+      VkImageBlit region{};
+      region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.srcOffsets[0] = {x0 - overlay.x, y0 - overlay.y, 0};
+      region.srcOffsets[1] = {x1 - overlay.x, y1 - overlay.y, 1};
+      region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.dstOffsets[0] = {x0, y0, 0};
+      region.dstOffsets[1] = {x1, y1, 1};
+      vkCmdBlitImage(slot.cmd, overlay.image->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, images_[imageIndex],
+                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_NEAREST);
+    }
+    VkImageMemoryBarrier back = toBlit;
+    back.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    back.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    back.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    back.newLayout = targetLayout();
+    vkCmdPipelineBarrier(slot.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &back);
+  }
   std::unique_ptr<gpu::Buffer> capture;
   if (!capturePath_.empty()) {
     capture =
         std::make_unique<gpu::Buffer>(*context_, "viewer.window_capture",
                                       VkDeviceSize(extent_.width) * extent_.height * 4, gpu::BufferUsage::Readback);
     VkImageMemoryBarrier toCopy{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    toCopy.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    toCopy.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
     toCopy.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
     toCopy.oldLayout = targetLayout();
     toCopy.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
     toCopy.srcQueueFamilyIndex = toCopy.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     toCopy.image = images_[imageIndex];
     toCopy.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(slot.cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
-                         nullptr, 0, nullptr, 1, &toCopy);
+    vkCmdPipelineBarrier(slot.cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &toCopy);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {extent_.width, extent_.height, 1};

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -61,7 +62,13 @@ class Window {
   // frame's own command buffer must have been submitted before (the blit
   // follows it in queue order). Waits only when both of its own command
   // buffers are still in flight.
-  void present(gpu::Image& frame, ImDrawData* ui);
+  // An image drawn over the panels at (x, y) of the window (rgba8, handed
+  // over in TRANSFER_SRC_OPTIMAL as `frame` is): the material editor's plots.
+  struct Overlay {
+    gpu::Image* image;
+    std::int32_t x, y;
+  };
+  void present(gpu::Image& frame, ImDrawData* ui, std::span<const Overlay> overlays = {});
   // Waits for every present submission.
   void waitIdle();
   // The next present() also writes what the window shows (the frame and
