@@ -100,11 +100,11 @@ TEST(Viewer, AScriptedSessionMatchesOfflineRendersOfTheSameSettingsAndMaterial) 
   const std::vector<std::string> edited = {"--material", "cornell white:base_color=0.9,0.2,0.2",
                                            "--gi.diffuse.spatial_radius", "12"};
   const fs::path before = offline("before", "6", {});
-  const fs::path after = offline("after", "24", edited);
+  const fs::path after = offline("after", "16", edited);
   std::vector<std::string> otherSeed = edited;
   otherSeed.insert(otherSeed.end(), {"--gi.seed", "1"});
-  const fs::path afterOtherSeed = offline("after-seed-1", "24", otherSeed);
-  const fs::path unedited = offline("unedited", "24", {"--gi.diffuse.spatial_radius", "12"});
+  const fs::path afterOtherSeed = offline("after-seed-1", "16", otherSeed);
+  const fs::path unedited = offline("unedited", "16", {"--gi.diffuse.spatial_radius", "12"});
 
   // Before the edit the viewer's frames are the offline run's, frame index
   // for frame index: the same noise, so nearly the same picture (the
@@ -198,7 +198,7 @@ TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
   fs::create_directories(dir);
   const fs::path script = dir / "costs.txt";
   std::ofstream(script) << "panels off\nwait 4\ntimings hidden\nwindow bare\npanels on\nwait 4\ntimings shown\n"
-                           "window panels\n";
+                           "window panels\nset restir off\nsplit defaults\nwait 2\npanels off\nwindow defaults\n";
   // No X server: the environment has no DISPLAY, and none is needed.
   const bounce::testing::ProcessResult r =
       bounce::testing::runProcess({BOUNCE_BINARY, "view", "cornell", "--headless", "--script", script.string(), "--out",
@@ -219,6 +219,12 @@ TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
   std::size_t differing = 0;
   for (std::size_t i = 0; i < bare.pixels.size(); ++i) differing += bare.pixels[i] != panels.pixels[i] ? 1 : 0;
   EXPECT_GT(differing, bare.pixels.size() / 4);
+  // The split against the default settings: the right half is another
+  // library's frame (with ReSTIR, where the left has none), a grey line between.
+  const bounce::io::ImageF split = bounce::io::readImage(dir / "view" / "defaults.png");
+  const float* line = &split.pixels[(std::size_t(10) * std::size_t(split.width) + 32) * split.channelCount()];
+  EXPECT_NEAR(line[0], line[1], 1e-6f);
+  EXPECT_GT(line[0], 0.1f);
   fs::remove_all(dir);
 
   const bounce::testing::ProcessResult noScript = bounce({"view", "cornell", "--headless"});
@@ -282,6 +288,50 @@ TEST(Viewer, ThePickedMaterialsBrdfPlotsFollowItsEdits) {
   EXPECT_TRUE(showsPlot(smooth, smoothPlot));
   EXPECT_TRUE(showsPlot(rough, roughPlot));
   EXPECT_FALSE(showsPlot(rough, smoothPlot));
+  fs::remove_all(dir);
+}
+
+TEST(Viewer, ARecordedSessionReplaysAsARerunDoes) {
+  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_record_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path script = dir / "session.txt", recording = dir / "recorded.txt";
+  std::ofstream(script) << "wait 2\nkey w 3\nlook 30 0\nclick 32 24\nmaterial roughness 0.4\n"
+                           "set diffuse.spatial_radius 12\nwait 3\nscreenshot moved\nplay 5\nscreenshot path\n";
+  const auto view = [&](const fs::path& commands, const std::string& out, bool record) {
+    std::vector<std::string> arguments = {
+        BOUNCE_BINARY, "view",     "cornell",         "--camera", "orbit",
+        "--headless",  "--script", commands.string(), "--out",    (dir / out).string(),
+        "--width",     "64",       "--height",        "48"};
+    if (record) arguments.insert(arguments.end(), {"--record", recording.string()});
+    const bounce::testing::ProcessResult r = bounce::testing::runProcess(arguments, {"DISPLAY="});
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return r;
+  };
+  view(script, "original", true);
+  std::ifstream in(recording);
+  const std::string recorded((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // What the session did, as commands: the clicks, edits, settings and
+  // screenshots as they were, the camera as a pose a frame (a cut as camera).
+  for (const char* line : {"\nclick 32 24\n", "\nmaterial roughness 0.4", "\nset diffuse.spatial_radius 12\n",
+                           "\nscreenshot moved\n", "\nscreenshot path\n", "\ncamera ", "\npose "})
+    EXPECT_NE(recorded.find(line), std::string::npos) << line << " in\n" << recorded;
+  view(recording, "replay", false);
+  view(script, "rerun", false);
+  // The replay is as close to the original as running the script again is
+  // (the radiance cache makes runs differ; docs/known-issues.md).
+  for (const char* shot : {"moved.exr", "path.exr"}) {
+    const double replay = flip(dir / "original" / shot, dir / "replay" / shot);
+    const double rerun = flip(dir / "original" / shot, dir / "rerun" / shot);
+    EXPECT_LT(replay, 1.5 * rerun + 0.02) << shot;
+  }
+  // The camera path moved the camera: the two screenshots differ.
+  EXPECT_GT(flip(dir / "original" / "moved.exr", dir / "original" / "path.exr"), 0.2);
+  // A recording never replaces a file.
+  const bounce::testing::ProcessResult again =
+      bounce({"view", "cornell", "--headless", "--script", script.string(), "--record", recording.string()});
+  EXPECT_EQ(again.exitCode, 1);
+  EXPECT_NE(again.output.find("exists; not overwritten"), std::string::npos) << again.output;
   fs::remove_all(dir);
 }
 

@@ -3,6 +3,7 @@
 // as bounce render; --script runs it unattended (a list of input events and
 // waits, ending in screenshots).
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 
 #include "app/commands.h"
@@ -26,6 +27,9 @@ CLI::App* addViewCommand(CLI::App& app, ViewOptions& options) {
   command->add_flag("--headless", options.headless,
                     "No window (a machine without a display; needs --script): the panels are drawn into an image "
                     "that is never presented, e.g. to measure the viewer's own cost (script command timings)");
+  command->add_option("--record", options.record,
+                      "Write the session as a script to this file (camera poses, settings, clicks, material edits, "
+                      "screenshots), so that --script replays it; an existing file is not overwritten");
   command->add_option("--out", options.out, "Folder for screenshots (created if missing)");
   command->add_option("--exposure", options.exposure, "Exposure multiplier before tonemapping")
       ->check(finitePositive());
@@ -39,9 +43,15 @@ int runView(const ViewOptions& options) {
   std::vector<viewer::ScriptCommand> script;
   if (!options.script.empty()) script = viewer::loadScript(options.script);
   checkWritableDirectory(options.out, "--out");
+  if (!options.record.empty()) {
+    std::error_code error;
+    if (std::filesystem::exists(options.record, error))
+      throw std::runtime_error("--record " + options.record +
+                               ": the file exists; not overwritten (choose another name)");
+  }
   const SceneOptions& shot = options.view;
   const scene::Scene scene = loadScene(shot);
-  const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, shot);
+  std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, shot);
   const std::vector<scene::CameraFrame> first = checkedCameraFrames(*path, 0, 1, shot);
 
   viewer::ViewerOptions viewerOptions;
@@ -53,6 +63,8 @@ int runView(const ViewOptions& options) {
                           .headless = options.headless};
   viewerOptions.renderer = frameRendererOptions(scene, shot);
   viewerOptions.camera = first[0].pose;
+  viewerOptions.path = std::shared_ptr<const scene::CameraPath>(path.release());
+  viewerOptions.record = options.record;
   // --gi off starts with GI off; the window can still switch it on, with
   // both branches.
   const bool gi = giEnabled(options.gi);

@@ -148,6 +148,7 @@ struct ViewOptions {
   GiOptions gi;
   std::string script;  // empty: interactive
   bool headless = false;  // no window (needs a script): the panels drawn into an image, never presented
+  std::string record;     // non-empty: write the session there as a script
   std::string out = "out";
   float exposure = 1.0f;
 };

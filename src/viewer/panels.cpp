@@ -160,7 +160,7 @@ void viewPanel(PanelState& state, PanelActions& actions) {
   }
   int split = int(state.split);
   ImGui::TextUnformatted("right half");
-  for (SplitMode m : {SplitMode::None, SplitMode::GiOff, SplitMode::Reference}) {
+  for (SplitMode m : {SplitMode::None, SplitMode::GiOff, SplitMode::Defaults, SplitMode::Reference}) {
     ImGui::SameLine();
     if (ImGui::RadioButton(splitModeName(m), &split, int(m))) actions.viewChanged = true;
   }
@@ -253,6 +253,8 @@ const char* splitModeName(SplitMode mode) {
       return "none";
     case SplitMode::GiOff:
       return "gi-off";
+    case SplitMode::Defaults:
+      return "defaults";
     case SplitMode::Reference:
       break;
   }
@@ -268,6 +270,7 @@ const std::vector<KeyHelp>& keyHelp() {
       {"mouse wheel", "movement speed"},
       {"left click", "pick the material under the cursor"},
       {"P", "pause / resume"},
+      {"C", "follow the camera path (--camera) / fly again"},
       {"N", "one frame while paused"},
       {"F12", "screenshot: PNG + EXR of the frame (shift: every stage too)"},
       {"H", "this help"},
@@ -286,7 +289,8 @@ void drawPanels(PanelState& state, PanelActions& actions) {
   ImGui::SetNextWindowBgAlpha(0.7f);
   if (ImGui::Begin("bounce")) {
     ImGui::SliderFloat("exposure", &state.exposure, 0.05f, 16.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-    ImGui::Text("camera speed %.3g / s%s", double(state.cameraSpeed), state.paused ? "   (paused)" : "");
+    ImGui::Text("camera speed %.3g / s%s%s%s", double(state.cameraSpeed), state.paused ? "   (paused)" : "",
+                state.playing ? "   (camera path)" : "", state.recording ? "   (recording)" : "");
     if (ImGui::Button("screenshot (F12)")) actions.screenshot = true;
     if (ImGui::CollapsingHeader("GI settings")) settingsPanel(state, actions);
     if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen)) viewPanel(state, actions);

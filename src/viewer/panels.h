@@ -23,8 +23,8 @@ enum class GiMode { Off, ScreenOnly, Hybrid };
 const char* giModeName(GiMode mode);  // off, screen-only, hybrid
 
 // What the right half of the window shows beside the GI frame.
-enum class SplitMode { None, GiOff, Reference };
-const char* splitModeName(SplitMode mode);  // none, gi-off, reference
+enum class SplitMode { None, GiOff, Defaults, Reference };
+const char* splitModeName(SplitMode mode);  // none, gi-off, defaults, reference
 
 // One image's value at the inspected pixel.
 struct InspectedValue {
@@ -46,6 +46,8 @@ struct PanelState {
   float exposure = 1.0f;
   float cameraSpeed = 0.0f;
   bool paused = false;
+  bool playing = false;  // following the camera path
+  bool recording = false;
   bool showHelp = false;
   bool hidden = false;  // no panels: the frame alone (U, or a script's 'panels off')
   // The view: which image fills the window ("final" or a stage's name,

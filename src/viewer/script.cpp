@@ -19,10 +19,12 @@ struct Syntax {
   std::string_view name;
   Kind kind;
 };
-constexpr std::array<Syntax, 19> kCommands = {{{"wait", Kind::Wait},
+constexpr std::array<Syntax, 21> kCommands = {{{"wait", Kind::Wait},
                                                {"key", Kind::Key},
                                                {"look", Kind::Look},
                                                {"camera", Kind::Camera},
+                                               {"pose", Kind::Pose},
+                                               {"play", Kind::Play},
                                                {"click", Kind::Click},
                                                {"set", Kind::Set},
                                                {"gi", Kind::Gi},
@@ -115,7 +117,12 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       p.expectArguments(2, "dx, dy in pixels");
       command.numbers = {p.number(1, -kHuge, kHuge), p.number(2, -kHuge, kHuge)};
       break;
+    case Kind::Play:
+      p.expectArguments(1, "frames");
+      command.numbers = {p.count(1)};
+      break;
     case Kind::Camera:
+    case Kind::Pose:
       p.expectArguments(6, "position x y z, target x y z");
       for (std::size_t i = 1; i <= 6; ++i) command.numbers.push_back(p.number(i, -kHuge, kHuge));
       if (command.numbers[0] == command.numbers[3] && command.numbers[1] == command.numbers[4] &&
@@ -138,13 +145,14 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       command.words = {w[1]};
       break;
     case Kind::Material: {
-      if (w.size() < 2) p.fail("'material' takes a field (base_color, roughness, metallic, emission) and its value");
+      if (w.size() < 2)
+        p.fail("'material' takes a field (base_color, roughness, metallic, emission, emission_strength) and its value");
       const std::string& field = w[1];
       const bool colour = field == "base_color" || field == "emission";
-      if (!colour && field != "roughness" && field != "metallic")
-        p.fail("unknown material field '" + field + "' (base_color, roughness, metallic, emission)");
+      if (!colour && field != "roughness" && field != "metallic" && field != "emission_strength")
+        p.fail("unknown material field '" + field + "' (base_color, roughness, metallic, emission, emission_strength)");
       p.expectArguments(colour ? 4 : 2, colour ? "field, r g b" : "field, value");
-      const double high = field == "emission" ? kHuge : 1.0;
+      const double high = field == "emission" || field == "emission_strength" ? kHuge : 1.0;
       for (std::size_t i = 2; i < w.size(); ++i) command.numbers.push_back(p.number(i, 0.0, high));
       command.words = {field};
       break;
@@ -160,9 +168,9 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       break;
     }
     case Kind::Split:
-      p.expectArguments(1, "none, gi-off or reference");
-      if (w[1] != "none" && w[1] != "gi-off" && w[1] != "reference")
-        p.fail("'split' takes none, gi-off or reference, not '" + w[1] + "'");
+      p.expectArguments(1, "none, gi-off, defaults or reference");
+      if (w[1] != "none" && w[1] != "gi-off" && w[1] != "defaults" && w[1] != "reference")
+        p.fail("'split' takes none, gi-off, defaults or reference, not '" + w[1] + "'");
       command.words = {w[1]};
       break;
     case Kind::Panels:

@@ -5,19 +5,22 @@
 //   key KEY N               hold KEY (w a s d q e, shift) for N frames
 //   look DX DY              turn the camera as a mouse drag of DX, DY pixels would
 //   camera PX PY PZ TX TY TZ  place the camera at P looking at T (a cut)
+//   pose PX PY PZ TX TY TZ  the camera moves there (no cut: what --record writes a frame)
+//   play N                  follow the camera path (--camera) for N frames from where it is
 //   click X Y               a left click on pixel (X, Y) of the frame: picks
 //                           the material seen there for the editor
 //   set KEY VALUE           a GI setting, as --gi.KEY VALUE (restarts the GI)
 //   gi MODE                 off, screen-only or hybrid
 //   material FIELD VALUE..  edit the picked material: base_color R G B,
-//                           roughness V, metallic V, emission R G B
+//                           roughness V, metallic V, emission R G B, emission_strength V
 //   screenshot NAME         the frame as OUT/NAME.png and OUT/NAME.exr (HDR)
 //   stages NAME             every stage of the next frame to OUT/NAME-stages/
 //   window NAME             the next frame as the window shows it (frame and panels) as OUT/NAME.png
 //   timings LABEL           print the median costs since the last 'timings' (GPU: the frame's
 //                           passes, the GI library's, the viewer's own; CPU time a frame)
 //   panels on|off           show or hide the panels (the window shows the frame alone)
-//   split MODE              the right half: none, gi-off, or reference (progressive path tracing)
+//   split MODE              the right half: none, gi-off, defaults (the GI with default
+//                           settings) or reference (progressive path tracing)
 //   measure                 print the GI frame's relMSE and HDR-FLIP against the reference
 //   stage NAME              show that image (a stage's, as --dump-stages names it; final: the frame)
 //   inspect X Y             print every image's value at pixel (X, Y)
@@ -42,6 +45,8 @@ struct ScriptCommand {
     Key,
     Look,
     Camera,
+    Pose,
+    Play,
     Click,
     Set,
     Gi,

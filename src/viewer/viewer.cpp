@@ -95,6 +95,15 @@ class Session {
                                             .format = gpu::formats::kRgba8,
                                             .visualize = gpu::Visualize::Color}) {
     panels_.brdfPlotSize = glm::ivec2(brdfPlot_.width(), brdfPlot_.height());
+    if (!options.record.empty()) {
+      record_.open(options.record, std::ios::binary);
+      if (!record_) throw std::runtime_error(options.record.string() + ": cannot write the recording");
+      record_ << "# bounce view " << scene.name << ", recorded (replay: bounce view ... --script "
+              << options.record.filename().string() << ")\n";
+      recordedSettings_ = options.settings;
+      recordedMode_ = options.mode;
+      panels_.recording = true;
+    }
     panels_.mode = options.mode;
     panels_.settings = options.settings;
     panels_.exposure = options.exposure;
@@ -177,7 +186,27 @@ class Session {
   BrdfPlot brdfPlot_{kBrdfPlotPanelSize};
   gpu::Image brdfImage_;
   void refineBrdfPlot();
-  std::map<std::string, std::size_t> timingCounts_;  // samples per pass at the last look
+  std::map<std::string, std::size_t> timingCounts_;
+  // The split against the default settings: a second library on the same frame.
+  std::unique_ptr<render::GiBridge> giDefaults_;
+  bool giDefaultsCut_ = true;
+  // The camera path (C, or a script's play) and its clock.
+  float pathTime_ = 0.0f;
+  int pathSegment_ = 0;
+  bool scriptPlaying_ = false;
+  // --record: the session written as a script as it goes.
+  void recordLine(const std::string& line);
+  void recordState();
+  void recordFrame(const scene::CameraPose& pose, bool cut);
+  void finishRecording();
+  std::ofstream record_;
+  std::uint32_t recordedWaits_ = 0;
+  std::optional<scene::CameraPose> recordedPose_;
+  gi::Settings recordedSettings_;
+  GiMode recordedMode_ = GiMode::Hybrid;
+  SplitMode recordedSplit_ = SplitMode::None;
+  std::string recordedStage_ = "final";
+  bool recordedHidden_ = false;  // samples per pass at the last look
   struct CostSamples {
     std::vector<double> frameGpuMs, giGpuMs, viewerGpuMs, presentGpuMs, cpuMs;
   } costs_;
@@ -310,6 +339,10 @@ void Session::setSplit(SplitMode split) {
     referenceStale_ = true;
     referenceTime_ = previous_.time;
   }
+  if (split != SplitMode::Defaults && giDefaults_) {
+    loop_.finish();
+    giDefaults_.reset();
+  }
   panels_.split = split;
 }
 
@@ -317,6 +350,10 @@ bool Session::stepScript(FlyInput& input) {
   if (waitFrames_ > 0) {
     --waitFrames_;
     return true;
+  }
+  if (scriptPlaying_) {
+    panels_.playing = false;
+    scriptPlaying_ = false;
   }
   if (heldFrames_ > 0) {
     --heldFrames_;
@@ -356,6 +393,25 @@ bool Session::stepScript(FlyInput& input) {
         cut_ = true;
         break;
       }
+      case Kind::Pose: {
+        scene::CameraPose pose = camera_.pose();
+        pose.position = glm::vec3(c.numbers[0], c.numbers[1], c.numbers[2]);
+        pose.target = glm::vec3(c.numbers[3], c.numbers[4], c.numbers[5]);
+        try {
+          render::checkCamera(pose);
+        } catch (const std::exception& error) {
+          scriptFailure(c, error.what());
+        }
+        camera_.setPose(pose);
+        break;
+      }
+      case Kind::Play:
+        if (!options_.path) scriptFailure(c, "no camera path to play");
+        panels_.playing = true;
+        scriptPlaying_ = true;
+        cut_ = true;  // from wherever the camera was to the path
+        waitFrames_ = std::uint32_t(c.numbers[0]) - 1;
+        return true;
       case Kind::Click:
         if (c.numbers[0] >= options_.renderer.width || c.numbers[1] >= options_.renderer.height)
           scriptFailure(c, "pixel (" + std::to_string(int(c.numbers[0])) + ", " + std::to_string(int(c.numbers[1])) +
@@ -391,6 +447,8 @@ bool Session::stepScript(FlyInput& input) {
           edited.emissiveFactor = glm::vec3(float(c.numbers[0]), float(c.numbers[1]), float(c.numbers[2]));
         else if (field == "roughness")
           edited.roughnessFactor = float(c.numbers[0]);
+        else if (field == "emission_strength")
+          edited.emissiveStrength = float(c.numbers[0]);
         else
           edited.metallicFactor = float(c.numbers[0]);
         editMaterial(edited);
@@ -412,9 +470,10 @@ bool Session::stepScript(FlyInput& input) {
         panels_.hidden = c.words[0] == "off";
         break;
       case Kind::Split:
-        setSplit(c.words[0] == "none"     ? SplitMode::None
-                 : c.words[0] == "gi-off" ? SplitMode::GiOff
-                                          : SplitMode::Reference);
+        setSplit(c.words[0] == "none"       ? SplitMode::None
+                 : c.words[0] == "gi-off"   ? SplitMode::GiOff
+                 : c.words[0] == "defaults" ? SplitMode::Defaults
+                                            : SplitMode::Reference);
         break;
       case Kind::Measure:
         if (!reference_) scriptFailure(c, "no reference to measure against: 'split reference' and a frame first");
@@ -471,6 +530,10 @@ FlyInput Session::interactiveInput() {
     if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) panels_.showHelp = !panels_.showHelp;
     if (ImGui::IsKeyPressed(GLFW_KEY_U, false)) panels_.hidden = !panels_.hidden;
     if (ImGui::IsKeyPressed(GLFW_KEY_P, false)) panels_.paused = !panels_.paused;
+    if (ImGui::IsKeyPressed(GLFW_KEY_C, false) && options_.path) {
+      panels_.playing = !panels_.playing;
+      cut_ = cut_ || panels_.playing;  // from wherever the camera was to the path
+    }
     if (ImGui::IsKeyPressed(GLFW_KEY_N, false)) stepOnce_ = true;
     if (ImGui::IsKeyPressed(GLFW_KEY_F12, false)) {
       static int shot = 0;
@@ -512,6 +575,7 @@ void Session::pick(std::uint32_t x, std::uint32_t y) {
   if (panels_.pickedMaterial) {
     panels_.material = renderer_.materials().at(*panels_.pickedMaterial);
     panels_.openMaterialPanel = true;
+    recordLine("click " + std::to_string(x) + " " + std::to_string(y));
     std::printf("picked material %u (%s) at pixel (%u, %u)\n", *panels_.pickedMaterial, panels_.material.name.c_str(),
                 x, y);
   } else {
@@ -522,7 +586,25 @@ void Session::pick(std::uint32_t x, std::uint32_t y) {
 void Session::editMaterial(const scene::Material& material) {
   loop_.finish();  // no frame in flight reads the material table
   renderer_.setMaterial(*panels_.pickedMaterial, material);
+  const scene::Material before = panels_.material;
   panels_.material = material;
+  char line[256];
+  if (material.baseColorFactor != before.baseColorFactor) {
+    std::snprintf(line, sizeof line, "material base_color %.9g %.9g %.9g", double(material.baseColorFactor.x),
+                  double(material.baseColorFactor.y), double(material.baseColorFactor.z));
+    recordLine(line);
+  }
+  if (material.roughnessFactor != before.roughnessFactor)
+    recordLine("material roughness " + std::to_string(material.roughnessFactor));
+  if (material.metallicFactor != before.metallicFactor)
+    recordLine("material metallic " + std::to_string(material.metallicFactor));
+  if (material.emissiveFactor != before.emissiveFactor) {
+    std::snprintf(line, sizeof line, "material emission %.9g %.9g %.9g", double(material.emissiveFactor.x),
+                  double(material.emissiveFactor.y), double(material.emissiveFactor.z));
+    recordLine(line);
+  }
+  if (material.emissiveStrength != before.emissiveStrength)
+    recordLine("material emission_strength " + std::to_string(material.emissiveStrength));
 }
 
 void Session::applyPanelActions(const PanelActions& actions) {
@@ -571,8 +653,18 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   const float seconds =
       options_.scripted ? 1.0f / options_.fps : std::chrono::duration<float>(now - lastFrame_).count();
   lastFrame_ = now;
-  camera_.update(input, std::min(seconds, 0.25f));
+  if (panels_.playing && options_.path) {
+    // The camera path's pose at its own clock; a change of segment is a cut.
+    const int segment = options_.path->segment(pathTime_);
+    if (segment != pathSegment_) cut_ = true;
+    pathSegment_ = segment;
+    camera_.setPose(options_.path->pose(pathTime_));
+    pathTime_ += seconds;
+  } else {
+    camera_.update(input, std::min(seconds, 0.25f));
+  }
   panels_.cameraSpeed = camera_.speed();
+  recordState();
 
   const bool referenceShown = panels_.split == SplitMode::Reference;
   // The reference traces the renderer's last frame, whose environment must
@@ -591,6 +683,17 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   if (gi_) gi_->record(recorder, renderer_, index, view, previous_, {.captureStages = capture});
   gpu::Image* right = nullptr;
   if (panels_.split == SplitMode::GiOff) right = &renderer_.direct();
+  if (panels_.split == SplitMode::Defaults && panels_.mode != GiMode::Off) {
+    // The same frame through a second library with the default settings.
+    if (!giDefaults_) {
+      giDefaults_ = std::make_unique<render::GiBridge>(
+          context_, panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly, gi::Settings{});
+      giDefaultsCut_ = true;
+    }
+    giDefaults_->record(recorder, renderer_, index, {view.camera, view.time, view.cut || giDefaultsCut_}, previous_);
+    giDefaultsCut_ = false;
+    right = &giDefaults_->composite();
+  }
   if (referenceShown && reference_) {
     // Accumulates while the camera and the materials stay; anything else starts it over.
     if (referenceStale_ || !samePose(view.camera, referencePose_) ||
@@ -620,11 +723,13 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   recorder.flush();
   loop_.endFrame();
   previous_ = view;
+  recordFrame(view.camera, view.cut);
   cut_ = false;
   ++rendered_;
 }
 
 void Session::screenshot(const std::string& name) {
+  recordLine("screenshot " + name);
   loop_.finish();
   fs::create_directories(options_.out);
   const io::ImageF frame = gpuio::readbackImage(context_, frameImage());
@@ -710,6 +815,55 @@ void Session::refineBrdfPlot() {
   });
 }
 
+void Session::recordLine(const std::string& line) {
+  if (!record_.is_open()) return;
+  if (recordedWaits_ > 0) record_ << "wait " << recordedWaits_ << "\n";
+  recordedWaits_ = 0;
+  record_ << line << "\n";
+}
+
+// What the panels changed since the last frame, as the commands that make it.
+void Session::recordState() {
+  if (!record_.is_open()) return;
+  if (panels_.mode != recordedMode_) recordLine(std::string("gi ") + giModeName(panels_.mode));
+  recordedMode_ = panels_.mode;
+  for (const gi::SettingInfo& info : gi::settingKeys()) {
+    const std::string value = gi::settingValue(panels_.settings, info.key);
+    if (value != gi::settingValue(recordedSettings_, info.key)) recordLine("set " + info.key + " " + value);
+  }
+  recordedSettings_ = panels_.settings;
+  if (panels_.split != recordedSplit_) recordLine(std::string("split ") + splitModeName(panels_.split));
+  recordedSplit_ = panels_.split;
+  const std::string& stage = panels_.stageNames[std::size_t(panels_.stage)];
+  if (stage != recordedStage_) recordLine("stage " + stage);
+  recordedStage_ = stage;
+  if (panels_.hidden != recordedHidden_) recordLine(panels_.hidden ? "panels off" : "panels on");
+  recordedHidden_ = panels_.hidden;
+}
+
+// A rendered frame: its pose when the camera moved (camera, a cut, where
+// the frame was one), and one more frame to wait.
+void Session::recordFrame(const scene::CameraPose& pose, bool cut) {
+  if (!record_.is_open()) return;
+  if (cut || !recordedPose_ || !samePose(pose, *recordedPose_)) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%s %.9g %.9g %.9g %.9g %.9g %.9g", cut ? "camera" : "pose",
+                  double(pose.position.x), double(pose.position.y), double(pose.position.z), double(pose.target.x),
+                  double(pose.target.y), double(pose.target.z));
+    recordLine(line);
+    recordedPose_ = pose;
+  }
+  ++recordedWaits_;
+}
+
+void Session::finishRecording() {
+  if (!record_.is_open()) return;
+  if (recordedWaits_ > 0) record_ << "wait " << recordedWaits_ << "\n";
+  recordedWaits_ = 0;
+  record_.close();
+  std::printf("wrote %s (the session as a script)\n", options_.record.c_str());
+}
+
 int Session::run() {
   bool scriptRunning = options_.scripted;
   while (!quit_ && !window_.closeRequested()) {
@@ -750,6 +904,7 @@ int Session::run() {
     recordCosts();
     if (lastPresent) break;
   }
+  finishRecording();
   loop_.finish();
   window_.waitIdle();
   const std::size_t messages = context_.validationMessages().size();

@@ -7,11 +7,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bounce/gi.h"
 #include "render/frame_renderer.h"
+#include "scene/camera_path.h"
 #include "scene/scene.h"
 #include "viewer/panels.h"
 #include "viewer/script.h"
@@ -20,15 +22,17 @@
 namespace bounce::viewer {
 
 struct ViewerOptions {
-  WindowOptions window;                   // its size is the render size
-  render::FrameRendererOptions renderer;  // width and height: the render size
-  scene::CameraPose camera;               // where the fly camera starts
+  WindowOptions window;                           // its size is the render size
+  render::FrameRendererOptions renderer;          // width and height: the render size
+  scene::CameraPose camera;                       // where the fly camera starts
+  std::shared_ptr<const scene::CameraPath> path;  // what C (or a script's play) follows
   GiMode mode = GiMode::Hybrid;
   gi::Settings settings;
   gi::ContextDesc screenOnly, hybrid;  // the library's context in each mode (scene bridge none / bvh)
   std::vector<ScriptCommand> script;   // run in order; empty: interactive
   bool scripted = false;               // a script was given: it drives input, and its end closes the viewer
   std::filesystem::path out = "out";   // screenshots go here
+  std::filesystem::path record;        // non-empty: the session is written there as a script
   float exposure = 1.0f;
   float fps = 30.0f;  // scripted runs: the time a frame stands for (camera speed, animation)
 };
