@@ -297,7 +297,8 @@ TEST(Viewer, ARecordedSessionReplaysAsARerunDoes) {
   fs::create_directories(dir);
   const fs::path script = dir / "session.txt", recording = dir / "recorded.txt";
   std::ofstream(script) << "wait 2\nkey w 3\nlook 30 0\nclick 32 24\nmaterial roughness 0.4\n"
-                           "set diffuse.spatial_radius 12\nwait 3\nscreenshot moved\nplay 5\nscreenshot path\n";
+                           "set diffuse.spatial_radius 12\nwait 3\nscreenshot moved\nframes on\nplay 5\n"
+                           "frames off\nscreenshot path\n";
   const auto view = [&](const fs::path& commands, const std::string& out, bool record) {
     std::vector<std::string> arguments = {
         BOUNCE_BINARY, "view",     "cornell",         "--camera", "orbit",
@@ -327,6 +328,10 @@ TEST(Viewer, ARecordedSessionReplaysAsARerunDoes) {
   }
   // The camera path moved the camera: the two screenshots differ.
   EXPECT_GT(flip(dir / "original" / "moved.exr", dir / "original" / "path.exr"), 0.2);
+  // R's frames: the five of the path, numbered, as the screenshots' PNGs are.
+  for (int frame = 0; frame < 5; ++frame)
+    EXPECT_TRUE(fs::exists(dir / "original" / "recording-0" / ("frame000" + std::to_string(frame) + ".png")));
+  EXPECT_FALSE(fs::exists(dir / "original" / "recording-0" / "frame0005.png"));
   // A recording never replaces a file.
   const bounce::testing::ProcessResult again =
       bounce({"view", "cornell", "--headless", "--script", script.string(), "--record", recording.string()});

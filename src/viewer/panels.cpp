@@ -270,6 +270,7 @@ const std::vector<KeyHelp>& keyHelp() {
       {"mouse wheel", "movement speed"},
       {"left click", "pick the material under the cursor"},
       {"P", "pause / resume"},
+      {"R", "record frames to OUT/recording-N/ / stop"},
       {"C", "follow the camera path (--camera) / fly again"},
       {"N", "one frame while paused"},
       {"F12", "screenshot: PNG + EXR of the frame (shift: every stage too)"},

@@ -19,7 +19,7 @@ struct Syntax {
   std::string_view name;
   Kind kind;
 };
-constexpr std::array<Syntax, 21> kCommands = {{{"wait", Kind::Wait},
+constexpr std::array<Syntax, 22> kCommands = {{{"wait", Kind::Wait},
                                                {"key", Kind::Key},
                                                {"look", Kind::Look},
                                                {"camera", Kind::Camera},
@@ -35,6 +35,7 @@ constexpr std::array<Syntax, 21> kCommands = {{{"wait", Kind::Wait},
                                                {"split", Kind::Split},
                                                {"panels", Kind::Panels},
                                                {"timings", Kind::Timings},
+                                               {"frames", Kind::Frames},
                                                {"measure", Kind::Measure},
                                                {"stage", Kind::Stage},
                                                {"inspect", Kind::Inspect},
@@ -174,8 +175,9 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       command.words = {w[1]};
       break;
     case Kind::Panels:
+    case Kind::Frames:
       p.expectArguments(1, "on or off");
-      if (w[1] != "on" && w[1] != "off") p.fail("'panels' takes on or off, not '" + w[1] + "'");
+      if (w[1] != "on" && w[1] != "off") p.fail("'" + w[0] + "' takes on or off, not '" + w[1] + "'");
       command.words = {w[1]};
       break;
     case Kind::Timings:

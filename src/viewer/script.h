@@ -14,6 +14,7 @@
 //   material FIELD VALUE..  edit the picked material: base_color R G B,
 //                           roughness V, metallic V, emission R G B, emission_strength V
 //   screenshot NAME         the frame as OUT/NAME.png and OUT/NAME.exr (HDR)
+//   frames on|off           record every frame as OUT/recording-N/frameNNNN.png
 //   stages NAME             every stage of the next frame to OUT/NAME-stages/
 //   window NAME             the next frame as the window shows it (frame and panels) as OUT/NAME.png
 //   timings LABEL           print the median costs since the last 'timings' (GPU: the frame's
@@ -57,6 +58,7 @@ struct ScriptCommand {
     Split,
     Panels,
     Timings,
+    Frames,
     Measure,
     Stage,
     Inspect,

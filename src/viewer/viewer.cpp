@@ -195,6 +195,11 @@ class Session {
   int pathSegment_ = 0;
   bool scriptPlaying_ = false;
   // --record: the session written as a script as it goes.
+  // R: every frame as a numbered PNG (framesDir_ empty: not recording).
+  void setFrameRecording(bool on);
+  void writeRecordedFrame();
+  fs::path framesDir_;
+  std::uint32_t framesWritten_ = 0, recordings_ = 0;
   void recordLine(const std::string& line);
   void recordState();
   void recordFrame(const scene::CameraPose& pose, bool cut);
@@ -466,6 +471,9 @@ bool Session::stepScript(FlyInput& input) {
       case Kind::Timings:
         printCosts(c.words[0]);
         break;
+      case Kind::Frames:
+        setFrameRecording(c.words[0] == "on");
+        break;
       case Kind::Panels:
         panels_.hidden = c.words[0] == "off";
         break;
@@ -530,6 +538,7 @@ FlyInput Session::interactiveInput() {
     if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) panels_.showHelp = !panels_.showHelp;
     if (ImGui::IsKeyPressed(GLFW_KEY_U, false)) panels_.hidden = !panels_.hidden;
     if (ImGui::IsKeyPressed(GLFW_KEY_P, false)) panels_.paused = !panels_.paused;
+    if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) setFrameRecording(framesDir_.empty());
     if (ImGui::IsKeyPressed(GLFW_KEY_C, false) && options_.path) {
       panels_.playing = !panels_.playing;
       cut_ = cut_ || panels_.playing;  // from wherever the camera was to the path
@@ -724,6 +733,7 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   loop_.endFrame();
   previous_ = view;
   recordFrame(view.camera, view.cut);
+  if (!framesDir_.empty()) writeRecordedFrame();
   cut_ = false;
   ++rendered_;
 }
@@ -813,6 +823,31 @@ void Session::refineBrdfPlot() {
                       VK_ACCESS_2_TRANSFER_READ_BIT);
     recorder.flush();
   });
+}
+
+void Session::setFrameRecording(bool on) {
+  if (on && framesDir_.empty()) {
+    // The next free recording-N: an earlier run's frames stay as they are.
+    do framesDir_ = options_.out / ("recording-" + std::to_string(recordings_++));
+    while (fs::exists(framesDir_));
+    fs::create_directories(framesDir_);
+    framesWritten_ = 0;
+    std::printf("recording frames to %s\n", framesDir_.c_str());
+  } else if (!on && !framesDir_.empty()) {
+    std::printf("wrote %u frames to %s\n", framesWritten_, framesDir_.c_str());
+    framesDir_.clear();
+  }
+  recordLine(on ? "frames on" : "frames off");
+  panels_.recording = !framesDir_.empty() || record_.is_open();
+}
+
+void Session::writeRecordedFrame() {
+  loop_.finish();  // the frame just submitted
+  const io::ImageF frame = gpuio::readbackImage(context_, frameImage());
+  const gpuio::VisualizedImage shown = gpuio::visualize(frame, gpu::Visualize::Radiance);
+  char name[32];
+  std::snprintf(name, sizeof name, "frame%04u.png", framesWritten_++);
+  io::writePng(framesDir_ / name, shown.image, shown.encoding, panels_.exposure);
 }
 
 void Session::recordLine(const std::string& line) {
@@ -905,6 +940,7 @@ int Session::run() {
     if (lastPresent) break;
   }
   finishRecording();
+  if (!framesDir_.empty()) setFrameRecording(false);
   loop_.finish();
   window_.waitIdle();
   const std::size_t messages = context_.validationMessages().size();
