@@ -107,10 +107,11 @@ TEST(Viewer, AScriptedSessionMatchesOfflineRendersOfTheSameSettingsAndMaterial) 
   const fs::path unedited = offline("unedited", "16", {"--gi.diffuse.spatial_radius", "12"});
 
   // Before the edit the viewer's frames are the offline run's, frame index
-  // for frame index: the same noise, so nearly the same picture (the
-  // radiance cache makes runs differ a little, docs/known-issues.md: FLIP
-  // 0.01-0.04 seen; the frame without GI would be above 0.3).
-  EXPECT_LT(flip(dir / "view" / "before.exr", before), 0.1);
+  // for frame index: it must match it as closely as a second offline run
+  // does (the radiance cache makes runs differ: FLIP 0.06-0.08 at frame 6
+  // here, docs/known-issues.md; the frame without GI is above 0.3).
+  const fs::path beforeRerun = offline("before-rerun", "6", {});
+  EXPECT_LT(flip(dir / "view" / "before.exr", before), 1.5 * flip(beforeRerun, before) + 0.03);
   // After the restart the viewer's frame indices run on from 7, so its
   // noise is another; it must differ from the offline frame no more than
   // another seed's run does, and much less than the unedited material's.
@@ -198,13 +199,16 @@ TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
   fs::create_directories(dir);
   const fs::path script = dir / "costs.txt";
   std::ofstream(script) << "panels off\nwait 4\ntimings hidden\nwindow bare\npanels on\nwait 4\ntimings shown\n"
-                           "window panels\nset restir off\nsplit defaults\nwait 2\npanels off\nwindow defaults\n";
+                           "window panels\nset restir off\nsplit other\nwait 2\npanels off\nwindow defaults\n"
+                           "other-settings missing.json\n";
   // No X server: the environment has no DISPLAY, and none is needed.
   const bounce::testing::ProcessResult r =
       bounce::testing::runProcess({BOUNCE_BINARY, "view", "cornell", "--headless", "--script", script.string(), "--out",
                                    (dir / "view").string(), "--validate", "--width", "64", "--height", "48"},
                                   {"DISPLAY=", "WAYLAND_DISPLAY="});
-  ASSERT_EQ(r.exitCode, 0) << r.output;
+  // The script ran to its last line, which names the missing file.
+  ASSERT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("missing.json"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("alidation"), std::string::npos) << r.output;
   for (const char* label : {"timings hidden: ", "timings shown: "}) {
     const std::string line = lineStartingWith(r.output, label);
@@ -291,7 +295,7 @@ TEST(Viewer, ThePickedMaterialsBrdfPlotsFollowItsEdits) {
   fs::remove_all(dir);
 }
 
-TEST(Viewer, ARecordedSessionReplaysAsARerunDoes) {
+TEST(Viewer, ARecordedSessionReplaysToTheSamePictures) {
   const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_record_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -300,10 +304,15 @@ TEST(Viewer, ARecordedSessionReplaysAsARerunDoes) {
                            "set diffuse.spatial_radius 12\nwait 3\nscreenshot moved\nframes on\nplay 5\n"
                            "frames off\nscreenshot path\n";
   const auto view = [&](const fs::path& commands, const std::string& out, bool record) {
-    std::vector<std::string> arguments = {
-        BOUNCE_BINARY, "view",     "cornell",         "--camera", "orbit",
-        "--headless",  "--script", commands.string(), "--out",    (dir / out).string(),
-        "--width",     "64",       "--height",        "48"};
+    // GI off: the renderer alone is deterministic, so a replay must give the same pictures.
+    std::vector<std::string> arguments = {BOUNCE_BINARY, "view",
+                                          "cornell",     "--gi",
+                                          "off",         "--camera",
+                                          "orbit",       "--headless",
+                                          "--script",    commands.string(),
+                                          "--out",       (dir / out).string(),
+                                          "--width",     "64",
+                                          "--height",    "48"};
     if (record) arguments.insert(arguments.end(), {"--record", recording.string()});
     const bounce::testing::ProcessResult r = bounce::testing::runProcess(arguments, {"DISPLAY="});
     EXPECT_EQ(r.exitCode, 0) << r.output;
@@ -318,14 +327,9 @@ TEST(Viewer, ARecordedSessionReplaysAsARerunDoes) {
                            "\nscreenshot moved\n", "\nscreenshot path\n", "\ncamera ", "\npose "})
     EXPECT_NE(recorded.find(line), std::string::npos) << line << " in\n" << recorded;
   view(recording, "replay", false);
-  view(script, "rerun", false);
-  // The replay is as close to the original as running the script again is
-  // (the radiance cache makes runs differ; docs/known-issues.md).
-  for (const char* shot : {"moved.exr", "path.exr"}) {
-    const double replay = flip(dir / "original" / shot, dir / "replay" / shot);
-    const double rerun = flip(dir / "original" / shot, dir / "rerun" / shot);
-    EXPECT_LT(replay, 1.5 * rerun + 0.02) << shot;
-  }
+  // The same frames: the same camera each frame, the same edits.
+  for (const char* shot : {"moved.exr", "path.exr"})
+    EXPECT_LT(flip(dir / "original" / shot, dir / "replay" / shot), 0.01) << shot;
   // The camera path moved the camera: the two screenshots differ.
   EXPECT_GT(flip(dir / "original" / "moved.exr", dir / "original" / "path.exr"), 0.2);
   // R's frames: the five of the path, numbered, as the screenshots' PNGs are.

@@ -74,13 +74,16 @@ TEST(ViewerScript, ParsesTheViewCommands) {
       "s.txt");
   ASSERT_EQ(commands.size(), 7u);
   EXPECT_EQ(commands[6].kind, Kind::Timings);
-  const auto camera = parseScript("pose 1 2 3 4 5 6\nplay 12\nmaterial emission_strength 40\nsplit defaults\n", "s");
+  const auto camera = parseScript("pose 1 2 3 4 5 6\nplay 12\nmaterial emission_strength 40\nsplit other\n", "s");
   ASSERT_EQ(camera.size(), 4u);
   EXPECT_EQ(camera[0].kind, Kind::Pose);
   EXPECT_EQ(camera[1].kind, Kind::Play);
   EXPECT_EQ(camera[1].numbers, std::vector<double>{12.0});
   EXPECT_EQ(camera[2].numbers, std::vector<double>{40.0});
-  EXPECT_EQ(camera[3].words, std::vector<std::string>{"defaults"});
+  EXPECT_EQ(camera[3].words, std::vector<std::string>{"other"});
+  const auto other = parseScript("other-settings b.json\n", "s");
+  ASSERT_EQ(other.size(), 1u);
+  EXPECT_EQ(other[0].kind, Kind::OtherSettings);
   EXPECT_NE(errorOf("play 0\n").find("out of range"), std::string::npos);
   EXPECT_NE(errorOf("pose 1 2 3 1 2 3\n").find("same point"), std::string::npos);
   EXPECT_EQ(commands[6].words, std::vector<std::string>{"ui"});
@@ -92,7 +95,7 @@ TEST(ViewerScript, ParsesTheViewCommands) {
   EXPECT_EQ(commands[3].numbers, (std::vector<double>{3.0, 4.0}));
   EXPECT_EQ(commands[4].words, std::vector<std::string>{"edited.glb"});
   EXPECT_EQ(commands[5].words, std::vector<std::string>{"off"});
-  EXPECT_NE(errorOf("split left\n").find("none, gi-off, defaults or reference"), std::string::npos);
+  EXPECT_NE(errorOf("split left\n").find("none, gi-off, other or reference"), std::string::npos);
   EXPECT_NE(errorOf("save-gltf edited.obj\n").find("ending in .gltf or .glb"), std::string::npos);
   EXPECT_NE(errorOf("save-gltf ../x.gltf\n").find("plain file name"), std::string::npos);
   EXPECT_NE(errorOf("panels maybe\n").find("on or off"), std::string::npos);

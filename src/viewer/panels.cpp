@@ -160,11 +160,17 @@ void viewPanel(PanelState& state, PanelActions& actions) {
   }
   int split = int(state.split);
   ImGui::TextUnformatted("right half");
-  for (SplitMode m : {SplitMode::None, SplitMode::GiOff, SplitMode::Defaults, SplitMode::Reference}) {
+  for (SplitMode m : {SplitMode::None, SplitMode::GiOff, SplitMode::Other, SplitMode::Reference}) {
     ImGui::SameLine();
     if (ImGui::RadioButton(splitModeName(m), &split, int(m))) actions.viewChanged = true;
   }
   state.split = SplitMode(split);
+  if (state.split == SplitMode::Other) {
+    ImGui::InputText("other settings", state.otherSettingsFile, sizeof state.otherSettingsFile);
+    ImGui::SameLine();
+    if (ImGui::Button("load##other")) actions.loadOtherSettings = true;
+    ImGui::TextDisabled("right: the GI with these settings (the defaults until a file is loaded)");
+  }
   if (state.split == SplitMode::Reference) {
     ImGui::Text("reference: %llu spp (accumulates while the camera is still)",
                 static_cast<unsigned long long>(state.referenceSpp));
@@ -253,8 +259,8 @@ const char* splitModeName(SplitMode mode) {
       return "none";
     case SplitMode::GiOff:
       return "gi-off";
-    case SplitMode::Defaults:
-      return "defaults";
+    case SplitMode::Other:
+      return "other";
     case SplitMode::Reference:
       break;
   }

@@ -23,8 +23,8 @@ enum class GiMode { Off, ScreenOnly, Hybrid };
 const char* giModeName(GiMode mode);  // off, screen-only, hybrid
 
 // What the right half of the window shows beside the GI frame.
-enum class SplitMode { None, GiOff, Defaults, Reference };
-const char* splitModeName(SplitMode mode);  // none, gi-off, defaults, reference
+enum class SplitMode { None, GiOff, Other, Reference };
+const char* splitModeName(SplitMode mode);  // none, gi-off, other, reference
 
 // One image's value at the inspected pixel.
 struct InspectedValue {
@@ -53,6 +53,8 @@ struct PanelState {
   // The view: which image fills the window ("final" or a stage's name,
   // false colour as --dump-stages writes it), the split screen, the
   // reference's samples and the GI frame's error against it.
+  gi::Settings otherSettings;  // the split's other settings (the defaults unless loaded)
+  char otherSettingsFile[512] = "";
   std::vector<std::string> stageNames;
   int stage = 0;
   SplitMode split = SplitMode::None;
@@ -81,9 +83,10 @@ struct PanelActions {
   bool loadSettings = false;     // from state.settingsFile
   bool saveSettings = false;
   bool screenshot = false;
-  bool viewChanged = false;  // stage or split
-  bool measure = false;      // compare the GI frame with the reference now
-  bool saveGltf = false;     // the scene with the edited materials, to state.gltfFile
+  bool viewChanged = false;        // stage or split
+  bool loadOtherSettings = false;  // the split's other settings from state.otherSettingsFile
+  bool measure = false;            // compare the GI frame with the reference now
+  bool saveGltf = false;           // the scene with the edited materials, to state.gltfFile
 };
 
 // Builds this frame's panels (between ImGui::NewFrame and ImGui::Render).

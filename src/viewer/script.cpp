@@ -19,7 +19,7 @@ struct Syntax {
   std::string_view name;
   Kind kind;
 };
-constexpr std::array<Syntax, 22> kCommands = {{{"wait", Kind::Wait},
+constexpr std::array<Syntax, 23> kCommands = {{{"wait", Kind::Wait},
                                                {"key", Kind::Key},
                                                {"look", Kind::Look},
                                                {"camera", Kind::Camera},
@@ -33,6 +33,7 @@ constexpr std::array<Syntax, 22> kCommands = {{{"wait", Kind::Wait},
                                                {"stages", Kind::Stages},
                                                {"window", Kind::Window},
                                                {"split", Kind::Split},
+                                               {"other-settings", Kind::OtherSettings},
                                                {"panels", Kind::Panels},
                                                {"timings", Kind::Timings},
                                                {"frames", Kind::Frames},
@@ -169,9 +170,9 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       break;
     }
     case Kind::Split:
-      p.expectArguments(1, "none, gi-off, defaults or reference");
-      if (w[1] != "none" && w[1] != "gi-off" && w[1] != "defaults" && w[1] != "reference")
-        p.fail("'split' takes none, gi-off, defaults or reference, not '" + w[1] + "'");
+      p.expectArguments(1, "none, gi-off, other or reference");
+      if (w[1] != "none" && w[1] != "gi-off" && w[1] != "other" && w[1] != "reference")
+        p.fail("'split' takes none, gi-off, other or reference, not '" + w[1] + "'");
       command.words = {w[1]};
       break;
     case Kind::Panels:
@@ -182,6 +183,10 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       break;
     case Kind::Timings:
       p.expectArguments(1, "a label for the printed line");
+      command.words = {w[1]};
+      break;
+    case Kind::OtherSettings:
+      p.expectArguments(1, "a JSON settings file");
       command.words = {w[1]};
       break;
     case Kind::Stage:

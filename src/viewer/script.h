@@ -20,8 +20,10 @@
 //   timings LABEL           print the median costs since the last 'timings' (GPU: the frame's
 //                           passes, the GI library's, the viewer's own; CPU time a frame)
 //   panels on|off           show or hide the panels (the window shows the frame alone)
-//   split MODE              the right half: none, gi-off, defaults (the GI with default
-//                           settings) or reference (progressive path tracing)
+//   split MODE              the right half: none, gi-off, other (the GI with other
+//                           settings: the defaults, or other-settings') or reference
+//                           (progressive path tracing)
+//   other-settings FILE     the split's other settings from a JSON settings file
 //   measure                 print the GI frame's relMSE and HDR-FLIP against the reference
 //   stage NAME              show that image (a stage's, as --dump-stages names it; final: the frame)
 //   inspect X Y             print every image's value at pixel (X, Y)
@@ -56,6 +58,7 @@ struct ScriptCommand {
     Stages,
     Window,
     Split,
+    OtherSettings,
     Panels,
     Timings,
     Frames,

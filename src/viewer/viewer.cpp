@@ -139,6 +139,7 @@ class Session {
   void measure();
   void saveGltf(const fs::path& file);
   void setSplit(SplitMode split);
+  void loadOtherSettings(const fs::path& file);
   // The frame's costs, sampled once a frame for the `timings` command.
   void recordCosts();
   void printCosts(const std::string& label);
@@ -188,8 +189,8 @@ class Session {
   void refineBrdfPlot();
   std::map<std::string, std::size_t> timingCounts_;
   // The split against the default settings: a second library on the same frame.
-  std::unique_ptr<render::GiBridge> giDefaults_;
-  bool giDefaultsCut_ = true;
+  std::unique_ptr<render::GiBridge> giOther_;
+  bool giOtherCut_ = true;
   // The camera path (C, or a script's play) and its clock.
   float pathTime_ = 0.0f;
   int pathSegment_ = 0;
@@ -339,14 +340,26 @@ void Session::saveGltf(const fs::path& file) {
   std::printf("wrote %s (the scene with its edited materials)\n", file.c_str());
 }
 
+// The split's other settings: the defaults, then the file (as --gi-settings
+// applies one); its library starts anew with them.
+void Session::loadOtherSettings(const fs::path& file) {
+  gi::Settings loaded;
+  gi::applySettingsFile(loaded, file);
+  gi::validate(loaded);
+  panels_.otherSettings = loaded;
+  loop_.finish();
+  giOther_.reset();
+  recordLine("other-settings " + file.string());
+}
+
 void Session::setSplit(SplitMode split) {
   if (split == SplitMode::Reference && panels_.split != SplitMode::Reference) {
     referenceStale_ = true;
     referenceTime_ = previous_.time;
   }
-  if (split != SplitMode::Defaults && giDefaults_) {
+  if (split != SplitMode::Other && giOther_) {
     loop_.finish();
-    giDefaults_.reset();
+    giOther_.reset();
   }
   panels_.split = split;
 }
@@ -478,10 +491,17 @@ bool Session::stepScript(FlyInput& input) {
         panels_.hidden = c.words[0] == "off";
         break;
       case Kind::Split:
-        setSplit(c.words[0] == "none"       ? SplitMode::None
-                 : c.words[0] == "gi-off"   ? SplitMode::GiOff
-                 : c.words[0] == "defaults" ? SplitMode::Defaults
-                                            : SplitMode::Reference);
+        setSplit(c.words[0] == "none"     ? SplitMode::None
+                 : c.words[0] == "gi-off" ? SplitMode::GiOff
+                 : c.words[0] == "other"  ? SplitMode::Other
+                                          : SplitMode::Reference);
+        break;
+      case Kind::OtherSettings:
+        try {
+          loadOtherSettings(c.words[0]);
+        } catch (const std::exception& error) {
+          scriptFailure(c, error.what());
+        }
         break;
       case Kind::Measure:
         if (!reference_) scriptFailure(c, "no reference to measure against: 'split reference' and a frame first");
@@ -624,6 +644,14 @@ void Session::applyPanelActions(const PanelActions& actions) {
     screenshot("screenshot-ui-" + std::to_string(shot++));
   }
   if (actions.viewChanged) setSplit(panels_.split);
+  if (actions.loadOtherSettings) {
+    try {
+      loadOtherSettings(panels_.otherSettingsFile);
+      panels_.settingsMessage = std::string("other settings from ") + panels_.otherSettingsFile;
+    } catch (const std::exception& error) {
+      panels_.settingsMessage = error.what();
+    }
+  }
   if (actions.measure) measure();
   if (actions.saveGltf) {
     try {
@@ -692,16 +720,16 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   if (gi_) gi_->record(recorder, renderer_, index, view, previous_, {.captureStages = capture});
   gpu::Image* right = nullptr;
   if (panels_.split == SplitMode::GiOff) right = &renderer_.direct();
-  if (panels_.split == SplitMode::Defaults && panels_.mode != GiMode::Off) {
-    // The same frame through a second library with the default settings.
-    if (!giDefaults_) {
-      giDefaults_ = std::make_unique<render::GiBridge>(
-          context_, panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly, gi::Settings{});
-      giDefaultsCut_ = true;
+  if (panels_.split == SplitMode::Other && panels_.mode != GiMode::Off) {
+    // The same frame through a second library with the other settings.
+    if (!giOther_) {
+      giOther_ = std::make_unique<render::GiBridge>(
+          context_, panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly, panels_.otherSettings);
+      giOtherCut_ = true;
     }
-    giDefaults_->record(recorder, renderer_, index, {view.camera, view.time, view.cut || giDefaultsCut_}, previous_);
-    giDefaultsCut_ = false;
-    right = &giDefaults_->composite();
+    giOther_->record(recorder, renderer_, index, {view.camera, view.time, view.cut || giOtherCut_}, previous_);
+    giOtherCut_ = false;
+    right = &giOther_->composite();
   }
   if (referenceShown && reference_) {
     // Accumulates while the camera and the materials stay; anything else starts it over.
