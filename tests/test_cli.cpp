@@ -209,6 +209,19 @@ TEST(Cli, GiOffAndTheNoReuseBaselineRecordOnlyTheirPasses) {
   fs::remove_all(out);
 }
 
+// The first frame prefilters the environment; dumping it copies the
+// prefiltered image, which must still reach the GI passes in the layout
+// EnvironmentPrefilter::output() promises (it did not: 10 validation errors).
+TEST(Cli, DumpingTheFirstFrameWhereTheEnvironmentIsPrefilteredIsValid) {
+  const fs::path out = freshDirectory("first_frame_dump");
+  Result r = run("render cornell --width 32 --height 24 --frames 1 --gi-warmup 0 --dump-stages --validate --out " +
+                 out.string());
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("alidation error"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(out / "stages")) << r.output;
+  fs::remove_all(out);
+}
+
 TEST(Cli, BadGiSettingsAreOneLineNamingTheKeyOrFile) {
   const fs::path out = freshDirectory("gi_bad");
   fs::create_directories(out);

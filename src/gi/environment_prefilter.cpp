@@ -203,6 +203,12 @@ struct EnvironmentPrefilter::Impl {
     if (source.sync().layout != equirect.layout ||
         !(stage & (VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT)))
       recorder.handOver(source, equirect.layout, stage, equirect.access);
+    // A captured frame's copies leave the output in TRANSFER_SRC_OPTIMAL;
+    // output() promises GENERAL after a compute write, and its readers
+    // start their barriers from that promise.
+    if (radiance->sync().layout != VK_IMAGE_LAYOUT_GENERAL)
+      recorder.handOver(*radiance, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     recorder.flush();
   }
 };
