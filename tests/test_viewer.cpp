@@ -84,7 +84,7 @@ TEST(Viewer, AScriptedSessionMatchesOfflineRendersOfTheSameSettingsAndMaterial) 
   view.insert(view.end(), size.begin(), size.end());
   const bounce::testing::ProcessResult session = bounceInWindow(view);
   ASSERT_EQ(session.exitCode, 0) << session.output;
-  EXPECT_EQ(session.output.find("alidation"), std::string::npos) << session.output;
+  EXPECT_EQ(session.output.find("vulkan validation"), std::string::npos) << session.output;
   EXPECT_NE(session.output.find("picked material 0 (cornell white)"), std::string::npos) << session.output;
 
   // The same frames offline, from a cut at the scene's camera.
@@ -150,6 +150,10 @@ TEST(Viewer, TheSplitReferenceStageViewInspectorAndGltfSaveWork) {
                            "stage render.normal\n"
                            "wait 1\n"
                            "window normals\n"
+                           "stage gi.denoise.validation\n"
+                           "wait 1\n"
+                           "window validation\n"
+                           "stage final\n"
                            "click 32 12\n"
                            "material roughness 0.2\n"
                            "save-gltf edited.gltf\n";
@@ -157,7 +161,7 @@ TEST(Viewer, TheSplitReferenceStageViewInspectorAndGltfSaveWork) {
       bounceInWindow({"view", "cornell", "--script", script.string(), "--out", (dir / "view").string(), "--validate",
                       "--width", "64", "--height", "48"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_EQ(r.output.find("alidation"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("vulkan validation"), std::string::npos) << r.output;
 
   // The GI frame against the reference: closer as the reference's noise falls.
   const auto relMseAt = [&](const std::string& spp) {
@@ -185,6 +189,20 @@ TEST(Viewer, TheSplitReferenceStageViewInspectorAndGltfSaveWork) {
   EXPECT_GT(centre[2], centre[0] + 0.2f);
   EXPECT_GT(centre[2], centre[1] + 0.2f);
 
+  // The denoiser's validation view (drawn on captured frames only, so
+  // shown frames are captured): another picture than the normals, not flat.
+  const bounce::io::ImageF validation = bounce::io::readImage(dir / "view" / "validation.png");
+  ASSERT_EQ(validation.pixels.size(), window.pixels.size());
+  std::size_t differing = 0;
+  float low = 1.0f, high = 0.0f;
+  for (std::size_t i = 0; i < validation.pixels.size(); ++i) {
+    differing += std::abs(validation.pixels[i] - window.pixels[i]) > 0.05f ? 1 : 0;
+    low = std::min(low, validation.pixels[i]);
+    high = std::max(high, validation.pixels[i]);
+  }
+  EXPECT_GT(differing, validation.pixels.size() / 4);
+  EXPECT_GT(high - low, 0.3f);
+
   // The saved glTF holds the edit.
   std::ifstream gltf(dir / "view" / "edited.gltf");
   ASSERT_TRUE(gltf) << r.output;
@@ -209,7 +227,7 @@ TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
   // The script ran to its last line, which names the missing file.
   ASSERT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("missing.json"), std::string::npos) << r.output;
-  EXPECT_EQ(r.output.find("alidation"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("vulkan validation"), std::string::npos) << r.output;
   for (const char* label : {"timings hidden: ", "timings shown: "}) {
     const std::string line = lineStartingWith(r.output, label);
     ASSERT_FALSE(line.empty()) << r.output;
@@ -275,7 +293,7 @@ TEST(Viewer, ThePickedMaterialsBrdfPlotsFollowItsEdits) {
        (dir / "view").string(), "--validate", "--width", "720", "--height", "300"},
       {"DISPLAY="});
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_EQ(r.output.find("alidation"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("vulkan validation"), std::string::npos) << r.output;
   const bounce::io::Rgba8Image smooth = pngBytes(dir / "view" / "smooth.png");
   const bounce::io::Rgba8Image rough = pngBytes(dir / "view" / "rough.png");
   // The window shows the plots of the edited values, refined by 4096

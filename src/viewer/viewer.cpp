@@ -183,6 +183,7 @@ class Session {
   float referenceTime_ = 0.0f;  // the scene stands still at this time while the reference shows
   std::uint64_t measuredAtSpp_ = 0;
   std::unique_ptr<gpu::Buffer> inspectBuffer_;
+  bool captureOnce_ = false;  // the next frame is captured (a new library's validation views)
   // The picked material's BRDF plots, refined a little every frame.
   BrdfPlot brdfPlot_{kBrdfPlotPanelSize};
   gpu::Image brdfImage_;
@@ -233,6 +234,9 @@ void Session::makeGi() {
     gi_ = std::make_unique<render::GiBridge>(
         context_, panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly, panels_.settings);
   cut_ = true;  // a new library has no history
+  // Its validation views are made on its first captured frame: capture one
+  // so that they are in the stage list.
+  captureOnce_ = gi_ != nullptr;
   refreshStageNames();
 }
 
@@ -944,7 +948,10 @@ int Session::run() {
     ImGui::Render();
     if (quit_) break;
     applyPanelActions(actions);
-    const bool capture = !pendingStages_.empty();
+    // The validation views are drawn on captured frames only: the stage
+    // view of one captures every frame it shows.
+    const std::string& shown = panels_.stageNames[std::size_t(panels_.stage)];
+    const bool capture = !pendingStages_.empty() || captureOnce_ || shown.find("validation") != std::string::npos;
     const bool render = !lastPresent && (!panels_.paused || stepOnce_ || options_.scripted);
     stepOnce_ = false;
     if (render) {
@@ -953,6 +960,16 @@ int Session::run() {
       const std::uint64_t spp = reference_ && panels_.split == SplitMode::Reference ? reference_->samplesPerPixel() : 0;
       if (spp >= 4 && (spp & (spp - 1)) == 0 && spp != measuredAtSpp_) measure();
       if (panels_.stage > 0) showStage();
+      if (captureOnce_) {
+        loop_.finish();
+        captureOnce_ = false;
+        refreshStageNames();
+      }
+      // Copies taken only to draw the validation views are not kept.
+      if (capture && pendingStages_.empty()) {
+        loop_.finish();
+        loop_.takeCaptures();
+      }
     }
     if (capture && render) {
       writeStages(pendingStages_);
