@@ -54,6 +54,18 @@ constexpr VkDeviceSize kInspectStride = 16;
 constexpr int kBrdfPlotPanelSize = 90;
 constexpr std::uint32_t kBrdfSamplesPerFrame = 4096;
 
+// Numbers as a recorded script writes them: each after a space, in as many
+// digits as give the same float back.
+std::string scriptNumbers(std::initializer_list<float> values) {
+  std::string text;
+  char number[32];
+  for (float v : values) {
+    std::snprintf(number, sizeof number, " %.9g", double(v));
+    text += number;
+  }
+  return text;
+}
+
 bool samePose(const scene::CameraPose& a, const scene::CameraPose& b) {
   return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
 }
@@ -402,19 +414,7 @@ bool Session::stepScript(FlyInput& input) {
       case Kind::Look:
         input.turnPixels += glm::vec2(float(c.numbers[0]), float(c.numbers[1]));
         break;
-      case Kind::Camera: {
-        scene::CameraPose pose = camera_.pose();
-        pose.position = glm::vec3(c.numbers[0], c.numbers[1], c.numbers[2]);
-        pose.target = glm::vec3(c.numbers[3], c.numbers[4], c.numbers[5]);
-        try {
-          render::checkCamera(pose);
-        } catch (const std::exception& error) {
-          scriptFailure(c, error.what());
-        }
-        camera_.setPose(pose);
-        cut_ = true;
-        break;
-      }
+      case Kind::Camera:
       case Kind::Pose: {
         scene::CameraPose pose = camera_.pose();
         pose.position = glm::vec3(c.numbers[0], c.numbers[1], c.numbers[2]);
@@ -425,6 +425,7 @@ bool Session::stepScript(FlyInput& input) {
           scriptFailure(c, error.what());
         }
         camera_.setPose(pose);
+        cut_ = cut_ || c.kind == Kind::Camera;  // camera jumps; pose moves
         break;
       }
       case Kind::Play:
@@ -621,23 +622,18 @@ void Session::editMaterial(const scene::Material& material) {
   renderer_.setMaterial(*panels_.pickedMaterial, material);
   const scene::Material before = panels_.material;
   panels_.material = material;
-  char line[256];
-  if (material.baseColorFactor != before.baseColorFactor) {
-    std::snprintf(line, sizeof line, "material base_color %.9g %.9g %.9g", double(material.baseColorFactor.x),
-                  double(material.baseColorFactor.y), double(material.baseColorFactor.z));
-    recordLine(line);
-  }
+  const glm::vec3 base(material.baseColorFactor);
+  if (material.baseColorFactor != before.baseColorFactor)
+    recordLine("material base_color" + scriptNumbers({base.x, base.y, base.z}));
   if (material.roughnessFactor != before.roughnessFactor)
-    recordLine("material roughness " + std::to_string(material.roughnessFactor));
+    recordLine("material roughness" + scriptNumbers({material.roughnessFactor}));
   if (material.metallicFactor != before.metallicFactor)
-    recordLine("material metallic " + std::to_string(material.metallicFactor));
-  if (material.emissiveFactor != before.emissiveFactor) {
-    std::snprintf(line, sizeof line, "material emission %.9g %.9g %.9g", double(material.emissiveFactor.x),
-                  double(material.emissiveFactor.y), double(material.emissiveFactor.z));
-    recordLine(line);
-  }
+    recordLine("material metallic" + scriptNumbers({material.metallicFactor}));
+  const glm::vec3 emission = material.emissiveFactor;
+  if (emission != before.emissiveFactor)
+    recordLine("material emission" + scriptNumbers({emission.x, emission.y, emission.z}));
   if (material.emissiveStrength != before.emissiveStrength)
-    recordLine("material emission_strength " + std::to_string(material.emissiveStrength));
+    recordLine("material emission_strength" + scriptNumbers({material.emissiveStrength}));
 }
 
 void Session::applyPanelActions(const PanelActions& actions) {
@@ -913,11 +909,8 @@ void Session::recordState() {
 void Session::recordFrame(const scene::CameraPose& pose, bool cut) {
   if (!record_.is_open()) return;
   if (cut || !recordedPose_ || !samePose(pose, *recordedPose_)) {
-    char line[256];
-    std::snprintf(line, sizeof line, "%s %.9g %.9g %.9g %.9g %.9g %.9g", cut ? "camera" : "pose",
-                  double(pose.position.x), double(pose.position.y), double(pose.position.z), double(pose.target.x),
-                  double(pose.target.y), double(pose.target.z));
-    recordLine(line);
+    recordLine(std::string(cut ? "camera" : "pose") + scriptNumbers({pose.position.x, pose.position.y, pose.position.z,
+                                                                     pose.target.x, pose.target.y, pose.target.z}));
     recordedPose_ = pose;
   }
   ++recordedWaits_;
