@@ -27,6 +27,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "io/image_io.h"
+#include "scene/uri.h"
 
 namespace bounce::scene {
 namespace {
@@ -36,37 +37,6 @@ using nlohmann::json;
 
 [[noreturn]] void fail(const fs::path& file, const std::string& reason) {
   throw SceneError(file.string() + ": " + reason);
-}
-
-// A file name as a URI reference: RFC 3986's unreserved characters as they
-// are, every other byte percent-encoded (a space is "%20").
-std::string uriOf(const std::string& fileName) {
-  static const char* kHex = "0123456789ABCDEF";
-  std::string uri;
-  for (const unsigned char c : fileName) {
-    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') {
-      uri += char(c);
-    } else {
-      uri += '%';
-      uri += kHex[c >> 4];
-      uri += kHex[c & 15];
-    }
-  }
-  return uri;
-}
-
-std::string percentDecoded(const std::string& uri) {
-  std::string decoded;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
-        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
-      decoded += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      decoded += uri[i];
-    }
-  }
-  return decoded;
 }
 
 // The files the scene was loaded from: its glTF file and the buffer and
@@ -296,7 +266,7 @@ class Exporter {
         image.bufferView = addBufferView(png.data(), png.size(), 0);
         image.mimeType = "image/png";
       } else {
-        image.uri = uriOf(textureFileName(t));
+        image.uri = percentEncoded(textureFileName(t));
       }
       model_.images.push_back(image);
       tinygltf::Texture texture;
@@ -517,7 +487,7 @@ class Exporter {
     if (!bytes_.empty()) {
       json& buffer = document["buffers"][0];
       buffer = {{"byteLength", bytes_.size()}};
-      if (!binary_) buffer["uri"] = uriOf(binFileName());
+      if (!binary_) buffer["uri"] = percentEncoded(binFileName());
     }
     // tinygltf writes "zfar": 0 for an infinite projection, which glTF
     // expresses by leaving zfar out.

@@ -35,6 +35,7 @@
 
 #include "io/image_io.h"
 #include "scene/tangents.h"
+#include "scene/uri.h"
 #include "util/json_error.h"
 
 namespace bounce::scene {
@@ -421,20 +422,6 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
   image->image.assign(bytes, bytes + std::max(size, 0));
   image->as_is = true;
   return true;
-}
-
-std::string percentDecoded(const std::string& uri) {
-  std::string decoded;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
-        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
-      decoded += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      decoded += uri[i];
-    }
-  }
-  return decoded;
 }
 
 // How messages name the i-th object of a kind: "light 0 'lamp'", or "light 0" when it has no name.
