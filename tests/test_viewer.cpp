@@ -27,6 +27,14 @@ namespace fs = std::filesystem;
 
 constexpr const char* kXvfbRun = "/usr/bin/xvfb-run";
 
+// An empty folder of this test's own under the temporary directory.
+fs::path freshDirectory(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("bounce_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
 bounce::testing::ProcessResult bounce(std::vector<std::string> arguments) {
   arguments.insert(arguments.begin(), BOUNCE_BINARY);
   return bounce::testing::runProcess(arguments);
@@ -65,9 +73,7 @@ double meanRedShare(const fs::path& exr) {
 
 TEST(Viewer, AScriptedSessionMatchesOfflineRendersOfTheSameSettingsAndMaterial) {
   ASSERT_TRUE(fs::exists(kXvfbRun)) << "xvfb-run is missing: scripts/install-deps.sh installs xvfb";
-  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDirectory("viewer");
   const fs::path script = dir / "session.txt";
   std::ofstream(script) << "# cornell: six frames, then a red back wall and a smaller spatial radius\n"
                            "wait 6\n"
@@ -138,9 +144,7 @@ std::string lineStartingWith(const std::string& output, const std::string& prefi
 
 TEST(Viewer, TheSplitReferenceStageViewInspectorAndGltfSaveWork) {
   ASSERT_TRUE(fs::exists(kXvfbRun)) << "xvfb-run is missing: scripts/install-deps.sh installs xvfb";
-  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_view_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDirectory("viewer_view");
   const fs::path script = dir / "session.txt";
   std::ofstream(script) << "wait 2\n"
                            "split reference   # the error readout comes at 4 and 8 samples per pixel\n"
@@ -212,9 +216,7 @@ TEST(Viewer, TheSplitReferenceStageViewInspectorAndGltfSaveWork) {
 }
 
 TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
-  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_headless_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDirectory("viewer_headless");
   const fs::path script = dir / "costs.txt";
   std::ofstream(script) << "panels off\nwait 4\ntimings hidden\nwindow bare\npanels on\nwait 4\ntimings shown\n"
                            "window panels\nset restir off\nsplit other\nwait 2\npanels off\nwindow defaults\n"
@@ -281,9 +283,7 @@ bool showsPlot(const bounce::io::Rgba8Image& window, const bounce::viewer::BrdfP
 }
 
 TEST(Viewer, ThePickedMaterialsBrdfPlotsFollowItsEdits) {
-  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_brdf_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDirectory("viewer_brdf");
   const fs::path script = dir / "brdf.txt";
   std::ofstream(script) << "wait 1\nclick 360 200\nmaterial metallic 1\nmaterial roughness 0.15\nwait 8\n"
                            "window smooth\nmaterial roughness 0.9\nwait 8\nwindow rough\n";
@@ -314,9 +314,7 @@ TEST(Viewer, ThePickedMaterialsBrdfPlotsFollowItsEdits) {
 }
 
 TEST(Viewer, ARecordedSessionReplaysToTheSamePictures) {
-  const fs::path dir = fs::temp_directory_path() / ("bounce_viewer_record_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDirectory("viewer_record");
   const fs::path script = dir / "session.txt", recording = dir / "recorded.txt";
   std::ofstream(script) << "wait 2\nkey w 3\nlook 30 0\nclick 32 24\nmaterial roughness 0.4\n"
                            "set diffuse.spatial_radius 12\nwait 3\nscreenshot moved\nframes on\nplay 5\n"

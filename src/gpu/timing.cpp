@@ -29,13 +29,25 @@ std::vector<PassTiming> TimingStats::summary() const {
   std::vector<PassTiming> rows;
   for (const std::string& pass : order_) {
     const PassSamples& s = samples_.at(pass);
-    std::vector<double> values = s.kept;
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-    rows.push_back({pass, median, s.min, s.max, s.count, s.last});
+    rows.push_back({pass, medianOf(s.kept), s.min, s.max, s.count});
   }
   return rows;
+}
+
+std::vector<LatestTiming> TimingStats::latest() const {
+  std::vector<LatestTiming> rows;
+  for (const std::string& pass : order_) {
+    const PassSamples& s = samples_.at(pass);
+    rows.push_back({pass, s.last, s.count});
+  }
+  return rows;
+}
+
+double medianOf(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 std::size_t TimingStats::keptSamples(const std::string& pass) const {

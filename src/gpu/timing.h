@@ -15,8 +15,17 @@ struct PassTiming {
   double minMs = 0;
   double maxMs = 0;
   std::size_t samples = 0;
-  double lastMs = 0;  // the latest frame's (a live view shows it)
 };
+
+// A pass's latest time, for a live view: no sorting, cheap every frame.
+struct LatestTiming {
+  std::string pass;
+  double ms = 0;
+  std::size_t samples = 0;  // times added so far (grows by one each frame the pass runs)
+};
+
+// The median of `values` (the mean of the middle two for an even count); 0 for none.
+double medianOf(std::vector<double> values);
 
 // Memory stays bounded however long a program runs: each pass keeps its
 // exact count, minimum and maximum, and a uniform random sample of at most
@@ -29,6 +38,8 @@ class TimingStats {
   void add(const std::string& pass, double milliseconds);
   // One row per pass, in the order passes first ran.
   std::vector<PassTiming> summary() const;
+  // Each pass's latest time, in the order passes first ran.
+  std::vector<LatestTiming> latest() const;
   // The text table: pass, median ms, min, max, share of the frame.
   std::string table() const;
   bool empty() const { return order_.empty(); }

@@ -140,11 +140,11 @@ void settingsPanel(PanelState& state, PanelActions& actions) {
 void timingsPanel(const PanelState& state) {
   ImGui::Text("GPU %.3f ms a frame, %.1f MB of device memory", state.frameMs, double(state.memoryBytes) / 1.0e6);
   double longest = 0.0;
-  for (const gpu::PassTiming& t : state.timings) longest = std::max(longest, t.lastMs);
-  for (const gpu::PassTiming& t : state.timings) {
-    ImGui::ProgressBar(longest > 0.0 ? float(t.lastMs / longest) : 0.0f, ImVec2(120.0f, 0.0f), "");
+  for (const gpu::LatestTiming& t : state.timings) longest = std::max(longest, t.ms);
+  for (const gpu::LatestTiming& t : state.timings) {
+    ImGui::ProgressBar(longest > 0.0 ? float(t.ms / longest) : 0.0f, ImVec2(120.0f, 0.0f), "");
     ImGui::SameLine();
-    ImGui::Text("%7.3f ms  %s", t.lastMs, t.pass.c_str());
+    ImGui::Text("%7.3f ms  %s", t.ms, t.pass.c_str());
   }
 }
 

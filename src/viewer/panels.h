@@ -39,10 +39,10 @@ struct PanelState {
   std::string settingsMessage;  // the last refused value or file, shown in red; or what was saved
   char settingsFile[512] = "gi-settings.json";
   std::optional<std::uint32_t> pickedMaterial;
-  scene::Material material;  // the picked one, as edited
-  std::vector<gpu::PassTiming> timings;
-  double frameMs = 0.0;           // GPU time of the latest frame
-  std::uint64_t memoryBytes = 0;  // device memory in use
+  scene::Material material;                // the picked one, as edited
+  std::vector<gpu::LatestTiming> timings;  // the passes of the latest completed frame
+  double frameMs = 0.0;                    // GPU time of the latest frame
+  std::uint64_t memoryBytes = 0;           // device memory in use
   float exposure = 1.0f;
   float cameraSpeed = 0.0f;
   bool paused = false;

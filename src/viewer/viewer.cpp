@@ -147,6 +147,12 @@ class Session {
   std::vector<NamedImage> namedImages();
   void refreshStageNames();
   void showStage();
+  // Uploads display values (rgba, [0, 1]) into an rgba8 image the window
+  // blits (blocking).
+  void uploadForWindow(gpu::Image& image, const io::ImageF& pixels);
+  // The frame's pixel under the cursor (the frame is stretched over the
+  // window); empty off the frame.
+  std::optional<glm::uvec2> framePixelAt(glm::dvec2 cursor) const;
   void inspect(std::uint32_t x, std::uint32_t y);
   void measure();
   void saveGltf(const fs::path& file);
@@ -232,13 +238,6 @@ class Session {
   std::chrono::steady_clock::time_point lastCostSample_ = std::chrono::steady_clock::now();
 };
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 void Session::makeGi() {
   loop_.finish();
   gi_.reset();
@@ -268,6 +267,19 @@ void Session::refreshStageNames() {
   panels_.stage = at == panels_.stageNames.end() ? 0 : int(at - panels_.stageNames.begin());
 }
 
+void Session::uploadForWindow(gpu::Image& image, const io::ImageF& pixels) {
+  gpuio::uploadImage(context_, image, pixels);
+  context_.submitAndWait([&](gpu::Recorder& recorder) { handOverToWindow(recorder, image); });
+}
+
+std::optional<glm::uvec2> Session::framePixelAt(glm::dvec2 cursor) const {
+  const VkExtent2D extent = window_.extent();
+  const double x = cursor.x * options_.renderer.width / std::max(1u, extent.width);
+  const double y = cursor.y * options_.renderer.height / std::max(1u, extent.height);
+  if (x < 0.0 || y < 0.0 || x >= options_.renderer.width || y >= options_.renderer.height) return std::nullopt;
+  return glm::uvec2(std::uint32_t(x), std::uint32_t(y));
+}
+
 void Session::showStage() {
   const std::string& name = panels_.stageNames[std::size_t(panels_.stage)];
   gpu::Image* image = nullptr;
@@ -291,12 +303,7 @@ void Session::showStage() {
       float* out = &rgba.pixels[(std::size_t(y) * display_.width() + x) * 4];
       out[0] = in[0], out[1] = in[1], out[2] = in[2], out[3] = 1.0f;
     }
-  gpuio::uploadImage(context_, display_, rgba);
-  context_.submitAndWait([&](gpu::Recorder& recorder) {
-    recorder.handOver(display_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                      VK_ACCESS_2_TRANSFER_READ_BIT);
-    recorder.flush();
-  });
+  uploadForWindow(display_, rgba);
 }
 
 void Session::inspect(std::uint32_t x, std::uint32_t y) {
@@ -584,21 +591,9 @@ FlyInput Session::interactiveInput() {
   lastCursor_ = cursor;
   if (!io.WantCaptureMouse) {
     input.wheel = io.MouseWheel;
-    if (panels_.inspector) {
-      const VkExtent2D extent = window_.extent();
-      const double x = cursor.x * options_.renderer.width / std::max(1u, extent.width);
-      const double y = cursor.y * options_.renderer.height / std::max(1u, extent.height);
-      if (x >= 0.0 && y >= 0.0 && x < options_.renderer.width && y < options_.renderer.height)
-        inspect(std::uint32_t(x), std::uint32_t(y));
-    }
-    if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-      // Window pixels to frame pixels: the frame is stretched over the window.
-      const VkExtent2D extent = window_.extent();
-      const double x = cursor.x * options_.renderer.width / std::max(1u, extent.width);
-      const double y = cursor.y * options_.renderer.height / std::max(1u, extent.height);
-      if (x >= 0.0 && y >= 0.0 && x < options_.renderer.width && y < options_.renderer.height)
-        pick(std::uint32_t(x), std::uint32_t(y));
-    }
+    const std::optional<glm::uvec2> pixel = framePixelAt(cursor);
+    if (pixel && panels_.inspector) inspect(pixel->x, pixel->y);
+    if (pixel && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) pick(pixel->x, pixel->y);
   }
   return input;
 }
@@ -755,9 +750,7 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
                      {"gIn_Right", right ? *right : frameImage(), context_.nearestSampler()},
                      {"gOut_Display", display_}},
                     params);
-  recorder.handOver(display_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                    VK_ACCESS_2_TRANSFER_READ_BIT);
-  recorder.flush();
+  handOverToWindow(recorder, display_);
   loop_.endFrame();
   previous_ = view;
   recordFrame(view.camera, view.cut);
@@ -790,8 +783,8 @@ void Session::writeStages(const std::string& name) {
 void Session::updateTitle() {
   // The passes of the latest completed frame: those whose count of samples
   // grew (a pass that ran once, as the environment's prefilter, drops out).
-  std::vector<gpu::PassTiming> ran;
-  for (const gpu::PassTiming& t : loop_.timings().summary()) {
+  std::vector<gpu::LatestTiming> ran;
+  for (const gpu::LatestTiming& t : loop_.timings().latest()) {
     std::size_t& seen = timingCounts_[t.pass];
     if (t.samples > seen) ran.push_back(t);
     seen = t.samples;
@@ -799,7 +792,7 @@ void Session::updateTitle() {
   if (ran.empty()) return;  // no frame completed since the last look
   panels_.timings = std::move(ran);
   double frameMs = 0.0;
-  for (const gpu::PassTiming& t : panels_.timings) frameMs += t.lastMs;
+  for (const gpu::LatestTiming& t : panels_.timings) frameMs += t.ms;
   panels_.frameMs = frameMs;
   panels_.memoryBytes = context_.deviceLocalBytesInUse();
   if (rendered_ % 15 != 0) return;
@@ -810,14 +803,16 @@ void Session::updateTitle() {
 }
 
 void Session::recordCosts() {
+  // Only a script's 'timings' reads them; an interactive session would grow them for ever.
+  if (!options_.scripted) return;
   const auto now = std::chrono::steady_clock::now();
   costs_.cpuMs.push_back(std::chrono::duration<double, std::milli>(now - lastCostSample_).count());
   lastCostSample_ = now;
   double frame = 0.0, gi = 0.0, viewer = 0.0;
-  for (const gpu::PassTiming& t : panels_.timings) {
-    frame += t.lastMs;
-    if (t.pass.rfind("gi.", 0) == 0) gi += t.lastMs;
-    if (t.pass.rfind("viewer.", 0) == 0) viewer += t.lastMs;
+  for (const gpu::LatestTiming& t : panels_.timings) {
+    frame += t.ms;
+    if (t.pass.rfind("gi.", 0) == 0) gi += t.ms;
+    if (t.pass.rfind("viewer.", 0) == 0) viewer += t.ms;
   }
   costs_.frameGpuMs.push_back(frame);
   costs_.giGpuMs.push_back(gi);
@@ -829,8 +824,9 @@ void Session::printCosts(const std::string& label) {
   std::printf(
       "timings %s: %zu frames, median GPU ms: frame passes %.4f (GI library %.4f), viewer's own %.4f (display "
       "%.4f + blit and panels %.4f); CPU ms a frame %.3f\n",
-      label.c_str(), costs_.cpuMs.size(), median(costs_.frameGpuMs), median(costs_.giGpuMs), median(costs_.viewerGpuMs),
-      median(costs_.viewerGpuMs) - median(costs_.presentGpuMs), median(costs_.presentGpuMs), median(costs_.cpuMs));
+      label.c_str(), costs_.cpuMs.size(), gpu::medianOf(costs_.frameGpuMs), gpu::medianOf(costs_.giGpuMs),
+      gpu::medianOf(costs_.viewerGpuMs), gpu::medianOf(costs_.viewerGpuMs) - gpu::medianOf(costs_.presentGpuMs),
+      gpu::medianOf(costs_.presentGpuMs), gpu::medianOf(costs_.cpuMs));
   costs_ = {};
 }
 
@@ -845,12 +841,7 @@ void Session::refineBrdfPlot() {
   io::ImageF pixels(brdfPlot_.width(), brdfPlot_.height(), {"R", "G", "B", "A"});
   const std::vector<std::uint8_t>& bytes = brdfPlot_.rgba();
   for (std::size_t i = 0; i < bytes.size(); ++i) pixels.pixels[i] = float(bytes[i]) / 255.0f;
-  gpuio::uploadImage(context_, brdfImage_, pixels);
-  context_.submitAndWait([&](gpu::Recorder& recorder) {
-    recorder.handOver(brdfImage_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                      VK_ACCESS_2_TRANSFER_READ_BIT);
-    recorder.flush();
-  });
+  uploadForWindow(brdfImage_, pixels);
 }
 
 void Session::setFrameRecording(bool on) {

@@ -34,6 +34,12 @@ void checkImGui(VkResult result) { check(result, "Dear ImGui's Vulkan backend");
 
 }  // namespace
 
+void handOverToWindow(gpu::Recorder& recorder, gpu::Image& image) {
+  recorder.handOver(image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT);
+  recorder.flush();
+}
+
 Window::Window(const WindowOptions& options) {
   if (options.headless) {
     try {

@@ -16,6 +16,7 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu/context.h"
+#include "gpu/recorder.h"
 #include "gpu/resources.h"
 
 struct GLFWwindow;
@@ -34,6 +35,10 @@ struct WindowOptions {
   // viewer's own cost). Input comes from a script only.
   bool headless = false;
 };
+
+// Leaves `image` as Window::present() takes its frame and overlays: in
+// TRANSFER_SRC_OPTIMAL, after everything `recorder` recorded on it.
+void handOverToWindow(gpu::Recorder& recorder, gpu::Image& image);
 
 class Window {
  public:
