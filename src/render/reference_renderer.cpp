@@ -47,14 +47,15 @@ gpu::PassDesc pathDesc() {
                    {"gHistory_HitDistanceSum", Access::ReadWrite, kRgba32f,
                     "summed first-hit distances and their paths: diffuse, specular"},
                });
-  return {.name = "render.reference_path",
-          .shader = "render/reference_path",
-          .shaders = shaders(),
-          .resources = decls,
-          .constants = join(FrameRenderer::sceneConstants(),
-                            {BOUNCE_CONSTANTS_LAYOUT("", shared::ReferencePathParams, sampleBase, firstSample, sampleCount, seed,
-                                                     maxBounces, rouletteBounces, lobes, environmentWidth,
-                                                     environmentHeight, emissiveCount, emissivePower)})};
+  return {
+      .name = "render.reference_path",
+      .shader = "render/reference_path",
+      .shaders = shaders(),
+      .resources = decls,
+      .constants = join(FrameRenderer::sceneConstants(),
+                        {BOUNCE_CONSTANTS_LAYOUT("", shared::ReferencePathParams, sampleBase, firstSample, sampleCount,
+                                                 seed, maxBounces, rouletteBounces, lobes, environmentWidth,
+                                                 environmentHeight, emissiveCount, emissivePower)})};
 }
 
 gpu::PassDesc resolveDesc() {
@@ -146,8 +147,7 @@ void ReferenceRenderer::uploadEmissiveTriangles(float time) {
   emissiveTriangles_ =
       std::make_unique<gpu::Buffer>(context_, "reference.emissive_triangles",
                                     emissive.packed.size() * sizeof(glm::uvec4), gpu::BufferUsage::DeviceLocal);
-  gpu::uploadBuffer(context_, *emissiveTriangles_, emissive.packed.data(),
-                    emissive.packed.size() * sizeof(glm::uvec4));
+  gpu::uploadBuffer(context_, *emissiveTriangles_, emissive.packed.data(), emissive.packed.size() * sizeof(glm::uvec4));
   time_ = time;
   materialRevision_ = frame_.materialRevision();
 }
@@ -164,8 +164,7 @@ void ReferenceRenderer::restart(gpu::Recorder& recorder, std::uint64_t frameInde
   // Lights move only in an animated scene and change only with the
   // materials; elsewhere the list made for the first frame holds for every
   // frame, and nothing needs waiting for.
-  if ((scene::isAnimated(scene_) && time != time_) || frame_.materialRevision() != materialRevision_)
-    uploadEmissiveTriangles(time);
+  if ((scene::isAnimated(scene_) && time != time_) || materialsChanged()) uploadEmissiveTriangles(time);
   clearSums(recorder);
   sampleBase_ += samples_;
   samples_ = 0;
@@ -186,7 +185,7 @@ std::uint64_t ReferenceRenderer::samplesPerPixel(ReferenceHalf half) const {
 }
 
 std::uint32_t ReferenceRenderer::record(gpu::Recorder& recorder, std::uint32_t samples) {
-  if (frame_.materialRevision() != materialRevision_)
+  if (materialsChanged())
     throw gpu::GpuError(
         "reference: the renderer's materials changed (setMaterial) since the reference started; restart() it, so its "
         "sums and emissive triangles are the new materials'");

@@ -82,6 +82,9 @@ class ReferenceRenderer {
   // restart() it first.
   std::uint32_t record(gpu::Recorder& recorder, std::uint32_t samples);
   std::uint64_t samplesPerPixel() const { return samples_; }
+  // Whether the FrameRenderer's materials changed (setMaterial) since the
+  // last (re)start: record() refuses until restart().
+  bool materialsChanged() const { return frame_.materialRevision() != materialRevision_; }
   std::uint64_t samplesPerPixel(ReferenceHalf half) const;
 
   // Records the resolve into a frame of `loop`, waits, reads the images back.
@@ -119,7 +122,7 @@ class ReferenceRenderer {
   FrameRenderer& frame_;
   const scene::Scene& scene_;
   std::uint64_t frameIndex_;
-  float time_;  // the scene time the emissive triangles are placed at
+  float time_;                          // the scene time the emissive triangles are placed at
   std::uint64_t materialRevision_ = 0;  // the FrameRenderer's materialRevision() they were made from
   ReferenceOptions options_;
   std::uint32_t samplesPerDispatch_ = 1;
@@ -130,7 +133,7 @@ class ReferenceRenderer {
   std::uint64_t sampleBase_ = 0;  // drawn before it
   std::unique_ptr<gpu::Buffer> environmentCdf_, emissiveTriangles_;
   std::unique_ptr<gpu::Image> diffuseSum_[2], specularSum_[2];  // [0] half A, [1] half B
-  std::unique_ptr<gpu::Image> hitDistanceSum_;                   // both halves
+  std::unique_ptr<gpu::Image> hitDistanceSum_;                  // both halves
   std::unique_ptr<gpu::Image> radiance_, diffuse_, specular_;
   std::unique_ptr<gpu::ComputePass> pathPass_, resolvePass_;
 };

@@ -196,7 +196,6 @@ class Session {
   // The progressive reference of the split screen, and what it was started for.
   std::unique_ptr<render::ReferenceRenderer> reference_;
   scene::CameraPose referencePose_;
-  std::uint64_t referenceRevision_ = 0;
   bool referenceStale_ = true;
   float referenceTime_ = 0.0f;  // the scene stands still at this time while the reference shows
   std::uint64_t measuredAtSpp_ = 0;
@@ -728,11 +727,9 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   }
   if (referenceShown && reference_) {
     // Accumulates while the camera and the materials stay; anything else starts it over.
-    if (referenceStale_ || !samePose(view.camera, referencePose_) ||
-        renderer_.materialRevision() != referenceRevision_) {
+    if (referenceStale_ || !samePose(view.camera, referencePose_) || reference_->materialsChanged()) {
       reference_->restart(recorder, index, view.time);
       referencePose_ = view.camera;
-      referenceRevision_ = renderer_.materialRevision();
       referenceStale_ = false;
       measuredAtSpp_ = 0;
       panels_.relMse.reset();
