@@ -41,20 +41,28 @@ void handOverToWindow(gpu::Recorder& recorder, gpu::Image& image) {
 }
 
 Window::Window(const WindowOptions& options) {
-  if (options.headless) {
-    try {
+  try {
+    if (options.headless) {
       context_ = std::make_unique<gpu::Context>(
           gpu::ContextOptions{.validation = options.validation, .deviceIndex = options.deviceIndex});
       extent_ = {options.width, options.height};
-      createCommandSlots();
-      createOffscreenTarget();
-      initialiseImGui();
-    } catch (...) {
-      release();
-      throw;
+    } else {
+      openWindow(options);
     }
-    return;
+    createCommandSlots();
+    if (window_)
+      createSwapchain();
+    else
+      createOffscreenTarget();
+    initialiseImGui();
+  } catch (...) {
+    release();
+    throw;
   }
+}
+
+// The GLFW window, a context that can present to it, and its surface.
+void Window::openWindow(const WindowOptions& options) {
   glfwSetErrorCallback(onGlfwError);
   if (!glfwInit()) {
     const char* display = std::getenv("DISPLAY");
@@ -64,40 +72,30 @@ Window::Window(const WindowOptions& options) {
         "; without a screen, run under xvfb-run (apt-get install xvfb)");
   }
   glfwReady_ = true;
-  try {
-    if (!glfwVulkanSupported())
-      throw std::runtime_error("GLFW finds no Vulkan loader that can present to a window (" + lastGlfwError + ")");
-    std::uint32_t count = 0;
-    const char** required = glfwGetRequiredInstanceExtensions(&count);
-    if (!required) throw std::runtime_error("the window system offers no Vulkan surface (" + lastGlfwError + ")");
+  if (!glfwVulkanSupported())
+    throw std::runtime_error("GLFW finds no Vulkan loader that can present to a window (" + lastGlfwError + ")");
+  std::uint32_t count = 0;
+  const char** required = glfwGetRequiredInstanceExtensions(&count);
+  if (!required) throw std::runtime_error("the window system offers no Vulkan surface (" + lastGlfwError + ")");
 
-    gpu::ContextOptions contextOptions;
-    contextOptions.validation = options.validation;
-    contextOptions.deviceIndex = options.deviceIndex;
-    contextOptions.instanceExtensions.assign(required, required + count);
-    contextOptions.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
-    contextOptions.queueFamilyUsable = [](VkInstance instance, VkPhysicalDevice device, std::uint32_t family) {
-      return glfwGetPhysicalDevicePresentationSupport(instance, device, family) == GLFW_TRUE;
-    };
-    context_ = std::make_unique<gpu::Context>(contextOptions);
+  gpu::ContextOptions contextOptions;
+  contextOptions.validation = options.validation;
+  contextOptions.deviceIndex = options.deviceIndex;
+  contextOptions.instanceExtensions.assign(required, required + count);
+  contextOptions.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+  contextOptions.queueFamilyUsable = [](VkInstance instance, VkPhysicalDevice device, std::uint32_t family) {
+    return glfwGetPhysicalDevicePresentationSupport(instance, device, family) == GLFW_TRUE;
+  };
+  context_ = std::make_unique<gpu::Context>(contextOptions);
 
-    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
-    window_ = glfwCreateWindow(int(options.width), int(options.height), options.title.c_str(), nullptr, nullptr);
-    if (!window_) throw std::runtime_error("cannot create a window: " + lastGlfwError);
-    check(glfwCreateWindowSurface(context_->instance(), window_, nullptr, &surface_), "glfwCreateWindowSurface");
-    VkBool32 supported = VK_FALSE;
-    check(
-        vkGetPhysicalDeviceSurfaceSupportKHR(context_->physicalDevice(), context_->queueFamily(), surface_, &supported),
+  glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+  window_ = glfwCreateWindow(int(options.width), int(options.height), options.title.c_str(), nullptr, nullptr);
+  if (!window_) throw std::runtime_error("cannot create a window: " + lastGlfwError);
+  check(glfwCreateWindowSurface(context_->instance(), window_, nullptr, &surface_), "glfwCreateWindowSurface");
+  VkBool32 supported = VK_FALSE;
+  check(vkGetPhysicalDeviceSurfaceSupportKHR(context_->physicalDevice(), context_->queueFamily(), surface_, &supported),
         "vkGetPhysicalDeviceSurfaceSupportKHR");
-    if (!supported) throw gpu::GpuError("the device's queue cannot present to this window");
-
-    createCommandSlots();
-    createSwapchain();
-    initialiseImGui();
-  } catch (...) {
-    release();
-    throw;
-  }
+  if (!supported) throw gpu::GpuError("the device's queue cannot present to this window");
 }
 
 Window::~Window() { release(); }

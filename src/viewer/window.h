@@ -86,6 +86,7 @@ class Window {
 
  private:
   void release();
+  void openWindow(const WindowOptions& options);
   void createSwapchain();
   void createOffscreenTarget();
   void createRenderPassAndFramebuffers();
