@@ -16,6 +16,7 @@
 #include <string_view>
 #include <system_error>
 #include <type_traits>
+#include <unordered_set>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -24,6 +25,7 @@
 
 #include "util/edit_distance.h"
 #include "util/json_error.h"
+#include "util/json_parse.h"
 
 namespace bounce::gi {
 namespace {
@@ -610,40 +612,43 @@ void flattenJson(const nlohmann::json& object, const std::string& prefix,
 // stack on a hostile file.
 constexpr int kMaxJsonDepth = 64;
 
-// Parses a settings file, refusing nesting deeper than kMaxJsonDepth and a
-// key written twice in one object (JSON keeps the last silently; a file
-// that sets a key twice is a mistake either way). Throws
-// std::invalid_argument for those, nlohmann's exceptions for bad JSON.
-nlohmann::json parseSettingsJson(std::istream& stream) {
+// Refuses a key written twice in one object (JSON keeps the last silently;
+// a file that sets a key twice is a mistake either way), naming it by its
+// dotted path. Throws std::invalid_argument.
+class RepeatedKeyCheck {
+ public:
+  void objectStart() {
+    const std::string parent = open_.empty() ? "" : open_.back().path;
+    open_.push_back({{}, open_.empty() ? "" : (parent.empty() ? lastKey_ : parent + "." + lastKey_)});
+  }
+  void objectEnd() { open_.pop_back(); }
+  void key(const std::string& name) {
+    lastKey_ = name;
+    if (open_.back().keys.insert(name).second) return;
+    const std::string& path = open_.back().path;
+    const std::string key = path.empty() ? name : path + "." + name;
+    throw std::invalid_argument((key.starts_with(kKeyPrefix) ? key : std::string(kKeyPrefix) + key) +
+                                " is given more than once");
+  }
+
+ private:
   struct OpenObject {
-    std::vector<std::string> keys;
+    std::unordered_set<std::string> keys;
     std::string path;  // dotted path of the object, "" at the top
   };
-  std::vector<OpenObject> open;
-  std::string lastKey;
-  const auto callback = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    using Event = nlohmann::json::parse_event_t;
-    if (depth > kMaxJsonDepth)
-      throw std::invalid_argument("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
-    if (event == Event::object_start) {
-      const std::string parent = open.empty() ? "" : open.back().path;
-      open.push_back({{}, open.empty() ? "" : (parent.empty() ? lastKey : parent + "." + lastKey)});
-    } else if (event == Event::object_end) {
-      open.pop_back();
-    } else if (event == Event::key && !open.empty()) {
-      lastKey = parsed.get<std::string>();
-      std::vector<std::string>& keys = open.back().keys;
-      if (std::find(keys.begin(), keys.end(), lastKey) != keys.end()) {
-        const std::string& path = open.back().path;
-        const std::string key = path.empty() ? lastKey : path + "." + lastKey;
-        throw std::invalid_argument((key.starts_with(kKeyPrefix) ? key : std::string(kKeyPrefix) + key) +
-                                    " is given more than once");
-      }
-      keys.push_back(lastKey);
-    }
-    return true;
-  };
-  return nlohmann::json::parse(stream, callback);
+  std::vector<OpenObject> open_;
+  std::string lastKey_;
+};
+
+// Parses a settings file, refusing nesting deeper than kMaxJsonDepth and a
+// key written twice in one object. Throws std::invalid_argument for those,
+// nlohmann's exceptions for bad JSON.
+nlohmann::json parseSettingsJson(std::istream& stream) {
+  try {
+    return util::parseJson(stream, kMaxJsonDepth, RepeatedKeyCheck{});
+  } catch (const util::JsonTooDeep& tooDeep) {
+    throw std::invalid_argument(tooDeep.what());
+  }
 }
 
 }  // namespace

@@ -37,6 +37,7 @@
 #include "scene/tangents.h"
 #include "scene/uri.h"
 #include "util/json_error.h"
+#include "util/json_parse.h"
 
 namespace bounce::scene {
 namespace {
@@ -277,19 +278,10 @@ std::string schemaViolation(const json& object, std::span<const Property> proper
 // tinygltf turns extras and extensions into its own values recursively, one
 // stack frame per level, so a small file nested thousands of levels deep
 // overflows the stack. No glTF needs more than a dozen levels; JSON nested
-// deeper than this is refused while it is parsed here, before tinygltf sees it.
+// deeper than this is refused while it is parsed here (util::parseJson:
+// iterative, stopping at the first container past the limit without
+// building the rest), before tinygltf sees it.
 constexpr int kMaxJsonDepth = 64;
-
-struct JsonTooDeep {};
-
-// nlohmann's parser is iterative and reports each container's depth (the
-// number of containers around it) as it opens, so this stops at the first
-// container past the limit, without recursing and without building the rest.
-bool refuseDeepNesting(int depth, json::parse_event_t event, json&) {
-  const bool opens = event == json::parse_event_t::object_start || event == json::parse_event_t::array_start;
-  if (opens && depth >= kMaxJsonDepth) throw JsonTooDeep{};
-  return true;
-}
 
 // ---------------------------------------------------------------- file access
 
@@ -708,9 +700,9 @@ class Importer {
 
     json document;
     try {
-      document = json::parse(text.begin(), text.end(), refuseDeepNesting);
-    } catch (const JsonTooDeep&) {
-      fail("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+      document = util::parseJson(text.begin(), text.end(), kMaxJsonDepth);
+    } catch (const util::JsonTooDeep& e) {
+      fail(e.what());
     } catch (const json::exception& e) {
       fail("not valid JSON (" + util::withoutJsonExceptionTag(e.what()) + ")");
     }
