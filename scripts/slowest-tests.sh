@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # After a ctest run: prints the ten slowest tests (ctest's average time of
 # each over its runs in this build) with the share of its
-# timeout each used, and warns about every test that took more than a
-# quarter of its timeout (CI machines are shared and sometimes busy: a test
-# has to leave itself that margin).
+# timeout each used, and fails (exit 1) naming every test that took more
+# than a quarter of its timeout: CI machines are shared and sometimes busy,
+# so a test has to leave itself that margin.
 #   scripts/slowest-tests.sh [BUILD_DIR]     (default: build)
 set -euo pipefail
 build=${1:-build}
@@ -32,6 +32,7 @@ echo "slowest tests (seconds, share of the test's timeout):"
 head -n 10 "$timeouts" | awk -F'\t' '{ printf "  %7.1f s  %5.1f%%  %s\n", $2, 100 * $2 / $3, $1 }'
 over=$(awk -F'\t' '$2 > $3 / 4 { printf "  %s: %.1f s of a %.0f s timeout\n", $1, $2, $3 }' "$timeouts")
 if [ -n "$over" ]; then
-  echo "WARNING: these tests took more than a quarter of their timeout:"
+  echo "FAILED: these tests took more than a quarter of their timeout:"
   echo "$over"
+  exit 1
 fi
