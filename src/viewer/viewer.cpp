@@ -952,7 +952,9 @@ int Session::run() {
         loop_.takeCaptures();
       }
     }
-    if (capture && render) {
+    // Only a frame whose stages were asked for (shift+F12, a script's
+    // "stages NAME") writes them: a capture for the validation views does not.
+    if (capture && render && !pendingStages_.empty()) {
       writeStages(pendingStages_);
       pendingStages_.clear();
     }
