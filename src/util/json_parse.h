@@ -27,9 +27,9 @@ struct JsonTooDeep : std::runtime_error {
       : std::runtime_error("JSON nested deeper than " + std::to_string(limit) + " levels") {}
 };
 
-// What an observer may implement (each member is optional to call sites
-// through this default): objectStart() before an object's first key,
-// objectEnd() after its last value, key(name) for each key.
+// An observer has all three: objectStart() before an object's first key,
+// objectEnd() after its last value, key(name) for each key. This one, the
+// default, ignores them.
 struct NoJsonObserver {
   void objectStart() {}
   void objectEnd() {}
