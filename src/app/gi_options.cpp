@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "render/scene_bridge.h"
+#include "util/printable.h"
 
 namespace bounce::app {
 
@@ -89,7 +90,8 @@ void warnIgnoredGiOptions(const GiOptions& options) {
   std::string ignored;
   if (!options.settingsFile.empty()) ignored = "--gi-settings " + options.settingsFile;
   for (const auto& [key, value] : options.overrides) ignored += (ignored.empty() ? "--gi." : ", --gi.") + key;
-  if (!ignored.empty()) std::fprintf(stderr, "bounce: warning: --gi off: ignoring %s\n", ignored.c_str());
+  if (!ignored.empty())
+    std::fprintf(stderr, "bounce: warning: --gi off: ignoring %s\n", util::printable(ignored).c_str());
 }
 
 gi::Settings giSettings(const GiOptions& options, const gi::Settings& base) {
@@ -98,7 +100,9 @@ gi::Settings giSettings(const GiOptions& options, const gi::Settings& base) {
   for (const auto& [key, value] : options.overrides) gi::applySetting(settings, key, value);
   // --gi names the branches that run: one it leaves out is off whatever the settings say.
   const std::vector<std::string> branches = giBranches(options.mode);
-  const auto listed = [&](const char* name) { return std::find(branches.begin(), branches.end(), name) != branches.end(); };
+  const auto listed = [&](const char* name) {
+    return std::find(branches.begin(), branches.end(), name) != branches.end();
+  };
   if (!listed("diffuse")) settings.diffuse.enabled = false;
   if (!listed("specular")) settings.specular.enabled = false;
   try {

@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "bounce/version.h"
 #include "util/edit_distance.h"
+#include "util/printable.h"
 
 namespace bounce::app {
 
@@ -108,7 +109,7 @@ int main(int argc, char** argv) {
   CLI::App* viewCommand = addViewCommand(app, view);
 
   if (const std::string unknown = unknownCommandMessage(app, argc, argv); !unknown.empty()) {
-    std::fprintf(stderr, "bounce: error: %s\n", unknown.c_str());
+    std::fprintf(stderr, "bounce: error: %s\n", bounce::util::printable(unknown).c_str());
     return 2;
   }
   try {
@@ -122,10 +123,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const std::string unknownSetting = unknownGiSettingFlag(argc, argv);
     if (!unknownSetting.empty()) {
-      std::fprintf(stderr, "bounce: error: %s (docs/gi-settings.md lists them)\n", unknownSetting.c_str());
+      std::fprintf(stderr, "bounce: error: %s (docs/gi-settings.md lists them)\n",
+                   bounce::util::printable(unknownSetting).c_str());
       return 2;
     }
-    std::fprintf(stderr, "bounce: error: %s (see bounce --help)\n", e.what());
+    std::fprintf(stderr, "bounce: error: %s (see bounce --help)\n", bounce::util::printable(e.what()).c_str());
     return 2;
   }
 
@@ -141,7 +143,7 @@ int main(int argc, char** argv) {
     if (ghostingCommand->parsed()) return runGhosting(ghosting);
     if (viewCommand->parsed()) return runView(view);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "bounce: error: %s\n", e.what());
+    std::fprintf(stderr, "bounce: error: %s\n", bounce::util::printable(e.what()).c_str());
     // compare's 1 means "differs beyond a threshold"; trouble is 2, as for cmp and diff.
     return compareCommand->parsed() ? 2 : 1;
   }

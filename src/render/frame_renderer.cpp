@@ -20,6 +20,7 @@
 #include "render/render_shaders.h"
 #include "render/texture_atlas.h"
 #include "shared/packing.glsl"
+#include "util/printable.h"
 
 namespace bounce::render {
 namespace {
@@ -316,7 +317,7 @@ void FrameRenderer::warnAboutUntraceableInstances(std::span<const scene::Instanc
   if (options_.warn)
     options_.warn(line);
   else
-    std::fprintf(stderr, "bounce: warning: %s\n", line.c_str());
+    std::fprintf(stderr, "bounce: warning: %s\n", util::printable(line).c_str());
 }
 
 std::vector<Aov> FrameRenderer::aovs() {

@@ -38,6 +38,7 @@
 #include "scene/uri.h"
 #include "util/json_error.h"
 #include "util/json_parse.h"
+#include "util/printable.h"
 
 namespace bounce::scene {
 namespace {
@@ -640,7 +641,7 @@ class Importer {
       if (options_.warn)
         options_.warn(line);
       else
-        std::cerr << "bounce: warning: " << line << "\n";
+        std::cerr << "bounce: warning: " << util::printable(line) << "\n";
     };
     if (!ignoredExtensions_.empty()) {
       std::string line = path_.string() + ": ignoring unsupported optional glTF extensions: ";
