@@ -14,6 +14,8 @@
 #include <tuple>
 #include <utility>
 
+#include <sys/stat.h>
+
 #include <nlohmann/json.hpp>
 
 #include "bounce/gi_settings.h"
@@ -335,6 +337,60 @@ void optionValues(CorpusBuilder& corpus) {
   corpus.add(
       "compare_max_flip_nan", "", [](const fs::path&) {},
       {"compare", "{dir}/a.exr", "{dir}/b.exr", "--max-flip", "nan"}, "--max-flip");
+}
+
+// ---------------------------------------------------------------- viewer scripts
+
+// bounce view's scripts: commands that parse but fail at run time, after
+// frames are in flight (the GPU must be idle before the session's objects
+// are destroyed), and script files that are not regular files.
+void viewerScripts(CorpusBuilder& corpus) {
+  const auto view = [](bool gi) {
+    std::vector<std::string> arguments = {"view",     "cornell",          "--headless", "--width", "16", "--height",
+                                          "12",       "--script",         "{dir}/s.txt", "--out",   "{out}"};
+    if (!gi) arguments.insert(arguments.end(), {"--gi", "off"});
+    return arguments;
+  };
+  struct RuntimeFailure {
+    std::string name;
+    std::string script;  // "{dir}" is replaced by the case's folder when it is written
+    bool gi;
+    std::string mentions;
+  };
+  const std::vector<RuntimeFailure> failures = {
+      {"unknown_setting", "wait 1\nset foo.bar 1\n", false, "s.txt:2: unknown setting gi.foo.bar"},
+      {"unknown_setting_gi_on", "wait 2\nset diffuse.nope 1\n", true, "s.txt:2: unknown setting"},
+      {"inspect_outside", "wait 1\ninspect 16 0\n", false, "s.txt:2: pixel (16, 0) is outside the 16x12 frame"},
+      {"click_outside", "wait 1\nclick 0 12\n", false, "is outside the 16x12 frame"},
+      {"stage_unknown", "wait 1\nstage nope\n", false, "s.txt:2: no image 'nope'"},
+      {"stage_unknown_gi_on", "wait 1\nstages a\nstage nope\n", true, "s.txt:3: no image 'nope'"},
+      {"save_gltf_existing", "wait 1\nsave-gltf existing.gltf\n", false, "exists; not overwritten"},
+      {"other_settings_deep", "wait 1\nother-settings {dir}/deep.json\n", false, "nested deeper than 64 levels"},
+      {"other_settings_deep_gi_on", "wait 1\nother-settings {dir}/deep.json\n", true, "nested deeper than 64 levels"},
+      {"other_settings_missing", "wait 1\nother-settings {dir}/none.json\n", true, "no such file"},
+      {"measure_without_reference", "wait 1\nmeasure\n", false, "no reference to measure against"},
+      {"material_not_picked", "wait 1\nmaterial roughness 0.5\n", false, "no material is picked"},
+  };
+  for (const RuntimeFailure& failure : failures) {
+    corpus.add(
+        "script_runtime_" + failure.name, "s.txt",
+        [script = failure.script](const fs::path& dir) {
+          std::string text = script;
+          for (std::size_t at = text.find("{dir}"); at != std::string::npos; at = text.find("{dir}"))
+            text.replace(at, 5, dir.string());
+          writeText(dir / "s.txt", text);
+          writeText(dir / "deep.json", nestedObjects(100));
+          fs::create_directories(dir / "out");
+          writeText(dir / "out" / "existing.gltf", "{}");
+        },
+        view(failure.gi), failure.mentions);
+  }
+  corpus.add(
+      "script_fifo", "s.txt", [](const fs::path& dir) { ::mkfifo((dir / "s.txt").c_str(), 0600); }, view(false),
+      "not a regular file");
+  corpus.add(
+      "script_folder", "s.txt", [](const fs::path& dir) { fs::create_directories(dir / "s.txt"); }, view(false),
+      "not a regular file");
 }
 
 // ---------------------------------------------------------------- glTF and GLB scenes
@@ -899,6 +955,7 @@ const std::vector<CorpusCase>& badInputCorpus() {
     cameraFiles(builder);
     environmentMaps(builder);
     optionValues(builder);
+    viewerScripts(builder);
     gltfScenes(builder);
     return std::move(builder.cases);
   }();

@@ -374,6 +374,47 @@ TEST(Viewer, ABadScriptIsOneLineNamingItsLineBeforeAnyWindowOpens) {
   EXPECT_NE(r.output.find(script.string() + ":2: unknown material field 'shininess'"), std::string::npos) << r.output;
 }
 
+TEST(Viewer, AScriptThatFailsMidSessionIsOneLineAndDestroysNothingTheGpuStillUses) {
+  const fs::path dir = freshDirectory("viewer_failing");
+  const fs::path script = dir / "s.txt";
+  // Frames in flight with GI on, a stage capture pending, then a failing command.
+  std::ofstream(script) << "wait 2\nstages a\nstage nope\n";
+  const bounce::testing::ProcessResult r = bounce({"view", "cornell", "--headless", "--validate", "--width", "32",
+                                                   "--height", "18", "--script", script.string(), "--out",
+                                                   (dir / "out").string()});
+  EXPECT_EQ(r.signal, 0) << r.output;
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_EQ(r.output.find("VUID"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("vulkan validation"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("validation messages"), std::string::npos) << r.output;
+  const std::string expected = "bounce: error: " + script.string() + ":3: no image 'nope'";
+  EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(Viewer, AScreenshotOrStageDumpNeverReplacesAFile) {
+  const fs::path dir = freshDirectory("viewer_names");
+  const fs::path out = dir / "out";
+  fs::create_directories(out / "a-stages");
+  std::ofstream(out / "a.png") << "the user's own file";
+  std::ofstream(out / "a-stages" / "notes.txt") << "the user's own notes";
+  const fs::path script = dir / "s.txt";
+  std::ofstream(script) << "wait 1\nscreenshot a\nscreenshot a\nstages a\nwait 1\n";
+  const bounce::testing::ProcessResult r = bounce({"view", "cornell", "--headless", "--gi", "off", "--width", "32",
+                                                   "--height", "18", "--script", script.string(), "--out",
+                                                   out.string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream kept(out / "a.png");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "the user's own file");
+  EXPECT_FALSE(fs::exists(out / "a.exr")) << "a.png was taken, so a.exr is not this screenshot's";
+  for (const char* name : {"a-2.png", "a-2.exr", "a-3.png", "a-3.exr"})
+    EXPECT_NO_THROW(bounce::io::readImage(out / name)) << name << "\n" << r.output;
+  EXPECT_EQ(std::distance(fs::directory_iterator(out / "a-stages"), fs::directory_iterator{}), 1);
+  EXPECT_GT(std::distance(fs::directory_iterator(out / "a-2-stages"), fs::directory_iterator{}), 4);
+  EXPECT_NE(r.output.find("the screenshot is a-2"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
 TEST(Viewer, NoDisplayIsAClearErrorNamingXvfb) {
   const bounce::testing::ProcessResult r = bounce::testing::runProcess(
       {BOUNCE_BINARY, "view", "cornell", "--width", "32", "--height", "24"}, {"DISPLAY=", "WAYLAND_DISPLAY="});

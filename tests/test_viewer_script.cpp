@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <glm/glm.hpp>
@@ -118,6 +119,50 @@ TEST(ViewerScript, MistakesNameTheFileLineAndProblem) {
   EXPECT_NE(errorOf("screenshot a/b\n").find("not a plain file name"), std::string::npos);
   EXPECT_NE(errorOf("camera 1 2 3 1 2 3\n").find("same point"), std::string::npos);
   EXPECT_EQ(errorOf("# only a comment\n\n   \n"), "");
+}
+
+TEST(ViewerScript, SaveGltfTakesEveryNameWithAStemAndAGltfOrGlbExtension) {
+  for (const char* name : {"x.glb", "x.gltf", "scene.edited.glb"}) {
+    const auto script = parseScript(std::string("save-gltf ") + name + "\n", "s.txt");
+    ASSERT_EQ(script.size(), 1u) << name;
+    EXPECT_EQ(script[0].words.at(0), name);
+  }
+  for (const char* name : {".glb", ".gltf", "x.png", "xglb"})
+    EXPECT_NE(errorOf(std::string("save-gltf ") + name + "\n").find("not a plain file name"), std::string::npos)
+        << name;
+}
+
+TEST(ViewerScript, OnlyARegularFileOfBoundedSizeIsRead) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("bounce_script_files_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto errorLoading = [](const std::filesystem::path& file) -> std::string {
+    try {
+      bounce::viewer::loadScript(file);
+    } catch (const std::runtime_error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  // A FIFO nobody writes would block the read forever; /dev/zero never ends.
+  const std::filesystem::path fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(errorLoading(fifo), fifo.string() + ": not a regular file");
+  EXPECT_EQ(errorLoading("/dev/zero"), "/dev/zero: not a regular file");
+  EXPECT_EQ(errorLoading(dir), dir.string() + ": not a regular file");
+  const std::filesystem::path big = dir / "big.txt";
+  {
+    std::ofstream out(big);
+    const std::string line = "wait 1\n";
+    for (std::uintmax_t written = 0; written <= bounce::viewer::kMaxScriptBytes; written += line.size()) out << line;
+  }
+  EXPECT_NE(errorLoading(big).find("at most 16777216 are read"), std::string::npos) << errorLoading(big);
+  const std::filesystem::path small = dir / "small.txt";
+  std::ofstream(small) << "wait 3\nquit\n";
+  EXPECT_EQ(errorLoading(small), "");
+  EXPECT_EQ(bounce::viewer::loadScript(small).size(), 2u);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ViewerScript, AMissingFileIsAnErrorNamingIt) {

@@ -81,6 +81,7 @@ int runView(const ViewOptions& options) {
   viewerOptions.hybrid = giContextDesc(shot.width, shot.height, hybrid);
   viewerOptions.script = std::move(script);
   viewerOptions.scripted = !options.script.empty();
+  viewerOptions.scriptName = options.script;
   viewerOptions.out = options.out;
   viewerOptions.exposure = options.exposure;
   viewerOptions.fps = shot.fps;

@@ -196,7 +196,8 @@ ScriptCommand parseLine(const LineParser& p, int line) {
     case Kind::SaveGltf: {
       p.expectArguments(1, "a file name ending in .gltf or .glb, without folders");
       const std::string& name = w[1];
-      const bool gltf = name.size() > 5 && (name.ends_with(".gltf") || name.ends_with(".glb"));
+      // The extension must follow a name: ".glb" alone is no file name.
+      const bool gltf = (name.ends_with(".gltf") && name.size() > 5) || (name.ends_with(".glb") && name.size() > 4);
       if (!gltf || name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
         p.fail("'" + name + "' is not a plain file name ending in .gltf or .glb");
       command.words = {name};
@@ -236,12 +237,25 @@ std::vector<ScriptCommand> parseScript(std::string_view text, const std::string&
 }
 
 std::vector<ScriptCommand> loadScript(const std::filesystem::path& file) {
+  // A FIFO would block the viewer before its window opens and /dev/zero
+  // would fill the memory: a script is a regular file of bounded size.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(file, error);
+  if (!std::filesystem::exists(status))
+    throw std::runtime_error(file.string() + ": cannot read the script (no such file)");
+  if (!std::filesystem::is_regular_file(status)) throw std::runtime_error(file.string() + ": not a regular file");
+  const std::uintmax_t size = std::filesystem::file_size(file, error);
+  if (error) throw std::runtime_error(file.string() + ": cannot read the script (" + error.message() + ")");
+  if (size > kMaxScriptBytes)
+    throw std::runtime_error(file.string() + ": the script has " + std::to_string(size) + " bytes; at most " +
+                             std::to_string(kMaxScriptBytes) + " are read");
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot read the script (no such file, or not readable)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw std::runtime_error(file.string() + ": reading the script failed");
-  return parseScript(text.str(), file.string());
+  if (!in) throw std::runtime_error(file.string() + ": cannot read the script (not readable)");
+  std::string text(std::size_t(size), '\0');
+  in.read(text.data(), std::streamsize(size));
+  if (in.bad() || std::uintmax_t(in.gcount()) != size)
+    throw std::runtime_error(file.string() + ": reading the script failed");
+  return parseScript(text, file.string());
 }
 
 }  // namespace bounce::viewer

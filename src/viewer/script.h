@@ -81,7 +81,14 @@ struct ScriptCommand {
 // range: frames 1..100000, pixels >= 0), an unknown key or material field,
 // or a screenshot name that is not a plain file name (no folders, no '..').
 std::vector<ScriptCommand> parseScript(std::string_view text, const std::string& source);
-// Reads and parses a file; a missing or unreadable file is an error naming it.
+// The largest script read: about an hour of a session recorded at 60
+// frames a second (a pose and a wait a frame), and at most a few hundred MB
+// of parsed commands however short its lines.
+inline constexpr std::uintmax_t kMaxScriptBytes = 16u << 20;
+
+// Reads and parses a file; a missing or unreadable file, one that is not a
+// regular file (a FIFO, a device, a folder) or one over kMaxScriptBytes is
+// an error naming it.
 std::vector<ScriptCommand> loadScript(const std::filesystem::path& file);
 
 // The keys `key` takes, as their names in scripts.

@@ -84,6 +84,21 @@ gpu::PassDesc displayPassDesc() {
                        .constants = {BOUNCE_CONSTANTS_LAYOUT("", DisplayParams, width, height, exposure, splitColumn)}};
 }
 
+// NAME, or the first of NAME-2, NAME-3... for which none of the files
+// OUT/NAME+SUFFIX exists: a screenshot never replaces a file, whether an
+// earlier session wrote it or the user put it there.
+std::string freeOutputName(const fs::path& out, const std::string& name, std::initializer_list<const char*> suffixes) {
+  const auto taken = [&](const std::string& candidate) {
+    std::error_code error;
+    for (const char* suffix : suffixes)
+      if (fs::exists(fs::symlink_status(out / (candidate + suffix), error))) return true;
+    return false;
+  };
+  if (!taken(name)) return name;
+  for (int n = 2;; ++n)
+    if (const std::string candidate = name + "-" + std::to_string(n); !taken(candidate)) return candidate;
+}
+
 // The viewer's state between frames.
 class Session {
  public:
@@ -121,6 +136,14 @@ class Session {
     panels_.exposure = options.exposure;
     makeGi();
   }
+
+  // A script command's failure, or anything else thrown mid-session, leaves
+  // frames in flight: the GPU must be done with every pipeline, image and
+  // query pool before the members that own them are destroyed (lavapipe
+  // otherwise runs a freed pipeline, and the heap is corrupted).
+  ~Session() { window_.waitIdle(); }
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
 
   int run();
 
@@ -164,7 +187,7 @@ class Session {
   void writeStages(const std::string& name);
   void updateTitle();
   [[noreturn]] void scriptFailure(const ScriptCommand& command, const std::string& problem) const {
-    throw std::runtime_error("script line " + std::to_string(command.line) + ": " + problem);
+    throw std::runtime_error(options_.scriptName + ":" + std::to_string(command.line) + ": " + problem);
   }
 
   const scene::Scene& scene_;
@@ -490,7 +513,8 @@ bool Session::stepScript(FlyInput& input) {
         pendingStages_ = c.words[0];
         return true;  // the next frame is captured
       case Kind::Window:
-        window_.captureNextPresent(options_.out / (c.words[0] + ".png"));
+        fs::create_directories(options_.out);
+        window_.captureNextPresent(options_.out / (freeOutputName(options_.out, c.words[0], {".png"}) + ".png"));
         return true;  // this frame's window, as the commands so far left it
       case Kind::Timings:
         printCosts(c.words[0]);
@@ -530,7 +554,9 @@ bool Session::stepScript(FlyInput& input) {
       }
       case Kind::Inspect: {
         if (c.numbers[0] >= options_.renderer.width || c.numbers[1] >= options_.renderer.height)
-          scriptFailure(c, "pixel outside the frame");
+          scriptFailure(c, "pixel (" + std::to_string(int(c.numbers[0])) + ", " + std::to_string(int(c.numbers[1])) +
+                               ") is outside the " + std::to_string(options_.renderer.width) + "x" +
+                               std::to_string(options_.renderer.height) + " frame");
         inspect(std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]));
         for (const InspectedValue& v : panels_.inspected)
           std::printf("inspect (%u, %u) %s: %g %g %g %g\n", std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]),
@@ -756,12 +782,14 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
   ++rendered_;
 }
 
-void Session::screenshot(const std::string& name) {
-  recordLine("screenshot " + name);
+void Session::screenshot(const std::string& requested) {
+  recordLine("screenshot " + requested);
   loop_.finish();
   fs::create_directories(options_.out);
   const io::ImageF frame = gpuio::readbackImage(context_, frameImage());
   const gpuio::VisualizedImage shown = gpuio::visualize(frame, gpu::Visualize::Radiance);
+  const std::string name = freeOutputName(options_.out, requested, {".png", ".exr"});
+  if (name != requested) std::printf("%s.png or .exr exists: the screenshot is %s\n", requested.c_str(), name.c_str());
   const fs::path png = options_.out / (name + ".png"), exr = options_.out / (name + ".exr");
   io::writePng(png, shown.image, shown.encoding, panels_.exposure);
   io::writeExr(exr, frame);
@@ -771,7 +799,7 @@ void Session::screenshot(const std::string& name) {
 void Session::writeStages(const std::string& name) {
   loop_.finish();
   for (gpu::CapturedStage& c : loop_.takeCaptures()) captures_.push_back(std::move(c));
-  const fs::path dir = options_.out / (name + "-stages");
+  const fs::path dir = options_.out / (freeOutputName(options_.out, name, {"-stages"}) + "-stages");
   const std::vector<fs::path> files = gpuio::writeStageDumps(dir, captures_, panels_.exposure);
   captures_.clear();
   std::printf("wrote %zu stage images to %s\n", files.size(), dir.c_str());

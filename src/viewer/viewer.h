@@ -31,6 +31,7 @@ struct ViewerOptions {
   gi::ContextDesc screenOnly, hybrid;  // the library's context in each mode (scene bridge none / bvh)
   std::vector<ScriptCommand> script;   // run in order; empty: interactive
   bool scripted = false;               // a script was given: it drives input, and its end closes the viewer
+  std::string scriptName;              // the script file, as messages name it
   std::filesystem::path out = "out";   // screenshots go here
   std::filesystem::path record;        // non-empty: the session is written there as a script
   float exposure = 1.0f;
@@ -40,7 +41,8 @@ struct ViewerOptions {
 // Runs until the window closes, Esc, or the script ends. Returns the exit
 // code: 0, or 1 when the validation layer reported anything. Throws for
 // what cannot start (no display, no device) and for a script command that
-// fails (naming its line).
+// fails ("SCRIPT:LINE: problem"); the GPU is idle before anything of the
+// session is destroyed, whatever ends it.
 int runViewer(const scene::Scene& scene, const ViewerOptions& options);
 
 }  // namespace bounce::viewer
