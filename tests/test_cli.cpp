@@ -60,6 +60,44 @@ TEST(Cli, BadArgumentsGiveOneLineAndExitTwo) {
   }
 }
 
+TEST(Cli, EveryMistakeOnTheCommandLineExitsTwoAndABadInputFileOne) {
+  const fs::path dir = freshDirectory("exit_codes");
+  fs::create_directories(dir);
+  std::ofstream(dir / "deep.json") << std::string(100, '[') << std::string(100, ']');
+  std::ofstream(dir / "range.json") << R"({"cache": {"memory_mib": 0}})";
+  const std::string out = " --width 16 --height 12 --out " + (dir / "out").string();
+  // Values refused after CLI11 has parsed them: their range, another
+  // option, the scene's materials. docs/reliability.md: "2: the command line is wrong".
+  for (const std::string arguments :
+       {"render cornell --gi.cache.memory_mib 0", "render cornell --gi.diffuse.spatial_radius 1e9",
+        "render sun-room --env-intensity 1e38", "render cornell --material cornell_white:roughness=0.5",
+        "render cornell --no-sun --sun-elevation 30", "render cornell --aov colour",
+        "render cornell --frames 2 --dump-stages --dump-frames 7", "render no-such-scene"}) {
+    const Result r = run(arguments + out);
+    EXPECT_EQ(r.exitCode, 2) << arguments << ": " << r.output;
+    EXPECT_NE(r.output.find("bounce: error:"), std::string::npos) << r.output;
+  }
+  // A material name with a space cannot go through run()'s split at spaces.
+  const bounce::testing::ProcessResult material = bounce::testing::runProcess(
+      {BOUNCE_BINARY, "render", "cornell", "--material", "cornell white:roughness=-1", "--out", (dir / "out").string()});
+  EXPECT_EQ(material.exitCode, 2) << material.output;
+  EXPECT_NE(material.output.find("-1 is outside [0, 1]"), std::string::npos) << material.output;
+  // A number too small for a float is a number (it is zero), not a mistake.
+  const bounce::testing::ProcessResult tiny = bounce::testing::runProcess(
+      {BOUNCE_BINARY, "render", "cornell", "--gi", "off", "--width", "16", "--height", "12", "--material",
+       "cornell white:roughness=1e-46", "--out", (dir / "out").string()});
+  EXPECT_EQ(tiny.exitCode, 0) << tiny.output;
+  // A file that is wrong is bad input: 1, also when the same value on the
+  // command line would be 2.
+  for (const std::string arguments : {"render cornell --gi-settings " + (dir / "deep.json").string(),
+                                      "render cornell --gi-settings " + (dir / "range.json").string(),
+                                      "render " + (dir / "missing.gltf").string()}) {
+    const Result r = run(arguments + out);
+    EXPECT_EQ(r.exitCode, 1) << arguments << ": " << r.output;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(Cli, HelpWorksOnEveryCommand) {
   for (const char* arguments : {"--help", "render --help", "info --help", "bench --help", "reference --help",
                                 "compare --help", "sheet --help", "brdf-viz --help", "denoise --help"}) {
@@ -124,7 +162,7 @@ TEST(Cli, RenderWritesImagesStagesAndTimingsWithoutValidationMessages) {
 TEST(Cli, BadScenesCamerasAndAovsAreOneClearLine) {
   const fs::path out = freshDirectory("badinput");
   Result unknown = run("render no-such-scene --out " + out.string());
-  EXPECT_EQ(unknown.exitCode, 1);
+  EXPECT_EQ(unknown.exitCode, 2);  // a mistake on the command line
   EXPECT_NE(unknown.output.find("neither a built-in scene"), std::string::npos) << unknown.output;
   EXPECT_NE(unknown.output.find("cornell"), std::string::npos) << "lists the built-ins: " << unknown.output;
 
@@ -139,7 +177,7 @@ TEST(Cli, BadScenesCamerasAndAovsAreOneClearLine) {
   EXPECT_NE(camera.output.find("path.json"), std::string::npos) << camera.output;
 
   Result aov = run("render cornell --aov colour --out " + out.string());
-  EXPECT_EQ(aov.exitCode, 1);
+  EXPECT_EQ(aov.exitCode, 2);
   EXPECT_NE(aov.output.find("unknown image 'colour'"), std::string::npos) << aov.output;
   fs::remove_all(out);
 }
@@ -236,13 +274,13 @@ TEST(Cli, BadGiSettingsAreOneLineNamingTheKeyOrFile) {
   };
   const std::vector<Case> cases = {
       {"--gi.diffuse.spatial_radios 3", 2, "did you mean gi.diffuse.spatial_radius"},
-      {"--gi.diffuse.spatial_radius 300", 1, "expected a number in [0, 256]"},
-      {"--gi.diffuse.jacobian maybe", 1, "gi.diffuse.jacobian"},
+      {"--gi.diffuse.spatial_radius 300", 2, "expected a number in [0, 256]"},
+      {"--gi.diffuse.jacobian maybe", 2, "gi.diffuse.jacobian"},
       {"--gi sideways", 2, "--gi"},
       {"--gi-settings " + (out / "missing.json").string(), 2, "missing.json"},
       {"--gi-settings " + malformed.string(), 1, "malformed.json: parse error at line 1"},
       {"--gi-settings " + unknownKey.string(), 1, "unknown.json"},
-      {"--gi.diffuse.screen_candidates 0 --gi.diffuse.bright_candidates 0 --gi.diffuse.environment_candidates 0", 1,
+      {"--gi.diffuse.screen_candidates 0 --gi.diffuse.bright_candidates 0 --gi.diffuse.environment_candidates 0", 2,
        "all 0"},
   };
   for (const Case& c : cases) {
@@ -284,7 +322,7 @@ TEST(Cli, BrdfVizWritesLabelledAnimations) {
 TEST(Cli, DumpFramePastTheEndIsRefused) {
   const fs::path out = freshDirectory("dumpframes");
   Result r = run("render --frames 2 --dump-stages --dump-frames 5 --out " + out.string());
-  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("--dump-frames 5"), std::string::npos) << r.output;
 }
 
@@ -538,10 +576,11 @@ float renderFiniteFrame(const std::string& arguments, const fs::path& out) {
   return largest;
 }
 
-// Expects `arguments` refused in one line naming `what` and the limit, and no image written.
-void expectRefused(const std::string& arguments, const std::string& what, const fs::path& out) {
+// Expects `arguments` refused in one line naming `what` and the limit, and
+// no image written; exit status 1 for a file's value, 2 for an option's.
+void expectRefused(const std::string& arguments, const std::string& what, const fs::path& out, int exitCode) {
   Result r = run(arguments + " --width 32 --height 24 --frames 1 --out " + out.string());
-  EXPECT_EQ(r.exitCode, 1) << arguments << ": " << r.output;
+  EXPECT_EQ(r.exitCode, exitCode) << arguments << ": " << r.output;
   EXPECT_EQ(lineCount(r.output), 1u) << arguments << ": " << r.output;
   EXPECT_EQ(r.output.rfind("bounce: error:", 0), 0u) << r.output;
   EXPECT_NE(r.output.find(what), std::string::npos) << r.output;
@@ -551,7 +590,7 @@ void expectRefused(const std::string& arguments, const std::string& what, const 
 
 TEST(Cli, AGltfSunBeyondFloatRangeIsRefusedAndOneAtTheLimitRendersFinite) {
   const fs::path dir = freshDirectory("bright_sun");
-  expectRefused("render " + writeSunlitFloor(dir, "3e38").string(), "light 0 'Sun': intensity 3e+38", dir / "refused");
+  expectRefused("render " + writeSunlitFloor(dir, "3e38").string(), "light 0 'Sun': intensity 3e+38", dir / "refused", 1);
   // At the limit the sunlit floor is far brighter than a half float holds:
   // it saturates at the largest finite one.
   EXPECT_EQ(renderFiniteFrame("render " + writeSunlitFloor(dir, "1e20").string(), dir / "limit"), 65504.0f);
@@ -560,10 +599,10 @@ TEST(Cli, AGltfSunBeyondFloatRangeIsRefusedAndOneAtTheLimitRendersFinite) {
 
 TEST(Cli, AnEnvironmentIntensityBeyondFloatRangeIsRefusedAndOneWithinItRendersFinite) {
   const fs::path dir = freshDirectory("bright_environment");
-  expectRefused("render cornell --env-intensity 1e38", "--env-intensity 1e+38", dir / "cornell");
-  expectRefused("render sun-room --env-intensity 1e38", "--env-intensity 1e+38", dir / "sun-room");
+  expectRefused("render cornell --env-intensity 1e38", "--env-intensity 1e+38", dir / "cornell", 2);
+  expectRefused("render sun-room --env-intensity 1e38", "--env-intensity 1e+38", dir / "sun-room", 2);
   // The sky is the intensity times the sun's illuminance (10 in sun-room).
-  expectRefused("render sun-room --env-intensity 1e20", "times the sun's illuminance 10", dir / "product");
+  expectRefused("render sun-room --env-intensity 1e20", "times the sun's illuminance 10", dir / "product", 2);
   EXPECT_EQ(renderFiniteFrame("render sun-room --env-intensity 5e18", dir / "within"), 65504.0f);
   fs::remove_all(dir);
 }
@@ -787,11 +826,11 @@ TEST(CliHardening, SheetLaysImagesOutInLabelledRows) {
   EXPECT_NE(wrongSize.output.find("small.png: 4x4 differs from the size of the first image"), std::string::npos)
       << wrongSize.output;
   const auto overInput = runArgs({"sheet", arguments[1], arguments[2], "--out", arguments[2]});
-  EXPECT_EQ(overInput.exitCode, 1);
+  EXPECT_EQ(overInput.exitCode, 2);
   EXPECT_NE(overInput.output.find("refusing to write --out over the input"), std::string::npos) << overInput.output;
   EXPECT_NEAR(bounce::io::readImage(arguments[2]).at(0, 0, 1), 1.0f, 1e-3f);  // the input is untouched
   const auto tooManyLabels = runArgs({"sheet", arguments[1], "--label", "a", "--label", "b", "--out", out.string()});
-  EXPECT_EQ(tooManyLabels.exitCode, 1);
+  EXPECT_EQ(tooManyLabels.exitCode, 2);
   EXPECT_NE(tooManyLabels.output.find("2 labels for 1 columns"), std::string::npos) << tooManyLabels.output;
   fs::remove_all(dir);
 }

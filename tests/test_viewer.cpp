@@ -255,7 +255,7 @@ TEST(Viewer, HeadlessItDrawsThePanelsIntoAnImageAndReportsItsOwnCost) {
   fs::remove_all(dir);
 
   const bounce::testing::ProcessResult noScript = bounce({"view", "cornell", "--headless"});
-  EXPECT_EQ(noScript.exitCode, 1);
+  EXPECT_EQ(noScript.exitCode, 2);  // a mistake on the command line
   EXPECT_NE(noScript.output.find("--headless needs --script"), std::string::npos) << noScript.output;
 }
 
@@ -358,7 +358,7 @@ TEST(Viewer, ARecordedSessionReplaysToTheSamePictures) {
   // A recording never replaces a file.
   const bounce::testing::ProcessResult again =
       bounce({"view", "cornell", "--headless", "--script", script.string(), "--record", recording.string()});
-  EXPECT_EQ(again.exitCode, 1);
+  EXPECT_EQ(again.exitCode, 2);
   EXPECT_NE(again.output.find("exists; not overwritten"), std::string::npos) << again.output;
   fs::remove_all(dir);
 }

@@ -592,19 +592,19 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
 
 int runGhosting(const GhostingOptions& options) {
   const bool turn = options.event == "turn";
-  if (!giEnabled(options.gi)) throw std::runtime_error("--gi off: bounce ghosting measures the GI; nothing to measure");
+  if (!giEnabled(options.gi)) throw UsageError("--gi off: bounce ghosting measures the GI; nothing to measure");
   if (options.eventFrame < options.after + 1)
-    throw std::runtime_error("--event-frame " + std::to_string(options.eventFrame) + " is too early for --after " +
+    throw UsageError("--event-frame " + std::to_string(options.eventFrame) + " is too early for --after " +
                              std::to_string(options.after) + ": the rest is followed from frame event - after - 1, " +
                              "so the event frame must be at least " + std::to_string(options.after + 1));
   if (options.turnDegrees && !turn)
-    throw std::runtime_error("--turn-degrees is for --event turn, not --event " + options.event);
+    throw UsageError("--turn-degrees is for --event turn, not --event " + options.event);
   if (options.turnDegrees && !options.view.camera.empty())
-    throw std::runtime_error("--turn-degrees turns the scene's camera; with --camera " + options.view.camera +
+    throw UsageError("--turn-degrees turns the scene's camera; with --camera " + options.view.camera +
                              " the path itself must turn at --event-frame (leave one of them out)");
   const float turnDegrees = options.turnDegrees.value_or(kDefaultTurnDegrees);
   if (turn && options.view.camera.empty() && turnDegrees == 0.0f)
-    throw std::runtime_error("--turn-degrees 0 does not turn: nothing is uncovered");
+    throw UsageError("--turn-degrees 0 does not turn: nothing is uncovered");
 
   const fs::path outDir = options.out;
   checkWritableDirectory(outDir, "--out");  // before the minutes of rendering, not after
@@ -619,7 +619,7 @@ int runGhosting(const GhostingOptions& options) {
   const gi::Settings settings = giSettings(options.gi);
   const scene::Scene scene = loadScene(shot);
   if (!turn && !scene::isAnimated(scene))
-    throw std::runtime_error("--event object needs a moving object, and scene " + scene.name +
+    throw UsageError("--event object needs a moving object, and scene " + scene.name +
                              " has no animation (try sun-room-animated)");
 
   // Frames: --gi-warmup at the first frame's camera and time, unseen; the

@@ -102,12 +102,12 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
 
 int runReference(const ReferenceCommandOptions& options) {
   const fs::path out = options.out;
-  if (out.extension() != ".exr") throw std::runtime_error("--out " + out.string() + ": must name an .exr file");
+  if (out.extension() != ".exr") throw UsageError("--out " + out.string() + ": must name an .exr file");
   checkWritableFile(out, "--out");  // before the minutes of sampling, not after
   // Inputs are never overwritten: refuse an output that names one.
   for (const std::string& input : {options.view.env, options.view.scene, options.view.camera})
     if (!input.empty() && fs::exists(input) && fs::exists(out) && fs::equivalent(input, out))
-      throw std::runtime_error("--out " + out.string() + " is an input of this command; choose another file");
+      throw UsageError("--out " + out.string() + " is an input of this command; choose another file");
 
   const SceneOptions& view = options.view;
   const scene::Scene scene = loadScene(view);

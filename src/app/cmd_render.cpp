@@ -86,11 +86,11 @@ int runRender(const RenderOptions& options) {
        {std::pair{"--dump-frames", &options.dumpFrames}, {"--cut-frames", &options.cutFrames}})
     for (std::uint32_t f : *frames)
       if (f >= options.frames)
-        throw std::runtime_error(std::string(flag) + " " + std::to_string(f) + " is past the last frame (" +
+        throw UsageError(std::string(flag) + " " + std::to_string(f) + " is past the last frame (" +
                                  std::to_string(options.frames - 1) + ")");
   for (const std::string& aov : options.aovs)
     if (aov != "all" && !knownAovs().count(aov))
-      throw std::runtime_error("--aov: unknown image '" + aov + "' (known: " + knownAovList() + ", all)");
+      throw UsageError("--aov: unknown image '" + aov + "' (known: " + knownAovList() + ", all)");
 
   const fs::path outDir = options.out;
   // Before anything slow: a read-only or mistyped output folder fails now.

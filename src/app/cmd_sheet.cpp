@@ -47,11 +47,11 @@ CLI::App* addSheetCommand(CLI::App& app, SheetOptions& options) {
 
 int runSheet(const SheetOptions& options) {
   if (options.images.size() > kMaxSheetImages)
-    throw std::runtime_error("sheet: " + std::to_string(options.images.size()) + " images; at most " +
+    throw UsageError("sheet: " + std::to_string(options.images.size()) + " images; at most " +
                              std::to_string(kMaxSheetImages) + " fit on one sheet");
   const int columns = options.columns ? *options.columns : int(std::min<std::size_t>(options.images.size(), 8));
   if (options.labels.size() > std::size_t(columns))
-    throw std::runtime_error("sheet: " + std::to_string(options.labels.size()) + " labels for " +
+    throw UsageError("sheet: " + std::to_string(options.labels.size()) + " labels for " +
                              std::to_string(columns) + " columns (labels name the first row's cells)");
   const fs::path out = options.out;
   std::vector<fs::path> inputs(options.images.begin(), options.images.end());

@@ -39,14 +39,14 @@ CLI::App* addViewCommand(CLI::App& app, ViewOptions& options) {
 int runView(const ViewOptions& options) {
   // Before the window opens: a bad script or output folder fails now.
   if (options.headless && options.script.empty())
-    throw std::runtime_error("--headless needs --script FILE: without a window there is no keyboard or mouse");
+    throw UsageError("--headless needs --script FILE: without a window there is no keyboard or mouse");
   std::vector<viewer::ScriptCommand> script;
   if (!options.script.empty()) script = viewer::loadScript(options.script);
   checkWritableDirectory(options.out, "--out");
   if (!options.record.empty()) {
     std::error_code error;
     if (std::filesystem::exists(options.record, error))
-      throw std::runtime_error("--record " + options.record +
+      throw UsageError("--record " + options.record +
                                ": the file exists; not overwritten (choose another name)");
   }
   const SceneOptions& shot = options.view;

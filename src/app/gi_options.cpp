@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "render/scene_bridge.h"
 #include "util/printable.h"
 
@@ -97,7 +98,14 @@ void warnIgnoredGiOptions(const GiOptions& options) {
 gi::Settings giSettings(const GiOptions& options, const gi::Settings& base) {
   gi::Settings settings = base;
   if (!options.settingsFile.empty()) gi::applySettingsFile(settings, options.settingsFile);
-  for (const auto& [key, value] : options.overrides) gi::applySetting(settings, key, value);
+  // A --gi.KEY value the library refuses is a mistake on the command line.
+  for (const auto& [key, value] : options.overrides) {
+    try {
+      gi::applySetting(settings, key, value);
+    } catch (const std::exception& refused) {
+      throw UsageError(refused.what());
+    }
+  }
   // --gi names the branches that run: one it leaves out is off whatever the settings say.
   const std::vector<std::string> branches = giBranches(options.mode);
   const auto listed = [&](const char* name) {
@@ -109,7 +117,7 @@ gi::Settings giSettings(const GiOptions& options, const gi::Settings& base) {
     gi::validate(settings);
   } catch (const std::invalid_argument& invalid) {
     // The keys at fault may come from the file, the flags or both: name the file.
-    if (options.settingsFile.empty()) throw;
+    if (options.settingsFile.empty()) throw UsageError(invalid.what());
     throw std::invalid_argument(options.settingsFile + (options.overrides.empty() ? ": " : " with the --gi.* flags: ") +
                                 invalid.what());
   }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "bounce/version.h"
 #include "util/edit_distance.h"
 #include "util/printable.h"
@@ -142,6 +143,9 @@ int main(int argc, char** argv) {
     if (denoiseCommand->parsed()) return runDenoise(denoise);
     if (ghostingCommand->parsed()) return runGhosting(ghosting);
     if (viewCommand->parsed()) return runView(view);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "bounce: error: %s\n", bounce::util::printable(e.what()).c_str());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bounce: error: %s\n", bounce::util::printable(e.what()).c_str());
     // compare's 1 means "differs beyond a threshold"; trouble is 2, as for cmp and diff.

@@ -6,8 +6,18 @@
 
 #include <CLI/CLI.hpp>
 #include <limits>
+#include <stdexcept>
 
 namespace bounce::app {
+
+// A command-line value refused after parsing: out of its range, contradicting
+// another option, naming something the scene lacks, or an output that would
+// replace an input. bounce exits with status 2 for it, as for the values
+// CLI11 refuses while parsing: one rule for every mistake on the command line.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // A finite number in [min, max]; a bound of +-infinity leaves that side open.
 CLI::Validator finiteRange(double min, double max);

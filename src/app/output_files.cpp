@@ -1,5 +1,7 @@
 #include "app/output_files.h"
 
+#include "app/option_checks.h"
+
 #include <unistd.h>
 
 #include <cctype>
@@ -23,7 +25,7 @@ bool sameFile(const fs::path& a, const fs::path& b) {
 void refuseToOverwriteInputs(const fs::path& output, const std::string& flag, const std::vector<fs::path>& inputs) {
   for (const fs::path& input : inputs)
     if (sameFile(output, input))
-      throw std::runtime_error(output.string() + ": refusing to write " + flag + " over the input " + input.string());
+      throw UsageError(output.string() + ": refusing to write " + flag + " over the input " + input.string());
 }
 
 void checkWritableDirectory(const fs::path& dir, const std::string& option) {

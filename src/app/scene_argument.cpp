@@ -8,6 +8,7 @@
 #include "app/option_checks.h"
 #include "scene/builtin_scenes.h"
 #include "scene/gltf_import.h"
+#include "util/parse_number.h"
 
 namespace bounce::app {
 
@@ -19,7 +20,7 @@ scene::Scene loadSceneArgument(const std::string& argument, const scene::GltfImp
   if (extension != ".gltf" && extension != ".glb") {
     std::string names;
     for (const std::string& name : scene::builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
-    throw std::runtime_error("scene '" + argument + "' is neither a built-in scene (" + names +
+    throw UsageError("scene '" + argument + "' is neither a built-in scene (" + names +
                              ") nor a .gltf/.glb file");
   }
   scene::Scene scene = scene::loadGltf(path, importOptions);
@@ -36,24 +37,20 @@ std::vector<float> parseNumbers(const std::string& text, std::size_t count, floa
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
-    std::size_t used = 0;
-    float value = 0.0f;
-    try {
-      value = std::stof(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(value))
-      throw std::runtime_error(what + ": '" + item + "' is not a number");
-    if (value < min || value > max) {
+    // "1, 0.5, 0" as well as "1,0.5,0".
+    const std::size_t first = item.find_first_not_of(' '), last = item.find_last_not_of(' ');
+    item = first == std::string::npos ? std::string() : item.substr(first, last - first + 1);
+    const std::optional<double> number = util::parseFiniteNumber(item);
+    if (!number) throw UsageError(what + ": '" + item + "' is not a number");
+    if (*number < double(min) || *number > double(max)) {
       char range[64];
       std::snprintf(range, sizeof range, "[%g, %g]", double(min), double(max));
-      throw std::runtime_error(what + ": " + item + " is outside " + range);
+      throw UsageError(what + ": " + item + " is outside " + range);
     }
-    values.push_back(value);
+    values.push_back(float(*number));
   }
   if (values.size() != count)
-    throw std::runtime_error(what + ": wants " + std::to_string(count) + (count == 1 ? " number" : " numbers") +
+    throw UsageError(what + ": wants " + std::to_string(count) + (count == 1 ? " number" : " numbers") +
                              ", got " + std::to_string(values.size()));
   return values;
 }
@@ -65,7 +62,7 @@ void applyMaterialChange(scene::Scene& scene, const std::string& change) {
   const std::size_t colon = change.rfind(':');
   const std::size_t equals = change.find('=', colon == std::string::npos ? 0 : colon);
   if (colon == std::string::npos || equals == std::string::npos || colon == 0)
-    throw std::runtime_error(what + ": expected NAME:KEY=VALUE, e.g. 'oak floor:roughness=0.1'");
+    throw UsageError(what + ": expected NAME:KEY=VALUE, e.g. 'oak floor:roughness=0.1'");
   const std::string name = change.substr(0, colon);
   const std::string key = change.substr(colon + 1, equals - colon - 1);
   const std::string value = change.substr(equals + 1);
@@ -75,7 +72,7 @@ void applyMaterialChange(scene::Scene& scene, const std::string& change) {
   if (!material) {
     std::string names;
     for (const scene::Material& m : scene.materials) names += (names.empty() ? "'" : ", '") + m.name + "'";
-    throw std::runtime_error(what + ": the scene has no material '" + name + "' (it has " + names + ")");
+    throw UsageError(what + ": the scene has no material '" + name + "' (it has " + names + ")");
   }
   if (key == "roughness") {
     material->roughnessFactor = parseNumbers(value, 1, 0.0f, 1.0f, what)[0];
@@ -88,7 +85,7 @@ void applyMaterialChange(scene::Scene& scene, const std::string& change) {
     const std::vector<float> rgb = parseNumbers(value, 3, 0.0f, 1e20f, what);
     material->emissiveFactor = glm::vec3(rgb[0], rgb[1], rgb[2]);
   } else {
-    throw std::runtime_error(what + ": unknown key '" + key + "' (roughness, metallic, base_color, emission)");
+    throw UsageError(what + ": unknown key '" + key + "' (roughness, metallic, base_color, emission)");
   }
 }
 
@@ -181,14 +178,14 @@ render::FrameRendererOptions frameRendererOptions(const scene::Scene& scene, con
   if (options.sunAzimuth) environment.sun.azimuthDegrees = *options.sunAzimuth;
   if (options.noSun) {
     if (options.sunElevation || options.sunAzimuth)
-      throw std::runtime_error("--no-sun contradicts --sun-elevation/--sun-azimuth");
+      throw UsageError("--no-sun contradicts --sun-elevation/--sun-azimuth");
     environment.hasSun = false;
   }
   // Refused here, before anything is rendered, with the option's name.
   if (const std::string problem = render::environmentIntensityProblem(environment); !problem.empty()) {
     char value[32];
     std::snprintf(value, sizeof value, "%g", double(environment.intensity));
-    throw std::runtime_error(std::string("--env-intensity ") + value + " " + problem);
+    throw UsageError(std::string("--env-intensity ") + value + " " + problem);
   }
   return rendererOptions;
 }

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "util/parse_number.h"
+
 namespace bounce::viewer {
 namespace {
 
@@ -65,10 +67,9 @@ class LineParser {
   }
   double number(std::size_t index, double low, double high) const {
     const std::string& word = words_[index];
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
-    if (error != std::errc() || end != word.data() + word.size() || !std::isfinite(value))
-      fail("'" + word + "' is not a number");
+    const std::optional<double> parsed = util::parseFiniteNumber(word);
+    if (!parsed) fail("'" + word + "' is not a number");
+    const double value = *parsed;
     if (value < low || value > high) fail(word + " is out of range [" + format(low) + ", " + format(high) + "]");
     return value;
   }
