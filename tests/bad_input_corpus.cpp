@@ -946,6 +946,72 @@ void gltfScenes(CorpusBuilder& corpus) {
       renderGlb, "nested deeper than 64 levels");
 }
 
+// ---------------------------------------------------------------- glTF, camera files and labels, round 2
+
+// Issue 28's second round: values glTF or JSON allow to be written but give
+// no meaning (factors outside [0, 1], a light range of 0, a root listed many
+// times, a key given twice), a camera file over the keyframe limit, and a
+// sheet label the font cannot draw.
+void gltfAndCameraRound2(CorpusBuilder& corpus) {
+  const std::vector<std::string> render = {"render", "{dir}/scene.gltf", "--out", "{out}"};
+  const auto scene = [&](const std::string& name, std::function<void(json&)> change, const std::string& mentions,
+                         Outcome outcome = Outcome::Error) {
+    corpus.add(
+        "gltf_" + name, "scene.gltf", [change](const fs::path& dir) { writeGltfCase(dir, change); }, render, mentions,
+        outcome);
+  };
+  // Clamped into [0, 1] with a warning: the render goes on.
+  const std::vector<std::pair<std::string, std::function<void(json&)>>> factors = {
+      {"base_colour_five",
+       [](json& d) {
+         d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {5, 5, 5, 1};
+       }},
+      {"base_colour_negative",
+       [](json& d) {
+         d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {-1, 0.5, 0.5, 1};
+       }},
+      {"roughness_negative", [](json& d) { d["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] = -0.5; }},
+      {"metallic_two", [](json& d) { d["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 2; }},
+      {"emissive_two",
+       [](json& d) {
+         d["materials"][0]["emissiveFactor"] = {2, 1, 1};
+       }},
+      {"emissive_negative",
+       [](json& d) {
+         d["materials"][0]["emissiveFactor"] = {-1, 0, 0};
+       }},
+  };
+  for (const auto& [name, change] : factors) scene("factor_" + name, change, "", Outcome::FiniteImage);
+  scene(
+      "light_range_zero", [](json& d) { d["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = 0; },
+      "range 0 must be above 0");
+  scene(
+      "root_listed_200000_times", [](json& d) { d["scenes"][0]["nodes"] = json(std::vector<int>(200000, 0)); },
+      "lists node 0 more than once");
+
+  const auto camera = [&](const std::string& name, std::string text, const std::string& mentions) {
+    corpus.textFile("camera_" + name, "camera.json", std::move(text),
+                    {"render", "cornell", "--camera", "{dir}/camera.json", "--frames", "3", "--out", "{out}"},
+                    mentions);
+  };
+  camera("key_twice", R"({"keyframes": [{"time": 0, "time": 1, "position": [0, 1, 4], "target": [0, 1, 0]}]})",
+         "keyframe 0: 'time' is given more than once");
+  camera("keyframes_twice", R"({"keyframes": [], "keyframes": []})", "'keyframes' is given more than once");
+  std::string many = "{\"keyframes\": [";
+  for (int k = 0; k <= 100000; ++k)
+    many += (k ? "," : "") + std::string("{\"time\": ") + std::to_string(k) +
+            R"(, "position": [0, 1, 4], "target": [0, 1, 0]})";
+  camera("keyframes_100001", many + "]}", "more than 100000 keyframes");
+
+  corpus.add(
+      "sheet_label_not_drawable", "",
+      [](const fs::path& dir) {
+        io::ImageF image(4, 4, {"R", "G", "B"});
+        io::writePng(dir / "a.png", image, io::PngEncoding::Srgb);
+      },
+      {"sheet", "{dir}/a.png", "--label", "caf\xc3\xa9", "--out", "{dir}/sheet.png"}, "--label");
+}
+
 }  // namespace
 
 const std::vector<CorpusCase>& badInputCorpus() {
@@ -957,6 +1023,7 @@ const std::vector<CorpusCase>& badInputCorpus() {
     optionValues(builder);
     viewerScripts(builder);
     gltfScenes(builder);
+    gltfAndCameraRound2(builder);
     return std::move(builder.cases);
   }();
   return corpus;

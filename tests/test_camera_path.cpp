@@ -396,6 +396,10 @@ TEST(CameraKeyframes, EveryKeyframeErrorNamesTheFileTheKeyframeAndTheProblem) {
       {R"({"time": 1, "position": [0, 1, 5], "target": [0, 1, 0], "up": [0, 0, 2]})", 1, "parallel to 'up'"},
       {R"({"time": 1, "position": [0, 1, 5], "target": [0, 1, 0], "up": [0, 0, 0]})", 1, "zero vector"},
       {R"([0, 1, 5])", 1, "expected an object"},
+      // JSON keeps the last of a key given twice; the file's author meant one of them.
+      {R"({"time": 1, "time": 2, "position": [0, 1, 5], "target": [0, 1, 0]})", 1, "'time' is given more than once"},
+      {R"({"time": 0, "position": [0, 1, 5], "target": [0, 1, 0], "position": [0, 1, 6]})", 0,
+       "'position' is given more than once"},
   };
   int caseNumber = 0;
   for (const KeyframeErrorCase& c : cases) {
@@ -415,6 +419,7 @@ TEST(CameraKeyframes, EveryKeyframeErrorNamesTheFileTheKeyframeAndTheProblem) {
 }
 
 TEST(CameraKeyframes, DocumentErrorsNameTheFileAndTheProblem) {
+  const std::string deep = std::string(20, '[') + std::string(20, ']');
   const std::pair<const char*, const char*> cases[] = {
       {R"({"keyframes": [)", "invalid JSON"},
       {R"({"keyframes": [{"time": 1e999}]})", "invalid JSON"},
@@ -423,6 +428,8 @@ TEST(CameraKeyframes, DocumentErrorsNameTheFileAndTheProblem) {
       {R"({"keyframes": {"time": 0}})", "\"keyframes\" must be an array"},
       {R"({"keyframes": []})", "\"keyframes\" is empty"},
       {R"({"keyframes": [], "loop": true})", "unknown field 'loop'"},
+      {R"({"keyframes": [], "keyframes": []})", "'keyframes' is given more than once"},
+      {deep.c_str(), "nested deeper than 16 levels"},
   };
   int caseNumber = 0;
   for (const auto& [json, problem] : cases) {
@@ -444,6 +451,45 @@ TEST(CameraKeyframes, DocumentErrorsNameTheFileAndTheProblem) {
   } catch (const SceneError& error) {
     EXPECT_NE(std::string(error.what()).find(missing.string()), std::string::npos) << error.what();
   }
+}
+
+// {"keyframes": [...]} of `count` keys one second apart along +X, every
+// `cutEvery`-th a cut (none for 0).
+std::string straightKeyframes(std::size_t count, std::size_t cutEvery = 0) {
+  std::string json = "{\"keyframes\": [";
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::string x = std::to_string(k);
+    json += (k ? ",\n" : "") + std::string("{\"time\": ") + x + ", \"position\": [" + x + ", 1, 5], \"target\": [" + x +
+            ", 1, 0]" + (cutEvery && k > 0 && k % cutEvery == 0 ? ", \"cut\": true" : "") + "}";
+  }
+  return json + "]}";
+}
+
+// A file of more than 100,000 keyframes is refused while it is read (a
+// million took 823 MB); 100,000 load, and every frame's cut flag is found by
+// bisection, equal to counting the cuts before it.
+TEST(CameraKeyframes, AtMostAHundredThousandKeyframesLoadAndCutsAreCountedRight) {
+  const fs::path over = writeTempFile("bounce_keyframes_over.json", straightKeyframes(100001));
+  try {
+    loadCameraKeyframes(over);
+    ADD_FAILURE() << "expected SceneError";
+  } catch (const SceneError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              over.string() + ": more than 100000 keyframes (the most a camera file may hold)");
+  }
+  fs::remove(over);
+
+  const fs::path most = writeTempFile("bounce_keyframes_most.json", straightKeyframes(100000, 7));
+  const std::unique_ptr<CameraPath> path = loadCameraKeyframes(most);
+  fs::remove(most);
+  EXPECT_EQ(path->duration(), 99999.0f);
+  EXPECT_EQ(path->pose(54321.0f).position, glm::vec3(54321, 1, 5));
+  for (const float time : {-1.0f, 0.0f, 6.5f, 7.0f, 13.9f, 14.0f, 70000.0f, 99998.5f, 99999.0f, 1e6f})
+    EXPECT_EQ(path->segment(time), time < 0.0f ? 0 : int(std::min(time, 99999.0f)) / 7) << "at " << time;
+  EXPECT_EQ(path->segment(std::numeric_limits<float>::quiet_NaN()), 0);
+  const std::vector<CameraFrame> frames = sampleCameraFrames(*path, 0, 1000, 4.0f);
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    EXPECT_EQ(frames[i].cut, i == 0 || (i % 4 == 0 && (i / 4) % 7 == 0)) << "frame " << i;
 }
 
 TEST(CameraPath, UnknownSpecListsThePresets) {

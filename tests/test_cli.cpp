@@ -835,6 +835,33 @@ TEST(CliHardening, SheetLaysImagesOutInLabelledRows) {
   fs::remove_all(dir);
 }
 
+// The sheet's font draws letters, digits, space and . , : = ( ) - / + %;
+// any other character came out as a box. A label with one is refused as a
+// command-line value (exit 2, one line), naming the character and where it
+// is, before any image is read.
+TEST(CliHardening, SheetRefusesLabelsItsFontCannotDraw) {
+  const fs::path dir = freshDirectory("sheet_label");
+  for (const char* label : {"caf\xc3\xa9", "a_b", "tab\there", "50\x1b[2J"}) {
+    const auto r =
+        runArgs({"sheet", (dir / "missing.png").string(), "--label", label, "--out", (dir / "sheet.png").string()});
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+    EXPECT_EQ(r.output.rfind("bounce: error: --label: ", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find("cannot draw"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find('\x1b'), std::string::npos) << "control bytes are escaped";
+  }
+  const auto position = runArgs({"sheet", "x.png", "--label", "ok:a_b", "--out", "y.png"});
+  EXPECT_NE(position.output.find("('_' at position 5)"), std::string::npos) << position.output;
+  // A UTF-8 character is named whole, and counts as one.
+  const auto accent = runArgs({"sheet", "x.png", "--label", "caf\xc3\xa9s", "--out", "y.png"});
+  EXPECT_NE(accent.output.find("('\xc3\xa9' at position 4)"), std::string::npos) << accent.output;
+  // Every character the font draws passes (the missing image is what fails).
+  const auto drawable = runArgs({"sheet", (dir / "missing.png").string(), "--label", "Ref. 1,2: a=(b-c)/d+5% z",
+                                 "--out", (dir / "sheet.png").string()});
+  EXPECT_EQ(drawable.exitCode, 1) << drawable.output;
+  EXPECT_NE(drawable.output.find("missing.png"), std::string::npos) << drawable.output;
+}
+
 // --material changes a material's factor; a misspelt material, key or value
 // is refused naming it (and, for a material, listing the scene's), before
 // anything renders.

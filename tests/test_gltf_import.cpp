@@ -522,6 +522,88 @@ TEST(GltfImport, PunctualLightsShineDownTheirNodesMinusZ) {
   expectRefused(gltf.writeGltf(folder / "bad_spot.gltf"), "cone angles");
 }
 
+// glTF: a range, when given, is above 0. tinygltf keeps an absent range as
+// 0 too, and 0 was taken for "no limit" without a word; the file's 0 (or a
+// negative range) is refused, naming the light.
+TEST(GltfImport, LightRangeZeroIsRefusedNamingTheLight) {
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.doc()["extensionsUsed"] = {"KHR_lights_punctual"};
+  gltf.doc()["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"name", "lamp"}, {"range", 0}}};
+  gltf.add("nodes", {{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  expectRefused(gltf.writeGltf(folder / "zero.gltf"), "light 0 'lamp': range 0 must be above 0");
+  gltf.doc()["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = -2.5;
+  expectRefused(gltf.writeGltf(folder / "negative.gltf"), "light 0 'lamp': range -2.5 must be above 0");
+  gltf.doc()["extensions"]["KHR_lights_punctual"]["lights"][0].erase("range");
+  EXPECT_EQ(load(gltf.writeGltf(folder / "none.gltf")).scene.lights.at(0).range, 0.0f);  // none: no limit
+}
+
+// Material factors outside glTF's [0, 1] (which --material refuses) are
+// clamped into it, and each field is named in a warning with the materials
+// it concerns: emission of 2 was rendered twice as bright, and a base
+// colour of 5 clamped, without a word. Ten thousand such materials still
+// give one line a field.
+TEST(GltfImport, FactorsOutsideZeroToOneAreClampedWithAWarningPerField) {
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.add("materials", {{"name", "bright"},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {5, 5, 5, 1}}, {"metallicFactor", 2}}},
+                         {"emissiveFactor", {2, 1, 1}}});
+  gltf.add("materials", {{"name", "negative"},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {-1, 0.5, 0.5, 1}}, {"roughnessFactor", -0.5}}},
+                         {"emissiveFactor", {-1, 0, 0}},
+                         {"occlusionTexture", {{"index", 0}, {"strength", 1.5}}}});
+  gltf.add("materials", {{"name", "fine"},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {0, 1, 0.5, 1}}, {"roughnessFactor", 1}}},
+                         {"emissiveFactor", {1, 0, 0}}});
+  const std::vector<std::uint8_t> png = encodePng(1, 1, {10, 20, 30, 255});
+  gltf.add("images", {{"uri", "data:image/png;base64," + base64(png)}});
+  gltf.add("textures", {{"source", 0}});
+  for (int material = 0; material < 3; ++material) {
+    json primitive = quadPrimitive(gltf);
+    primitive["material"] = material;
+    gltf.addMeshNode(primitive);
+  }
+  const fs::path path = gltf.writeGltf(folder / "factors.gltf");
+  const Loaded loaded = load(path);
+
+  const std::vector<std::string> expected = {
+      "pbrMetallicRoughness.baseColorFactor outside [0, 1] was clamped into it: material 0 'bright', material 1 "
+      "'negative'",
+      "pbrMetallicRoughness.metallicFactor outside [0, 1] was clamped into it: material 0 'bright'",
+      "emissiveFactor outside [0, 1] was clamped into it (KHR_materials_emissive_strength makes emission brighter): "
+      "material 0 'bright', material 1 'negative'",
+      "pbrMetallicRoughness.roughnessFactor outside [0, 1] was clamped into it: material 1 'negative'",
+      "occlusionTexture.strength outside [0, 1] was clamped into it: material 1 'negative'"};
+  std::vector<std::string> warnings = loaded.warnings;
+  std::vector<std::string> lines;
+  for (const std::string& warning : expected) lines.push_back(path.string() + ": " + warning);
+  std::sort(warnings.begin(), warnings.end());
+  std::sort(lines.begin(), lines.end());
+  EXPECT_EQ(warnings, lines);
+  const std::vector<Material>& materials = loaded.scene.materials;
+  EXPECT_EQ(materials[0].baseColorFactor, glm::vec4(1.0f));
+  EXPECT_EQ(materials[0].metallicFactor, 1.0f);
+  EXPECT_EQ(materials[0].emissiveFactor, glm::vec3(1.0f));
+  EXPECT_EQ(materials[1].baseColorFactor, glm::vec4(0.0f, 0.5f, 0.5f, 1.0f));
+  EXPECT_EQ(materials[1].roughnessFactor, 0.0f);
+  EXPECT_EQ(materials[1].emissiveFactor, glm::vec3(0.0f));
+  EXPECT_EQ(materials[1].occlusionStrength, 1.0f);
+  EXPECT_EQ(materials[2].baseColorFactor, glm::vec4(0.0f, 1.0f, 0.5f, 1.0f));
+  EXPECT_EQ(materials[2].emissiveFactor, glm::vec3(1.0f, 0.0f, 0.0f));
+
+  // Ten thousand: still one line a field, naming eight and counting the rest.
+  GltfBuilder many;
+  json primitive = quadPrimitive(many);
+  for (int m = 0; m < 10000; ++m) many.add("materials", {{"emissiveFactor", {3, 0, 0}}});
+  primitive["material"] = 9999;
+  many.addMeshNode(primitive);
+  const Loaded manyLoaded = load(many.writeGltf(folder / "many.gltf"));
+  ASSERT_EQ(manyLoaded.warnings.size(), 1u);
+  EXPECT_NE(manyLoaded.warnings[0].find("emissiveFactor outside [0, 1] was clamped into it"), std::string::npos);
+  EXPECT_NE(manyLoaded.warnings[0].find("material 7 and 9992 more"), std::string::npos) << manyLoaded.warnings[0];
+}
+
 // Values of the wrong JSON type that tinygltf silently replaces by their
 // defaults: each is named in a warning, and the rest is still read.
 TEST(GltfImport, LightAndMaterialValuesThatFallBackToDefaultsAreNamed) {
@@ -641,7 +723,6 @@ TEST(GltfImport, AHundredThousandRootsAndWarningsLoadInLinearTime) {
     gltf.add("nodes", {{"translation", {i, 0, 0}}, {"weights", {0.5}}});
     roots.push_back(i);
   }
-  roots.push_back(0);  // listed twice, displayed once
   gltf.doc()["scenes"] = {{{"nodes", roots}}};
   const Loaded loaded = load(gltf.writeGltf(folder / "wide.gltf"));
 
@@ -651,6 +732,20 @@ TEST(GltfImport, AHundredThousandRootsAndWarningsLoadInLinearTime) {
   EXPECT_NE(loaded.warnings[0].find("morph targets are ignored: node 0, node 1,"), std::string::npos);
   EXPECT_NE(loaded.warnings[0].find("and " + std::to_string(kNodes - 8) + " more"), std::string::npos)
       << loaded.warnings[0];
+}
+
+// glTF's scene.nodes lists each root once: a node listed twice is refused,
+// at its second listing, however long the list (a root listed 200,000
+// times was displayed once, without a word).
+TEST(GltfImport, ARootListedTwiceIsRefused) {
+  TempFolder folder;
+  GltfBuilder gltf;
+  gltf.addMeshNode(quadPrimitive(gltf));
+  gltf.add("nodes", {{"translation", {1, 0, 0}}});
+  gltf.doc()["scenes"] = {{{"nodes", {0, 1, 0}}}};
+  expectRefused(gltf.writeGltf(folder / "twice.gltf"), "scene 0: lists node 0 more than once");
+  gltf.doc()["scenes"] = {{{"nodes", json(std::vector<int>(200000, 1))}}};
+  expectRefused(gltf.writeGltf(folder / "many.gltf"), "scene 0: lists node 1 more than once");
 }
 
 // 3.14159265 is below pi, but as the float the camera keeps it is pi: 180

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/commands.h"
@@ -25,6 +26,33 @@ namespace fs = std::filesystem;
 constexpr std::size_t kMaxSheetImages = 256;
 constexpr int kMaxShrink = 16;
 
+// Besides ASCII letters and digits, what the sheet's 5x7 font
+// (plot::Canvas::text) draws. Any other character would come out as a box,
+// so a label holding one is refused rather than shown garbled.
+constexpr std::string_view kLabelPunctuation = " .,:=()-/+%";
+
+CLI::Validator drawableLabel() {
+  return CLI::Validator(
+      [](std::string& label) -> std::string {
+        std::size_t position = 0;  // in characters: a UTF-8 sequence counts once
+        for (std::size_t i = 0; i < label.size(); ++position) {
+          std::size_t length = 1;  // the character's bytes: a lead byte and its continuation bytes
+          while (i + length < label.size() && (static_cast<unsigned char>(label[i + length]) & 0xC0) == 0x80) ++length;
+          const auto c = static_cast<unsigned char>(label[i]);
+          if (length == 1 &&
+              ((c < 0x80 && std::isalnum(c)) || kLabelPunctuation.find(char(c)) != std::string_view::npos)) {
+            ++i;
+            continue;
+          }
+          return "'" + label + "' has a character the sheet's font cannot draw ('" + label.substr(i, length) +
+                 "' at position " + std::to_string(position + 1) +
+                 "); a label holds letters, digits, space and . , : = ( ) - / + %";
+        }
+        return {};
+      },
+      "TEXT");
+}
+
 }  // namespace
 
 CLI::App* addSheetCommand(CLI::App& app, SheetOptions& options) {
@@ -35,9 +63,11 @@ CLI::App* addSheetCommand(CLI::App& app, SheetOptions& options) {
   command->add_option("--out", options.out, "The PNG to write; never over an input")->required();
   command->add_option("--columns", options.columns, "Images per row (default: all on one row, at most 8)")
       ->check(CLI::Range(1, 64));
-  command->add_option("--label", options.labels,
-                      "A label for the next cell of the first row (repeat it; lower-case letters, digits and "
-                      ". , : = ( ) - / + %)");
+  command
+      ->add_option("--label", options.labels,
+                   "A label for the next cell of the first row (repeat it; letters, shown lower-case, digits, "
+                   "space and . , : = ( ) - / + %)")
+      ->check(drawableLabel());
   command->add_option("--shrink", options.shrink, "Shrink every image this many times (box filter; default 1)")
       ->check(CLI::Range(1, kMaxShrink));
   command->add_option("--exposure", options.exposure, "Exposure of EXR/HDR inputs before the tonemap (default 1)")

@@ -9,14 +9,17 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <unordered_set>
 #include <utility>
+#include <vector>
 
 #include <glm/gtc/constants.hpp>
 #include <nlohmann/json.hpp>
 
 #include "util/json_error.h"
+#include "util/json_parse.h"
 
 namespace bounce::scene {
 namespace {
@@ -296,14 +299,65 @@ struct Keyframe {
   bool cut = false;
 };
 
+// The most keyframes a camera file may hold: a keyframe a frame for over an
+// hour at 24 fps. The parsed JSON of a keyframe takes several hundred bytes;
+// counted while the file is read, the limit keeps `bounce render` under
+// about 75 MB while it reads the largest file allowed, or refuses a larger
+// one (a million keyframes took 806 MB).
+constexpr std::size_t kMaxKeyframes = 100000;
+// The format needs four levels (keyframes, one keyframe, a vector); deeper
+// JSON is refused as it is read, before it is built.
+constexpr int kMaxJsonDepth = 16;
+
+// Watches the file as it is parsed (util::parseJson): refuses a key given
+// twice in one object, which nlohmann would otherwise settle silently by
+// keeping the last, and counts the keyframes, refusing one past the limit
+// before its value is built.
+class KeyframeFileCheck {
+ public:
+  explicit KeyframeFileCheck(const std::string& source) : source_(source) {}
+
+  void objectStart() {
+    if (open_.size() == 1 && open_.front().lastKey == "keyframes") {
+      if (++keyframes_ > kMaxKeyframes)
+        throw SceneError(source_ + ": more than " + std::to_string(kMaxKeyframes) +
+                         " keyframes (the most a camera file may hold)");
+    }
+    open_.emplace_back();
+  }
+  void objectEnd() { open_.pop_back(); }
+  void key(const std::string& name) {
+    OpenObject& object = open_.back();
+    object.lastKey = name;
+    if (object.keys.insert(name).second) return;
+    // Inside the keyframes' array, the message says which keyframe.
+    const bool inKeyframe = open_.size() > 1 && open_.front().lastKey == "keyframes";
+    throw SceneError(source_ + ": " + (inKeyframe ? "keyframe " + std::to_string(keyframes_ - 1) + ": " : "") + "'" +
+                     name + "' is given more than once");
+  }
+
+ private:
+  struct OpenObject {
+    std::unordered_set<std::string> keys;
+    std::string lastKey;
+  };
+  const std::string& source_;
+  std::vector<OpenObject> open_;
+  std::size_t keyframes_ = 0;
+};
+
 class KeyframeParser {
  public:
   explicit KeyframeParser(std::string source) : source_(std::move(source)) {}
 
-  std::vector<Keyframe> parse(const std::string& text) {
+  // `input` is JSON text or a stream of it (anything util::parseJson reads).
+  template <class Input>
+  std::vector<Keyframe> parse(Input&& input) {
     nlohmann::json document;
     try {
-      document = nlohmann::json::parse(text);
+      document = util::parseJson(std::forward<Input>(input), kMaxJsonDepth, KeyframeFileCheck(source_));
+    } catch (const util::JsonTooDeep& error) {
+      fail(error.what());
     } catch (const nlohmann::json::exception& error) {
       fail("invalid JSON: " + util::withoutJsonExceptionTag(error.what()));
     }
@@ -315,6 +369,7 @@ class KeyframeParser {
     if (list->empty()) fail("\"keyframes\" is empty");
 
     std::vector<Keyframe> keys;
+    keys.reserve(list->size());
     for (std::size_t i = 0; i < list->size(); ++i) {
       index_ = int(i);
       keys.push_back(parseKeyframe((*list)[i], keys.empty() ? nullptr : &keys.back()));
@@ -396,10 +451,12 @@ glm::vec3 hermite(const glm::vec3& p0, const glm::vec3& m0, const glm::vec3& p1,
 
 class KeyframePath final : public CameraPath {
  public:
-  explicit KeyframePath(std::vector<Keyframe> keys) : keys_(std::move(keys)) {}
+  explicit KeyframePath(std::vector<Keyframe> keys) : keys_(std::move(keys)), cutsUpTo_(keys_.size(), 0) {
+    for (std::size_t k = 1; k < keys_.size(); ++k) cutsUpTo_[k] = cutsUpTo_[k - 1] + (keys_[k].cut ? 1 : 0);
+  }
 
   CameraPose pose(float time) const override {
-    if (time <= keys_.front().time) return poseOf(keys_.front());
+    if (!(time > keys_.front().time)) return poseOf(keys_.front());  // NaN too: no key lies after it
     if (time >= keys_.back().time) return poseOf(keys_.back());
     const auto after =
         std::upper_bound(keys_.begin(), keys_.end(), time, [](float t, const Keyframe& key) { return t < key.time; });
@@ -422,10 +479,13 @@ class KeyframePath final : public CameraPath {
     return pose;
   }
 
+  // The cuts at or before `time`: found by bisection, since a render asks
+  // once a frame and a path may hold kMaxKeyframes keys.
   int segment(float time) const override {
-    int cuts = 0;
-    for (std::size_t k = 1; k < keys_.size() && keys_[k].time <= time; ++k) cuts += keys_[k].cut ? 1 : 0;
-    return cuts;
+    if (!(time >= keys_.front().time)) return 0;
+    const auto after =
+        std::upper_bound(keys_.begin(), keys_.end(), time, [](float t, const Keyframe& key) { return t < key.time; });
+    return cutsUpTo_[std::size_t(after - keys_.begin()) - 1];
   }
 
   float duration() const override { return std::max(0.0f, keys_.back().time); }
@@ -444,6 +504,7 @@ class KeyframePath final : public CameraPath {
   }
 
   std::vector<Keyframe> keys_;
+  std::vector<int> cutsUpTo_;  // cutsUpTo_[k]: keys 1..k that are cuts
 };
 
 }  // namespace
@@ -488,9 +549,8 @@ std::unique_ptr<CameraPath> parseCameraKeyframes(const std::string& json, const 
 std::unique_ptr<CameraPath> loadCameraKeyframes(const std::filesystem::path& file) {
   std::ifstream stream(file, std::ios::binary);
   if (!stream) throw SceneError(file.string() + ": cannot open the camera keyframe file");
-  std::ostringstream text;
-  text << stream.rdbuf();
-  return parseCameraKeyframes(text.str(), file.string());
+  // Parsed from the stream, without a copy of the whole text in memory.
+  return std::make_unique<KeyframePath>(KeyframeParser(file.string()).parse(stream));
 }
 
 std::vector<CameraFrame> sampleCameraPath(const CameraPath& path, int frameCount, float fps) {

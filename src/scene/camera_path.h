@@ -98,7 +98,9 @@ std::unique_ptr<CameraPath> defaultCameraPath(const Scene& scene);
 // "cut": true starts a new segment: the previous segment holds its last key
 // until the cut key's time and nothing is interpolated across it; the first
 // frame at or after that time is flagged as a cut. Unknown fields are
-// refused (a misspelt "fov" would otherwise be silently ignored). Errors
+// refused (a misspelt "fov" would otherwise be silently ignored), and so is
+// a key given twice in one object, JSON nested deeper than 16 levels, and a
+// file of more than 100,000 keyframes (counted while it is read). Errors
 // throw SceneError "<source>: keyframe <i>: <problem>" (just "<source>:
 // <problem>" for problems of the whole document).
 std::unique_ptr<CameraPath> parseCameraKeyframes(const std::string& json, const std::string& source);

@@ -24,6 +24,7 @@
 #include <system_error>
 #include <vector>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include "io/image_io.h"
@@ -387,11 +388,21 @@ class Exporter {
     light.type = source.type == LightType::Directional ? "directional"
                  : source.type == LightType::Point     ? "point"
                                                        : "spot";
-    light.color = doubles(&source.color.x, 3);
-    light.intensity = source.intensity;
-    light.range = source.range;
-    light.spot.innerConeAngle = source.innerConeAngle;
-    light.spot.outerConeAngle = source.outerConeAngle;
+    // glTF's colour is at most 1; the intensity carries the rest, so the
+    // emitted light (their product) stays the same.
+    const float largest = std::max({source.color.x, source.color.y, source.color.z});
+    const float scale = largest > 1.0f ? largest : 1.0f;
+    const glm::vec3 color = source.color / scale;
+    light.color = doubles(&color.x, 3);
+    light.intensity = double(source.intensity) * double(scale);
+    // A directional light has no range in glTF (and 0 means none here).
+    if (source.type != LightType::Directional) light.range = source.range;
+    // glTF: 0 <= inner < outer <= pi/2, compared as the doubles written. The
+    // float nearest pi/2 is above it, so the bound is written exactly.
+    const double outer = std::min(double(source.outerConeAngle), glm::half_pi<double>());
+    const double inner = std::max(double(source.innerConeAngle), 0.0);
+    light.spot.outerConeAngle = outer;
+    light.spot.innerConeAngle = inner < outer ? inner : std::nextafter(outer, 0.0);
     model_.lights.push_back(light);
     return int(model_.lights.size()) - 1;
   }

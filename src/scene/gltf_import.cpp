@@ -775,6 +775,12 @@ class Importer {
         warn("light color must be an array of 3 numbers; using (1, 1, 1)", what);
       warnUnlessNumber(light, "intensity", "light intensity must be a number; using 1");
       warnUnlessNumber(light, "range", "light range must be a number; using none (the light reaches everywhere)");
+      // tinygltf keeps an absent range as 0, so only the file tells them
+      // apart. A range of 0 is refused, not read as "none": glTF says a given
+      // range is above 0, and the two readings a broken exporter might mean
+      // (reaches nowhere, reaches everywhere) give opposite pictures.
+      if (const auto range = light.find("range"); range != light.end() && range->is_number() && !(*range > 0.0))
+        fail(what + ": range " + numberText(range->get<double>()) + " must be above 0 (or left out for no limit)");
       if (*type != "spot") continue;
       const auto spot = light.find("spot");
       if (spot == light.end() || !spot->is_object()) fail(what + ": a spot light needs a \"spot\" object");
@@ -1018,16 +1024,26 @@ class Importer {
         for (std::size_t c = 0; c < size; ++c) result[int(c)] = toFloat(values[c], what + ": " + property);
         return result;
       };
-      const auto unit = [](double value) { return float(std::clamp(value, 0.0, 1.0)); };
+      // glTF gives these factors the range [0, 1] (and --material refuses
+      // values outside it): a value outside is clamped, with a warning naming
+      // the material and the field, rather than drawn as a surface that
+      // reflects or emits more than glTF allows.
+      const auto clamped = [&](auto value, const char* property, const char* note = "") {
+        const auto inside = glm::clamp(value, decltype(value)(0.0f), decltype(value)(1.0f));
+        if (inside != value) warn(std::string(property) + " outside [0, 1] was clamped into it" + note, what);
+        return inside;
+      };
       const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
       Material material;
       material.name = source.name;
-      material.baseColorFactor = glm::clamp(vector(pbr.baseColorFactor, 4, "baseColorFactor"), 0.0f, 1.0f);
-      material.metallicFactor = unit(pbr.metallicFactor);
-      material.roughnessFactor = unit(pbr.roughnessFactor);
-      material.emissiveFactor = glm::max(glm::vec3(vector(source.emissiveFactor, 3, "emissiveFactor")), 0.0f);
+      material.baseColorFactor =
+          clamped(vector(pbr.baseColorFactor, 4, "baseColorFactor"), "pbrMetallicRoughness.baseColorFactor");
+      material.metallicFactor = clamped(float(pbr.metallicFactor), "pbrMetallicRoughness.metallicFactor");
+      material.roughnessFactor = clamped(float(pbr.roughnessFactor), "pbrMetallicRoughness.roughnessFactor");
+      material.emissiveFactor = clamped(glm::vec3(vector(source.emissiveFactor, 3, "emissiveFactor")), "emissiveFactor",
+                                        " (KHR_materials_emissive_strength makes emission brighter)");
       material.normalScale = toFloat(source.normalTexture.scale, what + ": normal texture scale");
-      material.occlusionStrength = unit(source.occlusionTexture.strength);
+      material.occlusionStrength = clamped(float(source.occlusionTexture.strength), "occlusionTexture.strength");
       if (source.alphaMode == "OPAQUE")
         material.alphaMode = AlphaMode::Opaque;
       else if (source.alphaMode == "MASK")
@@ -1530,12 +1546,16 @@ class Importer {
         if (scene_.nodes[i].parent < 0) scene_.roots.push_back(int(i));
       return;
     }
+    // glTF's scene.nodes holds unique items; a node drawn twice over itself
+    // is a broken file, refused (in one pass, however long the list).
     std::vector<bool> listed(scene_.nodes.size(), false);
     for (int node : model_.scenes[std::size_t(chosen)].nodes) {
       if (node < 0 || std::size_t(node) >= scene_.nodes.size())
         fail("scene " + std::to_string(chosen) + ": node " + std::to_string(node) + " does not exist");
-      if (!listed[std::size_t(node)]) scene_.roots.push_back(node);
+      if (listed[std::size_t(node)])
+        fail("scene " + std::to_string(chosen) + ": lists node " + std::to_string(node) + " more than once");
       listed[std::size_t(node)] = true;
+      scene_.roots.push_back(node);
     }
   }
 
