@@ -939,6 +939,123 @@ TEST(CliHardening, ARenderRemovesTheFramesOfAnEarlierLongerRender) {
   fs::remove_all(out);
 }
 
+std::string fileText(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// A one-triangle glTF in `dir` whose buffer file is `dir/bufferName`.
+void writeTriangleGltf(const fs::path& dir, const std::string& bufferName) {
+  fs::create_directories(dir);
+  const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::ofstream(dir / bufferName, std::ios::binary).write(reinterpret_cast<const char*>(positions), sizeof positions);
+  std::ofstream(dir / "scene.gltf") << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"uri": ")" << bufferName << R"(", "byteLength": 36}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [1, 1, 0]}]})";
+}
+
+TEST(CliHardening, NoOutputReplacesAnInputOrAFileAnInputRefersTo) {
+  const fs::path dir = freshDirectory("outputs_over_inputs");
+  const std::vector<std::string> tiny = {"--width", "16", "--height", "8", "--gi", "off"};
+  const auto refused = [&](std::vector<std::string> arguments, const fs::path& input) {
+    const std::string before = fileText(input);
+    arguments.insert(arguments.end(), tiny.begin(), tiny.end());
+    const auto r = runArgs(arguments);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("bounce: error:"), std::string::npos) << r.output;
+    EXPECT_EQ(fileText(input), before) << input << " was changed";
+  };
+  // The scene's own buffer is named as the render's output would be.
+  writeTriangleGltf(dir / "scene", "render.png");
+  refused({"render", (dir / "scene" / "scene.gltf").string(), "--out", (dir / "scene").string()},
+          dir / "scene" / "render.png");
+  refused({"bench", (dir / "scene" / "scene.gltf").string(), "--frames", "1", "--warmup", "0", "--json",
+           (dir / "scene" / "scene.gltf").string()},
+          dir / "scene" / "scene.gltf");
+  // A derived output: OUT.json beside OUT.exr is the camera file.
+  fs::create_directories(dir / "cam");
+  std::ofstream(dir / "cam" / "shot.json") << R"({"keyframes": [{"time": 0, "position": [0, 1, 3], "target": [0, 1, 0]}]})";
+  refused({"reference", "cornell", "--spp", "1", "--camera", (dir / "cam" / "shot.json").string(), "--out",
+           (dir / "cam" / "shot.exr").string()},
+          dir / "cam" / "shot.json");
+  // An environment map that is a render's output, its derived part, or a
+  // link to it.
+  ASSERT_EQ(runArgs({"render", "cornell", "--width", "16", "--height", "8", "--gi", "off", "--hdr", "--frames", "3",
+                     "--out", (dir / "earlier").string()})
+                .exitCode,
+            0);
+  const fs::path map = dir / "earlier" / "render.exr";
+  refused({"render", "cornell", "--env", map.string(), "--out", (dir / "earlier").string()}, map);
+  fs::copy_file(map, dir / "r.direct.exr");
+  refused({"reference", "cornell", "--spp", "1", "--env", (dir / "r.direct.exr").string(), "--out",
+           (dir / "r.exr").string()},
+          dir / "r.direct.exr");
+  fs::create_symlink(map, dir / "link.exr");
+  refused({"reference", "cornell", "--spp", "1", "--env", map.string(), "--out", (dir / "link.exr").string()}, map);
+  // An input the next render would remove (an earlier render's frame it
+  // does not write again), or in a folder it fills.
+  const fs::path frame = dir / "earlier" / "frames" / "frame0002.exr";
+  refused({"render", "cornell", "--env", frame.string(), "--out", (dir / "earlier").string()}, frame);
+  fs::create_directories(dir / "out" / "stages");
+  fs::copy_file(map, dir / "out" / "stages" / "sky.exr");
+  refused({"render", "cornell", "--dump-stages", "--env", (dir / "out" / "stages" / "sky.exr").string(), "--out",
+           (dir / "out").string()},
+          dir / "out" / "stages" / "sky.exr");
+  fs::remove_all(dir);
+}
+
+TEST(CliHardening, ARunReplacesOrRemovesOnlyWhatAnEarlierBounceRunWrote) {
+  const fs::path dir = freshDirectory("foreign_outputs");
+  const fs::path out = dir / "out";
+  fs::create_directories(out / "stages");
+  std::ofstream(out / "render.png") << "the user's picture";
+  std::ofstream(out / "render.mp4") << "the user's film";
+  std::ofstream(dir / "victim.txt") << "outside the folder";
+  std::ofstream(out / ".bounce-written") << "../victim.txt\n/etc/hostname\n";
+  const std::vector<std::string> render = {"render", "cornell", "--width", "16", "--height", "8", "--gi", "off",
+                                           "--out",  out.string()};
+  const auto with = [&](std::initializer_list<std::string> extra) {
+    std::vector<std::string> arguments = render;
+    arguments.insert(arguments.end(), extra);
+    return runArgs(arguments);
+  };
+  // render.png is the user's: refused before any work, nothing touched.
+  const auto refused = with({});
+  EXPECT_EQ(refused.exitCode, 2) << refused.output;
+  EXPECT_NE(refused.output.find("render.png exists and no Bounce run wrote it"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("--overwrite"), std::string::npos) << refused.output;
+  EXPECT_EQ(fileText(out / "render.png"), "the user's picture");
+  // --overwrite replaces it; a one-frame render leaves the user's film, which it does not write, alone.
+  ASSERT_EQ(with({"--overwrite"}).exitCode, 0);
+  EXPECT_NE(fileText(out / "render.png"), "the user's picture");
+  EXPECT_EQ(fileText(out / "render.mp4"), "the user's film");
+  EXPECT_EQ(fileText(dir / "victim.txt"), "outside the folder") << "a record naming files elsewhere is ignored";
+  // A second render replaces the first's files without --overwrite, but a
+  // two-frame one would write the user's film.
+  EXPECT_EQ(with({}).exitCode, 0);
+  const auto film = with({"--frames", "2"});
+  EXPECT_EQ(film.exitCode, 2) << film.output;
+  EXPECT_NE(film.output.find("render.mp4 exists"), std::string::npos) << film.output;
+  EXPECT_EQ(fileText(out / "render.mp4"), "the user's film");
+  // A folder the render fills with files named by the work must hold only Bounce's.
+  std::ofstream(out / "stages" / "notes.txt") << "the user's notes";
+  const auto stages = with({"--dump-stages"});
+  EXPECT_EQ(stages.exitCode, 2) << stages.output;
+  EXPECT_NE(stages.output.find("notes.txt exists"), std::string::npos) << stages.output;
+  fs::remove(out / "stages" / "notes.txt");
+  ASSERT_EQ(with({"--dump-stages"}).exitCode, 0);
+  EXPECT_FALSE(fs::is_empty(out / "stages"));
+  // The next render without stages removes the earlier one's, and says so.
+  const auto plain = with({});
+  EXPECT_EQ(plain.exitCode, 0) << plain.output;
+  EXPECT_NE(plain.output.find("an earlier render wrote"), std::string::npos) << plain.output;
+  EXPECT_FALSE(fs::exists(out / "stages"));
+  fs::remove_all(dir);
+}
+
 TEST(CliHardening, GiSettingsIgnoredByGiOffAreWarnedAbout) {
   const fs::path out = freshDirectory("gi_off_warn");
   const auto r = runArgs({"render", "cornell", "--width", "8", "--height", "8", "--gi", "off", "--gi.seed", "3",

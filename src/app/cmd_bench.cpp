@@ -80,6 +80,11 @@ int runBench(const BenchOptions& options) {
   const std::optional<gi::Settings> settings =
       giEnabled(options.gi) ? std::optional(giSettings(options.gi)) : std::nullopt;
   const scene::Scene scene = loadSceneArgument(options.scene, {.allowOutsideAssets = options.allowOutsideAssets});
+  if (!options.json.empty() && !jsonToStdout) {
+    std::vector<std::filesystem::path> inputs = scene.files;
+    if (!options.gi.settingsFile.empty()) inputs.push_back(options.gi.settingsFile);
+    refuseToOverwriteInputs(options.json, "--json", inputs);
+  }
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   const gpu::DeviceInfo& device = context->deviceInfo();
   std::fprintf(report, "device: %s (%s), driver %s\n", device.name.c_str(), device.type.c_str(), device.driver.c_str());

@@ -13,6 +13,7 @@
 
 #include "app/commands.h"
 #include "app/option_checks.h"
+#include "app/output_files.h"
 #include "app/progress.h"
 #include "io/image_io.h"
 #include "plot/hemisphere_plot.h"
@@ -101,12 +102,16 @@ CLI::App* addBrdfVizCommand(CLI::App& app, BrdfVizOptions& options) {
   command->add_option("--roughness", options.roughness, "Roughness of the view sweep")->check(finiteRange(0.0, 1.0));
   command->add_option("--view", options.viewDegrees, "View angle from the normal of the roughness sweep, degrees")
       ->check(finiteRange(0.0, 89.0));
+  command->add_flag("--overwrite", options.overwrite,
+                    "Replace files in OUT that no Bounce run wrote (files an earlier run wrote, listed in "
+                    "OUT/.bounce-written, are always replaced)");
   return command;
 }
 
 int runBrdfViz(const BrdfVizOptions& options) {
   const fs::path dir = options.out;
-  fs::create_directories(dir);
+  checkWritableDirectory(dir, "--out");
+  OutputFolder(dir, "--out", options.overwrite).prepare({"roughness_sweep.png", "view_sweep.png"}, {}, {});
   writeSweep(options, dir / "roughness_sweep.png", "roughness sweep", [&](float t) {
     return Parameters{t, options.viewDegrees};
   });

@@ -125,23 +125,21 @@ CLI::App* addDenoiseCommand(CLI::App& app, DenoiseOptions& options) {
   command->add_flag("--dump-stages", options.dumpStages,
                     "Write every pass's output of the last frame (EXR + PNG) to OUT/stages/, the denoiser's "
                     "and its validation sheet among them");
+  command->add_flag("--overwrite", options.overwrite,
+                    "Replace files in OUT that no Bounce run wrote (files an earlier run wrote, listed in "
+                    "OUT/.bounce-written, are always replaced)");
   return command;
 }
 
 int runDenoise(const DenoiseOptions& options) {
   const fs::path outDir = options.out;
   checkWritableDirectory(outDir, "--out");  // before the minutes of tracing, not after
-  std::vector<fs::path> written;            // every file this command writes, all in OUT
+  std::vector<fs::path> written;            // every file this command writes by name, all in OUT
   for (const char* version : kVersions)
     for (const char* suffix : kPartSuffixes)
-      for (const char* extension : {".exr", ".png"})
-        written.push_back(outDir / (std::string(version) + suffix + extension));
-  written.push_back(outDir / "sheet.png");
-  written.push_back(outDir / "denoise.json");
-  std::vector<fs::path> inputs;
-  for (const std::string& input : {options.view.scene, options.view.camera, options.view.env, options.gi.settingsFile})
-    if (!input.empty()) inputs.push_back(input);
-  for (const fs::path& file : written) refuseToOverwriteInputs(file, "--out", inputs);
+      for (const char* extension : {".exr", ".png"}) written.push_back(std::string(version) + suffix + extension);
+  written.push_back("sheet.png");
+  written.push_back("denoise.json");
 
   // The denoiser on; the branches off: every signal comes from the path
   // tracer (an engine that wants the denoiser alone does the same). The
@@ -165,20 +163,25 @@ int runDenoise(const DenoiseOptions& options) {
   const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, 0, options.frames, shot);
   const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
 
-  // A stage dump of an earlier run would mix with this one's.
-  if (const std::size_t removed = removeNumberedFrameFiles(outDir / "stages"); removed > 0)
-    std::printf("removed %zu stage files of an earlier run from %s\n", removed, (outDir / "stages").c_str());
+  // No output may replace an input or a file no Bounce run wrote; an
+  // earlier run's stage dump would mix with this one's and is removed.
+  OutputFolder folder(outDir, "--out", options.overwrite);
+  const std::vector<fs::path> filledFolders =
+      options.dumpStages ? std::vector<fs::path>{"stages"} : std::vector<fs::path>{};
+  if (const std::size_t removed = folder.prepare(written, filledFolders, inputFiles(scene, shot, &options.gi));
+      removed > 0)
+    std::printf("removed %zu file%s an earlier run wrote in %s\n", removed, removed == 1 ? "" : "s", outDir.c_str());
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
   // The library as an engine has it: no scene bridge, nothing but images.
-  render::GiBridge gi(*context,
-                      gi::ContextDesc{.maxWidth = shot.width,
-                                      .maxHeight = shot.height,
-                                      .framesInFlight = render::FrameRenderer::kFramesInFlight},
-                      settings);
+  render::GiBridge gi(
+      *context,
+      gi::ContextDesc{
+          .maxWidth = shot.width, .maxHeight = shot.height, .framesInFlight = render::FrameRenderer::kFramesInFlight},
+      settings);
   const auto start = std::chrono::steady_clock::now();
 
   // The reference comes first: of the last frame's view, so that every
@@ -201,8 +204,9 @@ int runDenoise(const DenoiseOptions& options) {
   std::unique_ptr<CheckerboardPacker> packer;
   if (checkerboard) {
     packer = std::make_unique<CheckerboardPacker>(*context, shot.width, shot.height);
-    std::printf("checkerboard: the denoiser gets every other pixel of each signal, packed to half width "
-                "(gi.denoise.checkerboard); the noisy images and relMSE are every pixel's\n");
+    std::printf(
+        "checkerboard: the denoiser gets every other pixel of each signal, packed to half width "
+        "(gi.denoise.checkerboard); the noisy images and relMSE are every pixel's\n");
   }
   PartImages reference;
   {
@@ -250,8 +254,7 @@ int runDenoise(const DenoiseOptions& options) {
     while (pathTracer.samplesPerPixel() < options.spp)
       pathTracer.record(recorder, std::uint32_t(options.spp - pathTracer.samplesPerPixel()));
     pathTracer.recordResolve(recorder);
-    render::RendererInputs made =
-        render::rendererInputs(renderer, index, view, previous, {.captureStages = dump});
+    render::RendererInputs made = render::rendererInputs(renderer, index, view, previous, {.captureStages = dump});
     gpu::Image* given[2] = {&pathTracer.indirectDiffuseImage(), &pathTracer.indirectSpecularImage()};
     if (packer)
       for (std::size_t signal = 0; signal < CheckerboardPacker::kSignals; ++signal) {
@@ -266,8 +269,7 @@ int runDenoise(const DenoiseOptions& options) {
     loop.endFrame();
     previous = view;
 
-    const bool showsReference =
-        frame == last || (sameView(camera.pose, lastPose) && !scene::isAnimated(scene));
+    const bool showsReference = frame == last || (sameView(camera.pose, lastPose) && !scene::isAnimated(scene));
     if (showsReference) {
       loop.finish();
       noisy = {rgbOf(*context, pathTracer.indirectDiffuseImage()), rgbOf(*context, pathTracer.indirectSpecularImage()),
@@ -315,9 +317,12 @@ int runDenoise(const DenoiseOptions& options) {
   io::writePng(outDir / "sheet.png", labelledSheet(cells, labels, 3), io::PngEncoding::Linear);
   if (!captures.empty()) {
     const auto files = gpuio::writeStageDumps(outDir / "stages", captures, options.exposure);
+    folder.wrote(files);
     std::printf("wrote %zu stage images to %s\n", files.size(), (outDir / "stages").c_str());
-    for (const fs::path& sheet : writeValidationSheets(outDir / "stages", captures, options.exposure,
-                                                       float(settings.denoise.maxAccumulatedFrames)))
+    const std::vector<fs::path> sheets = writeValidationSheets(outDir / "stages", captures, options.exposure,
+                                                               float(settings.denoise.maxAccumulatedFrames));
+    folder.wrote(sheets);
+    for (const fs::path& sheet : sheets)
       std::printf("wrote %s (validation: viewZ, normals, motion, history length, lost histories in red)\n",
                   sheet.c_str());
   }
@@ -344,9 +349,10 @@ int runDenoise(const DenoiseOptions& options) {
                                {"measured_frames", perFrame}};
   writeTextFile(outDir / "denoise.json", meta.dump(2) + "\n");
 
-  std::printf("wrote noisy, denoised and reference images of frame %u (each part: .indirect-diffuse, "
-              ".indirect-specular, the frame; EXR + PNG), sheet.png and denoise.json to %s\n",
-              last, outDir.c_str());
+  std::printf(
+      "wrote noisy, denoised and reference images of frame %u (each part: .indirect-diffuse, "
+      ".indirect-specular, the frame; EXR + PNG), sheet.png and denoise.json to %s\n",
+      last, outDir.c_str());
   std::printf("\nrelMSE against the reference (%u spp), frame %u of %u frames at %u spp (%.1f s):\n",
               options.referenceSpp, last, options.frames, options.spp, seconds);
   std::printf("  %-18s %12s %12s %18s\n", "", "noisy", "denoised", "denoised / noisy");

@@ -586,6 +586,9 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
       ->check(finiteRange(1.0, 1e6))
       ->capture_default_str();
   command->add_option("--out", options.out, "Output directory (created if missing)")->capture_default_str();
+  command->add_flag("--overwrite", options.overwrite,
+                    "Replace files in OUT that no Bounce run wrote (files an earlier run wrote, listed in "
+                    "OUT/.bounce-written, are always replaced)");
   command->add_option("--exposure", options.exposure, "Exposure multiplier of regions.png")->check(finitePositive());
   return command;
 }
@@ -595,24 +598,19 @@ int runGhosting(const GhostingOptions& options) {
   if (!giEnabled(options.gi)) throw UsageError("--gi off: bounce ghosting measures the GI; nothing to measure");
   if (options.eventFrame < options.after + 1)
     throw UsageError("--event-frame " + std::to_string(options.eventFrame) + " is too early for --after " +
-                             std::to_string(options.after) + ": the rest is followed from frame event - after - 1, " +
-                             "so the event frame must be at least " + std::to_string(options.after + 1));
+                     std::to_string(options.after) + ": the rest is followed from frame event - after - 1, " +
+                     "so the event frame must be at least " + std::to_string(options.after + 1));
   if (options.turnDegrees && !turn)
     throw UsageError("--turn-degrees is for --event turn, not --event " + options.event);
   if (options.turnDegrees && !options.view.camera.empty())
     throw UsageError("--turn-degrees turns the scene's camera; with --camera " + options.view.camera +
-                             " the path itself must turn at --event-frame (leave one of them out)");
+                     " the path itself must turn at --event-frame (leave one of them out)");
   const float turnDegrees = options.turnDegrees.value_or(kDefaultTurnDegrees);
   if (turn && options.view.camera.empty() && turnDegrees == 0.0f)
     throw UsageError("--turn-degrees 0 does not turn: nothing is uncovered");
 
   const fs::path outDir = options.out;
   checkWritableDirectory(outDir, "--out");  // before the minutes of rendering, not after
-  std::vector<fs::path> inputs;
-  for (const std::string& input : {options.view.scene, options.view.camera, options.view.env, options.gi.settingsFile})
-    if (!input.empty()) inputs.push_back(input);
-  for (const char* file : {"ghosting.json", "ghosting.png", "regions.exr", "regions.png"})
-    refuseToOverwriteInputs(outDir / file, "--out", inputs);
 
   SceneOptions shot = options.view;
   if (shot.scene.empty() && !turn) shot.scene = "sun-room-animated";
@@ -620,7 +618,11 @@ int runGhosting(const GhostingOptions& options) {
   const scene::Scene scene = loadScene(shot);
   if (!turn && !scene::isAnimated(scene))
     throw UsageError("--event object needs a moving object, and scene " + scene.name +
-                             " has no animation (try sun-room-animated)");
+                     " has no animation (try sun-room-animated)");
+  // No output may replace an input or a file no Bounce run wrote.
+  OutputFolder(outDir, "--out", options.overwrite)
+      .prepare({"ghosting.json", "ghosting.png", "regions.exr", "regions.png"}, {},
+               inputFiles(scene, shot, &options.gi));
 
   // Frames: --gi-warmup at the first frame's camera and time, unseen; the
   // frames up to the event; the event frames, whose newly uncovered pixels

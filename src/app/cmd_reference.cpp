@@ -104,17 +104,27 @@ int runReference(const ReferenceCommandOptions& options) {
   const fs::path out = options.out;
   if (out.extension() != ".exr") throw UsageError("--out " + out.string() + ": must name an .exr file");
   checkWritableFile(out, "--out");  // before the minutes of sampling, not after
-  // Inputs are never overwritten: refuse an output that names one.
-  for (const std::string& input : {options.view.env, options.view.scene, options.view.camera})
-    if (!input.empty() && fs::exists(input) && fs::exists(out) && fs::equivalent(input, out))
-      throw UsageError("--out " + out.string() + " is an input of this command; choose another file");
 
   const SceneOptions& view = options.view;
   const scene::Scene scene = loadScene(view);
+  // Inputs are never overwritten: OUT.exr, each of its siblings and the
+  // folders beside it must not be, or hold, a file the scene, camera or
+  // environment was read from.
+  const std::vector<fs::path> inputs = inputFiles(scene, view, nullptr);
+  std::vector<fs::path> outputs = {out, sibling(out, ".png"), sibling(out, ".sheet.png"), sibling(out, ".json")};
+  for (const char* part : {".direct", ".indirect-diffuse", ".indirect-specular", ".halfA", ".halfB"})
+    for (const char* extension : {".exr", ".png"}) outputs.push_back(sibling(out, std::string(part) + extension));
+  for (const fs::path& output : outputs) refuseToOverwriteInputs(output, "--out", inputs);
+  for (const char* folder : {".gbuffer", ".stages"})
+    for (const fs::path& input : inputs)
+      if (isInside(input, sibling(out, folder)))
+        throw UsageError(input.string() + " is an input, and --out " + out.string() + " writes " +
+                         sibling(out, folder).string() + ": choose another --out");
   const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, view);
   // The frame before (for its motion vectors) and the frame itself.
   const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
-  const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, first, options.frame - first + 1, view);
+  const std::vector<scene::CameraFrame> cameraFrames =
+      checkedCameraFrames(*path, first, options.frame - first + 1, view);
   const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, view);
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);

@@ -78,6 +78,9 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
       ->add_option("--cut-frames", options.cutFrames,
                    "Flag these frames as camera cuts (no history is reused), besides the camera path's own")
       ->delimiter(',');
+  command->add_flag("--overwrite", options.overwrite,
+                    "Replace files in OUT that no Bounce run wrote (by default such a file stops the render before "
+                    "it starts; files an earlier render wrote, listed in OUT/.bounce-written, are always replaced)");
   return command;
 }
 
@@ -87,7 +90,7 @@ int runRender(const RenderOptions& options) {
     for (std::uint32_t f : *frames)
       if (f >= options.frames)
         throw UsageError(std::string(flag) + " " + std::to_string(f) + " is past the last frame (" +
-                                 std::to_string(options.frames - 1) + ")");
+                         std::to_string(options.frames - 1) + ")");
   for (const std::string& aov : options.aovs)
     if (aov != "all" && !knownAovs().count(aov))
       throw UsageError("--aov: unknown image '" + aov + "' (known: " + knownAovList() + ", all)");
@@ -106,10 +109,31 @@ int runRender(const RenderOptions& options) {
   render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
   rendererOptions.jitter = options.jitter;
 
-  // What an earlier render left here would mix with this one's frames.
-  std::size_t removed = removeNumberedFrameFiles(outDir / "frames") + removeNumberedFrameFiles(outDir / "stages");
-  for (const char* single : {"animation.png", "render.mp4"}) removed += fs::remove(outDir / single) ? 1 : 0;
-  if (removed > 0) std::printf("removed %zu files of an earlier render from %s\n", removed, outDir.c_str());
+  const bool everyFrame = options.frames > 1 || options.hdr;
+  const bool animate =
+      options.frames > 1 && double(shot.width) * double(shot.height) * options.frames <= kMaxAnimationPixels;
+  // Every file this render writes, known before it starts: none may replace
+  // an input, or a file in OUT that no Bounce run wrote. What an earlier
+  // render left here and this one does not write again is removed, so the
+  // folder never mixes two renders.
+  std::vector<fs::path> outputs = {"render.png", "render.exr"};
+  if (options.frames > 1) outputs.insert(outputs.end(), {"animation.png", "render.mp4"});
+  for (std::uint32_t frame = 0; everyFrame && frame < options.frames; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frames/frame%04u", frame);
+    if (options.frames > 1) outputs.push_back(std::string(name) + ".png");
+    if (options.hdr) outputs.push_back(std::string(name) + ".exr");
+    if (options.hdr && gi)
+      outputs.insert(outputs.end(),
+                     {std::string(name) + ".indirect-diffuse.exr", std::string(name) + ".indirect-specular.exr"});
+  }
+  std::vector<fs::path> filledFolders;
+  if (options.dumpStages) filledFolders.push_back("stages");
+  if (!options.aovs.empty()) filledFolders.push_back("aov");
+  OutputFolder folder(outDir, "--out", options.overwrite);
+  const std::size_t removed = folder.prepare(outputs, filledFolders, inputFiles(scene, shot, &options.gi));
+  if (removed > 0)
+    std::printf("removed %zu file%s an earlier render wrote in %s\n", removed, removed == 1 ? "" : "s", outDir.c_str());
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
@@ -123,9 +147,6 @@ int runRender(const RenderOptions& options) {
     if (options.dumpFrames.empty()) return frame + 1 == options.frames;
     return std::find(options.dumpFrames.begin(), options.dumpFrames.end(), frame) != options.dumpFrames.end();
   };
-  const bool everyFrame = options.frames > 1 || options.hdr;
-  const bool animate =
-      options.frames > 1 && double(shot.width) * double(shot.height) * options.frames <= kMaxAnimationPixels;
   std::vector<io::ImageF> animation;
   const fs::path framesDir = outDir / "frames";
   if (everyFrame) fs::create_directories(framesDir);
@@ -133,8 +154,8 @@ int runRender(const RenderOptions& options) {
   // The GI library on this device, through its public interface (render/gi_bridge.h).
   std::unique_ptr<render::GiBridge> giBridge;
   if (gi) {
-    giBridge = std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi),
-                                                  settings);
+    giBridge =
+        std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
   }
   checkDeviceMemoryFits(*context, shot.width, shot.height);
   // What the frame is: the GI library's composite, or direct light alone.
@@ -144,8 +165,7 @@ int runRender(const RenderOptions& options) {
     const std::uint64_t index = loop.frameIndex();
     renderer.record(recorder, index, view);
     if (gi)
-      giBridge->record(recorder, renderer, index, view, previous,
-                       {.jitter = options.jitter, .captureStages = capture});
+      giBridge->record(recorder, renderer, index, view, previous, {.jitter = options.jitter, .captureStages = capture});
     previous = view;
   };
   const bool warmUp = gi && options.gi.warmup > 0;
@@ -229,10 +249,11 @@ int runRender(const RenderOptions& options) {
       giAovs.push_back({"indirect-diffuse", &giBridge->indirectDiffuse()});
       giAovs.push_back({"indirect-specular", &giBridge->indirectSpecular()});
     }
-    writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure, giAovs);
+    folder.wrote(writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure, giAovs));
   }
   if (!captures.empty()) {
     auto files = gpuio::writeStageDumps(outDir / "stages", captures, options.exposure);
+    folder.wrote(files);
     std::printf("wrote %zu stage images to %s\n", files.size(), (outDir / "stages").c_str());
     // The longest diffuse history: the denoiser's when it runs, else the filter's.
     float historyCap = 1.0f;
@@ -241,7 +262,10 @@ int runRender(const RenderOptions& options) {
       historyCap = float(settings.denoise.enabled ? settings.denoise.maxAccumulatedFrames
                                                   : settings.diffuse.temporalFilterFrames);
     }
-    for (const fs::path& sheet : writeValidationSheets(outDir / "stages", captures, options.exposure, historyCap))
+    const std::vector<fs::path> sheets =
+        writeValidationSheets(outDir / "stages", captures, options.exposure, historyCap);
+    folder.wrote(sheets);
+    for (const fs::path& sheet : sheets)
       std::printf("wrote %s (validation: viewZ, normals, motion, history length, reprojection failures in red)\n",
                   sheet.c_str());
   }

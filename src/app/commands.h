@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -72,6 +73,12 @@ void applyMaterialChange(scene::Scene& scene, const std::string& change);
 // The camera path --camera names, or the scene's own (its first glTF
 // camera, else its suggested view) when none is given.
 std::unique_ptr<scene::CameraPath> cameraPathOf(const scene::Scene& scene, const SceneOptions& options);
+struct GiOptions;
+// Every file a command reads for its scene and settings: the scene's files
+// (the glTF and each buffer and image it refers to), a camera keyframe
+// file, the environment map, a GI settings file. No output may be one.
+std::vector<std::filesystem::path> inputFiles(const scene::Scene& scene, const SceneOptions& options,
+                                              const GiOptions* gi);
 // Frames first .. first + count - 1 of `path` at --fps, the camera of every
 // one checked before any is rendered (render::checkCamera): a path that
 // passes through its target or looks along its up vector half-way fails
@@ -137,6 +144,7 @@ struct RenderOptions {
   bool dumpStages = false;
   std::vector<std::uint32_t> dumpFrames;  // empty = the last frame
   std::vector<std::uint32_t> cutFrames;   // frames flagged as camera cuts besides the path's own
+  bool overwrite = false;                 // replace files in OUT that no Bounce run wrote
 };
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options);
 int runRender(const RenderOptions& options);
@@ -187,6 +195,7 @@ struct DenoiseOptions {
   float exposure = 1.0f;
   bool dumpStages = false;
   bool checkerboard = false;  // hand the signals over checkerboarded (gi.denoise.checkerboard)
+  bool overwrite = false;     // replace files in OUT that no Bounce run wrote
 };
 CLI::App* addDenoiseCommand(CLI::App& app, DenoiseOptions& options);
 int runDenoise(const DenoiseOptions& options);
@@ -211,6 +220,7 @@ struct GhostingOptions {
   double within = 1.5;  // recovered: the uncovered region's error at most this times the rest's
   std::string out = "ghosting";
   float exposure = 1.0f;
+  bool overwrite = false;  // replace files in OUT that no Bounce run wrote
 };
 inline constexpr float kDefaultTurnDegrees = 20.0f;
 CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options);
@@ -235,6 +245,7 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options);
 
 struct BrdfVizOptions {
   std::string out = "brdf-viz";
+  bool overwrite = false;  // replace files in OUT that no Bounce run wrote
   std::uint32_t size = 256;
   std::uint32_t frames = 48;
   float fps = 12.0f;

@@ -15,9 +15,9 @@ namespace bounce::app {
 namespace fs = std::filesystem;
 
 const std::set<std::string>& knownAovs() {
-  static const std::set<std::string> names = {"viewZ",           "normal", "geometric-normal", "albedo",    "emissive",
-                                              "motion",          "ids",    "direct",           "roughness", "metallic",
-                                              "indirect-diffuse", "indirect-specular"};
+  static const std::set<std::string> names = {
+      "viewZ", "normal", "geometric-normal", "albedo",   "emissive",         "motion",
+      "ids",   "direct", "roughness",        "metallic", "indirect-diffuse", "indirect-specular"};
   return names;
 }
 
@@ -89,9 +89,11 @@ io::ImageF alphaChannel(const io::ImageF& image, const std::string& name) {
 
 }  // namespace
 
-void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
-               const fs::path& dir, float exposure, const std::vector<render::Aov>& extra) {
+std::vector<fs::path> writeAovs(gpu::Context& context, render::FrameRenderer& renderer,
+                                const std::vector<std::string>& wanted, const fs::path& dir, float exposure,
+                                const std::vector<render::Aov>& extra) {
   fs::create_directories(dir);
+  std::vector<fs::path> written;
   const bool all = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
   const auto wants = [&](const std::string& name) {
     return all || std::find(wanted.begin(), wanted.end(), name) != wanted.end();
@@ -100,9 +102,9 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
   std::string order;
   std::map<std::string, std::size_t> cellOf;
   const auto write = [&](const std::string& name, const io::ImageF& pixels, gpu::Visualize how) {
-    io::writeExr(dir / (name + ".exr"), pixels);
+    io::writeExr(written.emplace_back(dir / (name + ".exr")), pixels);
     const gpuio::VisualizedImage view = gpuio::visualize(pixels, how);
-    io::writePng(dir / (name + ".png"), view.image, view.encoding, exposure);
+    io::writePng(written.emplace_back(dir / (name + ".png")), view.image, view.encoding, exposure);
     cellOf[name] = cells.size();
     cells.push_back(io::toDisplay(view.image, view.encoding, exposure));
     order += (order.empty() ? "" : ", ") + name;
@@ -122,13 +124,15 @@ void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std
     }
   }
   const int shrink = cells.front().width > 480 ? 2 : 1;
-  io::writePng(dir / "sheet.png", contactSheet(cells, 4, shrink), io::PngEncoding::Linear);
+  io::writePng(written.emplace_back(dir / "sheet.png"), contactSheet(cells, 4, shrink), io::PngEncoding::Linear);
   std::printf("wrote AOVs to %s; sheet.png shows, left to right, top to bottom: %s\n", dir.c_str(), order.c_str());
   if (cellOf.count("normal") && cellOf.count("geometric-normal")) {
-    io::writePng(dir / "normals.png", contactSheet({cells[cellOf["normal"]], cells[cellOf["geometric-normal"]]}, 2, 1),
+    io::writePng(written.emplace_back(dir / "normals.png"),
+                 contactSheet({cells[cellOf["normal"]], cells[cellOf["geometric-normal"]]}, 2, 1),
                  io::PngEncoding::Linear);
     std::printf("wrote %s: shading normals (left) beside geometric normals (right)\n", (dir / "normals.png").c_str());
   }
+  return written;
 }
 
 namespace {

@@ -34,15 +34,17 @@ io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector
 // as EXR + false-colour PNG into `dir`, all of them side by side on
 // sheet.png, and, when both normals are written, normals.png: shading
 // normals (normal-mapped) beside geometric ones, where normal maps show.
-// `extra` are AOVs from elsewhere (the GI library's), written after the renderer's.
-void writeAovs(gpu::Context& context, render::FrameRenderer& renderer, const std::vector<std::string>& wanted,
-               const std::filesystem::path& dir, float exposure, const std::vector<render::Aov>& extra = {});
+// `extra` are AOVs from elsewhere (the GI library's), written after the
+// renderer's. Returns every file written.
+std::vector<std::filesystem::path> writeAovs(gpu::Context& context, render::FrameRenderer& renderer,
+                                             const std::vector<std::string>& wanted, const std::filesystem::path& dir,
+                                             float exposure, const std::vector<render::Aov>& extra = {});
 
 // NRD-style validation sheets, one per captured frame that ran the GI
 // library: viewZ, normals, motion vectors, the diffuse history's length
-// (the temporal filter's, or the denoiser's temporal accumulation's) (magma on a fixed 0..historyCap scale, so a reset frame reads as
-// black rather than as a uniform image stretched to full range), and the frame with pixels whose history was lost this
-// frame (disocclusion, cut) in red. Returns the files written (DIR/frameNNNN.validation.png).
+// (the temporal filter's, or the denoiser's temporal accumulation's) (magma on a fixed 0..historyCap scale, so a reset
+// frame reads as black rather than as a uniform image stretched to full range), and the frame with pixels whose history
+// was lost this frame (disocclusion, cut) in red. Returns the files written (DIR/frameNNNN.validation.png).
 std::vector<std::filesystem::path> writeValidationSheets(const std::filesystem::path& dir,
                                                          const std::vector<gpu::CapturedStage>& captures,
                                                          float exposure, float historyCap);

@@ -4,7 +4,6 @@
 
 #include <unistd.h>
 
-#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -76,31 +75,105 @@ void writeTextFile(const fs::path& file, const std::string& text) {
   }
 }
 
-bool isNumberedFrameFile(const std::string& name) {
-  constexpr std::size_t kPrefix = 5;  // "frame"
-  if (name.rfind("frame", 0) != 0) return false;
-  std::size_t digits = 0;
-  while (kPrefix + digits < name.size() && std::isdigit(static_cast<unsigned char>(name[kPrefix + digits]))) ++digits;
-  if (digits < 4 || kPrefix + digits >= name.size() || name[kPrefix + digits] != '.') return false;
-  const auto endsWith = [&](const char* suffix) {
-    const std::size_t length = std::strlen(suffix);
-    return name.size() >= length && name.compare(name.size() - length, length, suffix) == 0;
-  };
-  return endsWith(".png") || endsWith(".exr");
+bool isInside(const fs::path& file, const fs::path& folder) {
+  std::error_code error;
+  const fs::path f = fs::weakly_canonical(fs::absolute(file), error);
+  const fs::path d = fs::weakly_canonical(fs::absolute(folder), error);
+  auto fi = f.begin();
+  for (auto di = d.begin(); di != d.end(); ++di, ++fi) {
+    if (di->empty()) continue;  // the trailing "" of a path ending in '/'
+    if (fi == f.end() || *fi != *di) return false;
+  }
+  return true;
 }
 
-std::size_t removeNumberedFrameFiles(const fs::path& dir) {
-  std::error_code error;
-  if (!fs::is_directory(dir, error)) return 0;
-  std::size_t removed = 0;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir, error)) {
-    if (!entry.is_regular_file(error) || !isNumberedFrameFile(entry.path().filename().string())) continue;
-    if (!fs::remove(entry.path(), error) || error)
-      throw std::runtime_error(entry.path().string() + ": cannot remove this frame of an earlier render (" +
-                               error.message() + ")");
-    ++removed;
+OutputFolder::OutputFolder(fs::path dir, std::string option, bool overwrite)
+    : dir_(std::move(dir)), option_(std::move(option)), overwrite_(overwrite) {}
+
+// Paths inside the folder come as the folder joined with a name (what the
+// writers return) or as the name alone (what the commands plan).
+std::string OutputFolder::relative(const fs::path& file) const {
+  const fs::path inside =
+      file.is_absolute() ? file.lexically_relative(fs::absolute(dir_)) : file.lexically_relative(dir_);
+  const bool joined = !inside.empty() && *inside.begin() != "..";
+  return (joined ? inside : file).lexically_normal().generic_string();
+}
+
+std::size_t OutputFolder::prepare(const std::vector<fs::path>& files, const std::vector<fs::path>& folders,
+                                  const std::vector<fs::path>& inputs) {
+  const fs::path recordFile = dir_ / kRecordName;
+  // The earlier run's record. Lines that could lead out of the folder (an
+  // absolute path, "..") are not Bounce's and are ignored: removal follows
+  // the record, so it must never name a file elsewhere.
+  std::set<std::string> earlier;
+  {
+    std::ifstream in(recordFile);
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line.front() == '#') continue;
+      const fs::path entry = fs::path(line).lexically_normal();
+      if (entry.is_absolute() || entry.empty() || *entry.begin() == "..") continue;
+      earlier.insert(entry.generic_string());
+    }
   }
-  return removed;
+  std::set<std::string> planned;
+  for (const fs::path& file : files) planned.insert(relative(file));
+
+  const auto where = [&](const std::string& file) { return (dir_ / file).string(); };
+  for (const std::string& file : planned) refuseToOverwriteInputs(dir_ / file, option_, inputs);
+  refuseToOverwriteInputs(recordFile, option_, inputs);
+  for (const fs::path& folder : folders)
+    for (const fs::path& input : inputs)
+      if (isInside(input, dir_ / folder))
+        throw UsageError(input.string() + " is an input, and " + option_ + " " + dir_.string() + " fills " +
+                         (dir_ / folder).string() + " with this run's files: choose another " + option_);
+  std::vector<std::string> stale;
+  std::error_code error;
+  for (const std::string& file : earlier)
+    if (!planned.count(file) && fs::exists(fs::symlink_status(dir_ / file, error))) stale.push_back(file);
+  for (const std::string& file : stale)
+    for (const fs::path& input : inputs)
+      if (sameFile(dir_ / file, input))
+        throw UsageError(input.string() + " is an input, and an earlier run wrote it in " + dir_.string() +
+                         ": this run would remove it; choose another " + option_);
+
+  if (!overwrite_) {
+    const auto refuseForeign = [&](const std::string& file) {
+      throw UsageError(where(file) + " exists and no Bounce run wrote it (" + kRecordName +
+                       " does not list it): not replaced; choose another " + option_ + ", or --overwrite");
+    };
+    for (const std::string& file : planned)
+      if (!earlier.count(file) && fs::exists(fs::symlink_status(dir_ / file, error))) refuseForeign(file);
+    for (const fs::path& folder : folders) {
+      if (!fs::is_directory(dir_ / folder, error)) continue;
+      for (auto entry = fs::recursive_directory_iterator(dir_ / folder, error);
+           !error && entry != fs::recursive_directory_iterator(); entry.increment(error))
+        if (!entry->is_directory(error) && !earlier.count(relative(entry->path())))
+          refuseForeign(relative(entry->path()));
+    }
+  }
+
+  for (const std::string& file : stale) {
+    fs::remove(dir_ / file, error);
+    if (error)
+      throw std::runtime_error(where(file) + ": cannot remove this file of an earlier run (" + error.message() + ")");
+    // A subfolder the earlier run made (frames/, stages/) goes when it is left empty.
+    for (fs::path parent = fs::path(file).parent_path(); !parent.empty(); parent = parent.parent_path())
+      if (!fs::remove(dir_ / parent, error)) break;  // not empty: it stays
+  }
+  record_ = planned;
+  save();
+  return stale.size();
+}
+
+void OutputFolder::wrote(const std::vector<fs::path>& files) {
+  for (const fs::path& file : files) record_.insert(relative(file));
+  save();
+}
+
+void OutputFolder::save() const {
+  std::string text = "# The files in this folder that Bounce wrote; a later run replaces or removes only these.\n";
+  for (const std::string& file : record_) text += file + "\n";
+  writeTextFile(dir_ / kRecordName, text);
 }
 
 }  // namespace bounce::app

@@ -1,11 +1,11 @@
 // What the commands write, checked before the work that makes it: a render
 // that runs for minutes must not find at the end that its output folder is
-// read-only. Also the clean-up of an earlier render's numbered frames, so a
-// folder never mixes two renders.
+// read-only, nor replace an input or a file the user put in its folder.
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,6 +20,47 @@ bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b);
 void refuseToOverwriteInputs(const std::filesystem::path& output, const std::string& flag,
                              const std::vector<std::filesystem::path>& inputs);
 
+// A folder a command fills with several files (render's OUT: render.png,
+// frames/, stages/, aov/...), and OUT/.bounce-written, its record of the
+// files in it that a Bounce run wrote. Only those are ever replaced or
+// removed: a file the user put there (their notes, a texture of the scene,
+// frames of their own) is refused, not touched, unless --overwrite.
+class OutputFolder {
+ public:
+  static constexpr const char* kRecordName = ".bounce-written";
+
+  // `option` names the folder in messages ("--out"); `overwrite`: files
+  // that no Bounce run wrote may be replaced.
+  OutputFolder(std::filesystem::path dir, std::string option, bool overwrite);
+
+  // Before the work. `files`: what this run will write, relative to the
+  // folder. `folders`: subfolders it fills with files named by the work
+  // (stages/). `inputs`: what it reads. Throws UsageError, naming the file,
+  // when an output is an input, an input lies in a folder this run fills or
+  // among the earlier run's files it would remove, or (without --overwrite)
+  // an output or a file in `folders` exists and no Bounce run wrote it.
+  // Then removes the earlier run's files this one will not write again, so
+  // two runs never mix (returns how many), and records this run's files.
+  std::size_t prepare(const std::vector<std::filesystem::path>& files,
+                      const std::vector<std::filesystem::path>& folders,
+                      const std::vector<std::filesystem::path>& inputs);
+
+  // Records files written whose names were not known before the work
+  // (paths inside the folder, as written).
+  void wrote(const std::vector<std::filesystem::path>& files);
+
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::string relative(const std::filesystem::path& file) const;
+  void save() const;
+
+  std::filesystem::path dir_;
+  std::string option_;
+  bool overwrite_;
+  std::set<std::string> record_;  // generic relative paths
+};
+
 // Creates `dir` when missing and proves it writable by creating and removing
 // a probe file in it. Throws std::runtime_error naming `option` (e.g.
 // "--out"), the folder and the reason.
@@ -33,13 +74,8 @@ void checkWritableFile(const std::filesystem::path& file, const std::string& opt
 // never leaves half a file. Throws std::runtime_error.
 void writeTextFile(const std::filesystem::path& file, const std::string& text);
 
-// Whether `name` is one of the numbered files a render writes per frame:
-// "frame" + at least four digits + "." ... + ".png" or ".exr" (frame0012.png,
-// frame0012.indirect-diffuse.exr, frame0003.gi.composite.gOut_Composite.png).
-bool isNumberedFrameFile(const std::string& name);
-
-// Removes the numbered frame files directly inside `dir` (nothing else), and
-// returns how many there were; 0 when `dir` does not exist.
-std::size_t removeNumberedFrameFiles(const std::filesystem::path& dir);
+// Whether `file` is `folder` or lies inside it, compared as canonical paths
+// (symbolic links and "..", resolved as far as the files exist).
+bool isInside(const std::filesystem::path& file, const std::filesystem::path& folder);
 
 }  // namespace bounce::app

@@ -20,8 +20,7 @@ scene::Scene loadSceneArgument(const std::string& argument, const scene::GltfImp
   if (extension != ".gltf" && extension != ".glb") {
     std::string names;
     for (const std::string& name : scene::builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
-    throw UsageError("scene '" + argument + "' is neither a built-in scene (" + names +
-                             ") nor a .gltf/.glb file");
+    throw UsageError("scene '" + argument + "' is neither a built-in scene (" + names + ") nor a .gltf/.glb file");
   }
   scene::Scene scene = scene::loadGltf(path, importOptions);
   scene::adoptDirectionalLightAsSun(scene);
@@ -50,8 +49,8 @@ std::vector<float> parseNumbers(const std::string& text, std::size_t count, floa
     values.push_back(float(*number));
   }
   if (values.size() != count)
-    throw UsageError(what + ": wants " + std::to_string(count) + (count == 1 ? " number" : " numbers") +
-                             ", got " + std::to_string(values.size()));
+    throw UsageError(what + ": wants " + std::to_string(count) + (count == 1 ? " number" : " numbers") + ", got " +
+                     std::to_string(values.size()));
   return values;
 }
 
@@ -87,6 +86,17 @@ void applyMaterialChange(scene::Scene& scene, const std::string& change) {
   } else {
     throw UsageError(what + ": unknown key '" + key + "' (roughness, metallic, base_color, emission)");
   }
+}
+
+std::vector<std::filesystem::path> inputFiles(const scene::Scene& scene, const SceneOptions& options,
+                                              const GiOptions* gi) {
+  std::vector<std::filesystem::path> files = scene.files;
+  std::error_code error;
+  // --camera is a preset's name or a keyframe file; only a file is an input.
+  if (!options.camera.empty() && std::filesystem::exists(options.camera, error)) files.push_back(options.camera);
+  if (!options.env.empty()) files.push_back(options.env);
+  if (gi && !gi->settingsFile.empty()) files.push_back(gi->settingsFile);
+  return files;
 }
 
 scene::Scene loadScene(const SceneOptions& options) {

@@ -294,6 +294,7 @@ struct AssetFolder {
   fs::path folder;      // the same folder, with symlinks resolved
   bool allowOutside = false;
   std::string refusal;  // why the first refused URI was refused
+  std::vector<fs::path> read;  // every buffer and image file read, in order
 };
 
 // Symlinks followed while resolving one URI before it counts as a loop (Linux's limit).
@@ -387,7 +388,8 @@ bool absoluteFileExists(const std::string& path, void*) {
   std::error_code error;
   return fs::path(path).is_absolute() && fs::is_regular_file(path, error);
 }
-bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* userData) {
+  static_cast<AssetFolder*>(userData)->read.push_back(path);
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   const std::streamoff size = file ? std::streamoff(file.tellg()) : -1;
   if (size >= 0) {
@@ -599,6 +601,7 @@ class Importer {
   Importer(const fs::path& path, const GltfImportOptions& options) : path_(path), options_(options) {
     scene_.name = path.filename().string();
     scene_.source = path;
+    scene_.files = {path};
   }
 
   Scene run() {
@@ -737,6 +740,7 @@ class Importer {
     // A refused URI is an error even for an image no material uses, and
     // tinygltf's own message would call the file missing.
     if (!assets.refusal.empty()) fail(assets.refusal);
+    scene_.files.insert(scene_.files.end(), assets.read.begin(), assets.read.end());
     if (!loaded)
       fail("cannot load glTF: " + (loadError.empty() ? std::string("tinygltf gave no reason") : oneLine(loadError)));
     restoreDroppedPbrBlocks(document);

@@ -149,6 +149,9 @@ struct CameraPose {
 struct Scene {
   std::string name;              // "cornell", or the file name
   std::filesystem::path source;  // empty for built-in scenes
+  // Every file the scene was read from: the glTF or GLB file, then each
+  // buffer and image file it refers to. No command may write over them.
+  std::vector<std::filesystem::path> files;
   std::vector<Mesh> meshes;
   std::vector<Material> materials;
   std::vector<Texture> textures;
