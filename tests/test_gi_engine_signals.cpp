@@ -254,6 +254,33 @@ class GiEngineSignals : public testing::GpuTest {
 // with the same mean. A denoiser that passed its input through (or blurred
 // one frame only) stays near the input's error; one that lost the signal's
 // scale misses the mean.
+// GiContext::estimateMemoryBytes, which commands use to refuse a frame the
+// device cannot hold before anything is allocated, against what contexts
+// of several settings and sizes then hold: never more (the estimate counts
+// texels; the pools add alignment and round up), and every image counted
+// (a unit left out of the estimate, or one counted twice, breaks the bound).
+TEST_F(GiEngineSignals, TheMemoryEstimateMatchesWhatAContextHolds) {
+  Settings denoiseOff;
+  denoiseOff.denoise.enabled = false;
+  Settings bigCache;
+  bigCache.cache.memoryMib = 96;
+  for (const auto& [name, settings] :
+       {std::pair{"defaults", Settings{}}, std::pair{"denoiser off", denoiseOff}, std::pair{"96 MiB cache", bigCache}})
+    for (const auto& [width, height] : {std::pair{320u, 180u}, std::pair{640u, 360u}}) {
+      const ContextDesc desc{.maxWidth = width, .maxHeight = height};
+      const std::uint64_t estimate = GiContext::estimateMemoryBytes(desc, settings);
+      const GiContext gi(render::giDevice(context()), desc, settings);
+      const std::uint64_t held = gi.memoryBytes();
+      SCOPED_TRACE(std::string(name) + " " + std::to_string(width) + "x" + std::to_string(height) + ": estimate " +
+                   std::to_string(estimate >> 20) + " MiB, held " + std::to_string(held >> 20) + " MiB");
+      EXPECT_LE(estimate, held);
+      // The pool's blocks: the first 4 MiB, each next as large as all before
+      // it up to 128 MiB, so at most about twice what is used, or 128 MiB more.
+      constexpr std::uint64_t kMiB = 1 << 20;
+      EXPECT_LE(held, std::max(2 * estimate, estimate + 128 * kMiB) + 4 * kMiB);
+    }
+}
+
 TEST_F(GiEngineSignals, TheEnginesSignalsAreDenoisedInPlaceOfTheBranches) {
   Run run = start(denoised());
   for (int f = 0; f < 10; ++f) frame(run);

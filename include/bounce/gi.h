@@ -381,6 +381,11 @@ class GiContext {
 
   // Device memory the library holds (its images and buffers), in bytes.
   std::uint64_t memoryBytes() const;
+  // What memoryBytes() of a context made with `desc` and `settings` will be,
+  // before making it (its images' and buffers' bytes; the few MiB the pools
+  // round up to are not counted): to refuse a size the device cannot hold
+  // before anything is allocated.
+  static std::uint64_t estimateMemoryBytes(const ContextDesc& desc, const Settings& settings = {});
   const Settings& settings() const;
   std::uint32_t maxWidth() const;
   std::uint32_t maxHeight() const;

@@ -99,6 +99,11 @@ int runBench(const BenchOptions& options) {
     rendererOptions.environment.hasSun = true;
   }
   if (options.sunAzimuth) rendererOptions.environment.sun.azimuthDegrees = *options.sunAzimuth;
+  requireFrameMemory(*context, options.width, options.height,
+                     settings
+                         ? std::optional(std::pair(giContextDesc(options.width, options.height, options.gi), *settings))
+                         : std::nullopt,
+                     false);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   std::unique_ptr<render::GiBridge> gi;
   if (settings)

@@ -174,14 +174,13 @@ int runDenoise(const DenoiseOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
+  // The library as an engine has it: no scene bridge, nothing but images.
+  const gi::ContextDesc giDesc{
+      .maxWidth = shot.width, .maxHeight = shot.height, .framesInFlight = render::FrameRenderer::kFramesInFlight};
+  requireFrameMemory(*context, shot.width, shot.height, std::pair(giDesc, settings), true);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
-  // The library as an engine has it: no scene bridge, nothing but images.
-  render::GiBridge gi(
-      *context,
-      gi::ContextDesc{
-          .maxWidth = shot.width, .maxHeight = shot.height, .framesInFlight = render::FrameRenderer::kFramesInFlight},
-      settings);
+  render::GiBridge gi(*context, giDesc, settings);
   const auto start = std::chrono::steady_clock::now();
 
   // The reference comes first: of the last frame's view, so that every

@@ -652,6 +652,8 @@ int runGhosting(const GhostingOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
+  requireFrameMemory(*context, shot.width, shot.height,
+                     std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
   render::GiBridge gi(*context, giContextDesc(shot.width, shot.height, options.gi), settings);

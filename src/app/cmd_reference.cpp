@@ -129,6 +129,7 @@ int runReference(const ReferenceCommandOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
+  requireFrameMemory(*context, view.width, view.height, std::nullopt, true);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
 

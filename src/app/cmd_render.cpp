@@ -137,6 +137,10 @@ int runRender(const RenderOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
+  requireFrameMemory(
+      *context, shot.width, shot.height,
+      gi ? std::optional(std::pair(giContextDesc(shot.width, shot.height, options.gi), settings)) : std::nullopt,
+      false);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   std::printf("scene: %s, %zu triangles, %zu textures\n", scene.name.c_str(), renderer.triangleCount(),
               scene.textures.size());

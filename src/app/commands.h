@@ -8,8 +8,10 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "bounce/gi.h"
 #include "bounce/gi_settings.h"
 #include "gpu/context.h"
 #include "render/frame_renderer.h"
@@ -38,6 +40,12 @@ int validationExitCode(const gpu::Context& context);
 // out the memory (lavapipe does, lazily), and the frame would then crawl or
 // be killed by the system long after the command started.
 void checkDeviceMemoryFits(const gpu::Context& context, std::uint32_t width, std::uint32_t height);
+// Before anything of a frame is made: refuses (gpu::GpuError) a frame whose
+// images alone need more than the device has: the renderer's, the GI
+// library's (`gi`: its size and settings; null when GI is off) and the path
+// tracer's (`reference`). checkDeviceMemoryFits then counts the scene too.
+void requireFrameMemory(const gpu::Context& context, std::uint32_t width, std::uint32_t height,
+                        const std::optional<std::pair<gi::ContextDesc, gi::Settings>>& gi, bool reference);
 
 // A SCENE argument: a built-in name, a .gltf/.glb path, or empty for the
 // default built-in. A glTF directional light becomes the sun.

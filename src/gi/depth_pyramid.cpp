@@ -70,6 +70,14 @@ DepthPyramid::DepthPyramid(gpu::Context& context, gpu::MemoryArena& arena, Exten
 
 DepthPyramid::~DepthPyramid() = default;
 
+std::uint64_t DepthPyramid::memoryBytes(Extent maxSize) {
+  std::uint64_t total = 0;
+  for (std::uint32_t level = 0; level < levels(maxSize); ++level)
+    total += std::uint64_t(std::max(maxSize.width >> level, 1u)) * std::max(maxSize.height >> level, 1u) *
+             gpu::formatInfo(kPyramidSpec.format).bytesPerPixel;
+  return total;
+}
+
 std::uint32_t DepthPyramid::levels(Extent renderSize) {
   std::uint32_t levels = 1;
   while ((std::max(renderSize.width, renderSize.height) >> levels) > 0) ++levels;

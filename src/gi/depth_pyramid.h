@@ -44,6 +44,8 @@ class DepthPyramid {
  public:
   DepthPyramid(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize);
   ~DepthPyramid();
+  // The bytes of device memory one made for `maxSize` holds (every mip level).
+  static std::uint64_t memoryBytes(Extent maxSize);
   DepthPyramid(const DepthPyramid&) = delete;
   DepthPyramid& operator=(const DepthPyramid&) = delete;
 

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "bounce/gi.h"
+#include "gpu/format.h"
 
 namespace bounce::gi {
 
@@ -37,6 +38,22 @@ Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level) {
   return renderSize;
 }
 
+std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels) {
+  const auto bytes = [](const ImageSpec& spec, Extent size) {
+    return std::uint64_t(size.width) * size.height * gpu::formatInfo(spec.format).bytesPerPixel;
+  };
+  std::uint64_t total = 0;
+  for (const ImageSpec& spec : table) {
+    if (spec.debug) continue;
+    if (spec.resolution == Resolution::Pyramid)
+      for (std::uint32_t level = 1; level <= pyramidLevels; ++level)
+        total += bytes(spec, extentOf(spec.resolution, maxSize, level));
+    else
+      total += bytes(spec, extentOf(spec.resolution, maxSize)) * (spec.history ? 2 : 1);
+  }
+  return total;
+}
+
 struct ImageSet::Entry {
   std::unique_ptr<gpu::HistoryImage> history;
   std::vector<std::unique_ptr<gpu::Image>> images;  // one, or a pyramid's levels
@@ -56,8 +73,11 @@ void ImageSet::make(std::size_t index) {
   const ImageSpec& spec = table_[index];
   auto entry = std::make_unique<Entry>();
   const auto desc = [&](std::string name, Extent size) {
-    return gpu::ImageDesc{
-        .name = std::move(name), .width = size.width, .height = size.height, .format = spec.format, .visualize = spec.view};
+    return gpu::ImageDesc{.name = std::move(name),
+                          .width = size.width,
+                          .height = size.height,
+                          .format = spec.format,
+                          .visualize = spec.view};
   };
   if (spec.resolution == Resolution::Pyramid) {
     if (spec.history) throw std::logic_error("gi: a pyramid image cannot keep history");
@@ -69,8 +89,8 @@ void ImageSet::make(std::size_t index) {
     entry->history = std::make_unique<gpu::HistoryImage>(
         context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_);
   } else {
-    entry->images.push_back(
-        std::make_unique<gpu::Image>(context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_));
+    entry->images.push_back(std::make_unique<gpu::Image>(
+        context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_));
   }
   entries_[index] = std::move(entry);
 }
@@ -107,8 +127,7 @@ void ImageSet::clearToZero(gpu::Recorder& recorder, std::initializer_list<std::s
 gpu::Image& ImageSet::level(std::size_t index, std::uint32_t level) {
   Entry& entry = *entries_.at(index);
   if (level == 0 || level > entry.images.size())
-    throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' has no level " +
-                           std::to_string(level));
+    throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' has no level " + std::to_string(level));
   return *entry.images[level - 1];
 }
 

@@ -49,6 +49,11 @@ struct Extent {
 // The size of an image of `resolution` for a render size (a pyramid's `level`).
 Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level = 1);
 
+// The texel bytes an ImageSet of `table` holds at `maxSize`: every image
+// made up front (not the debug ones), both halves of a history, every
+// level of a pyramid. Alignment the driver adds is not counted.
+std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels = 0);
+
 // The images of one table, made for the largest render size.
 class ImageSet {
  public:

@@ -461,6 +461,16 @@ VkDeviceSize Context::largestDeviceLocalHeap() const {
   return largest;
 }
 
+void Context::requireDeviceMemory(std::uint64_t bytes, const std::string& what) const {
+  const VkDeviceSize heap = largestDeviceLocalHeap();
+  if (heap == 0 || bytes <= heap) return;
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  char numbers[160];
+  std::snprintf(numbers, sizeof numbers, " needs at least %.1f GiB of device memory for its images; %s has %.1f GiB",
+                double(bytes) / kGiB, deviceInfo().name.c_str(), double(heap) / kGiB);
+  throw GpuError(what + numbers + ": render smaller (--width, --height) or choose another --device");
+}
+
 void Context::trackAllocation(std::uint32_t memoryType, std::int64_t bytes) {
   const std::uint32_t heap = memoryProperties_.memoryTypes[memoryType].heapIndex;
   if (memoryProperties_.memoryHeaps[heap].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)

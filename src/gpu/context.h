@@ -113,6 +113,11 @@ class Context {
   // of the machine's RAM), to refuse work that cannot fit before it starts.
   VkDeviceSize deviceLocalBytesInUse() const { return deviceLocalBytes_; }
   VkDeviceSize largestDeviceLocalHeap() const;
+  // Before making a frame's images: throws GpuError when `bytes` (an
+  // estimate of what they will hold, `what` saying of what: "a 640x360
+  // frame with GI") is more than the largest device-local heap, with both
+  // numbers, so that nothing is allocated for work that cannot fit.
+  void requireDeviceMemory(std::uint64_t bytes, const std::string& what) const;
   // Called by Buffer and Image for each allocation (bytes > 0) and its release (bytes < 0).
   void trackAllocation(std::uint32_t memoryType, std::int64_t bytes);
 

@@ -222,6 +222,27 @@ gpu::PassDesc directLightDesc() {
 
 }  // namespace
 
+namespace {
+
+// The images of a frame, made at the render size: the G-buffer and the direct light.
+struct FrameImage {
+  const char* name;
+  VkFormat format;
+  gpu::Visualize visualize;
+};
+constexpr FrameImage kFrameImages[] = {
+    {"gbuffer.viewZ", kR32f, gpu::Visualize::Range},
+    {"gbuffer.normal_roughness", kRgba16f, gpu::Visualize::Signed},
+    {"gbuffer.geometric_normal", kRgba16f, gpu::Visualize::Signed},
+    {"gbuffer.base_color_metallic", kRgba8, gpu::Visualize::Color},
+    {"gbuffer.emissive", kRgba16f, gpu::Visualize::Radiance},
+    {"gbuffer.motion", kRg16f, gpu::Visualize::Motion},
+    {"gbuffer.ids", kR32ui, gpu::Visualize::Ids},
+    {"light.direct", kRgba16f, gpu::Visualize::Radiance},
+};
+
+}  // namespace
+
 FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, const FrameRendererOptions& options)
     : context_(context), scene_(scene), options_(options), materials_(scene.materials) {
   if (options.width == 0 || options.height == 0 || options.width > 16384 || options.height > 16384)
@@ -263,23 +284,23 @@ FrameRenderer::FrameRenderer(gpu::Context& context, const scene::Scene& scene, c
                                                             kMaxLights * sizeof(GpuLight), gpu::BufferUsage::Upload);
   }
 
-  const auto image = [&](const char* name, VkFormat format, gpu::Visualize visualize) {
-    return std::make_unique<gpu::Image>(context,
-                                        gpu::ImageDesc{name, options.width, options.height, format, visualize});
-  };
-  viewZ_ = image("gbuffer.viewZ", kR32f, gpu::Visualize::Range);
-  normalRoughness_ = image("gbuffer.normal_roughness", kRgba16f, gpu::Visualize::Signed);
-  geometricNormal_ = image("gbuffer.geometric_normal", kRgba16f, gpu::Visualize::Signed);
-  baseColorMetallic_ = image("gbuffer.base_color_metallic", kRgba8, gpu::Visualize::Color);
-  emissive_ = image("gbuffer.emissive", kRgba16f, gpu::Visualize::Radiance);
-  motion_ = image("gbuffer.motion", kRg16f, gpu::Visualize::Motion);
-  ids_ = image("gbuffer.ids", kR32ui, gpu::Visualize::Ids);
-  direct_ = image("light.direct", kRgba16f, gpu::Visualize::Radiance);
+  std::unique_ptr<gpu::Image>* const made[] = {
+      &viewZ_, &normalRoughness_, &geometricNormal_, &baseColorMetallic_, &emissive_, &motion_, &ids_, &direct_};
+  static_assert(std::size(made) == std::size(kFrameImages));
+  for (std::size_t i = 0; i < std::size(kFrameImages); ++i)
+    *made[i] = std::make_unique<gpu::Image>(context, gpu::ImageDesc{kFrameImages[i].name, options.width, options.height,
+                                                                    kFrameImages[i].format, kFrameImages[i].visualize});
   gbufferPass_ = std::make_unique<gpu::ComputePass>(context, gbufferDesc());
   directLightPass_ = std::make_unique<gpu::ComputePass>(context, directLightDesc());
 }
 
 FrameRenderer::~FrameRenderer() = default;
+
+std::uint64_t FrameRenderer::frameImageBytes(std::uint32_t width, std::uint32_t height) {
+  std::uint64_t bytesPerPixel = 0;
+  for (const FrameImage& image : kFrameImages) bytesPerPixel += gpu::formatInfo(image.format).bytesPerPixel;
+  return bytesPerPixel * width * height;
+}
 
 void FrameRenderer::uploadStatic() {
   // A buffer may not be empty; a scene without materials has nothing that reads one.

@@ -76,6 +76,9 @@ class FrameRenderer {
  public:
   FrameRenderer(gpu::Context& context, const scene::Scene& scene, const FrameRendererOptions& options);
   ~FrameRenderer();
+  // The bytes of the images a frame of this size holds (the G-buffer and
+  // direct light; the scene's buffers and textures come on top).
+  static std::uint64_t frameImageBytes(std::uint32_t width, std::uint32_t height);
 
   // Records one frame into the recorder of the FrameLoop slot `frameIndex % framesInFlight`.
   void record(gpu::Recorder& recorder, std::uint64_t frameIndex, const FrameView& view);

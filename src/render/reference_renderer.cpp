@@ -137,6 +137,12 @@ ReferenceRenderer::ReferenceRenderer(gpu::Context& context, FrameRenderer& frame
 
 ReferenceRenderer::~ReferenceRenderer() = default;
 
+std::uint64_t ReferenceRenderer::frameImageBytes(std::uint32_t width, std::uint32_t height) {
+  // Two halves of diffuse and specular sums, the hit distances, the radiance and its two parts: all rgba32f.
+  constexpr std::uint64_t kImages = 2 * 2 + 1 + 3;
+  return kImages * gpu::formatInfo(kRgba32f).bytesPerPixel * width * height;
+}
+
 // Every emissive triangle where the scene is at `time`, in a new buffer.
 void ReferenceRenderer::uploadEmissiveTriangles(float time) {
   const std::vector<scene::Instance> instances = scene::instancesAt(scene_, time);

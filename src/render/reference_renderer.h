@@ -74,6 +74,9 @@ class ReferenceRenderer {
   ReferenceRenderer(gpu::Context& context, FrameRenderer& frame, const scene::Scene& scene, std::uint64_t frameIndex,
                     float time, const ReferenceOptions& options);
   ~ReferenceRenderer();
+  // The bytes of its images at a render size (the sums of both halves, the
+  // resolved frame and parts; the environment's distribution comes on top).
+  static std::uint64_t frameImageBytes(std::uint32_t width, std::uint32_t height);
 
   // Adds up to `samples` samples per pixel (one dispatch; fewer when
   // samplesPerDispatch is smaller); returns how many it added. Throws

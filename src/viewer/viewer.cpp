@@ -107,7 +107,7 @@ class Session {
         options_(options),
         window_(options.window),
         context_(window_.context()),
-        renderer_(context_, scene, options.renderer),
+        renderer_(context_, scene, fitting(context_, options)),
         loop_(context_, render::FrameRenderer::kFramesInFlight),
         camera_(options.camera, sceneSize(scene)),
         display_(context_, gpu::ImageDesc{.name = "viewer.display",
@@ -148,6 +148,17 @@ class Session {
   int run();
 
  private:
+  // The renderer's options, once the frame's images (the renderer's, the
+  // GI library's in its larger mode, the window's) are known to fit the
+  // device: nothing is made for a frame it cannot hold.
+  static const render::FrameRendererOptions& fitting(const gpu::Context& context, const ViewerOptions& options) {
+    const std::uint32_t width = options.renderer.width, height = options.renderer.height;
+    const std::uint64_t bytes = render::FrameRenderer::frameImageBytes(width, height) +
+                                gi::GiContext::estimateMemoryBytes(options.hybrid, options.settings) +
+                                std::uint64_t(width) * height * gpu::formatInfo(gpu::formats::kRgba8).bytesPerPixel;
+    context.requireDeviceMemory(bytes, "a " + std::to_string(width) + "x" + std::to_string(height) + " frame with GI");
+    return options.renderer;
+  }
   static float sceneSize(const scene::Scene& scene) {
     const scene::Bounds bounds = scene::worldBounds(scene, 0.0f);
     return glm::length(bounds.max - bounds.min);

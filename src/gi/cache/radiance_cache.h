@@ -36,6 +36,8 @@ class RadianceCache {
   RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
                 const SceneBridgeBinding& scene);
   ~RadianceCache();
+  // The bytes of device memory one made for `maxSize` and `settings` holds.
+  static std::uint64_t memoryBytes(Extent maxSize, const Settings& settings);
 
   std::uint32_t capacity() const { return capacity_; }
   ImageSet& images() { return images_; }
