@@ -203,9 +203,8 @@ int runDenoise(const DenoiseOptions& options) {
   std::unique_ptr<CheckerboardPacker> packer;
   if (checkerboard) {
     packer = std::make_unique<CheckerboardPacker>(*context, shot.width, shot.height);
-    std::printf(
-        "checkerboard: the denoiser gets every other pixel of each signal, packed to half width "
-        "(gi.denoise.checkerboard); the noisy images and relMSE are every pixel's\n");
+    std::printf("checkerboard: the denoiser gets every other pixel of each signal, packed to half width "
+                "(gi.denoise.checkerboard); the noisy images and relMSE are every pixel's\n");
   }
   PartImages reference;
   {
@@ -253,7 +252,8 @@ int runDenoise(const DenoiseOptions& options) {
     while (pathTracer.samplesPerPixel() < options.spp)
       pathTracer.record(recorder, std::uint32_t(options.spp - pathTracer.samplesPerPixel()));
     pathTracer.recordResolve(recorder);
-    render::RendererInputs made = render::rendererInputs(renderer, index, view, previous, {.captureStages = dump});
+    render::RendererInputs made =
+        render::rendererInputs(renderer, index, view, previous, {.captureStages = dump});
     gpu::Image* given[2] = {&pathTracer.indirectDiffuseImage(), &pathTracer.indirectSpecularImage()};
     if (packer)
       for (std::size_t signal = 0; signal < CheckerboardPacker::kSignals; ++signal) {
@@ -268,7 +268,8 @@ int runDenoise(const DenoiseOptions& options) {
     loop.endFrame();
     previous = view;
 
-    const bool showsReference = frame == last || (sameView(camera.pose, lastPose) && !scene::isAnimated(scene));
+    const bool showsReference =
+        frame == last || (sameView(camera.pose, lastPose) && !scene::isAnimated(scene));
     if (showsReference) {
       loop.finish();
       noisy = {rgbOf(*context, pathTracer.indirectDiffuseImage()), rgbOf(*context, pathTracer.indirectSpecularImage()),
@@ -348,10 +349,9 @@ int runDenoise(const DenoiseOptions& options) {
                                {"measured_frames", perFrame}};
   writeTextFile(outDir / "denoise.json", meta.dump(2) + "\n");
 
-  std::printf(
-      "wrote noisy, denoised and reference images of frame %u (each part: .indirect-diffuse, "
-      ".indirect-specular, the frame; EXR + PNG), sheet.png and denoise.json to %s\n",
-      last, outDir.c_str());
+  std::printf("wrote noisy, denoised and reference images of frame %u (each part: .indirect-diffuse, "
+              ".indirect-specular, the frame; EXR + PNG), sheet.png and denoise.json to %s\n",
+              last, outDir.c_str());
   std::printf("\nrelMSE against the reference (%u spp), frame %u of %u frames at %u spp (%.1f s):\n",
               options.referenceSpp, last, options.frames, options.spp, seconds);
   std::printf("  %-18s %12s %12s %18s\n", "", "noisy", "denoised", "denoised / noisy");

@@ -123,8 +123,7 @@ int runReference(const ReferenceCommandOptions& options) {
   const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, view);
   // The frame before (for its motion vectors) and the frame itself.
   const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
-  const std::vector<scene::CameraFrame> cameraFrames =
-      checkedCameraFrames(*path, first, options.frame - first + 1, view);
+  const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, first, options.frame - first + 1, view);
   const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, view);
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);

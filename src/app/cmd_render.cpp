@@ -158,8 +158,8 @@ int runRender(const RenderOptions& options) {
   // The GI library on this device, through its public interface (render/gi_bridge.h).
   std::unique_ptr<render::GiBridge> giBridge;
   if (gi) {
-    giBridge =
-        std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
+    giBridge = std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi),
+                                                  settings);
   }
   checkDeviceMemoryFits(*context, shot.width, shot.height);
   // What the frame is: the GI library's composite, or direct light alone.
@@ -169,7 +169,8 @@ int runRender(const RenderOptions& options) {
     const std::uint64_t index = loop.frameIndex();
     renderer.record(recorder, index, view);
     if (gi)
-      giBridge->record(recorder, renderer, index, view, previous, {.jitter = options.jitter, .captureStages = capture});
+      giBridge->record(recorder, renderer, index, view, previous,
+                       {.jitter = options.jitter, .captureStages = capture});
     previous = view;
   };
   const bool warmUp = gi && options.gi.warmup > 0;

@@ -15,9 +15,9 @@ namespace bounce::app {
 namespace fs = std::filesystem;
 
 const std::set<std::string>& knownAovs() {
-  static const std::set<std::string> names = {
-      "viewZ", "normal", "geometric-normal", "albedo",   "emissive",         "motion",
-      "ids",   "direct", "roughness",        "metallic", "indirect-diffuse", "indirect-specular"};
+  static const std::set<std::string> names = {"viewZ",           "normal", "geometric-normal", "albedo",    "emissive",
+                                              "motion",          "ids",    "direct",           "roughness", "metallic",
+                                              "indirect-diffuse", "indirect-specular"};
   return names;
 }
 

@@ -52,8 +52,8 @@ constexpr std::array<const char*, kDenoiseSignals> kSignalNames = {"diffuse", "s
 constexpr std::array<const char*, kDenoiseSignals> kNoisyInputNames = {"noisyDiffuse", "noisySpecular"};
 constexpr std::array<Input, kDenoiseSignals> kNoisyInputs = {Input::NoisyDiffuse, Input::NoisySpecular};
 // Which pixels of a checkerboarded signal hold samples (gi.denoise.checkerboard).
-constexpr std::array<std::uint32_t, kDenoiseSignals> kCheckerboardParities = {shared::kCheckerboardDiffuseParity,
-                                                                              shared::kCheckerboardSpecularParity};
+constexpr std::array<std::uint32_t, kDenoiseSignals> kCheckerboardParities = {
+    shared::kCheckerboardDiffuseParity, shared::kCheckerboardSpecularParity};
 
 // Which of the signals the engine gives this frame (FrameInputs::noisyDiffuse, noisySpecular).
 using SignalFlags = std::array<bool, kDenoiseSignals>;
@@ -141,16 +141,14 @@ struct GiContext::Impl {
         engine(*context) {
     const DiffuseSettings& diffuse = settings.diffuse;
     // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
-    if (diffuse.enabled && scene.traces() &&
-        diffuse.screenCandidates + diffuse.brightCandidates + diffuse.rayCandidates == 0)
-      throw Error(
-          "gi: gi.diffuse.screen_candidates, bright_candidates and ray_candidates are all 0 with the scene "
-          "bridge '" +
-          scene.name() + "': every reservoir would stay empty");
+    if (diffuse.enabled && scene.traces() && diffuse.screenCandidates + diffuse.brightCandidates +
+                                                     diffuse.rayCandidates == 0)
+      throw Error("gi: gi.diffuse.screen_candidates, bright_candidates and ray_candidates are all 0 with the scene "
+                  "bridge '" + scene.name() + "': every reservoir would stay empty");
     branches.push_back(
         std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings, scene, cache));
-    branches.push_back(
-        std::make_unique<SpecularBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings, scene, cache));
+    branches.push_back(std::make_unique<SpecularBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings,
+                                                        scene, cache));
     if (settings.denoise.enabled)
       denoiser = std::make_unique<Denoiser>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings);
     for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
@@ -209,11 +207,8 @@ struct GiContext::Impl {
       if (ref.width < packedWidth || ref.height < frame.height)
         throw Error(input + " is " + sizeText(ref.width, ref.height) +
                     "; with gi.denoise.checkerboard on it holds every other pixel of each row, packed to half "
-                    "width: it must cover " +
-                    sizeText(packedWidth, frame.height) +
-                    " (ceil(width / 2) x height of "
-                    "the render size " +
-                    sizeText(frame.width, frame.height) + ")");
+                    "width: it must cover " + sizeText(packedWidth, frame.height) + " (ceil(width / 2) x height of "
+                    "the render size " + sizeText(frame.width, frame.height) + ")");
     }
   }
 
@@ -221,10 +216,11 @@ struct GiContext::Impl {
   // the first frame that gives one records anything.
   void makeEngineSignalUnit() {
     if (engineSignals) return;
-    engineSignals =
-        std::make_unique<ImageSet>(*context, arena, engineSignalImageTable(), Extent{desc.maxWidth, desc.maxHeight});
+    engineSignals = std::make_unique<ImageSet>(*context, arena, engineSignalImageTable(),
+                                               Extent{desc.maxWidth, desc.maxHeight});
     for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal)
-      engineSignalPasses[signal] = std::make_unique<gpu::ComputePass>(*context, engineSignalPass(kSignalNames[signal]));
+      engineSignalPasses[signal] =
+          std::make_unique<gpu::ComputePass>(*context, engineSignalPass(kSignalNames[signal]));
   }
 
   // gi.engine_signal.SIGNAL: the engine's signal into the library's image
@@ -232,10 +228,11 @@ struct GiContext::Impl {
   gpu::Image& takeEngineSignal(const FrameState& state, std::size_t signal) {
     gpu::Image& taken = engineSignals->current(signal, state.frameIndex);
     const EngineSignalParams params{settings.denoise.checkerboard ? 1u : 0u, kCheckerboardParities[signal]};
-    state.recorder.dispatch(
-        *engineSignalPasses[signal], state.renderSize.width, state.renderSize.height,
-        state.group.binds(GroupPart::Constants),
-        {{"gIn_Noisy", state.engine[kNoisyInputs[signal]], state.nearestSampler}, {"gOut_Signal", taken}}, params);
+    state.recorder.dispatch(*engineSignalPasses[signal], state.renderSize.width, state.renderSize.height,
+                            state.group.binds(GroupPart::Constants),
+                            {{"gIn_Noisy", state.engine[kNoisyInputs[signal]], state.nearestSampler},
+                             {"gOut_Signal", taken}},
+                            params);
     return taken;
   }
 
@@ -296,15 +293,15 @@ struct GiContext::Impl {
     recorder.updateBuffer(*frameConstants, &constants, sizeof constants);
     const FrameGroup group(*frameConstants, engine[Input::ViewZ], engine[Input::NormalRoughness],
                            context->nearestSampler());
-    recorder.dispatch(
-        storeHistory, size.width, size.height, group.binds(),
-        {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
-         {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)},
-         // Not read without material ids (the constants say so): last frame's
-         // surfaces, an unsigned-integer image, only fill the slot.
-         {"gIn_MaterialId",
-          engine.has(Input::MaterialId) ? engine[Input::MaterialId] : frameImages.previous(kHistorySurface, f),
-          context->nearestSampler()}});
+    recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
+                      {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
+                       {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)},
+                       // Not read without material ids (the constants say so): last frame's
+                       // surfaces, an unsigned-integer image, only fill the slot.
+                       {"gIn_MaterialId",
+                        engine.has(Input::MaterialId) ? engine[Input::MaterialId]
+                                                      : frameImages.previous(kHistorySurface, f),
+                        context->nearestSampler()}});
     // The specular trace is the pyramid's one reader.
     pyramidBuilt = needsDepthPyramid() && running[std::size_t(DenoiseSignal::Specular)];
     if (pyramidBuilt) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
@@ -465,8 +462,8 @@ std::vector<LibraryImage> GiContext::images() const {
   if (impl_->pyramidBuilt) listed.push_back(impl_->depthPyramid.listed());
   std::vector<LibraryImage> list;
   for (const ImageSet::Listed& image : listed)
-    list.push_back(
-        {image.name, libraryRef(*image.image), visualization(image.spec->view), std::string(image.spec->purpose)});
+    list.push_back({image.name, libraryRef(*image.image), visualization(image.spec->view),
+                    std::string(image.spec->purpose)});
   return list;
 }
 

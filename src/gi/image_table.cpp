@@ -73,11 +73,8 @@ void ImageSet::make(std::size_t index) {
   const ImageSpec& spec = table_[index];
   auto entry = std::make_unique<Entry>();
   const auto desc = [&](std::string name, Extent size) {
-    return gpu::ImageDesc{.name = std::move(name),
-                          .width = size.width,
-                          .height = size.height,
-                          .format = spec.format,
-                          .visualize = spec.view};
+    return gpu::ImageDesc{
+        .name = std::move(name), .width = size.width, .height = size.height, .format = spec.format, .visualize = spec.view};
   };
   if (spec.resolution == Resolution::Pyramid) {
     if (spec.history) throw std::logic_error("gi: a pyramid image cannot keep history");
@@ -89,8 +86,8 @@ void ImageSet::make(std::size_t index) {
     entry->history = std::make_unique<gpu::HistoryImage>(
         context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_);
   } else {
-    entry->images.push_back(std::make_unique<gpu::Image>(
-        context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_));
+    entry->images.push_back(
+        std::make_unique<gpu::Image>(context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_));
   }
   entries_[index] = std::move(entry);
 }
@@ -127,7 +124,8 @@ void ImageSet::clearToZero(gpu::Recorder& recorder, std::initializer_list<std::s
 gpu::Image& ImageSet::level(std::size_t index, std::uint32_t level) {
   Entry& entry = *entries_.at(index);
   if (level == 0 || level > entry.images.size())
-    throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' has no level " + std::to_string(level));
+    throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' has no level " +
+                           std::to_string(level));
   return *entry.images[level - 1];
 }
 

@@ -23,7 +23,8 @@ enum CacheImage : std::size_t { kCacheRadianceView, kCacheCellsView, kCacheImage
 
 constexpr ImageSpec kImages[] = {
     {"gi.cache.radiance", Resolution::Full, kRgba16f, false, gpu::Visualize::Radiance,
-     "each pixel's radiance-cache cell value: what a world ray hitting there is lit with (captured frames only)", true},
+     "each pixel's radiance-cache cell value: what a world ray hitting there is lit with (captured frames only)",
+     true},
     {"gi.cache.cells", Resolution::Full, kRgba8, false, gpu::Visualize::Color,
      "each cache cell in a colour of its own; the top bar: share of the slots in use (captured frames only)", true},
 };
@@ -96,8 +97,8 @@ std::vector<gpu::ResourceDecl> cacheResources() {
 }
 
 gpu::ConstantsDecl cacheConstantsLayout() {
-  return BOUNCE_CONSTANTS_LAYOUT("gIn_CacheConstants", shared::CacheConstants, cameraPosition, capacity, enabled, frame,
-                                 updateBudget, cellSize, historyFrames, maxAge, injectStride, environmentMip);
+  return BOUNCE_CONSTANTS_LAYOUT("gIn_CacheConstants", shared::CacheConstants, cameraPosition, capacity, enabled,
+                                 frame, updateBudget, cellSize, historyFrames, maxAge, injectStride, environmentMip);
 }
 
 struct RadianceCache::Passes {
@@ -142,21 +143,18 @@ std::uint64_t RadianceCache::memoryBytes(Extent maxSize, const Settings& setting
 }
 
 std::vector<gpu::Bind> RadianceCache::binds() const {
-  return {{"gIn_CacheConstants", *constants_}, {"gCache_Keys", *keys_},
-          {"gCache_Cells", *cells_},           {"gCache_Accumulators", *accumulators_},
-          {"gCache_Radiance", *radiance_},     {"gCache_Touched", *touched_},
+  return {{"gIn_CacheConstants", *constants_}, {"gCache_Keys", *keys_},       {"gCache_Cells", *cells_},
+          {"gCache_Accumulators", *accumulators_}, {"gCache_Radiance", *radiance_}, {"gCache_Touched", *touched_},
           {"gCache_Updates", *updates_}};
 }
 
-std::vector<gpu::PassDesc> RadianceCache::passes() const {
-  return {injectPass(), updatePass(), resolvePass(), viewPass()};
-}
+std::vector<gpu::PassDesc> RadianceCache::passes() const { return {injectPass(), updatePass(), resolvePass(), viewPass()}; }
 
 void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosition[3], gpu::Image& previousDiffuse) {
   gpu::Recorder& recorder = frame.recorder;
   if (frame_ == 0)
-    for (gpu::Buffer* b :
-         {keys_.get(), cells_.get(), accumulators_.get(), radiance_.get(), touched_.get(), updates_.get()})
+    for (gpu::Buffer* b : {keys_.get(), cells_.get(), accumulators_.get(), radiance_.get(), touched_.get(),
+                           updates_.get()})
       recorder.fillBuffer(*b, 0u);
   ++frame_;
   shared::CacheConstants c{};
