@@ -69,8 +69,16 @@ TEST_P(BadInput, GivesOneClearErrorOrAFiniteImage) {
   ASSERT_EQ(r.signal, 0) << "crashed with signal " << r.signal << ":\n" << r.output;
   if (c.outcome == Outcome::FiniteImage) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    // readImage refuses any NaN or infinity, naming the first.
-    EXPECT_NO_THROW(io::readImage(out / "render.exr")) << r.output;
+    // readImage refuses any NaN or infinity, naming the first. Every scene
+    // of the corpus is lit (a sun, a sky, a light): a black frame is a
+    // silently wrong picture, not a pass.
+    io::ImageF image;
+    ASSERT_NO_THROW(image = io::readImage(out / "render.exr")) << r.output;
+    const std::size_t channels = image.channelCount();
+    double brightest = 0.0;
+    for (std::size_t i = 0; i < image.pixels.size(); ++i)
+      if (i % channels < 3) brightest = std::max(brightest, double(image.pixels[i]));
+    EXPECT_GT(brightest, 0.0) << "an all-black frame:\n" << r.output;
   } else {
     EXPECT_TRUE(r.exitCode == 1 || r.exitCode == 2) << "exit status " << r.exitCode << ":\n" << r.output;
     const std::vector<std::string> all = lines(r.output);
