@@ -2,18 +2,22 @@
 // on hand-made cases with known answers, percentiles, temporal stability, and
 // `bounce compare` as a script uses it (exit codes, one-line messages, files).
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <new>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,6 +27,46 @@
 #include "metrics/flip.h"
 #include "metrics/image_metrics.h"
 #include "shared/color.glsl"
+
+// Every allocation through new is counted, so that tests can see the most
+// memory a computation held beyond what it started with (e.g. that FLIP's
+// intermediates do not grow with the image).
+namespace {
+std::atomic<std::int64_t> gAllocated{0};
+std::atomic<std::int64_t> gPeakAllocated{0};
+
+void* countedAllocation(std::size_t size) {
+  void* block = std::malloc(size == 0 ? 1 : size);
+  if (!block) throw std::bad_alloc();
+  const std::int64_t now = gAllocated += std::int64_t(malloc_usable_size(block));
+  for (std::int64_t peak = gPeakAllocated; now > peak && !gPeakAllocated.compare_exchange_weak(peak, now);) {
+  }
+  return block;
+}
+
+void countedFree(void* block) {
+  if (!block) return;
+  gAllocated -= std::int64_t(malloc_usable_size(block));
+  std::free(block);
+}
+
+// The most held since the last call, beyond what was held then.
+class AllocationPeak {
+ public:
+  AllocationPeak() : start_(gAllocated) { gPeakAllocated = start_; }
+  std::int64_t bytes() const { return gPeakAllocated - start_; }
+
+ private:
+  std::int64_t start_;
+};
+}  // namespace
+
+void* operator new(std::size_t size) { return countedAllocation(size); }
+void* operator new[](std::size_t size) { return countedAllocation(size); }
+void operator delete(void* block) noexcept { countedFree(block); }
+void operator delete[](void* block) noexcept { countedFree(block); }
+void operator delete(void* block, std::size_t) noexcept { countedFree(block); }
+void operator delete[](void* block, std::size_t) noexcept { countedFree(block); }
 
 namespace {
 
@@ -204,6 +248,88 @@ TEST(Flip, HdrFlipIsTheMaximumOverItsExposures) {
   }
 }
 
+// Two images with edges, dots and noise at every scale FLIP looks at.
+std::pair<metrics::RgbImage, metrics::RgbImage> busyPair(int width, int height, float scale) {
+  metrics::RgbImage reference = gradient(width, height), test = reference;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  for (std::size_t p = 0; p < test.pixels.size(); ++p) {
+    if (uniform(random) < 0.1f) reference.pixels[p] = glm::vec3(uniform(random), uniform(random), uniform(random));
+    test.pixels[p] = reference.pixels[p] * (0.8f + 0.4f * uniform(random));
+    reference.pixels[p] *= scale;
+    test.pixels[p] *= scale;
+  }
+  return {reference, test};
+}
+
+// FLIP is computed a band of rows at a time (flip.h); every band size must
+// give the bits the whole image in one band gives, at the FLIP tool's ppd
+// and at one whose filters are wider than a band.
+TEST(Flip, BandsOfAnySizeGiveTheBitsOfTheWholeImage) {
+  const auto [reference, test] = busyPair(37, 53, 1.0f);
+  const auto [radiance, radianceTest] = busyPair(37, 53, 40.0f);
+  for (const float ppd : {metrics::defaultPixelsPerDegree(), 150.0f}) {
+    SCOPED_TRACE("ppd " + std::to_string(ppd));
+    const metrics::ScalarImage whole = metrics::ldrFlip(reference, test, ppd, 53);
+    const metrics::HdrFlipResult wholeHdr = metrics::hdrFlip(radiance, radianceTest, ppd, std::nullopt, 53);
+    ASSERT_GT(metrics::errorStatistics(whole.values).mean, 0.02);
+    for (const int rows : {1, 2, 7, 52, 0}) {
+      SCOPED_TRACE(std::to_string(rows) + " rows a band");
+      EXPECT_EQ(metrics::ldrFlip(reference, test, ppd, rows).values, whole.values);
+      const metrics::HdrFlipResult hdr = metrics::hdrFlip(radiance, radianceTest, ppd, std::nullopt, rows);
+      EXPECT_EQ(hdr.error.values, wholeHdr.error.values);
+      EXPECT_EQ(hdr.exposureOfMaximum.values, wholeHdr.exposureOfMaximum.values);
+    }
+  }
+}
+
+// The whole image's YCxCz and filter sums took about 100 bytes a pixel
+// (7 GB for an 8192 x 8192 pair); now FLIP holds its result and a ring of
+// rows, whatever the height. A million pixels, two bands of the default size.
+TEST(Flip, HoldsOnlyItsResultAndARingOfRows) {
+  const int width = 64, height = 16384;
+  const float ppd = metrics::defaultPixelsPerDegree();
+  const auto [reference, test] = busyPair(width, height, 1.0f);
+  const std::int64_t map = std::int64_t(width) * height * std::int64_t(sizeof(float));
+  const std::int64_t working = std::int64_t(metrics::flipWorkingBytes(width, height, ppd));
+  const std::int64_t slack = 1 << 20;  // filters, thread objects
+  EXPECT_EQ(working, std::int64_t(metrics::flipWorkingBytes(width, 4 * height, ppd))) << "the rows do not grow";
+  {
+    const AllocationPeak peak;
+    const metrics::ScalarImage flip = metrics::ldrFlip(reference, test, ppd);
+    EXPECT_LE(peak.bytes(), map + working + slack);
+  }
+  {
+    const AllocationPeak peak;
+    const metrics::HdrFlipResult flip = metrics::hdrFlip(reference, test, ppd);
+    EXPECT_LE(peak.bytes(), 2 * map + working + slack) << "the error and the exposure of its maximum";
+  }
+}
+
+// compare reads FLIP's inputs in place: an image's R, G and B (alpha left
+// out), or its one channel as grey, give the bits their copies give.
+TEST(Flip, ImagesAreReadInPlaceAsTheirCopiesAre) {
+  const float ppd = metrics::defaultPixelsPerDegree();
+  const auto [reference, test] = busyPair(29, 17, 1.0f);
+  io::ImageF rgba(29, 17, {"A", "B", "G", "R"}), rgbaTest(29, 17, {"A", "B", "G", "R"});
+  io::ImageF grey(29, 17, {"Y"}), greyTest(29, 17, {"Y"});
+  for (int y = 0; y < 17; ++y)
+    for (int x = 0; x < 29; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        rgba.at(x, y, 3 - c) = reference.at(x, y)[c];
+        rgbaTest.at(x, y, 3 - c) = test.at(x, y)[c];
+      }
+      rgba.at(x, y, 0) = rgbaTest.at(x, y, 0) = 0.5f;
+      grey.at(x, y, 0) = reference.at(x, y).y;
+      greyTest.at(x, y, 0) = test.at(x, y).y;
+    }
+  EXPECT_EQ(metrics::ldrFlip(metrics::rgbView(rgba), metrics::rgbView(rgbaTest), ppd).values,
+            metrics::ldrFlip(metrics::toRgb(rgba), metrics::toRgb(rgbaTest), ppd).values);
+  EXPECT_EQ(metrics::hdrFlip(metrics::rgbView(grey), metrics::rgbView(greyTest), ppd).error.values,
+            metrics::hdrFlip(metrics::toRgb(grey), metrics::toRgb(greyTest), ppd).error.values);
+  EXPECT_THROW(metrics::rgbView(io::ImageF(4, 4, {"X", "Y"})), std::invalid_argument);
+}
+
 TEST(Flip, MismatchedSizesAreRefused) {
   EXPECT_THROW(metrics::ldrFlip(gradient(8, 8), gradient(8, 9), 67.0f), std::invalid_argument);
   EXPECT_THROW(metrics::ldrFlip(gradient(8, 8), gradient(8, 8), 0.0f), std::invalid_argument);
@@ -267,6 +393,56 @@ TEST(ValueErrors, AlphaIsNotCompared) {
   test.pixels = {0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f};
   EXPECT_EQ(metrics::incompatibility(reference, test), "");
   EXPECT_EQ(metrics::valueErrors(metrics::comparedValues(reference), metrics::comparedValues(test)).mse, 0.0);
+}
+
+io::ImageF noisyImage(int width, int height, std::vector<std::string> channels, unsigned seed) {
+  io::ImageF image(width, height, std::move(channels));
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> uniform(0.0f, 2.0f);
+  for (float& v : image.pixels) v = uniform(random);
+  return image;
+}
+
+// compare sums the errors and the mean luminance pixel by pixel rather than
+// over copies of the values: the same sums in the same order, to the bit.
+TEST(ValueErrors, ImagesGiveTheBitsOfTheirComparedValues) {
+  for (const auto& channels : {std::vector<std::string>{"R", "G", "B", "A"}, std::vector<std::string>{"viewZ"}}) {
+    const io::ImageF reference = noisyImage(23, 11, channels, 3), test = noisyImage(23, 11, channels, 4);
+    const metrics::ValueErrors copied =
+        metrics::valueErrors(metrics::comparedValues(reference), metrics::comparedValues(test));
+    const metrics::ValueErrors inPlace = metrics::valueErrors(reference, test);
+    EXPECT_EQ(inPlace.mse, copied.mse);
+    EXPECT_EQ(inPlace.relMse, copied.relMse);
+    EXPECT_EQ(inPlace.psnrDb, copied.psnrDb);
+    EXPECT_EQ(inPlace.valueCount, copied.valueCount);
+    const std::vector<float> luminance = metrics::luminance(reference);
+    double sum = 0.0;
+    for (float l : luminance) sum += l;
+    EXPECT_EQ(metrics::meanLuminance(reference), sum / double(luminance.size()));
+  }
+  EXPECT_THROW(metrics::valueErrors(constantImage(4, 4, 0.0f), constantImage(4, 3, 0.0f)), std::invalid_argument);
+}
+
+// A comparison used to copy both images' values (for the errors) and
+// pixels (for FLIP) beside them; now nothing image-sized but the FLIP map
+// and FLIP's rows is added to the images, which it frees before the
+// statistics sort a copy of the map.
+TEST(ValueErrors, ComparingHoldsOnlyTheImagesTheMapAndFlipsRows) {
+  const int width = 256, height = 1024;
+  io::ImageF reference = noisyImage(width, height, {"R", "G", "B"}, 5);
+  io::ImageF test = noisyImage(width, height, {"R", "G", "B"}, 6);
+  const std::int64_t map = std::int64_t(width) * height * std::int64_t(sizeof(float));
+  const std::int64_t working = std::int64_t(metrics::flipWorkingBytes(width, height, 67.0f));
+  for (const metrics::FlipMode mode : {metrics::FlipMode::Ldr, metrics::FlipMode::Hdr}) {
+    metrics::ComparisonOptions options;
+    options.flipMode = mode;
+    options.pixelsPerDegree = 67.0f;
+    io::ImageF r = reference, t = test;
+    const AllocationPeak peak;
+    const metrics::Comparison comparison = metrics::compareImages(std::move(r), std::move(t), options);
+    EXPECT_LE(peak.bytes(), (mode == metrics::FlipMode::Hdr ? 2 : 1) * map + working + (1 << 20));
+    EXPECT_GT(comparison.flip.mean, 0.0);
+  }
 }
 
 TEST(ValueErrors, IncompatibleImagesAreDescribed) {
