@@ -23,6 +23,7 @@
 #include "bounce/version.h"
 #include "io/image_io.h"
 #include "process.h"
+#include "zero_png.h"
 
 namespace {
 
@@ -793,6 +794,28 @@ TEST(CliHardening, SheetLaysImagesOutInLabelledRows) {
   const auto tooManyLabels = runArgs({"sheet", arguments[1], "--label", "a", "--label", "b", "--out", out.string()});
   EXPECT_EQ(tooManyLabels.exitCode, 1);
   EXPECT_NE(tooManyLabels.output.find("2 labels for 1 columns"), std::string::npos) << tooManyLabels.output;
+  fs::remove_all(dir);
+}
+
+// A sheet is worked out from its images' headers first: a PNG of a few
+// hundred bytes declaring 16384 x 16384 pixels (its data ends after a row)
+// is refused with the memory it would need, before anything is decoded; it
+// used to be decoded and laid out in floats, 6 to 12 GB for a real one.
+TEST(CliHardening, SheetsTooLargeToMakeAreRefusedFromTheHeaders) {
+  const fs::path dir = freshDirectory("sheet_memory");
+  fs::create_directories(dir);
+  const std::vector<std::uint8_t> bytes = bounce::testing::zeroPng(16384, 16384, 1);
+  std::ofstream(dir / "huge.png", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  const auto r = runArgs({"sheet", (dir / "huge.png").string(), "--out", (dir / "sheet.png").string()});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+  EXPECT_NE(
+      r.output.find("bounce: error: " + (dir / "huge.png").string() + ": a sheet of one 16384x16384 image needs about"),
+      std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("more than the limit of 2.0 GiB"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "sheet.png"));
   fs::remove_all(dir);
 }
 

@@ -27,6 +27,7 @@
 #include "metrics/flip.h"
 #include "metrics/image_metrics.h"
 #include "shared/color.glsl"
+#include "zero_png.h"
 
 // Every allocation through new is counted, so that tests can see the most
 // memory a computation held beyond what it started with (e.g. that FLIP's
@@ -672,6 +673,37 @@ TEST_F(CompareCommand, MismatchedOrBadImagesAreOneLineNamingTheFile) {
   const CommandResult missing = runCompare(quoted(dir / "missing.png") + " " + quoted(small));
   EXPECT_EQ(missing.exitCode, 2);
   EXPECT_TRUE(contains(missing.err, "missing.png")) << missing.err;
+}
+
+// A PNG of a few hundred bytes can declare 16384 x 16384 pixels: compare
+// worked out from the headers that it would need gigabytes and refuses it
+// with the numbers, before decoding (this file's data ends after one row,
+// so a decoder would have said so instead). It used to decode such images,
+// 24 GB for a real one, until the kernel killed it.
+TEST_F(CompareCommand, ImagesTooLargeToCompareAreRefusedFromTheirHeaders) {
+  const fs::path huge = dir / "huge.png";
+  const std::vector<std::uint8_t> bytes = bounce::testing::zeroPng(16384, 16384, 1);
+  std::ofstream(huge, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  ASSERT_LT(fs::file_size(huge), 1000u);
+  for (const std::string& arguments :
+       {quoted(huge) + " " + quoted(huge), "--sequence " + quoted(huge) + " " + quoted(huge)}) {
+    const CommandResult r = runCompare(arguments);
+    EXPECT_EQ(r.exitCode, 2) << arguments << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    EXPECT_TRUE(contains(r.err, "bounce: error: " + huge.string() + ": ")) << r.err;
+    EXPECT_TRUE(contains(r.err, "16384x16384")) << r.err;
+    EXPECT_TRUE(contains(r.err, "needs about")) << r.err;
+    EXPECT_TRUE(contains(r.err, "more than the limit of 2.0 GiB")) << r.err;
+  }
+  // A size within the limit is decoded, and the short data found.
+  const fs::path small = dir / "short.png";
+  const std::vector<std::uint8_t> shortBytes = bounce::testing::zeroPng(64, 64, 1);
+  std::ofstream(small, std::ios::binary)
+      .write(reinterpret_cast<const char*>(shortBytes.data()), std::streamsize(shortBytes.size()));
+  const CommandResult decoded = runCompare(quoted(small) + " " + quoted(small));
+  EXPECT_EQ(decoded.exitCode, 2);
+  EXPECT_TRUE(contains(decoded.err, "cannot decode")) << decoded.err;
 }
 
 TEST_F(CompareCommand, UsageErrorsExitTwo) {
