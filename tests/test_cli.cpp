@@ -819,6 +819,36 @@ TEST(CliHardening, SheetsTooLargeToMakeAreRefusedFromTheHeaders) {
   fs::remove_all(dir);
 }
 
+// Every option that names a file of a given format wants that format's
+// extension: `sheet --out x.exr` used to write PNG bytes into x.exr. A
+// wrong name is a command-line error (exit 2), found before any work.
+TEST(CliHardening, OutputFilesMustBeNamedForTheFormatWritten) {
+  const fs::path dir = freshDirectory("output_names");
+  fs::create_directories(dir);
+  const std::string image = (fs::path(BOUNCE_SOURCE_DIR) / "tests" / "data" / "flip" / "b_checker_ref.png").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"sheet", image, "--out", (dir / "x.exr").string()}, "must name a .png file"},
+      {{"compare", image, image, "--error-map", (dir / "map.exr").string()}, "must name a .png file"},
+      {{"compare", image, image, "--json", (dir / "values.png").string()}, "must name a .json file"},
+      {{"compare", "--sequence", image, image, "--json", (dir / "values").string()}, "must name a .json file"},
+      {{"reference", "cornell", "--out", (dir / "ref.png").string()}, "must name an .exr file"},
+      {{"bench", "cornell", "--json", (dir / "bench.txt").string()}, "must name a .json file"},
+  };
+  for (const auto& [arguments, message] : cases) {
+    const auto r = runArgs(arguments);
+    EXPECT_EQ(r.exitCode, 2) << arguments[0] << ": " << r.output;
+    EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(dir.string()), std::string::npos) << "names the file: " << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
+  // Any case of the extension will do.
+  const auto upper = runArgs({"sheet", image, "--out", (dir / "x.PNG").string()});
+  EXPECT_EQ(upper.exitCode, 0) << upper.output;
+  EXPECT_EQ(bounce::io::readImage(dir / "x.PNG").width, 128);
+  fs::remove_all(dir);
+}
+
 // --material changes a material's factor; a misspelt material, key or value
 // is refused naming it (and, for a material, listing the scene's), before
 // anything renders.

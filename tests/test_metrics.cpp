@@ -638,8 +638,13 @@ TEST_F(CompareCommand, OutputsNeverReplaceAnInput) {
   EXPECT_TRUE(contains(map.err, "refusing")) << map.err;
   EXPECT_TRUE(contains(map.err, reference.string())) << map.err;
   // The same file reached by another spelling is still refused.
+  const CommandResult spelt = runCompare(quoted(reference) + " " + quoted(kRepoPairs / "b_checker_shift1.png") +
+                                         " --error-map " + quoted(dir / "." / "reference.png"));
+  EXPECT_EQ(spelt.exitCode, 2) << spelt.out << spelt.err;
+  EXPECT_TRUE(contains(spelt.err, "refusing")) << spelt.err;
+  // A JSON file is never written over an image: its name must end in .json.
   const CommandResult json = runCompare(quoted(reference) + " " + quoted(kRepoPairs / "b_checker_shift1.png") +
-                                        " --json " + quoted(dir / "." / "reference.png"));
+                                        " --json " + quoted(reference));
   EXPECT_EQ(json.exitCode, 2) << json.out << json.err;
   EXPECT_EQ(readFile(reference), before) << "the input is untouched";
 }

@@ -252,9 +252,6 @@ int comparePair(const CompareOptions& options) {
   std::vector<fs::path> inputs = {referencePath, testPath};
   if (!options.regions.empty()) inputs.push_back(options.regions);
   if (!options.errorMap.empty()) {
-    if (lowercase(fs::path(options.errorMap).extension().string()) != ".png") {
-      fail(options.errorMap, "--error-map writes a PNG; give a file name ending in .png");
-    }
     refuseToOverwriteInputs(options.errorMap, "--error-map", inputs);
     checkWritableFile(options.errorMap, "--error-map");
   }
@@ -506,8 +503,10 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
                        "Pixels per degree of visual angle for FLIP (default 67.02: 0.7 m from a 0.7 m wide 4K "
                        "monitor, as the FLIP tool)")
           ->check(finiteRange(0.01, 10000.0)),
-      command->add_option("--error-map", options.errorMap,
-                          "Write the FLIP error map to this PNG (magma colour map); never over an input"),
+      command
+          ->add_option("--error-map", options.errorMap,
+                       "Write the FLIP error map to this PNG (magma colour map); never over an input")
+          ->check(outputExtension(".png", "PNG")),
       command->add_option("--max-relmse", options.maxRelMse, "Exit 1 if relMSE is above this")
           ->check(finiteAtLeast(0.0)),
       command->add_option("--max-rmse", options.maxRmse, "Exit 1 if RMSE is above this")->check(finiteAtLeast(0.0)),
@@ -525,7 +524,8 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
                    "With --sequence: exit 1 if the mean relative frame-to-frame change is above this")
       ->check(finiteAtLeast(0.0))
       ->needs(sequence);
-  command->add_option("--json", options.json, "Also write every value to this JSON file; never over an input");
+  command->add_option("--json", options.json, "Also write every value to this JSON file; never over an input")
+      ->check(outputExtension(".json", "JSON"));
   // The image count depends on --sequence, so it is checked once parsing is
   // done; a ValidationError here is a usage error like any other (exit 2).
   command->callback([&options] {

@@ -37,7 +37,9 @@ CLI::App* addSheetCommand(CLI::App& app, SheetOptions& options) {
       "sheet", "Lay images side by side on one PNG, left to right and top to bottom, with a label above each "
                "of the first row (e.g. reference | screen-only | hybrid, one scene per row)");
   command->add_option("images", options.images, "Images (EXR, HDR, PNG or JPEG), all the same size")->required();
-  command->add_option("--out", options.out, "The PNG to write; never over an input")->required();
+  command->add_option("--out", options.out, "The PNG to write; never over an input")
+      ->required()
+      ->check(outputExtension(".png", "PNG"));
   command->add_option("--columns", options.columns, "Images per row (default: all on one row, at most 8)")
       ->check(CLI::Range(1, 64));
   command->add_option("--label", options.labels,
