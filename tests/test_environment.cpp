@@ -27,6 +27,7 @@
 #include "shared/equirect.glsl"
 #include "shared/rng.glsl"
 #include "shared/sky.glsl"
+#include "zero_png.h"
 
 namespace bounce::render {
 namespace {
@@ -653,6 +654,38 @@ TEST_F(EnvironmentGpu, MissingOrCorruptMapsAreErrorsNamingTheFile) {
       EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
     }
   }
+}
+
+// A map is checked from its header before it is decoded: a PNG of a few
+// hundred bytes (its data ends after a row) declaring a square 16384 x 16384
+// map is refused for its shape, and one of 16384 x 8192 RGBA pixels for the
+// memory preparing it would take (it used to be decoded first: a 130 KB PNG
+// of 16384 x 8192 zeros made a render take 4 GB).
+TEST_F(EnvironmentGpu, MapsAreRefusedFromTheirHeadersBeforeDecoding) {
+  const std::filesystem::path directory = testDirectory("headers");
+  const auto write = [&](const char* name, const std::vector<std::uint8_t>& bytes) {
+    std::ofstream(directory / name, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    return directory / name;
+  };
+  const std::vector<std::pair<std::filesystem::path, std::string>> cases = {
+      {write("square.png", testing::zeroPng(16384, 16384, 1)), "16384x16384 is not an equirectangular map"},
+      {write("rgba.png", testing::zeroPng(16384, 8192, 1, 4)), "preparing a 16384x8192 environment map needs about"},
+  };
+  for (const auto& [path, message] : cases) {
+    EnvironmentDesc desc;
+    desc.map = path;
+    try {
+      Environment environment(context(), desc);
+      FAIL() << path << " was accepted";
+    } catch (const io::ImageIoError& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string() + ": " + message), std::string::npos) << e.what();
+    }
+  }
+  // Within the limits, the map is decoded, and its short data found.
+  EnvironmentDesc desc;
+  desc.map = write("short.png", testing::zeroPng(64, 32, 1));
+  EXPECT_THROW(Environment(context(), desc), io::ImageIoError);
 }
 
 TEST_F(EnvironmentGpu, NoSunIsBlack) {

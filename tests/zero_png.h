@@ -1,4 +1,4 @@
-// A black grey PNG of any size written in a few bytes per thousand pixels, as
+// A black PNG of any size written in a few bytes per thousand pixels, as
 // a file that is small on disk and huge in memory: its pixel data is one
 // deflate block of runs of zeros (literal 0, then copies of 258 bytes at
 // distance 1), so a 16384 x 16384 image takes under 2 MB. With `rows` less
@@ -58,10 +58,13 @@ class BitWriter {
 
 }  // namespace zero_png_detail
 
-inline std::vector<std::uint8_t> zeroPng(std::uint32_t width, std::uint32_t height, std::uint32_t rows) {
+// components: 1 grey, 2 grey and alpha, 3 RGB, 4 RGBA; bitDepth 8 or 16.
+inline std::vector<std::uint8_t> zeroPng(std::uint32_t width, std::uint32_t height, std::uint32_t rows,
+                                         int components = 1, int bitDepth = 8) {
   using namespace zero_png_detail;
-  // Each row: its filter byte (0, none) and `width` zero samples.
-  const std::uint64_t zeros = std::uint64_t(rows) * (std::uint64_t(width) + 1);
+  // Each row: its filter byte (0, none) and its zero samples.
+  const std::uint64_t rowBytes = std::uint64_t(width) * std::uint64_t(components) * std::uint64_t(bitDepth / 8);
+  const std::uint64_t zeros = std::uint64_t(rows) * (rowBytes + 1);
   BitWriter deflate;
   deflate.bits(1, 1);  // the final block
   deflate.bits(1, 2);  // fixed Huffman codes
@@ -87,7 +90,9 @@ inline std::vector<std::uint8_t> zeroPng(std::uint32_t width, std::uint32_t heig
   std::vector<std::uint8_t> header;
   bigEndian32(header, width);
   bigEndian32(header, height);
-  header.insert(header.end(), {8, 0, 0, 0, 0});  // 8-bit grey, deflate, adaptive filters, not interlaced
+  const std::uint8_t colourType[] = {0, 0, 4, 2, 6};
+  // Deflate, adaptive filters, not interlaced.
+  header.insert(header.end(), {std::uint8_t(bitDepth), colourType[components], 0, 0, 0});
   chunk(png, "IHDR", header);
   chunk(png, "IDAT", zlib);
   chunk(png, "IEND", {});

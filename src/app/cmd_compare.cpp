@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/memory_limit.h"
 #include "app/option_checks.h"
 #include "app/output_files.h"
 #include "io/colormap.h"
@@ -284,10 +283,10 @@ int comparePair(const CompareOptions& options) {
       fail(options.regions, "is " + sizeText(labelsInfo->width, labelsInfo->height) + ", the images compared are " +
                                 sizeText(width, height));
   }
-  refuseOverMemoryLimit(referencePath,
-                        pairMemory(referenceInfo, testInfo, labelsInfo ? &*labelsInfo : nullptr, hdr,
-                                   !options.errorMap.empty(), comparisonOptions.pixelsPerDegree),
-                        "comparing two " + sizeText(width, height) + " images");
+  io::refuseOverMemoryLimit(referencePath,
+                            pairMemory(referenceInfo, testInfo, labelsInfo ? &*labelsInfo : nullptr, hdr,
+                                       !options.errorMap.empty(), comparisonOptions.pixelsPerDegree),
+                            "comparing two " + sizeText(width, height) + " images");
 
   io::ImageF reference = io::readImage(referencePath);
   io::ImageF test = io::readImage(testPath);
@@ -418,8 +417,8 @@ int compareSequence(const CompareOptions& options) {
   // One frame at a time: the frame being read and two frames' luminance,
   // checked from each frame's header before it is decoded.
   const auto read = [](const fs::path& path, const io::ImageInfo& info) {
-    refuseOverMemoryLimit(path, 2 * info.pixels() * sizeof(float) + info.readBytes(),
-                          "measuring a sequence of " + sizeText(info.width, info.height) + " frames");
+    io::refuseOverMemoryLimit(path, 2 * info.pixels() * sizeof(float) + info.readBytes(),
+                              "measuring a sequence of " + sizeText(info.width, info.height) + " frames");
     return io::readImage(path);
   };
   const io::ImageInfo firstInfo = io::readImageInfo(frames[0]);

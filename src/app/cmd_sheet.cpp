@@ -12,7 +12,6 @@
 
 #include "app/commands.h"
 #include "app/images.h"
-#include "app/memory_limit.h"
 #include "app/option_checks.h"
 #include "app/output_files.h"
 #include "io/image_io.h"
@@ -104,8 +103,8 @@ int runSheet(const SheetOptions& options) {
   std::uint64_t largestRead = 0;
   for (const io::ImageInfo& info : infos) largestRead = std::max(largestRead, info.readBytes());
   const std::uint64_t strip = std::uint64_t(layout.width()) * std::uint64_t(layout.strip) * 3 * sizeof(float);
-  refuseOverMemoryLimit(inputs.front(),
-                        3 * sheetPixels + std::max(largestRead + strip, io::pngWriteBytes(sheetPixels, 3)), what);
+  io::refuseOverMemoryLimit(inputs.front(),
+                            3 * sheetPixels + std::max(largestRead + strip, io::pngWriteBytes(sheetPixels, 3)), what);
 
   const int width = layout.width();
   std::vector<std::uint8_t> sheet(3 * sheetPixels, labels.empty() ? 0 : io::displayByte(kSheetBackground));

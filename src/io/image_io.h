@@ -80,6 +80,21 @@ struct ImageInfo {
 // whose pixels are damaged passes: only readImage finds that.
 ImageInfo readImageInfo(const std::filesystem::path& path);
 
+// The most memory a command may plan for its images at once: 2 GiB. A small
+// file can declare a huge image (a 261 KB PNG of 16384 x 16384 zeros), so
+// commands work out their peak from the headers (readImageInfo) and refuse
+// beyond this before decoding, rather than let the kernel end the process,
+// or another one (docs/reliability.md says what each command counts).
+inline constexpr std::uint64_t kImageMemoryLimit = std::uint64_t(2) << 30;
+
+// Bytes as people read them: "1.3 GiB", "640 MiB", "12 KiB".
+std::string memoryText(std::uint64_t bytes);
+
+// Throws ImageIoError "FILE: WHAT needs about 9.6 GiB of memory, more than
+// the limit of 2.0 GiB (docs/reliability.md)" when bytes is over
+// kImageMemoryLimit; `what` says what for ("comparing two 16384x16384 images").
+void refuseOverMemoryLimit(const std::filesystem::path& file, std::uint64_t bytes, const std::string& what);
+
 // Whether a file holds linear radiance (EXR, Radiance HDR) rather than
 // display values (PNG, JPEG), by its signature as readImage decides; false
 // for a file that cannot be read.

@@ -108,6 +108,16 @@ glm::vec3 skyHorizontalIrradiance(const SkyParameters& params);
 io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
                                  std::uint32_t maxWidth);
 
+// prepareEnvironmentMap's refusals of a map's shape, for a size known from a
+// header: throws io::ImageIoError naming `name`.
+void checkEnvironmentMapShape(int width, int height, std::size_t channels, const std::string& name);
+
+// The most prepareEnvironmentMap holds beside the map it is given, in bytes:
+// a wide map is shrunk as it is read (no full-size copy), a narrow one copied
+// once. The Environment refuses a map whose reading or preparing would hold
+// more than io::kImageMemoryLimit.
+std::uint64_t environmentMapWorkingBytes(int width, int height, std::uint32_t maxWidth);
+
 class Environment {
  public:
   // Loads and checks the map now (errors name the file); creates the images
