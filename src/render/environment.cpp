@@ -280,10 +280,44 @@ std::uint64_t environmentMapWorkingBytes(int width, int height, std::uint32_t ma
   return sanitised + outWidth * outHeight * 4 * sizeof(float);
 }
 
+namespace {
+
+// Radiance beyond the brightest light Bounce renders overflows float once it
+// is scaled: a map of 1.7e38 (Radiance exponent 255) times intensity 4 became
+// infinite, so black, and the whole environment went dark without a word.
+// Such texels are refused by position, as readImage refuses NaN ones. An
+// intensity below 1 does not excuse them: the map itself is not a picture
+// Bounce can light with.
+void checkTexelStrength(const io::ImageF& map, const std::string& name, float intensity) {
+  const std::size_t channels = map.channelCount();
+  const double scale = std::max(1.0, double(intensity));
+  std::size_t count = 0, first = 0;
+  for (std::size_t i = 0; i < map.pixels.size(); ++i) {
+    const float value = map.pixels[i];
+    if (i % channels < 3 && std::isfinite(value) && !scene::lightStrengthProblem(std::fabs(value) * scale).empty()) {
+      if (count == 0) first = i;
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  const std::size_t pixel = first / channels;
+  const double value = map.pixels[first];
+  std::string strength = number(value);
+  if (scale > 1.0) strength += " times the intensity " + number(intensity) + " (" + number(value * scale) + ")";
+  throw io::ImageIoError(name + ": " + std::to_string(count) + (count == 1 ? " texel" : " texels") +
+                         " too bright, first at pixel (" + std::to_string(pixel % std::size_t(map.width)) + ", " +
+                         std::to_string(pixel / std::size_t(map.width)) + ") channel " +
+                         map.channels[first % channels] + ": radiance " + strength + " is " +
+                         scene::lightStrengthProblem(std::fabs(value) * scale));
+}
+
+}  // namespace
+
 io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
                                  std::uint32_t maxWidth) {
   const std::size_t channels = map.channelCount();
   checkEnvironmentMapShape(map.width, map.height, channels, name);
+  checkTexelStrength(map, name, intensity);
 
   // A texel with a NaN or infinite channel is black before it is filtered,
   // so that it cannot spread into its neighbours.

@@ -104,7 +104,9 @@ glm::vec3 skyHorizontalIrradiance(const SkyParameters& params);
 // everywhere in the renderer: docs/conventions.md), area-filtered
 // down to maxWidth if wider, turned by rotationDegrees about +Y, times
 // intensity. Throws io::ImageIoError naming `name` if it is not 2:1 (within
-// 1 %) or narrower than 8 texels.
+// 1 %) or narrower than 8 texels, or if a texel's radiance (times the
+// intensity, when above 1) is beyond scene::kMaxLightStrength, naming the
+// first such texel and their count.
 io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
                                  std::uint32_t maxWidth);
 
