@@ -331,6 +331,44 @@ TEST(Flip, ImagesAreReadInPlaceAsTheirCopiesAre) {
   EXPECT_THROW(metrics::rgbView(io::ImageF(4, 4, {"X", "Y"})), std::invalid_argument);
 }
 
+// Radiance times exposure beyond 1.8e19 overflowed the tone mapper's square
+// and made its pixel, and through the filters its neighbours, NaN, which
+// HDR-FLIP's maximum skipped: a test image of 3e38 scored 0, identical to
+// its reference. The tone mapper saturates instead.
+TEST(Flip, HugeRadianceIsAVisibleDifferenceNotNaN) {
+  metrics::RgbImage reference(24, 16), spike(24, 16), huge(24, 16);
+  for (glm::vec3& p : reference.pixels) p = glm::vec3(1.0f);
+  spike = reference;
+  spike.at(12, 8) = glm::vec3(3.4e38f);
+  for (glm::vec3& p : huge.pixels) p = glm::vec3(3.0e38f);
+  EXPECT_EQ(metrics::flipToneMap(glm::vec3(3.0e38f)), glm::vec3(1.0f));
+  EXPECT_EQ(metrics::flipToneMap(glm::vec3(-3.0e38f)), glm::vec3(1.0f)) << "as the curve gives for any large value";
+  const float ppd = metrics::defaultPixelsPerDegree();
+  const metrics::HdrFlipResult one = metrics::hdrFlip(reference, spike, ppd);
+  for (float v : one.error.values) ASSERT_TRUE(std::isfinite(v));
+  // The reference exposed to 0.85 of white against white: what a viewer sees.
+  EXPECT_GT(one.error.at(12, 8), 0.05f);
+  EXPECT_EQ(one.error.at(0, 0), 0.0f) << "far from the spike";
+  const metrics::HdrFlipResult all = metrics::hdrFlip(reference, huge, ppd);
+  EXPECT_GT(metrics::errorStatistics(all.error.values).min, 0.1);
+}
+
+// Below about 1.7 pixels per degree (compare --ppd takes 0.01) the feature
+// filters' lobes underflowed to 0 and were normalised 0 / 0: LDR-FLIP was
+// NaN everywhere and HDR-FLIP 0. Their limit, the central difference, is
+// used instead.
+TEST(Flip, TinyPixelsPerDegreeGiveFiniteFlip) {
+  const auto [reference, test] = busyPair(20, 12, 1.0f);
+  for (const float ppd : {0.01f, 0.5f, 1.5f}) {
+    SCOPED_TRACE("ppd " + std::to_string(ppd));
+    const metrics::ScalarImage ldr = metrics::ldrFlip(reference, test, ppd);
+    for (float v : ldr.values) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f) << v;
+    EXPECT_GT(metrics::errorStatistics(ldr.values).mean, 0.01);
+    for (float v : metrics::ldrFlip(reference, reference, ppd).values) ASSERT_EQ(v, 0.0f);
+    EXPECT_GT(metrics::errorStatistics(metrics::hdrFlip(reference, test, ppd).error.values).mean, 0.01);
+  }
+}
+
 TEST(Flip, MismatchedSizesAreRefused) {
   EXPECT_THROW(metrics::ldrFlip(gradient(8, 8), gradient(8, 9), 67.0f), std::invalid_argument);
   EXPECT_THROW(metrics::ldrFlip(gradient(8, 8), gradient(8, 8), 0.0f), std::invalid_argument);

@@ -199,6 +199,21 @@ FeatureFilters makeFeatureFilters(float ppd) {
     f.firstDerivative[k] /= f.firstDerivative[k] > 0.0f ? firstPositive : firstNegative;
     f.secondDerivative[k] /= f.secondDerivative[k] > 0.0f ? secondPositive : secondNegative;
   }
+  // Below about 1.7 pixels per degree the Gaussian is so narrow that its
+  // taps beside the centre underflow to 0: the lobes above summed to 0 and
+  // the kernels were 0 / 0, NaN, which made every FLIP value NaN (and
+  // HDR-FLIP, whose maximum skips NaN, 0). The kernels' limit as the
+  // Gaussian narrows is the central difference and its second difference.
+  if (!(firstPositive > 0.0f && firstNegative > 0.0f && secondPositive > 0.0f)) {
+    std::fill(f.firstDerivative.begin(), f.firstDerivative.end(), 0.0f);
+    std::fill(f.secondDerivative.begin(), f.secondDerivative.end(), 0.0f);
+    const std::size_t centre = std::size_t(f.radius);
+    f.firstDerivative[centre - 1] = 1.0f;
+    f.firstDerivative[centre + 1] = -1.0f;
+    f.secondDerivative[centre - 1] = 0.5f;
+    f.secondDerivative[centre] = -1.0f;
+    f.secondDerivative[centre + 1] = 0.5f;
+  }
   return f;
 }
 
@@ -465,6 +480,9 @@ struct ToneCurve {
   float k0, k1, k2, k3, k4, k5;
 };
 constexpr ToneCurve kAces{0.6f * 0.6f * 2.51f, 0.6f * 0.03f, 0.0f, 0.6f * 0.6f * 2.43f, 0.6f * 0.59f, 0.14f};
+// Far beyond the exposed radiance at which flipToneMap saturates (12.1), far
+// below the one at which its square overflows float (1.8e19).
+constexpr float kToneMapInputLimit = 1.0e6f;
 // HDR-FLIP's exposure range aims the chosen luminances at this display value.
 constexpr float kExposureTarget = 0.85f;
 
@@ -505,6 +523,12 @@ std::uint64_t flipWorkingBytes(int width, int height, float ppd) {
 }
 
 glm::vec3 flipToneMap(glm::vec3 c) {
+  // The curve squares its input, so radiance times exposure beyond about
+  // 1.8e19 overflowed to infinity and made it inf / inf, NaN: a test image
+  // of 3e38 read as identical to its reference (HDR-FLIP's maximum skips
+  // NaN). The curve is at 1 from 12.1 on, so this clamp changes no value
+  // that was not NaN.
+  c = glm::clamp(c, -kToneMapInputLimit, kToneMapInputLimit);
   const glm::vec3 numerator = c * c * kAces.k0 + c * kAces.k1 + kAces.k2;
   const glm::vec3 denominator = c * c * kAces.k3 + c * kAces.k4 + kAces.k5;
   return glm::clamp(numerator / denominator, 0.0f, 1.0f);

@@ -127,7 +127,8 @@ HdrFlipResult hdrFlip(const RgbView& reference, const RgbView& test, float pixel
                       std::optional<ExposureRange> exposures = std::nullopt, int bandRows = 0);
 
 // HDR-FLIP's tone mapper: Narkowicz's fit of ACES with the 0.6 pre-exposure
-// taken out, per channel, clamped to [0,1]. It is not the renderer's
+// taken out, per channel, clamped to [0,1] (its input to +-1e6, where it is
+// long saturated, so that no radiance overflows it). It is not the renderer's
 // tonemapAcesFitted (Hill's fit): HDR-FLIP's values depend on this curve.
 glm::vec3 flipToneMap(glm::vec3 exposedRadiance);
 
