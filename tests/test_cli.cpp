@@ -432,6 +432,32 @@ TEST(Cli, DenoiseCheckerboardHandsTheDenoiserHalfThePixels) {
   fs::remove_all(halves);
 }
 
+// A black scene: every relMSE is 0 against 0 (defined, by its epsilon) and
+// the ratio denoised / noisy is 0 / 0, which the table printed as -nan.
+// Now it says "undefined" and why, and the JSON has null.
+TEST(Cli, DenoiseOfABlackSceneSaysItsRatioIsUndefined) {
+  const fs::path dir = freshDirectory("denoise_black");
+  Result r =
+      run("denoise sun-room --no-sun --env-intensity 0 --width 32 --height 18 --frames 1 --reference-spp 1 "
+          "--out " +
+          dir.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find(" nan"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("-nan"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  frame                         0            0          undefined\n"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("undefined where the noisy relMSE is 0: the reference is black"), std::string::npos)
+      << r.output;
+  std::ifstream file(dir / "denoise.json");
+  const nlohmann::json json = nlohmann::json::parse(file);
+  for (const char* part : {"diffuse", "specular", "frame"}) {
+    EXPECT_EQ(json["relmse"][part]["noisy_relmse"], 0.0) << part;
+    EXPECT_EQ(json["relmse"][part]["denoised_relmse"], 0.0) << part;
+    EXPECT_TRUE(json["relmse"][part]["ratio"].is_null()) << part;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(Cli, DenoiseBadArgumentsAreOneClearLine) {
   const fs::path dir = freshDirectory("denoise_bad");
   fs::create_directories(dir);

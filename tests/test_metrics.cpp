@@ -749,6 +749,23 @@ TEST_F(CompareCommand, ImagesTooLargeToCompareAreRefusedFromTheirHeaders) {
   EXPECT_TRUE(contains(decoded.err, "cannot decode")) << decoded.err;
 }
 
+// A black reference: relMSE is defined (0 against 0, by its epsilon), and
+// the mean luminance ratio is undefined, not 0 as it used to print (as if
+// the test were black too).
+TEST_F(CompareCommand, ABlackReferenceHasDefinedErrorsAndAnUndefinedRatio) {
+  const fs::path black = dir / "black.png", grey = dir / "grey.png";
+  io::writePng(black, constantImage(16, 8, 0.0f), io::PngEncoding::Srgb);
+  io::writePng(grey, constantImage(16, 8, 0.5f), io::PngEncoding::Srgb);
+  const CommandResult same = runCompare(quoted(black) + " " + quoted(black) + " --max-relmse 0 --max-flip 0");
+  EXPECT_EQ(same.exitCode, 0) << same.out << same.err;
+  EXPECT_TRUE(contains(same.out, "relMSE     0  ")) << same.out;
+  EXPECT_TRUE(contains(same.out, "ratio undefined (the reference's mean luminance is 0)")) << same.out;
+  const CommandResult brighter = runCompare(quoted(black) + " " + quoted(grey));
+  EXPECT_EQ(brighter.exitCode, 0) << brighter.err;
+  EXPECT_TRUE(contains(brighter.out, "ratio undefined")) << brighter.out;
+  EXPECT_FALSE(contains(brighter.out + same.out, " nan") || contains(brighter.out + same.out, "-nan")) << brighter.out;
+}
+
 TEST_F(CompareCommand, UsageErrorsExitTwo) {
   for (const std::string& arguments :
        {quoted(kRepoPairs / "b_checker_ref.png"), ldrPair() + " " + quoted(kRepoPairs / "b_checker_ref.png"),

@@ -48,6 +48,13 @@ std::string number(double value) {
   return text;
 }
 
+// test / reference, or `undefined` when the reference's mean is 0 (a black
+// reference): it used to print 0, as if the test were black.
+std::string luminanceRatio(double referenceMean, double testMean,
+                           const std::string& undefined = "undefined (the reference's mean luminance is 0)") {
+  return referenceMean != 0.0 ? number(testMean / referenceMean) : undefined;
+}
+
 // JSON has no infinity or NaN; those become null (PSNR of identical images).
 std::string jsonNumber(double value) {
   if (!std::isfinite(value)) return "null";
@@ -313,7 +320,7 @@ int comparePair(const CompareOptions& options) {
   std::printf("reference  %s (%dx%d)\n", referencePath.c_str(), width, height);
   std::printf("test       %s\n", testPath.c_str());
   std::printf("mean       luminance %s (reference) %s (test), ratio %s\n", number(referenceMean).c_str(),
-              number(testMean).c_str(), number(referenceMean > 0.0 ? testMean / referenceMean : 0.0).c_str());
+              number(testMean).c_str(), luminanceRatio(referenceMean, testMean).c_str());
   std::printf("relMSE     %s  (epsilon %s)\n", number(comparison.values.relMse).c_str(),
               number(metrics::kRelMseEpsilon).c_str());
   std::printf("RMSE       %s\n", number(comparison.values.rmse).c_str());
@@ -336,8 +343,7 @@ int comparePair(const CompareOptions& options) {
     std::printf("regions    of %s: label, pixels, mean luminance ratio, relMSE\n", options.regions.c_str());
     for (const Region& r : regions)
       std::printf("region     %s %zu %s %s\n", number(r.label).c_str(), r.pixels,
-                  number(r.referenceMean > 0.0 ? r.testMean / r.referenceMean : 0.0).c_str(),
-                  number(r.errors.relMse).c_str());
+                  luminanceRatio(r.referenceMean, r.testMean, "undefined").c_str(), number(r.errors.relMse).c_str());
   }
 
   std::vector<std::string> failures;  // thresholds given and not met, as the failure line names them
