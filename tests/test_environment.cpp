@@ -465,6 +465,8 @@ TEST(EnvironmentMap, TexelsBeyondTheBrightestLightAreRefusedByPosition) {
       0u)
       << huge;
   EXPECT_EQ(errorOf(map, 0.001f).rfind("sky.hdr: 2 texels", 0), 0u) << "a small intensity does not excuse them";
+  map.at(9, 5, 1) = map.at(9, 5, 2) = 3.0e38f;
+  EXPECT_EQ(errorOf(map, 1.0f).rfind("sky.hdr: 2 texels", 0), 0u) << "texels are counted, not their channels";
 
   io::ImageF bright = constantMap(16, 8, glm::vec3(1.0f));
   bright.at(0, 0, 2) = 1.0e19f;

@@ -291,12 +291,15 @@ namespace {
 void checkTexelStrength(const io::ImageF& map, const std::string& name, float intensity) {
   const std::size_t channels = map.channelCount();
   const double scale = std::max(1.0, double(intensity));
-  std::size_t count = 0, first = 0;
-  for (std::size_t i = 0; i < map.pixels.size(); ++i) {
-    const float value = map.pixels[i];
-    if (i % channels < 3 && std::isfinite(value) && !scene::lightStrengthProblem(std::fabs(value) * scale).empty()) {
-      if (count == 0) first = i;
-      ++count;
+  std::size_t count = 0, first = 0;  // texels, and the first one's first bright value
+  for (std::size_t pixel = 0; pixel < map.pixels.size() / channels; ++pixel) {
+    for (std::size_t c = 0; c < std::min<std::size_t>(channels, 3); ++c) {
+      const float value = map.pixels[pixel * channels + c];
+      if (std::isfinite(value) && !scene::lightStrengthProblem(std::fabs(value) * scale).empty()) {
+        if (count == 0) first = pixel * channels + c;
+        ++count;
+        break;
+      }
     }
   }
   if (count == 0) return;
