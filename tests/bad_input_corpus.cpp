@@ -21,6 +21,7 @@
 #include "bounce/gi_settings.h"
 #include "gltf_builder.h"
 #include "io/image_io.h"
+#include "zero_png.h"
 
 namespace bounce::testing {
 namespace {
@@ -267,7 +268,8 @@ void environmentMaps(CorpusBuilder& corpus) {
   };
   exrMap("nan", std::numeric_limits<float>::quiet_NaN(), "NaN", Outcome::Error);
   exrMap("infinity", std::numeric_limits<float>::infinity(), "Inf", Outcome::Error);
-  exrMap("largest_float", std::numeric_limits<float>::max(), "", Outcome::FiniteImage);
+  exrMap("largest_float", std::numeric_limits<float>::max(), "1 texel too bright, first at pixel (3, 1) channel G",
+         Outcome::Error);
   exrMap("negative", -5.0f, "", Outcome::FiniteImage);
 
   // Not files at all.
@@ -1012,6 +1014,76 @@ void gltfAndCameraRound2(CorpusBuilder& corpus) {
       {"sheet", "{dir}/a.png", "--label", "caf\xc3\xa9", "--out", "{dir}/sheet.png"}, "--label");
 }
 
+// ---------------------------------------------------------------- images and metrics
+
+// Images that are cheap on disk and huge in memory, maps too bright for
+// float radiance, and output names that do not match what is written
+// (issue 28, items 5, 9 and 11).
+void imageAndMetricInputs(CorpusBuilder& corpus) {
+  // 16384 x 16384 declared in 300 bytes (the data ends after a row): refused
+  // from the header, before decoding, with the memory it would need.
+  const Bytes hugePng = zeroPng(16384, 16384, 1);
+  corpus.binaryFile("compare_png_declares_16384_squared", "huge.png", hugePng,
+                    {"compare", "{dir}/huge.png", "{dir}/huge.png"}, "needs about");
+  corpus.binaryFile("compare_sequence_png_declares_16384_squared", "huge.png", hugePng,
+                    {"compare", "--sequence", "{dir}/huge.png", "{dir}/huge.png"}, "needs about");
+  corpus.binaryFile("sheet_png_declares_16384_squared", "huge.png", hugePng,
+                    {"sheet", "{dir}/huge.png", "--out", "{out}/sheet.png"}, "needs about");
+  corpus.add(
+      "compare_test_declares_16384_squared_against_a_small_reference", "huge.png",
+      [hugePng](const fs::path& dir) {
+        writeBytes(dir / "huge.png", hugePng);
+        writeBytes(dir / "small.png", zeroPng(8, 8, 8));
+      },
+      {"compare", "{dir}/small.png", "{dir}/huge.png"}, "is 16384x16384 but the reference is 8x8");
+  corpus.binaryFile("env_png_declares_16384x8192_rgba", "env.png", zeroPng(16384, 8192, 1, 4),
+                    {"render", "cornell", "--env", "{dir}/env.png", "--no-sun", "--out", "{out}"},
+                    "preparing a 16384x8192 environment map needs about");
+  corpus.binaryFile("env_png_declares_16384_squared", "env.png", hugePng,
+                    {"render", "cornell", "--env", "{dir}/env.png", "--no-sun", "--out", "{out}"},
+                    "16384x16384 is not an equirectangular map");
+
+  // Radiance texels beyond the brightest light: exponent 255 is 1.7e38,
+  // which times an intensity of 4 overflowed and blacked out the map.
+  const auto rgbeMap = [](std::uint8_t mantissa, std::uint8_t exponent) {
+    Bytes pixels;
+    for (int i = 0; i < 16 * 8; ++i) pixels.insert(pixels.end(), {mantissa, mantissa, mantissa, exponent});
+    return radianceFile("-Y 8 +X 16", pixels);
+  };
+  const auto envCase = [&](const std::string& name, const std::string& file, Bytes bytes,
+                           std::vector<std::string> extra, const std::string& mentions) {
+    std::vector<std::string> arguments = {"render", "sun-room", "--env", "{dir}/" + file, "--no-sun", "--out", "{out}"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    corpus.binaryFile(name, file, std::move(bytes), arguments, mentions);
+  };
+  envCase("env_hdr_exponent_255", "env.hdr", rgbeMap(255, 255), {}, "128 texels too bright, first at pixel (0, 0)");
+  envCase("env_hdr_exponent_255_times_4", "env.hdr", rgbeMap(255, 255), {"--env-intensity", "4"},
+          "times the intensity 4");
+  envCase("env_hdr_exponent_200", "env.hdr", rgbeMap(128, 200), {}, "is above 1e+20");
+  envCase("env_hdr_1e19_times_100", "env.hdr", rgbeMap(128, 192), {"--env-intensity", "100"},
+          "times the intensity 100");
+  corpus.add(
+      "env_exr_3e38_everywhere", "env.exr",
+      [](const fs::path& dir) {
+        io::ImageF image(16, 8, {"R", "G", "B"});
+        for (float& v : image.pixels) v = 3.0e38f;
+        io::writeExr(dir / "env.exr", image);
+      },
+      {"render", "sun-room", "--env", "{dir}/env.exr", "--no-sun", "--out", "{out}"}, "too bright");
+
+  // Output names that say another format than the one written.
+  const auto reference = [](const fs::path& dir) { writeBytes(dir / "a.png", zeroPng(8, 8, 8)); };
+  corpus.add("sheet_out_named_exr", "x.exr", reference, {"sheet", "{dir}/a.png", "--out", "{out}/x.exr"},
+             "must name a .png file");
+  corpus.add("compare_error_map_named_exr", "map.exr", reference,
+             {"compare", "{dir}/a.png", "{dir}/a.png", "--error-map", "{out}/map.exr"}, "must name a .png file");
+  corpus.add("compare_json_named_png", "values.png", reference,
+             {"compare", "{dir}/a.png", "{dir}/a.png", "--json", "{out}/values.png"}, "must name a .json file");
+  corpus.add(
+      "bench_json_named_csv", "bench.csv", [](const fs::path&) {}, {"bench", "cornell", "--json", "{out}/bench.csv"},
+      "must name a .json file");
+}
+
 }  // namespace
 
 const std::vector<CorpusCase>& badInputCorpus() {
@@ -1024,6 +1096,7 @@ const std::vector<CorpusCase>& badInputCorpus() {
     viewerScripts(builder);
     gltfScenes(builder);
     gltfAndCameraRound2(builder);
+    imageAndMetricInputs(builder);
     return std::move(builder.cases);
   }();
   return corpus;

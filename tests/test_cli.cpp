@@ -23,6 +23,7 @@
 #include "bounce/version.h"
 #include "io/image_io.h"
 #include "process.h"
+#include "zero_png.h"
 
 namespace {
 
@@ -469,6 +470,32 @@ TEST(Cli, DenoiseCheckerboardHandsTheDenoiserHalfThePixels) {
   fs::remove_all(halves);
 }
 
+// A black scene: every relMSE is 0 against 0 (defined, by its epsilon) and
+// the ratio denoised / noisy is 0 / 0, which the table printed as -nan.
+// Now it says "undefined" and why, and the JSON has null.
+TEST(Cli, DenoiseOfABlackSceneSaysItsRatioIsUndefined) {
+  const fs::path dir = freshDirectory("denoise_black");
+  Result r =
+      run("denoise sun-room --no-sun --env-intensity 0 --width 32 --height 18 --frames 1 --reference-spp 1 "
+          "--out " +
+          dir.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find(" nan"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("-nan"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  frame                         0            0          undefined\n"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("undefined where the noisy relMSE is 0: the reference is black"), std::string::npos)
+      << r.output;
+  std::ifstream file(dir / "denoise.json");
+  const nlohmann::json json = nlohmann::json::parse(file);
+  for (const char* part : {"diffuse", "specular", "frame"}) {
+    EXPECT_EQ(json["relmse"][part]["noisy_relmse"], 0.0) << part;
+    EXPECT_EQ(json["relmse"][part]["denoised_relmse"], 0.0) << part;
+    EXPECT_TRUE(json["relmse"][part]["ratio"].is_null()) << part;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(Cli, DenoiseBadArgumentsAreOneClearLine) {
   const fs::path dir = freshDirectory("denoise_bad");
   fs::create_directories(dir);
@@ -860,6 +887,58 @@ TEST(CliHardening, SheetRefusesLabelsItsFontCannotDraw) {
                                  "--out", (dir / "sheet.png").string()});
   EXPECT_EQ(drawable.exitCode, 1) << drawable.output;
   EXPECT_NE(drawable.output.find("missing.png"), std::string::npos) << drawable.output;
+}
+
+// A sheet is worked out from its images' headers first: a PNG of a few
+// hundred bytes declaring 16384 x 16384 pixels (its data ends after a row)
+// is refused with the memory it would need, before anything is decoded; it
+// used to be decoded and laid out in floats, 6 to 12 GB for a real one.
+TEST(CliHardening, SheetsTooLargeToMakeAreRefusedFromTheHeaders) {
+  const fs::path dir = freshDirectory("sheet_memory");
+  fs::create_directories(dir);
+  const std::vector<std::uint8_t> bytes = bounce::testing::zeroPng(16384, 16384, 1);
+  std::ofstream(dir / "huge.png", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  const auto r = runArgs({"sheet", (dir / "huge.png").string(), "--out", (dir / "sheet.png").string()});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+  EXPECT_NE(
+      r.output.find("bounce: error: " + (dir / "huge.png").string() + ": a sheet of one 16384x16384 image needs about"),
+      std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("more than the limit of 2.0 GiB"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "sheet.png"));
+  fs::remove_all(dir);
+}
+
+// Every option that names a file of a given format wants that format's
+// extension: `sheet --out x.exr` used to write PNG bytes into x.exr. A
+// wrong name is a command-line error (exit 2), found before any work.
+TEST(CliHardening, OutputFilesMustBeNamedForTheFormatWritten) {
+  const fs::path dir = freshDirectory("output_names");
+  fs::create_directories(dir);
+  const std::string image = (fs::path(BOUNCE_SOURCE_DIR) / "tests" / "data" / "flip" / "b_checker_ref.png").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"sheet", image, "--out", (dir / "x.exr").string()}, "must name a .png file"},
+      {{"compare", image, image, "--error-map", (dir / "map.exr").string()}, "must name a .png file"},
+      {{"compare", image, image, "--json", (dir / "values.png").string()}, "must name a .json file"},
+      {{"compare", "--sequence", image, image, "--json", (dir / "values").string()}, "must name a .json file"},
+      {{"reference", "cornell", "--out", (dir / "ref.png").string()}, "must name an .exr file"},
+      {{"bench", "cornell", "--json", (dir / "bench.txt").string()}, "must name a .json file"},
+  };
+  for (const auto& [arguments, message] : cases) {
+    const auto r = runArgs(arguments);
+    EXPECT_EQ(r.exitCode, 2) << arguments[0] << ": " << r.output;
+    EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(dir.string()), std::string::npos) << "names the file: " << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
+  // Any case of the extension will do.
+  const auto upper = runArgs({"sheet", image, "--out", (dir / "x.PNG").string()});
+  EXPECT_EQ(upper.exitCode, 0) << upper.output;
+  EXPECT_EQ(bounce::io::readImage(dir / "x.PNG").width, 128);
+  fs::remove_all(dir);
 }
 
 // --material changes a material's factor; a misspelt material, key or value

@@ -27,6 +27,7 @@
 #include "shared/equirect.glsl"
 #include "shared/rng.glsl"
 #include "shared/sky.glsl"
+#include "zero_png.h"
 
 namespace bounce::render {
 namespace {
@@ -437,7 +438,49 @@ TEST(EnvironmentMap, IntensitiesWhoseSkyWouldOverflowAreRefused) {
   EXPECT_EQ(environmentIntensityProblem(desc), "") << "no sky, no product";
   desc.map = "map.exr";
   desc.hasSun = true;
-  EXPECT_EQ(environmentIntensityProblem(desc), "") << "a map's texels are clamped to 65504 before the intensity";
+  EXPECT_EQ(environmentIntensityProblem(desc), "")
+      << "a map's texels times the intensity are checked as it is prepared";
+}
+
+// A Radiance texel of exponent 255 is 1.7e38: finite, but times an
+// intensity of 4 it overflowed to infinity, every texel became black and
+// the render and the reference went dark ("environment black") without a
+// word. Texels beyond the brightest light are refused by position, as NaN
+// ones are; bright suns below it are clamped to 65504 as before.
+TEST(EnvironmentMap, TexelsBeyondTheBrightestLightAreRefusedByPosition) {
+  io::ImageF map = constantMap(16, 8, glm::vec3(1.0f));
+  map.at(3, 2, 1) = 1.7e38f;
+  map.at(9, 5, 0) = 3.0e38f;
+  const auto errorOf = [&](const io::ImageF& m, float intensity) -> std::string {
+    try {
+      prepareEnvironmentMap(m, "sky.hdr", intensity, 0.0f, 2048);
+    } catch (const io::ImageIoError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string huge = errorOf(map, 1.0f);
+  EXPECT_EQ(
+      huge.rfind("sky.hdr: 2 texels too bright, first at pixel (3, 2) channel G: radiance 1.7e+38 is above 1e+20", 0),
+      0u)
+      << huge;
+  EXPECT_EQ(errorOf(map, 0.001f).rfind("sky.hdr: 2 texels", 0), 0u) << "a small intensity does not excuse them";
+  map.at(9, 5, 1) = map.at(9, 5, 2) = 3.0e38f;
+  EXPECT_EQ(errorOf(map, 1.0f).rfind("sky.hdr: 2 texels", 0), 0u) << "texels are counted, not their channels";
+
+  io::ImageF bright = constantMap(16, 8, glm::vec3(1.0f));
+  bright.at(0, 0, 2) = 1.0e19f;
+  const std::string scaled = errorOf(bright, 100.0f);
+  EXPECT_NE(scaled.find("1 texel too bright, first at pixel (0, 0) channel B: radiance 1e+19 times the intensity 100 "
+                        "(1e+21) is above 1e+20"),
+            std::string::npos)
+      << scaled;
+  const io::ImageF clamped = prepareEnvironmentMap(bright, "sky.hdr", 10.0f, 0.0f, 2048);
+  EXPECT_EQ(clamped.at(0, 0, 2), 65504.0f) << "within the limit, a bright texel is clamped";
+  io::ImageF grey(16, 8, {"Y"});
+  for (float& v : grey.pixels) v = 1.0f;
+  grey.at(15, 7, 0) = 1.0e30f;
+  EXPECT_NE(errorOf(grey, 1.0f).find("pixel (15, 7) channel Y"), std::string::npos);
 }
 
 TEST(EnvironmentMap, RejectsMapsThatAreNotEquirectangular) {
@@ -653,6 +696,38 @@ TEST_F(EnvironmentGpu, MissingOrCorruptMapsAreErrorsNamingTheFile) {
       EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
     }
   }
+}
+
+// A map is checked from its header before it is decoded: a PNG of a few
+// hundred bytes (its data ends after a row) declaring a square 16384 x 16384
+// map is refused for its shape, and one of 16384 x 8192 RGBA pixels for the
+// memory preparing it would take (it used to be decoded first: a 130 KB PNG
+// of 16384 x 8192 zeros made a render take 4 GB).
+TEST_F(EnvironmentGpu, MapsAreRefusedFromTheirHeadersBeforeDecoding) {
+  const std::filesystem::path directory = testDirectory("headers");
+  const auto write = [&](const char* name, const std::vector<std::uint8_t>& bytes) {
+    std::ofstream(directory / name, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    return directory / name;
+  };
+  const std::vector<std::pair<std::filesystem::path, std::string>> cases = {
+      {write("square.png", testing::zeroPng(16384, 16384, 1)), "16384x16384 is not an equirectangular map"},
+      {write("rgba.png", testing::zeroPng(16384, 8192, 1, 4)), "preparing a 16384x8192 environment map needs about"},
+  };
+  for (const auto& [path, message] : cases) {
+    EnvironmentDesc desc;
+    desc.map = path;
+    try {
+      Environment environment(context(), desc);
+      FAIL() << path << " was accepted";
+    } catch (const io::ImageIoError& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string() + ": " + message), std::string::npos) << e.what();
+    }
+  }
+  // Within the limits, the map is decoded, and its short data found.
+  EnvironmentDesc desc;
+  desc.map = write("short.png", testing::zeroPng(64, 32, 1));
+  EXPECT_THROW(Environment(context(), desc), io::ImageIoError);
 }
 
 TEST_F(EnvironmentGpu, NoSunIsBlack) {

@@ -167,6 +167,29 @@ TEST(Ghosting, AMovingObjectUncoversStripsTheLibraryStartsOverOn) {
   fs::remove_all(dir);
 }
 
+// In a black scene every region's relMSE is 0 (defined: its epsilon), and
+// the uncovered pixels' ratio to the others is 0 / 0: "undefined" in the
+// table, null in the JSON. It showed "-", the mark of a number not measured.
+TEST(Ghosting, RatiosOverABlackReferenceAreUndefinedNotMissing) {
+  const fs::path dir = freshDirectory("black");
+  const Result r =
+      run("ghosting sun-room --no-sun --env-intensity 0 --width 32 --height 18 --after 1 --settle 1 "
+          "--reference-spp 1 --gi-warmup 1 --event-frame 2 --out " +
+          dir.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find(" nan"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("-nan"), std::string::npos) << r.output;
+  const std::string table = r.output.substr(r.output.find("\nframe relMSE"));
+  const std::string firstRow = table.substr(table.find("\n  +0"), 80);
+  EXPECT_NE(firstRow.find("  0          0          0  undefined  undefined"), std::string::npos) << table;
+  std::ifstream file(dir / "ghosting.json");
+  const nlohmann::json json = nlohmann::json::parse(file);
+  const nlohmann::json& age = json["ages"][0];
+  EXPECT_EQ(age["uncovered"]["relmse"]["frame"], 0.0);
+  EXPECT_TRUE(age["ratio_to_rest"]["frame"].is_null());
+  fs::remove_all(dir);
+}
+
 TEST(Ghosting, BadArgumentsAreOneClearLine) {
   const fs::path dir = freshDirectory("bad");
   fs::create_directories(dir);

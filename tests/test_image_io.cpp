@@ -26,6 +26,7 @@
 #include <zlib.h>
 
 #include "shared/color.glsl"
+#include "zero_png.h"
 
 namespace bounce::io {
 namespace {
@@ -965,6 +966,108 @@ TEST_F(ImageIoTest, ApngHoldsEveryFrameInOrderWithValidChunks) {
   std::vector<ImageF> mixed = {frames[0], ImageF(4, 3, {"R", "G", "B"})};
   expectContains(errorOf([&] { writeApng(file("mixed.png"), mixed, 25.0f); }), "frame 1 is 4x3");
   EXPECT_FALSE(fs::exists(file("mixed.png"))) << "no half file";
+}
+
+// ============================================================== headers alone
+
+// readImageInfo says what readImage will return, for every format, so that
+// commands can work out the memory of their images before decoding them.
+TEST_F(ImageIoTest, ImageInfoIsWhatReadImageMakes) {
+  writePng(file("rgb.png"), randomImage(13, 7, {"R", "G", "B"}, 0.0f, 1.0f, 1), PngEncoding::Linear);
+  writePng(file("grey.png"), randomImage(5, 9, {"Y"}, 0.0f, 1.0f, 2), PngEncoding::Linear);
+  writeBytes(file("greyalpha16.png"), buildPng16(3, 2, 4, std::vector<std::uint16_t>(12, 40000)));
+  const Bytes flat(32 * 16 * 3, 128);
+  ASSERT_TRUE(stbi_write_jpg(file("grey.jpg").c_str(), 32, 16, 3, flat.data(), 90));
+  const std::vector<float> radiance(11 * 6 * 3, 2.5f);
+  ASSERT_TRUE(stbi_write_hdr(file("sky.hdr").c_str(), 11, 6, 3, radiance.data()));
+  writeExr(file("layers.exr"), randomImage(6, 4, {"R", "G", "B", "A", "Z"}, 0.0f, 1.0f, 3));
+  writeExr(file("depth.exr"), randomImage(6, 4, {"viewZ"}, 0.0f, 1.0f, 4));
+  for (const char* name :
+       {"rgb.png", "grey.png", "greyalpha16.png", "grey.jpg", "sky.hdr", "layers.exr", "depth.exr"}) {
+    SCOPED_TRACE(name);
+    const ImageInfo info = readImageInfo(file(name));
+    const ImageF image = readImage(file(name));
+    EXPECT_EQ(info.width, image.width);
+    EXPECT_EQ(info.height, image.height);
+    EXPECT_EQ(info.channels, image.channelCount());
+    EXPECT_EQ(info.imageBytes(), image.pixels.size() * sizeof(float));
+    EXPECT_GT(info.readBytes(), info.imageBytes()) << "decoding needs something beside the image";
+  }
+}
+
+// A 16384 x 16384 PNG in a few hundred bytes (its data ends after one row):
+// the header is all readImageInfo reads, so it reports the size that
+// readImage, decoding, refuses.
+TEST_F(ImageIoTest, ImageInfoReadsOnlyTheHeader) {
+  writeBytes(file("huge.png"), testing::zeroPng(16384, 16384, 1));
+  const ImageInfo info = readImageInfo(file("huge.png"));
+  EXPECT_EQ(info.width, 16384);
+  EXPECT_EQ(info.height, 16384);
+  EXPECT_EQ(info.channels, 3u);
+  EXPECT_GE(info.readBytes(), 16384ull * 16384 * 3 * sizeof(float));
+  expectContains(errorOf([&] { readImage(file("huge.png")); }), "cannot decode");
+}
+
+// A file readImage refuses from its header gets the same message from
+// readImageInfo: a command that looks at headers first says what it always said.
+TEST_F(ImageIoTest, ImageInfoRefusesWhatReadImageRefusesWithTheSameMessage) {
+  writeBytes(file("empty.png"), {});
+  writeBytes(file("gif.png"), Bytes{'G', 'I', 'F', '8', '9', 'a', 1, 0, 1, 0, 0, 0, 0});
+  const Bytes row(70000, 128);
+  ASSERT_TRUE(stbi_write_png(file("wide.png").c_str(), 70000, 1, 1, row.data(), 70000));
+  writeBytes(file("cut.png"), Bytes{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H'});
+  const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+  const auto hdr = [&](const std::string& resolution, std::size_t pixelBytes) {
+    Bytes bytes(header.begin(), header.end());
+    bytes.insert(bytes.end(), resolution.begin(), resolution.end());
+    bytes.resize(bytes.size() + pixelBytes, 128);
+    return bytes;
+  };
+  writeBytes(file("sideways.hdr"), hdr("+X 4 -Y 2\n", 32));
+  writeBytes(file("short.hdr"), hdr("-Y 2000 +X 4000\n", 64));
+  writeBytes(file("wide.exr"), buildExr(0, 0, 70000, 1, {{"Y", ExrType::Half, 1, [](int, int) { return 1.0f; }}}));
+  for (const char* name :
+       {"absent.exr", "empty.png", "gif.png", "wide.png", "cut.png", "sideways.hdr", "short.hdr", "wide.exr"}) {
+    SCOPED_TRACE(name);
+    const std::string message = errorOf([&] { readImage(file(name)); });
+    expectContains(message, file(name).string());
+    EXPECT_EQ(errorOf([&] { readImageInfo(file(name)); }), message);
+  }
+  EXPECT_EQ(errorOf([&] { readImageInfo(dir_); }), errorOf([&] { readImage(dir_); }));
+}
+
+// Radiance headers are read from the file's first mebibyte, and from all of
+// it when they are longer.
+TEST_F(ImageIoTest, ImageInfoFindsTheEndOfALongRadianceHeader) {
+  std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n";
+  for (int line = 0; line < 400; ++line) header += "COMMENT=" + std::string(4000, 'x') + "\n";
+  header += "\n-Y 2 +X 3\n";
+  Bytes bytes(header.begin(), header.end());
+  for (int i = 0; i < 6; ++i) bytes.insert(bytes.end(), {128, 64, 32, 129});
+  writeBytes(file("long.hdr"), bytes);
+  ASSERT_GT(bytes.size(), std::size_t(1) << 20);
+  const ImageInfo info = readImageInfo(file("long.hdr"));
+  EXPECT_EQ(info.width, 3);
+  EXPECT_EQ(info.height, 2);
+  EXPECT_GE(info.decoderBytes, bytes.size()) << "the decoder holds the whole file";
+}
+
+// Pictures made as bytes (compare's error map, sheet) are written as they
+// are: the same file writePng makes of the same values, without a float copy.
+TEST_F(ImageIoTest, PngBytesAreWrittenAsTheyAre) {
+  const ImageF image = randomImage(9, 5, {"R", "G", "B"}, 0.0f, 1.0f, 6);
+  std::vector<std::uint8_t> bytes;
+  for (float v : image.pixels) bytes.push_back(displayByte(v));
+  writePngBytes(file("bytes.png"), 9, 5, 3, bytes);
+  writePng(file("floats.png"), image, PngEncoding::Linear);
+  EXPECT_EQ(readBytes(file("bytes.png")), readBytes(file("floats.png")));
+  const RawImage raw = readRaw(file("bytes.png"));
+  EXPECT_EQ(raw.samples, bytes);
+  EXPECT_EQ(displayByte(-1.0f), 0);
+  EXPECT_EQ(displayByte(2.0f), 255);
+  expectContains(errorOf([&] { writePngBytes(file("short.png"), 9, 5, 3, Bytes(10)); }), "needs 135 bytes");
+  expectContains(errorOf([&] { writePngBytes(file("five.png"), 1, 1, 5, Bytes(5)); }), "5 components");
+  EXPECT_FALSE(fs::exists(file("short.png")));
 }
 
 // ============================================================== bad files

@@ -2,18 +2,22 @@
 // on hand-made cases with known answers, percentiles, temporal stability, and
 // `bounce compare` as a script uses it (exit codes, one-line messages, files).
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <new>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,6 +27,47 @@
 #include "metrics/flip.h"
 #include "metrics/image_metrics.h"
 #include "shared/color.glsl"
+#include "zero_png.h"
+
+// Every allocation through new is counted, so that tests can see the most
+// memory a computation held beyond what it started with (e.g. that FLIP's
+// intermediates do not grow with the image).
+namespace {
+std::atomic<std::int64_t> gAllocated{0};
+std::atomic<std::int64_t> gPeakAllocated{0};
+
+void* countedAllocation(std::size_t size) {
+  void* block = std::malloc(size == 0 ? 1 : size);
+  if (!block) throw std::bad_alloc();
+  const std::int64_t now = gAllocated += std::int64_t(malloc_usable_size(block));
+  for (std::int64_t peak = gPeakAllocated; now > peak && !gPeakAllocated.compare_exchange_weak(peak, now);) {
+  }
+  return block;
+}
+
+void countedFree(void* block) {
+  if (!block) return;
+  gAllocated -= std::int64_t(malloc_usable_size(block));
+  std::free(block);
+}
+
+// The most held since the last call, beyond what was held then.
+class AllocationPeak {
+ public:
+  AllocationPeak() : start_(gAllocated) { gPeakAllocated = start_; }
+  std::int64_t bytes() const { return gPeakAllocated - start_; }
+
+ private:
+  std::int64_t start_;
+};
+}  // namespace
+
+void* operator new(std::size_t size) { return countedAllocation(size); }
+void* operator new[](std::size_t size) { return countedAllocation(size); }
+void operator delete(void* block) noexcept { countedFree(block); }
+void operator delete[](void* block) noexcept { countedFree(block); }
+void operator delete(void* block, std::size_t) noexcept { countedFree(block); }
+void operator delete[](void* block, std::size_t) noexcept { countedFree(block); }
 
 namespace {
 
@@ -204,6 +249,126 @@ TEST(Flip, HdrFlipIsTheMaximumOverItsExposures) {
   }
 }
 
+// Two images with edges, dots and noise at every scale FLIP looks at.
+std::pair<metrics::RgbImage, metrics::RgbImage> busyPair(int width, int height, float scale) {
+  metrics::RgbImage reference = gradient(width, height), test = reference;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  for (std::size_t p = 0; p < test.pixels.size(); ++p) {
+    if (uniform(random) < 0.1f) reference.pixels[p] = glm::vec3(uniform(random), uniform(random), uniform(random));
+    test.pixels[p] = reference.pixels[p] * (0.8f + 0.4f * uniform(random));
+    reference.pixels[p] *= scale;
+    test.pixels[p] *= scale;
+  }
+  return {reference, test};
+}
+
+// FLIP is computed a band of rows at a time (flip.h); every band size must
+// give the bits the whole image in one band gives, at the FLIP tool's ppd
+// and at one whose filters are wider than a band.
+TEST(Flip, BandsOfAnySizeGiveTheBitsOfTheWholeImage) {
+  const auto [reference, test] = busyPair(37, 53, 1.0f);
+  const auto [radiance, radianceTest] = busyPair(37, 53, 40.0f);
+  for (const float ppd : {metrics::defaultPixelsPerDegree(), 150.0f}) {
+    SCOPED_TRACE("ppd " + std::to_string(ppd));
+    const metrics::ScalarImage whole = metrics::ldrFlip(reference, test, ppd, 53);
+    const metrics::HdrFlipResult wholeHdr = metrics::hdrFlip(radiance, radianceTest, ppd, std::nullopt, 53);
+    ASSERT_GT(metrics::errorStatistics(whole.values).mean, 0.02);
+    for (const int rows : {1, 2, 7, 52, 0}) {
+      SCOPED_TRACE(std::to_string(rows) + " rows a band");
+      EXPECT_EQ(metrics::ldrFlip(reference, test, ppd, rows).values, whole.values);
+      const metrics::HdrFlipResult hdr = metrics::hdrFlip(radiance, radianceTest, ppd, std::nullopt, rows);
+      EXPECT_EQ(hdr.error.values, wholeHdr.error.values);
+      EXPECT_EQ(hdr.exposureOfMaximum.values, wholeHdr.exposureOfMaximum.values);
+    }
+  }
+}
+
+// The whole image's YCxCz and filter sums took about 100 bytes a pixel
+// (7 GB for an 8192 x 8192 pair); now FLIP holds its result and a ring of
+// rows, whatever the height. A million pixels, two bands of the default size.
+TEST(Flip, HoldsOnlyItsResultAndARingOfRows) {
+  const int width = 64, height = 16384;
+  const float ppd = metrics::defaultPixelsPerDegree();
+  const auto [reference, test] = busyPair(width, height, 1.0f);
+  const std::int64_t map = std::int64_t(width) * height * std::int64_t(sizeof(float));
+  const std::int64_t working = std::int64_t(metrics::flipWorkingBytes(width, height, ppd));
+  const std::int64_t slack = 1 << 20;  // filters, thread objects
+  EXPECT_EQ(working, std::int64_t(metrics::flipWorkingBytes(width, 4 * height, ppd))) << "the rows do not grow";
+  {
+    const AllocationPeak peak;
+    const metrics::ScalarImage flip = metrics::ldrFlip(reference, test, ppd);
+    EXPECT_LE(peak.bytes(), map + working + slack);
+  }
+  {
+    const AllocationPeak peak;
+    const metrics::HdrFlipResult flip = metrics::hdrFlip(reference, test, ppd);
+    EXPECT_LE(peak.bytes(), 2 * map + working + slack) << "the error and the exposure of its maximum";
+  }
+}
+
+// compare reads FLIP's inputs in place: an image's R, G and B (alpha left
+// out), or its one channel as grey, give the bits their copies give.
+TEST(Flip, ImagesAreReadInPlaceAsTheirCopiesAre) {
+  const float ppd = metrics::defaultPixelsPerDegree();
+  const auto [reference, test] = busyPair(29, 17, 1.0f);
+  io::ImageF rgba(29, 17, {"A", "B", "G", "R"}), rgbaTest(29, 17, {"A", "B", "G", "R"});
+  io::ImageF grey(29, 17, {"Y"}), greyTest(29, 17, {"Y"});
+  for (int y = 0; y < 17; ++y)
+    for (int x = 0; x < 29; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        rgba.at(x, y, 3 - c) = reference.at(x, y)[c];
+        rgbaTest.at(x, y, 3 - c) = test.at(x, y)[c];
+      }
+      rgba.at(x, y, 0) = rgbaTest.at(x, y, 0) = 0.5f;
+      grey.at(x, y, 0) = reference.at(x, y).y;
+      greyTest.at(x, y, 0) = test.at(x, y).y;
+    }
+  EXPECT_EQ(metrics::ldrFlip(metrics::rgbView(rgba), metrics::rgbView(rgbaTest), ppd).values,
+            metrics::ldrFlip(metrics::toRgb(rgba), metrics::toRgb(rgbaTest), ppd).values);
+  EXPECT_EQ(metrics::hdrFlip(metrics::rgbView(grey), metrics::rgbView(greyTest), ppd).error.values,
+            metrics::hdrFlip(metrics::toRgb(grey), metrics::toRgb(greyTest), ppd).error.values);
+  EXPECT_THROW(metrics::rgbView(io::ImageF(4, 4, {"X", "Y"})), std::invalid_argument);
+}
+
+// Radiance times exposure beyond 1.8e19 overflowed the tone mapper's square
+// and made its pixel, and through the filters its neighbours, NaN, which
+// HDR-FLIP's maximum skipped: a test image of 3e38 scored 0, identical to
+// its reference. The tone mapper saturates instead.
+TEST(Flip, HugeRadianceIsAVisibleDifferenceNotNaN) {
+  metrics::RgbImage reference(24, 16), spike(24, 16), huge(24, 16);
+  for (glm::vec3& p : reference.pixels) p = glm::vec3(1.0f);
+  spike = reference;
+  spike.at(12, 8) = glm::vec3(3.4e38f);
+  for (glm::vec3& p : huge.pixels) p = glm::vec3(3.0e38f);
+  EXPECT_EQ(metrics::flipToneMap(glm::vec3(3.0e38f)), glm::vec3(1.0f));
+  EXPECT_EQ(metrics::flipToneMap(glm::vec3(-3.0e38f)), glm::vec3(1.0f)) << "as the curve gives for any large value";
+  const float ppd = metrics::defaultPixelsPerDegree();
+  const metrics::HdrFlipResult one = metrics::hdrFlip(reference, spike, ppd);
+  for (float v : one.error.values) ASSERT_TRUE(std::isfinite(v));
+  // The reference exposed to 0.85 of white against white: what a viewer sees.
+  EXPECT_GT(one.error.at(12, 8), 0.05f);
+  EXPECT_EQ(one.error.at(0, 0), 0.0f) << "far from the spike";
+  const metrics::HdrFlipResult all = metrics::hdrFlip(reference, huge, ppd);
+  EXPECT_GT(metrics::errorStatistics(all.error.values).min, 0.1);
+}
+
+// Below about 1.7 pixels per degree (compare --ppd takes 0.01) the feature
+// filters' lobes underflowed to 0 and were normalised 0 / 0: LDR-FLIP was
+// NaN everywhere and HDR-FLIP 0. Their limit, the central difference, is
+// used instead.
+TEST(Flip, TinyPixelsPerDegreeGiveFiniteFlip) {
+  const auto [reference, test] = busyPair(20, 12, 1.0f);
+  for (const float ppd : {0.01f, 0.5f, 1.5f}) {
+    SCOPED_TRACE("ppd " + std::to_string(ppd));
+    const metrics::ScalarImage ldr = metrics::ldrFlip(reference, test, ppd);
+    for (float v : ldr.values) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f) << v;
+    EXPECT_GT(metrics::errorStatistics(ldr.values).mean, 0.01);
+    for (float v : metrics::ldrFlip(reference, reference, ppd).values) ASSERT_EQ(v, 0.0f);
+    EXPECT_GT(metrics::errorStatistics(metrics::hdrFlip(reference, test, ppd).error.values).mean, 0.01);
+  }
+}
+
 TEST(Flip, MismatchedSizesAreRefused) {
   EXPECT_THROW(metrics::ldrFlip(gradient(8, 8), gradient(8, 9), 67.0f), std::invalid_argument);
   EXPECT_THROW(metrics::ldrFlip(gradient(8, 8), gradient(8, 8), 0.0f), std::invalid_argument);
@@ -267,6 +432,56 @@ TEST(ValueErrors, AlphaIsNotCompared) {
   test.pixels = {0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f};
   EXPECT_EQ(metrics::incompatibility(reference, test), "");
   EXPECT_EQ(metrics::valueErrors(metrics::comparedValues(reference), metrics::comparedValues(test)).mse, 0.0);
+}
+
+io::ImageF noisyImage(int width, int height, std::vector<std::string> channels, unsigned seed) {
+  io::ImageF image(width, height, std::move(channels));
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> uniform(0.0f, 2.0f);
+  for (float& v : image.pixels) v = uniform(random);
+  return image;
+}
+
+// compare sums the errors and the mean luminance pixel by pixel rather than
+// over copies of the values: the same sums in the same order, to the bit.
+TEST(ValueErrors, ImagesGiveTheBitsOfTheirComparedValues) {
+  for (const auto& channels : {std::vector<std::string>{"R", "G", "B", "A"}, std::vector<std::string>{"viewZ"}}) {
+    const io::ImageF reference = noisyImage(23, 11, channels, 3), test = noisyImage(23, 11, channels, 4);
+    const metrics::ValueErrors copied =
+        metrics::valueErrors(metrics::comparedValues(reference), metrics::comparedValues(test));
+    const metrics::ValueErrors inPlace = metrics::valueErrors(reference, test);
+    EXPECT_EQ(inPlace.mse, copied.mse);
+    EXPECT_EQ(inPlace.relMse, copied.relMse);
+    EXPECT_EQ(inPlace.psnrDb, copied.psnrDb);
+    EXPECT_EQ(inPlace.valueCount, copied.valueCount);
+    const std::vector<float> luminance = metrics::luminance(reference);
+    double sum = 0.0;
+    for (float l : luminance) sum += l;
+    EXPECT_EQ(metrics::meanLuminance(reference), sum / double(luminance.size()));
+  }
+  EXPECT_THROW(metrics::valueErrors(constantImage(4, 4, 0.0f), constantImage(4, 3, 0.0f)), std::invalid_argument);
+}
+
+// A comparison used to copy both images' values (for the errors) and
+// pixels (for FLIP) beside them; now nothing image-sized but the FLIP map
+// and FLIP's rows is added to the images, which it frees before the
+// statistics sort a copy of the map.
+TEST(ValueErrors, ComparingHoldsOnlyTheImagesTheMapAndFlipsRows) {
+  const int width = 256, height = 1024;
+  io::ImageF reference = noisyImage(width, height, {"R", "G", "B"}, 5);
+  io::ImageF test = noisyImage(width, height, {"R", "G", "B"}, 6);
+  const std::int64_t map = std::int64_t(width) * height * std::int64_t(sizeof(float));
+  const std::int64_t working = std::int64_t(metrics::flipWorkingBytes(width, height, 67.0f));
+  for (const metrics::FlipMode mode : {metrics::FlipMode::Ldr, metrics::FlipMode::Hdr}) {
+    metrics::ComparisonOptions options;
+    options.flipMode = mode;
+    options.pixelsPerDegree = 67.0f;
+    io::ImageF r = reference, t = test;
+    const AllocationPeak peak;
+    const metrics::Comparison comparison = metrics::compareImages(std::move(r), std::move(t), options);
+    EXPECT_LE(peak.bytes(), (mode == metrics::FlipMode::Hdr ? 2 : 1) * map + working + (1 << 20));
+    EXPECT_GT(comparison.flip.mean, 0.0);
+  }
 }
 
 TEST(ValueErrors, IncompatibleImagesAreDescribed) {
@@ -461,8 +676,13 @@ TEST_F(CompareCommand, OutputsNeverReplaceAnInput) {
   EXPECT_TRUE(contains(map.err, "refusing")) << map.err;
   EXPECT_TRUE(contains(map.err, reference.string())) << map.err;
   // The same file reached by another spelling is still refused.
+  const CommandResult spelt = runCompare(quoted(reference) + " " + quoted(kRepoPairs / "b_checker_shift1.png") +
+                                         " --error-map " + quoted(dir / "." / "reference.png"));
+  EXPECT_EQ(spelt.exitCode, 2) << spelt.out << spelt.err;
+  EXPECT_TRUE(contains(spelt.err, "refusing")) << spelt.err;
+  // A JSON file is never written over an image: its name must end in .json.
   const CommandResult json = runCompare(quoted(reference) + " " + quoted(kRepoPairs / "b_checker_shift1.png") +
-                                        " --json " + quoted(dir / "." / "reference.png"));
+                                        " --json " + quoted(reference));
   EXPECT_EQ(json.exitCode, 2) << json.out << json.err;
   EXPECT_EQ(readFile(reference), before) << "the input is untouched";
 }
@@ -496,6 +716,54 @@ TEST_F(CompareCommand, MismatchedOrBadImagesAreOneLineNamingTheFile) {
   const CommandResult missing = runCompare(quoted(dir / "missing.png") + " " + quoted(small));
   EXPECT_EQ(missing.exitCode, 2);
   EXPECT_TRUE(contains(missing.err, "missing.png")) << missing.err;
+}
+
+// A PNG of a few hundred bytes can declare 16384 x 16384 pixels: compare
+// worked out from the headers that it would need gigabytes and refuses it
+// with the numbers, before decoding (this file's data ends after one row,
+// so a decoder would have said so instead). It used to decode such images,
+// 24 GB for a real one, until the kernel killed it.
+TEST_F(CompareCommand, ImagesTooLargeToCompareAreRefusedFromTheirHeaders) {
+  const fs::path huge = dir / "huge.png";
+  const std::vector<std::uint8_t> bytes = bounce::testing::zeroPng(16384, 16384, 1);
+  std::ofstream(huge, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  ASSERT_LT(fs::file_size(huge), 1000u);
+  for (const std::string& arguments :
+       {quoted(huge) + " " + quoted(huge), "--sequence " + quoted(huge) + " " + quoted(huge)}) {
+    const CommandResult r = runCompare(arguments);
+    EXPECT_EQ(r.exitCode, 2) << arguments << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    EXPECT_TRUE(contains(r.err, "bounce: error: " + huge.string() + ": ")) << r.err;
+    EXPECT_TRUE(contains(r.err, "16384x16384")) << r.err;
+    EXPECT_TRUE(contains(r.err, "needs about")) << r.err;
+    EXPECT_TRUE(contains(r.err, "more than the limit of 2.0 GiB")) << r.err;
+  }
+  // A size within the limit is decoded, and the short data found.
+  const fs::path small = dir / "short.png";
+  const std::vector<std::uint8_t> shortBytes = bounce::testing::zeroPng(64, 64, 1);
+  std::ofstream(small, std::ios::binary)
+      .write(reinterpret_cast<const char*>(shortBytes.data()), std::streamsize(shortBytes.size()));
+  const CommandResult decoded = runCompare(quoted(small) + " " + quoted(small));
+  EXPECT_EQ(decoded.exitCode, 2);
+  EXPECT_TRUE(contains(decoded.err, "cannot decode")) << decoded.err;
+}
+
+// A black reference: relMSE is defined (0 against 0, by its epsilon), and
+// the mean luminance ratio is undefined, not 0 as it used to print (as if
+// the test were black too).
+TEST_F(CompareCommand, ABlackReferenceHasDefinedErrorsAndAnUndefinedRatio) {
+  const fs::path black = dir / "black.png", grey = dir / "grey.png";
+  io::writePng(black, constantImage(16, 8, 0.0f), io::PngEncoding::Srgb);
+  io::writePng(grey, constantImage(16, 8, 0.5f), io::PngEncoding::Srgb);
+  const CommandResult same = runCompare(quoted(black) + " " + quoted(black) + " --max-relmse 0 --max-flip 0");
+  EXPECT_EQ(same.exitCode, 0) << same.out << same.err;
+  EXPECT_TRUE(contains(same.out, "relMSE     0  ")) << same.out;
+  EXPECT_TRUE(contains(same.out, "ratio undefined (the reference's mean luminance is 0)")) << same.out;
+  const CommandResult brighter = runCompare(quoted(black) + " " + quoted(grey));
+  EXPECT_EQ(brighter.exitCode, 0) << brighter.err;
+  EXPECT_TRUE(contains(brighter.out, "ratio undefined")) << brighter.out;
+  EXPECT_FALSE(contains(brighter.out + same.out, " nan") || contains(brighter.out + same.out, "-nan")) << brighter.out;
 }
 
 TEST_F(CompareCommand, UsageErrorsExitTwo) {

@@ -61,8 +61,10 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       ->check(CLI::Range(0u, 4096u));
   command->add_option("--rays", options.rays, "Incoherent rays per frame through render.bvh_trace_rays (0 = skip)")
       ->check(CLI::Range(0u, 1u << 26));
-  command->add_option("--json", options.json,
-                      "Also write the results to this JSON file ('-': JSON on stdout, the table on stderr)");
+  command
+      ->add_option("--json", options.json,
+                   "Also write the results to this JSON file ('-': JSON on stdout, the table on stderr)")
+      ->check(outputExtension(".json", "JSON", "-"));
   command->add_option("--sun-elevation", options.sunElevation, "Sun elevation above the horizon, degrees")
       ->check(finiteRange(-90.0, 90.0));
   command->add_option("--sun-azimuth", options.sunAzimuth, "Sun azimuth from +Z towards +X, degrees")

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -45,6 +46,13 @@ std::string number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", value);
   return text;
+}
+
+// test / reference, or `undefined` when the reference's mean is 0 (a black
+// reference): it used to print 0, as if the test were black.
+std::string luminanceRatio(double referenceMean, double testMean,
+                           const std::string& undefined = "undefined (the reference's mean luminance is 0)") {
+  return referenceMean != 0.0 ? number(testMean / referenceMean) : undefined;
 }
 
 // JSON has no infinity or NaN; those become null (PSNR of identical images).
@@ -95,23 +103,17 @@ int thresholdExitCode(const std::vector<std::string>& failures) {
 
 // --- image pairs
 
+// The magma picture as bytes, written as they are: no float copy of it.
 void writeErrorMap(const fs::path& path, const metrics::ScalarImage& flipMap) {
-  io::ImageF coloured(flipMap.width, flipMap.height, {"R", "G", "B"});
+  std::vector<std::uint8_t> rgb(flipMap.values.size() * 3);
   for (std::size_t p = 0; p < flipMap.values.size(); ++p) {
-    const std::array<std::uint8_t, 3> rgb = io::magma(flipMap.values[p]);
-    for (std::size_t c = 0; c < 3; ++c) coloured.pixels[p * 3 + c] = float(rgb[c]) / 255.0f;
+    const std::array<std::uint8_t, 3> colour = io::magma(flipMap.values[p]);
+    std::copy(colour.begin(), colour.end(), rgb.begin() + std::ptrdiff_t(p * 3));
   }
-  // Linear: the magma bytes are already display values and are stored as they are.
-  io::writePng(path, coloured, io::PngEncoding::Linear);
+  io::writePngBytes(path, flipMap.width, flipMap.height, 3, rgb);
 }
 
-// Bias shows in the image mean before it shows anywhere else.
-double meanLuminance(const io::ImageF& image) {
-  const std::vector<float> values = metrics::luminance(image);
-  double sum = 0.0;
-  for (float v : values) sum += v;
-  return values.empty() ? 0.0 : sum / double(values.size());
-}
+std::string sizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
 // --- regions: the numbers per label of a label image
 
@@ -127,20 +129,26 @@ struct Region {
 // image (a radiance image given by mistake) and would print a page a pixel.
 constexpr std::size_t kMaxRegions = 256;
 
+// The label image's numbers, summed pixel by pixel as they are read (no
+// copies of the images' values per region).
 std::vector<Region> regionsOf(const fs::path& labelsPath, const io::ImageF& reference, const io::ImageF& test) {
   const io::ImageF labels = io::readImage(labelsPath);
   if (labels.width != reference.width || labels.height != reference.height)
-    fail(labelsPath, "is " + std::to_string(labels.width) + "x" + std::to_string(labels.height) +
-                         ", the images compared are " + std::to_string(reference.width) + "x" +
-                         std::to_string(reference.height));
+    fail(labelsPath, "is " + sizeText(labels.width, labels.height) + ", the images compared are " +
+                         sizeText(reference.width, reference.height));
   const std::size_t pixelCount = std::size_t(reference.width) * std::size_t(reference.height);
-  const std::vector<float> referenceValues = metrics::comparedValues(reference);
-  const std::vector<float> testValues = metrics::comparedValues(test);
-  const std::vector<float> referenceLuminance = metrics::luminance(reference);
-  const std::vector<float> testLuminance = metrics::luminance(test);
-  const std::size_t perPixel = referenceValues.size() / pixelCount;
+  // The compared channels (comparedValues' order): R, G, B, or all of them.
+  const auto compared = [](const io::ImageF& image) {
+    std::vector<std::size_t> indices;
+    for (const std::string& name : metrics::comparedChannels(image))
+      indices.push_back(
+          std::size_t(std::find(image.channels.begin(), image.channels.end(), name) - image.channels.begin()));
+    return indices;
+  };
+  const std::vector<std::size_t> referenceChannels = compared(reference), testChannels = compared(test);
+  const metrics::LuminanceOf referenceLuminance(reference), testLuminance(test);
   struct Gathered {
-    std::vector<float> reference, test;
+    metrics::ValueErrorSums errors;
     double referenceSum = 0.0, testSum = 0.0;
     std::size_t pixels = 0;
   };
@@ -153,12 +161,11 @@ std::vector<Region> regionsOf(const fs::path& labelsPath, const io::ImageF& refe
     Gathered& region = byLabel[double(label)];
     if (byLabel.size() > kMaxRegions)
       fail(labelsPath, "has more than " + std::to_string(kMaxRegions) + " distinct values: not a label image");
-    region.reference.insert(region.reference.end(), referenceValues.begin() + std::ptrdiff_t(p * perPixel),
-                            referenceValues.begin() + std::ptrdiff_t((p + 1) * perPixel));
-    region.test.insert(region.test.end(), testValues.begin() + std::ptrdiff_t(p * perPixel),
-                       testValues.begin() + std::ptrdiff_t((p + 1) * perPixel));
-    region.referenceSum += referenceLuminance[p];
-    region.testSum += testLuminance[p];
+    for (std::size_t c = 0; c < referenceChannels.size(); ++c)
+      region.errors.add(reference.pixels[p * reference.channelCount() + referenceChannels[c]],
+                        test.pixels[p * test.channelCount() + testChannels[c]]);
+    region.referenceSum += referenceLuminance(p);
+    region.testSum += testLuminance(p);
     ++region.pixels;
   }
   std::vector<Region> regions;
@@ -168,22 +175,42 @@ std::vector<Region> regionsOf(const fs::path& labelsPath, const io::ImageF& refe
     region.pixels = gathered.pixels;
     region.referenceMean = gathered.referenceSum / double(gathered.pixels);
     region.testMean = gathered.testSum / double(gathered.pixels);
-    region.errors = metrics::valueErrors(gathered.reference, gathered.test);
+    region.errors = gathered.errors.errors();
     regions.push_back(region);
   }
   return regions;
 }
 
-std::string pairJson(const CompareOptions& options, const io::ImageF& reference, const io::ImageF& test,
+// The most comparePair holds at once (bytes), from the files' headers: the
+// images and FLIP's map and rows while FLIP runs (and the label image while
+// the regions are counted), the map and its sorted copy for the statistics
+// (the images are freed by then), the map and the error map's bytes as it is
+// written.
+std::uint64_t pairMemory(const io::ImageInfo& reference, const io::ImageInfo& test, const io::ImageInfo* labels,
+                         bool hdr, bool errorMap, float ppd) {
+  const std::uint64_t pixels = reference.pixels();
+  const std::uint64_t images = reference.imageBytes() + test.imageBytes();
+  const std::uint64_t map = pixels * sizeof(float);
+  std::uint64_t peak = std::max(reference.readBytes(), reference.imageBytes() + test.readBytes());
+  if (labels) peak = std::max(peak, images + labels->readBytes());
+  // HDR-FLIP keeps the exposure of each pixel's maximum beside the map.
+  peak =
+      std::max(peak, images + (hdr ? 2 : 1) * map + metrics::flipWorkingBytes(reference.width, reference.height, ppd));
+  peak = std::max(peak, 2 * map);
+  if (errorMap) peak = std::max(peak, map + 3 * pixels + io::pngWriteBytes(pixels, 3));
+  return peak;
+}
+
+std::string pairJson(const CompareOptions& options, int width, int height, double referenceMean, double testMean,
                      const metrics::Comparison& c, const std::vector<Region>& regions, bool passed) {
   const metrics::ErrorStatistics& f = c.flip;
   std::ostringstream json;
   json << "{\n";
   json << "  \"reference\": " << jsonString(options.images[0]) << ",\n";
   json << "  \"test\": " << jsonString(options.images[1]) << ",\n";
-  json << "  \"width\": " << reference.width << ",\n  \"height\": " << reference.height << ",\n";
-  json << "  \"reference_mean_luminance\": " << jsonNumber(meanLuminance(reference)) << ",\n";
-  json << "  \"test_mean_luminance\": " << jsonNumber(meanLuminance(test)) << ",\n";
+  json << "  \"width\": " << width << ",\n  \"height\": " << height << ",\n";
+  json << "  \"reference_mean_luminance\": " << jsonNumber(referenceMean) << ",\n";
+  json << "  \"test_mean_luminance\": " << jsonNumber(testMean) << ",\n";
   json << "  \"relmse\": " << jsonNumber(c.values.relMse) << ",\n";
   json << "  \"relmse_epsilon\": " << jsonNumber(metrics::kRelMseEpsilon) << ",\n";
   json << "  \"mse\": " << jsonNumber(c.values.mse) << ",\n";
@@ -231,9 +258,6 @@ int comparePair(const CompareOptions& options) {
   std::vector<fs::path> inputs = {referencePath, testPath};
   if (!options.regions.empty()) inputs.push_back(options.regions);
   if (!options.errorMap.empty()) {
-    if (lowercase(fs::path(options.errorMap).extension().string()) != ".png") {
-      fail(options.errorMap, "--error-map writes a PNG; give a file name ending in .png");
-    }
     refuseToOverwriteInputs(options.errorMap, "--error-map", inputs);
     checkWritableFile(options.errorMap, "--error-map");
   }
@@ -245,20 +269,47 @@ int comparePair(const CompareOptions& options) {
     checkWritableFile(options.json, "--json");
   }
 
-  const io::ImageF reference = io::readImage(referencePath);
-  const io::ImageF test = io::readImage(testPath);
+  metrics::ComparisonOptions comparisonOptions;
+  const bool hdr = options.flip == "hdr" ||
+                   (options.flip == "auto" && (io::holdsRadiance(referencePath) || io::holdsRadiance(testPath)));
+  comparisonOptions.flipMode = hdr ? metrics::FlipMode::Hdr : metrics::FlipMode::Ldr;
+  comparisonOptions.pixelsPerDegree = options.ppd.value_or(metrics::defaultPixelsPerDegree());
+
+  // The headers first: sizes that differ, or images too large to compare,
+  // are refused before a pixel is decoded.
+  const io::ImageInfo referenceInfo = io::readImageInfo(referencePath);
+  const io::ImageInfo testInfo = io::readImageInfo(testPath);
+  const int width = referenceInfo.width, height = referenceInfo.height;
+  if (testInfo.width != width || testInfo.height != height)
+    fail(testPath, "is " + sizeText(testInfo.width, testInfo.height) + " but the reference is " +
+                       sizeText(width, height) + " (" + referencePath.string() + ")");
+  std::optional<io::ImageInfo> labelsInfo;
+  if (!options.regions.empty()) {
+    labelsInfo = io::readImageInfo(options.regions);
+    if (labelsInfo->width != width || labelsInfo->height != height)
+      fail(options.regions, "is " + sizeText(labelsInfo->width, labelsInfo->height) + ", the images compared are " +
+                                sizeText(width, height));
+  }
+  io::refuseOverMemoryLimit(referencePath,
+                            pairMemory(referenceInfo, testInfo, labelsInfo ? &*labelsInfo : nullptr, hdr,
+                                       !options.errorMap.empty(), comparisonOptions.pixelsPerDegree),
+                            "comparing two " + sizeText(width, height) + " images");
+
+  io::ImageF reference = io::readImage(referencePath);
+  io::ImageF test = io::readImage(testPath);
   if (const std::string reason = metrics::incompatibility(reference, test); !reason.empty()) {
     fail(testPath, reason + " (" + referencePath.string() + ")");
   }
 
-  metrics::ComparisonOptions comparisonOptions;
-  const bool hdr =
-      options.flip == "hdr" || (options.flip == "auto" && (io::holdsRadiance(referencePath) || io::holdsRadiance(testPath)));
-  comparisonOptions.flipMode = hdr ? metrics::FlipMode::Hdr : metrics::FlipMode::Ldr;
-  comparisonOptions.pixelsPerDegree = options.ppd.value_or(metrics::defaultPixelsPerDegree());
+  double referenceMean = 0.0, testMean = 0.0;
+  std::vector<Region> regions;
   metrics::Comparison comparison;
   try {
-    comparison = metrics::compareImages(reference, test, comparisonOptions);
+    referenceMean = metrics::meanLuminance(reference);
+    testMean = metrics::meanLuminance(test);
+    if (!options.regions.empty()) regions = regionsOf(options.regions, reference, test);
+    // The images go in and are freed there, once FLIP has read them.
+    comparison = metrics::compareImages(std::move(reference), std::move(test), comparisonOptions);
   } catch (const std::invalid_argument& e) {
     // What remains are properties of the reference (channel layout for FLIP,
     // a black reference for the HDR exposure range).
@@ -266,11 +317,10 @@ int comparePair(const CompareOptions& options) {
   }
 
   const metrics::ErrorStatistics& f = comparison.flip;
-  const double referenceMean = meanLuminance(reference), testMean = meanLuminance(test);
-  std::printf("reference  %s (%dx%d)\n", referencePath.c_str(), reference.width, reference.height);
+  std::printf("reference  %s (%dx%d)\n", referencePath.c_str(), width, height);
   std::printf("test       %s\n", testPath.c_str());
   std::printf("mean       luminance %s (reference) %s (test), ratio %s\n", number(referenceMean).c_str(),
-              number(testMean).c_str(), number(referenceMean > 0.0 ? testMean / referenceMean : 0.0).c_str());
+              number(testMean).c_str(), luminanceRatio(referenceMean, testMean).c_str());
   std::printf("relMSE     %s  (epsilon %s)\n", number(comparison.values.relMse).c_str(),
               number(metrics::kRelMseEpsilon).c_str());
   std::printf("RMSE       %s\n", number(comparison.values.rmse).c_str());
@@ -289,14 +339,11 @@ int comparePair(const CompareOptions& options) {
               number(f.weightedMedian).c_str(), number(f.weightedFirstQuartile).c_str(),
               number(f.weightedThirdQuartile).c_str());
 
-  std::vector<Region> regions;
   if (!options.regions.empty()) {
-    regions = regionsOf(options.regions, reference, test);
     std::printf("regions    of %s: label, pixels, mean luminance ratio, relMSE\n", options.regions.c_str());
     for (const Region& r : regions)
       std::printf("region     %s %zu %s %s\n", number(r.label).c_str(), r.pixels,
-                  number(r.referenceMean > 0.0 ? r.testMean / r.referenceMean : 0.0).c_str(),
-                  number(r.errors.relMse).c_str());
+                  luminanceRatio(r.referenceMean, r.testMean, "undefined").c_str(), number(r.errors.relMse).c_str());
   }
 
   std::vector<std::string> failures;  // thresholds given and not met, as the failure line names them
@@ -310,7 +357,8 @@ int comparePair(const CompareOptions& options) {
     std::printf("wrote %s\n", options.errorMap.c_str());
   }
   if (!options.json.empty()) {
-    writeTextFile(options.json, pairJson(options, reference, test, comparison, regions, failures.empty()));
+    writeTextFile(options.json,
+                  pairJson(options, width, height, referenceMean, testMean, comparison, regions, failures.empty()));
     std::printf("wrote %s\n", options.json.c_str());
   }
   std::fflush(stdout);
@@ -372,17 +420,30 @@ int compareSequence(const CompareOptions& options) {
     checkWritableFile(options.json, "--json");
   }
 
-  // One frame at a time, so that long sequences need two frames of memory.
-  const io::ImageF first = io::readImage(frames[0]);
+  // One frame at a time: the frame being read and two frames' luminance,
+  // checked from each frame's header before it is decoded.
+  const auto read = [](const fs::path& path, const io::ImageInfo& info) {
+    io::refuseOverMemoryLimit(path, 2 * info.pixels() * sizeof(float) + info.readBytes(),
+                              "measuring a sequence of " + sizeText(info.width, info.height) + " frames");
+    return io::readImage(path);
+  };
+  const io::ImageInfo firstInfo = io::readImageInfo(frames[0]);
+  io::ImageF first = read(frames[0], firstInfo);
   std::vector<float> previous;
   try {
     previous = metrics::luminance(first);
   } catch (const std::invalid_argument& e) {
     fail(frames[0], e.what());
   }
+  // Only its size and channels are needed from here on.
+  first.pixels = std::vector<float>();
   std::vector<double> changes;
   for (std::size_t i = 1; i < frames.size(); ++i) {
-    const io::ImageF frame = io::readImage(frames[i]);
+    const io::ImageInfo info = io::readImageInfo(frames[i]);
+    if (info.width != first.width || info.height != first.height)
+      fail(frames[i], "is " + sizeText(info.width, info.height) + " but the first frame is " +
+                          sizeText(first.width, first.height) + " (" + frames[0].string() + ")");
+    const io::ImageF frame = read(frames[i], info);
     if (const std::string reason = metrics::incompatibility(first, frame, "the first frame"); !reason.empty()) {
       fail(frames[i], reason + " (" + frames[0].string() + ")");
     }
@@ -447,8 +508,10 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
                        "Pixels per degree of visual angle for FLIP (default 67.02: 0.7 m from a 0.7 m wide 4K "
                        "monitor, as the FLIP tool)")
           ->check(finiteRange(0.01, 10000.0)),
-      command->add_option("--error-map", options.errorMap,
-                          "Write the FLIP error map to this PNG (magma colour map); never over an input"),
+      command
+          ->add_option("--error-map", options.errorMap,
+                       "Write the FLIP error map to this PNG (magma colour map); never over an input")
+          ->check(outputExtension(".png", "PNG")),
       command->add_option("--max-relmse", options.maxRelMse, "Exit 1 if relMSE is above this")
           ->check(finiteAtLeast(0.0)),
       command->add_option("--max-rmse", options.maxRmse, "Exit 1 if RMSE is above this")->check(finiteAtLeast(0.0)),
@@ -466,7 +529,8 @@ CLI::App* addCompareCommand(CLI::App& app, CompareOptions& options) {
                    "With --sequence: exit 1 if the mean relative frame-to-frame change is above this")
       ->check(finiteAtLeast(0.0))
       ->needs(sequence);
-  command->add_option("--json", options.json, "Also write every value to this JSON file; never over an input");
+  command->add_option("--json", options.json, "Also write every value to this JSON file; never over an input")
+      ->check(outputExtension(".json", "JSON"));
   // The image count depends on --sequence, so it is checked once parsing is
   // done; a ValidationError here is a usage error like any other (exit 2).
   command->callback([&options] {

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,13 @@ using PartImages = std::array<io::ImageF, kPartCount>;
 
 struct Errors {
   double noisy = 0.0, denoised = 0.0;  // relMSE against the reference
+
+  // denoised / noisy, undefined (empty) when the noisy relMSE is 0: nothing
+  // to reduce (a black scene: 0 / 0 printed -nan in the table).
+  std::optional<double> ratio() const {
+    if (!(noisy > 0.0)) return std::nullopt;
+    return denoised / noisy;
+  }
 };
 
 double relMse(const io::ImageF& reference, const io::ImageF& test) {
@@ -73,9 +81,10 @@ bool sameView(const scene::CameraPose& a, const scene::CameraPose& b) {
 nlohmann::json errorsJson(const std::array<Errors, kPartCount>& errors) {
   nlohmann::json parts;
   for (int part = 0; part < kPartCount; ++part)
-    parts[kPartNames[part]] = {{"noisy_relmse", errors[part].noisy},
-                               {"denoised_relmse", errors[part].denoised},
-                               {"ratio", errors[part].denoised / errors[part].noisy}};
+    parts[kPartNames[part]] = {
+        {"noisy_relmse", errors[part].noisy},
+        {"denoised_relmse", errors[part].denoised},
+        {"ratio", errors[part].ratio() ? nlohmann::json(*errors[part].ratio()) : nlohmann::json(nullptr)}};
   return parts;
 }
 
@@ -355,9 +364,22 @@ int runDenoise(const DenoiseOptions& options) {
   std::printf("\nrelMSE against the reference (%u spp), frame %u of %u frames at %u spp (%.1f s):\n",
               options.referenceSpp, last, options.frames, options.spp, seconds);
   std::printf("  %-18s %12s %12s %18s\n", "", "noisy", "denoised", "denoised / noisy");
-  for (int part = 0; part < kPartCount; ++part)
-    std::printf("  %-18s %12.4g %12.4g %18.4f\n", kPartLabels[part], errors[part].noisy, errors[part].denoised,
-                errors[part].denoised / errors[part].noisy);
+  bool undefined = false;
+  for (int part = 0; part < kPartCount; ++part) {
+    char ratio[32] = "undefined";
+    if (const std::optional<double> r = errors[part].ratio())
+      std::snprintf(ratio, sizeof ratio, "%.4f", *r);
+    else
+      undefined = true;
+    std::printf("  %-18s %12.4g %12.4g %18s\n", kPartLabels[part], errors[part].noisy, errors[part].denoised, ratio);
+  }
+  if (undefined) {
+    bool black = true;
+    for (const io::ImageF& image : reference)
+      for (float v : image.pixels) black = black && v == 0.0f;
+    std::printf("  (denoised / noisy is undefined where the noisy relMSE is 0: %s)\n",
+                black ? "the reference is black" : "the noisy image equals the reference");
+  }
   if (measured.size() > 1)
     std::printf("(every frame showing the last one's view is in denoise.json: %zu frames)\n", measured.size());
   std::printf("\nGPU time per pass (%s):\n%s", context->deviceInfo().name.c_str(), loop.timings().table().c_str());

@@ -474,6 +474,14 @@ std::string cell(double value) {
   return text;
 }
 
+// The uncovered pixels' relMSE over another region's: "-" where either was
+// not measured, "undefined" where the other's is 0 (a black reference),
+// which "-" used to hide.
+std::string ratioCell(double uncovered, double other) {
+  if (std::isfinite(uncovered) && std::isfinite(other) && other == 0.0) return "undefined";
+  return cell(uncovered / other);
+}
+
 std::string framesCell(const std::vector<std::uint32_t>& frames) {
   if (frames.empty()) return "-";
   if (frames.size() == 1) return std::to_string(frames.front());
@@ -498,8 +506,8 @@ void printTables(const std::vector<AgeNumbers>& ages, const std::optional<AgeNum
       std::printf("%4s %-9s %10s %10s %10s %10s %10s", afterLabel(a.age).c_str(), framesCell(a.frames).c_str(),
                   cell(r[kUncovered].relMse[part]).c_str(), cell(r[kNearby].relMse[part]).c_str(),
                   cell(r[kRest].relMse[part]).c_str(),
-                  cell(r[kUncovered].relMse[part] / r[kNearby].relMse[part]).c_str(),
-                  cell(r[kUncovered].relMse[part] / r[kRest].relMse[part]).c_str());
+                  ratioCell(r[kUncovered].relMse[part], r[kNearby].relMse[part]).c_str(),
+                  ratioCell(r[kUncovered].relMse[part], r[kRest].relMse[part]).c_str());
       if (first)
         std::printf(" | %8s %8s %8s | %zu, %zu, %zu", cell(r[kUncovered].history).c_str(),
                     cell(r[kNearby].history).c_str(), cell(r[kRest].history).c_str(), r[kUncovered].pixels,

@@ -90,6 +90,7 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
       ->check(CLI::IsMember({"all", "diffuse", "specular"}))
       ->capture_default_str();
   command->add_option("--out", options.out, "Output EXR; its siblings get the parts and the G-buffer")
+      ->check(outputExtension(".exr", "OpenEXR"))
       ->capture_default_str();
   command->add_option("--exposure", options.exposure, "Exposure multiplier of the PNG previews")
       ->check(finitePositive());
@@ -102,7 +103,6 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
 
 int runReference(const ReferenceCommandOptions& options) {
   const fs::path out = options.out;
-  if (out.extension() != ".exr") throw UsageError("--out " + out.string() + ": must name an .exr file");
   checkWritableFile(out, "--out");  // before the minutes of sampling, not after
 
   const SceneOptions& view = options.view;

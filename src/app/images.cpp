@@ -55,24 +55,44 @@ io::ImageF contactSheet(const std::vector<io::ImageF>& cells, int columns, int s
   return sheet;
 }
 
-io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector<std::string>& labels, int columns) {
-  const int cellWidth = cells.front().width, cellHeight = cells.front().height;
+SheetLayout sheetLayout(int cellWidth, int cellHeight, std::size_t cellCount, int columns,
+                        const std::vector<std::string>& labels) {
+  SheetLayout layout;
+  layout.cellWidth = cellWidth;
+  layout.cellHeight = cellHeight;
+  layout.columns = columns;
+  layout.rows = int((cellCount + std::size_t(columns) - 1) / std::size_t(columns));
+  if (labels.empty()) return layout;
   // Large text where the longest label fits its cell, else small.
   std::size_t longest = 0;
   for (const std::string& label : labels) longest = std::max(longest, label.size());
-  const int scale = plot::Canvas::textWidth(std::string(longest, 'x'), 2) + 12 <= cellWidth ? 2 : 1;
-  const int kStrip = 7 * scale + 8;
-  const int rows = (int(cells.size()) + columns - 1) / columns;
-  plot::Canvas canvas(cellWidth * columns, (cellHeight + kStrip) * rows, glm::vec3(0.08f));
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const int ox = int(i) % columns * cellWidth, oy = int(i) / columns * (cellHeight + kStrip);
-    const std::size_t fits = std::size_t(std::max(0, cellWidth - 8) / (6 * scale));
-    if (i < labels.size()) canvas.text(ox + 6, oy + 4, labels[i].substr(0, fits), glm::vec3(0.95f), scale);
-    for (int y = 0; y < cellHeight; ++y)
-      for (int x = 0; x < cellWidth; ++x)
-        canvas.set(ox + x, oy + kStrip + y,
-                   glm::vec3(cells[i].at(x, y, 0), cells[i].at(x, y, 1), cells[i].at(x, y, 2)));
+  layout.textScale = plot::Canvas::textWidth(std::string(longest, 'x'), 2) + 12 <= cellWidth ? 2 : 1;
+  layout.strip = 7 * layout.textScale + 8;
+  return layout;
+}
+
+void drawLabels(plot::Canvas& canvas, const SheetLayout& layout, const std::vector<std::string>& labels, int row,
+                int top) {
+  const std::size_t fits = std::size_t(std::max(0, layout.cellWidth - 8) / (6 * layout.textScale));
+  for (int column = 0; column < layout.columns; ++column) {
+    const std::size_t i = std::size_t(row) * std::size_t(layout.columns) + std::size_t(column);
+    if (i < labels.size())
+      canvas.text(layout.cellX(i) + 6, top + 4, labels[i].substr(0, fits), glm::vec3(0.95f), layout.textScale);
   }
+}
+
+io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector<std::string>& labels, int columns) {
+  // Strips above the cells even when no cell has a label.
+  const SheetLayout layout = sheetLayout(cells.front().width, cells.front().height, cells.size(), columns,
+                                         labels.empty() ? std::vector<std::string>{""} : labels);
+  plot::Canvas canvas(layout.width(), layout.height(), glm::vec3(kSheetBackground));
+  for (int row = 0; row < layout.rows; ++row)
+    drawLabels(canvas, layout, labels, row, row * (layout.cellHeight + layout.strip));
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    for (int y = 0; y < layout.cellHeight; ++y)
+      for (int x = 0; x < layout.cellWidth; ++x)
+        canvas.set(layout.cellX(i) + x, layout.cellY(i) + y,
+                   glm::vec3(cells[i].at(x, y, 0), cells[i].at(x, y, 1), cells[i].at(x, y, 2)));
   return canvas.image();
 }
 

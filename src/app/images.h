@@ -10,6 +10,7 @@
 #include "gpu/context.h"
 #include "gpu/recorder.h"
 #include "io/image_io.h"
+#include "plot/canvas.h"
 #include "render/frame_renderer.h"
 
 namespace bounce::app {
@@ -29,6 +30,37 @@ io::ImageF contactSheet(const std::vector<io::ImageF>& cells, int columns, int s
 // Display images (all the size of the first) side by side, `columns` to a
 // row, each with its label in a strip above it (lower-case text).
 io::ImageF labelledSheet(const std::vector<io::ImageF>& cells, const std::vector<std::string>& labels, int columns);
+
+// Where labelledSheet puts things: `columns` cells to a row, each row of
+// cells under a strip for their labels (strip 0: no labels, as
+// contactSheet's layout).
+struct SheetLayout {
+  int cellWidth = 0;
+  int cellHeight = 0;
+  int columns = 1;
+  int rows = 0;
+  int strip = 0;      // pixels of label strip above each row of cells
+  int textScale = 1;  // of the label font (plot::Canvas::text)
+
+  int width() const { return cellWidth * columns; }
+  int height() const { return (cellHeight + strip) * rows; }
+  // The top-left pixel of cell i (its label's strip is above it).
+  int cellX(std::size_t i) const { return int(i % std::size_t(columns)) * cellWidth; }
+  int cellY(std::size_t i) const { return int(i / std::size_t(columns)) * (cellHeight + strip) + strip; }
+};
+
+// The layout of `cellCount` cells, labelled when `labels` is not empty.
+SheetLayout sheetLayout(int cellWidth, int cellHeight, std::size_t cellCount, int columns,
+                        const std::vector<std::string>& labels);
+
+// Draws the labels of the cells of row `row` (labels[i] above cell i; fewer
+// labels than cells leave the rest blank) into `canvas`, whose row `top` is
+// the top of that row's strip.
+void drawLabels(plot::Canvas& canvas, const SheetLayout& layout, const std::vector<std::string>& labels, int row,
+                int top);
+
+// The background of a labelled sheet (its strips, and cells no image fills).
+inline constexpr float kSheetBackground = 0.08f;
 
 // Writes each wanted AOV of the renderer's last frame ("all" for every one)
 // as EXR + false-colour PNG into `dir`, all of them side by side on

@@ -1,9 +1,12 @@
 #include "app/option_checks.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace bounce::app {
 namespace {
@@ -50,6 +53,20 @@ CLI::Validator finitePositive() {
         return "got " + text + ", expected a finite number > 0";
       },
       "a finite number > 0");
+}
+
+CLI::Validator outputExtension(const std::string& extension, const std::string& what, const std::string& also) {
+  const std::string description = "a file name ending in " + extension;
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        if (!also.empty() && text == also) return {};
+        std::string ending = std::filesystem::path(text).extension().string();
+        for (char& c : ending) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ending == extension) return {};
+        const bool vowel = std::string_view("aeiou").find(extension.substr(1, 1)) != std::string_view::npos;
+        return text + " must name " + (vowel ? "an " : "a ") + extension + " file: it is written as " + what;
+      },
+      description);
 }
 
 }  // namespace bounce::app

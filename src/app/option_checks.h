@@ -1,4 +1,4 @@
-// Checks for numeric command-line options. CLI11's own Range lets NaN through
+// Checks for command-line options. CLI11's own Range lets NaN through
 // (every comparison with NaN is false, so "nan" is never out of range) and
 // prints an open bound as the largest double in full, 309 digits; these
 // refuse NaN and infinity and say the range in a few characters.
@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace bounce::app {
 
@@ -32,5 +33,11 @@ inline CLI::Validator finiteNumber() {
 
 // A finite number > 0.
 CLI::Validator finitePositive();
+
+// An output file name ending in `extension` (".png", any case), the format
+// the option writes: a file named x.exr must not be given PNG bytes. `what`
+// names the format in the message ("a PNG"). `also` is one more accepted
+// value ("-" for standard output), or empty.
+CLI::Validator outputExtension(const std::string& extension, const std::string& what, const std::string& also = "");
 
 }  // namespace bounce::app

@@ -10,6 +10,7 @@
 #include "io/image_io.h"
 
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
@@ -241,6 +242,62 @@ ImageF readExr(const fs::path& path) {
   return image;
 }
 
+// Scanlines in one chunk of a scanline file (the OpenEXR file layout's table).
+std::uint64_t scanlinesPerChunk(Imf::Compression compression) {
+  switch (compression) {
+    case Imf::NO_COMPRESSION:
+    case Imf::RLE_COMPRESSION:
+    case Imf::ZIPS_COMPRESSION:
+      return 1;
+    case Imf::ZIP_COMPRESSION:
+    case Imf::PXR24_COMPRESSION:
+      return 16;
+    case Imf::PIZ_COMPRESSION:
+    case Imf::B44_COMPRESSION:
+    case Imf::B44A_COMPRESSION:
+    case Imf::DWAA_COMPRESSION:
+      return 32;
+    default:
+      return 256;  // DWAB, and the most any compression uses
+  }
+}
+
+// What readExr will make of the file, from its header: the channels it
+// returns and, beside them, OpenEXR's buffers for a chunk of scanlines or a
+// row of tiles (compressed and decompressed), or the half-float RGBA copy of
+// a luminance/chroma file.
+ImageInfo readExrInfo(const fs::path& path) {
+  Imf::InputFile file(path.c_str());
+  const Imf::Header& header = file.header();
+  const Imath::Box2i dataWindow = header.dataWindow();
+  const std::int64_t width = std::int64_t(dataWindow.max.x) - dataWindow.min.x + 1;
+  const std::int64_t height = std::int64_t(dataWindow.max.y) - dataWindow.min.y + 1;
+  checkReadSize(path, width, height);
+  std::vector<std::string> fileNames;
+  bool subsampled = false;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+    fileNames.emplace_back(it.name());
+    subsampled = subsampled || it.channel().xSampling != 1 || it.channel().ySampling != 1;
+  }
+  if (fileNames.empty()) fail(path, "EXR file has no channels");
+  ImageInfo info{int(width), int(height), 0, 0};
+  const auto has = [&](const char* name) {
+    return std::find(fileNames.begin(), fileNames.end(), name) != fileNames.end();
+  };
+  if (has("RY") || has("BY")) {
+    info.channels = has("A") ? 4 : 3;
+    info.decoderBytes = info.pixels() * sizeof(Imf::Rgba);
+    return info;
+  }
+  if (subsampled) fail(path, "EXR channels with x/y subsampling are not supported");
+  info.channels = planExrChannels(fileNames).outputNames.size();
+  const std::uint64_t chunkRows = header.hasTileDescription()
+                                      ? std::min<std::uint64_t>(header.tileDescription().ySize, std::uint64_t(height))
+                                      : scanlinesPerChunk(header.compression());
+  info.decoderBytes = 2 * chunkRows * std::uint64_t(width) * fileNames.size() * sizeof(float);
+  return info;
+}
+
 // --- reading: stb (PNG, JPEG)
 
 // An stb read callback over an in-memory file that records whether the decoder
@@ -338,28 +395,44 @@ ImageF convertStbPixels(const T* pixels, int width, int height, int components, 
   return image;
 }
 
-ImageF readWithStb(const fs::path& path, FileFormat format) {
-  const std::vector<unsigned char> bytes = readFileBytes(path);
-  if (bytes.size() > std::size_t(INT32_MAX)) fail(path, "file too large for the PNG/JPEG decoder");
-
-  // The size comes from the header first, so a corrupt one cannot make the
-  // decoder allocate gigabytes.
+// What a PNG or JPEG header says, read without decoding a pixel.
+struct StbHeader {
   int width = 0;
   int height = 0;
   int components = 0;
+  bool sixteenBit = false;
+};
+
+StbHeader readStbHeader(const fs::path& path, const std::vector<unsigned char>& bytes, FileFormat format) {
+  if (bytes.size() > std::size_t(INT32_MAX)) fail(path, "file too large for the PNG/JPEG decoder");
+  // The size comes from the header first, so a corrupt one cannot make the
+  // decoder allocate gigabytes.
+  StbHeader header;
   {
     StbMemoryReader reader(bytes);
-    const int ok = stbi_info_from_callbacks(&StbMemoryReader::callbacks(), &reader, &width, &height, &components);
+    const int ok = stbi_info_from_callbacks(&StbMemoryReader::callbacks(), &reader, &header.width, &header.height,
+                                            &header.components);
     if (reader.readPastEnd()) fail(path, "truncated or corrupt (decoder read past end of file)");
     if (!ok) {
       const char* reason = stbi_failure_reason();
       fail(path, std::string("cannot decode header (") + (reason ? reason : "unknown reason") + ")");
     }
   }
-  checkReadSize(path, width, height);
-
+  checkReadSize(path, header.width, header.height);
   StbMemoryReader probe(bytes);
-  if (format == FileFormat::Png && stbi_is_16_bit_from_callbacks(&StbMemoryReader::callbacks(), &probe)) {
+  header.sixteenBit =
+      format == FileFormat::Png && stbi_is_16_bit_from_callbacks(&StbMemoryReader::callbacks(), &probe) != 0;
+  return header;
+}
+
+ImageF readWithStb(const fs::path& path, FileFormat format) {
+  const std::vector<unsigned char> bytes = readFileBytes(path);
+  const StbHeader header = readStbHeader(path, bytes, format);
+  int width = header.width;
+  int height = header.height;
+  int components = header.components;
+
+  if (header.sixteenBit) {
     auto pixels = callStb<stbi_us>(path, bytes, [&](const stbi_io_callbacks* io, void* user) {
       return stbi_load_16_from_callbacks(io, user, &width, &height, &components, 0);
     });
@@ -528,12 +601,75 @@ Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& 
   return image;
 }
 
+std::string memoryText(std::uint64_t bytes) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  double value = double(bytes);
+  int unit = 0;
+  while (value >= 1024.0 && unit < 4) {
+    value /= 1024.0;
+    ++unit;
+  }
+  char text[32];
+  if (unit == 0)
+    std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
+  else
+    std::snprintf(text, sizeof text, value < 10.0 ? "%.1f %s" : "%.0f %s", value, units[unit]);
+  return text;
+}
+
+void refuseOverMemoryLimit(const fs::path& file, std::uint64_t bytes, const std::string& what) {
+  if (bytes <= kImageMemoryLimit) return;
+  fail(file, what + " needs about " + memoryText(bytes) + " of memory, more than the limit of " +
+                 memoryText(kImageMemoryLimit) + " (docs/reliability.md)");
+}
+
 bool holdsRadiance(const fs::path& path) {
   try {
     const FileFormat format = detectFormat(readFileBytes(path, 16));
     return format == FileFormat::Exr || format == FileFormat::Hdr;
   } catch (const std::exception&) {
     return false;
+  }
+}
+
+ImageInfo readImageInfo(const fs::path& path) {
+  checkReadableFile(path);
+  try {
+    const std::vector<unsigned char> head = readFileBytes(path, 16);
+    if (head.empty()) fail(path, "empty file");
+    const FileFormat format = detectFormat(head);
+    if (format == FileFormat::Unknown) fail(path, "unsupported image format (expected EXR, HDR, PNG or JPEG)");
+    std::error_code ec;
+    const std::uint64_t fileSize = fs::file_size(path, ec);
+    if (ec) fail(path, "cannot access (" + ec.message() + ")");
+    if (format == FileFormat::Exr) return readExrInfo(path);
+    if (format == FileFormat::Hdr) {
+      // Radiance headers are a few short lines; a file whose header is longer
+      // than the first mebibyte is read whole to find its end.
+      constexpr std::size_t kHeaderProbe = std::size_t(1) << 20;
+      RadianceHeader header;
+      try {
+        header = readRadianceHeader(path, readFileBytes(path, kHeaderProbe), fileSize, int(kMaxSide), kMaxImagePixels);
+      } catch (const ImageIoError&) {
+        if (fileSize <= kHeaderProbe) throw;
+        header = readRadianceHeader(path, readFileBytes(path), fileSize, int(kMaxSide), kMaxImagePixels);
+      }
+      // The decoder holds the whole file and one scanline of RGBE.
+      return {header.width, header.height, 3, fileSize + 4 * std::uint64_t(header.width)};
+    }
+    const StbHeader header = readStbHeader(path, readFileBytes(path), format);
+    // stb holds the file, its inflated or decoded samples and the pixels it
+    // makes of them (twice the samples when a PNG is interlaced), the last
+    // until they are converted to float.
+    const std::uint64_t samples = std::uint64_t(header.width) * std::uint64_t(header.height) *
+                                  std::uint64_t(header.components) * (header.sixteenBit ? 2 : 1);
+    return {header.width, header.height, stbChannelNames(header.components).size(), 2 * fileSize + 3 * samples};
+  } catch (const ImageIoError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail(path, "out of memory while reading the header");
+  } catch (const std::exception& e) {
+    fail(path, std::string("cannot read EXR (") + e.what() + ")");
   }
 }
 
@@ -611,14 +747,19 @@ ImageF firstChannels(const ImageF& image, std::size_t count) {
   return out;
 }
 
+std::uint8_t displayByte(float value) { return toByte(value); }
+
+glm::vec3 displayColour(const float* pixel, std::size_t channelCount, PngEncoding encoding, float exposure) {
+  const glm::vec3 rgb = pixelColour(pixel, channelCount);
+  const bool bad = !std::isfinite(rgb.x) || !std::isfinite(rgb.y) || !std::isfinite(rgb.z);
+  return bad ? glm::vec3(1.0f, 0.0f, 1.0f) : encodeForDisplay(rgb, encoding, exposure);
+}
+
 ImageF toDisplay(const ImageF& image, PngEncoding encoding, float exposure) {
   ImageF display(image.width, image.height, {"R", "G", "B"});
   const std::size_t channelCount = image.channelCount();
   for (std::size_t i = 0; i < std::size_t(image.width) * std::size_t(image.height); ++i) {
-    const float* in = image.pixels.data() + i * channelCount;
-    const glm::vec3 rgb = pixelColour(in, channelCount);
-    const bool bad = !std::isfinite(rgb.x) || !std::isfinite(rgb.y) || !std::isfinite(rgb.z);
-    const glm::vec3 encoded = bad ? glm::vec3(1.0f, 0.0f, 1.0f) : encodeForDisplay(rgb, encoding, exposure);
+    const glm::vec3 encoded = displayColour(image.pixels.data() + i * channelCount, channelCount, encoding, exposure);
     for (int c = 0; c < 3; ++c) display.pixels[i * 3 + std::size_t(c)] = encoded[c];
   }
   return display;
@@ -660,17 +801,31 @@ void writePng(const fs::path& path, const ImageF& image, PngEncoding encoding, f
     if (hasAlpha) *out++ = toByte(alpha);
   }
 
+  writePngBytes(path, image.width, image.height, outComponents, bytes);
+}
+
+void writePngBytes(const fs::path& path, int width, int height, int components, std::span<const std::uint8_t> bytes) {
+  if (width <= 0 || height <= 0 || width > kMaxSide || height > kMaxSide)
+    fail(path, "cannot write an image of size " + sizeText(width, height));
+  if (components < 1 || components > 4)
+    fail(path, "cannot write a PNG of " + std::to_string(components) + " components");
+  if (bytes.size() != std::size_t(width) * std::size_t(height) * std::size_t(components))
+    fail(path, "image " + sizeText(width, height) + " of " + std::to_string(components) + " components needs " +
+                   std::to_string(std::size_t(width) * std::size_t(height) * std::size_t(components)) +
+                   " bytes but has " + std::to_string(bytes.size()));
   std::vector<std::uint8_t> encodedPng;
   const auto append = [](void* context, void* data, int size) {
     auto& buffer = *static_cast<std::vector<std::uint8_t>*>(context);
     const auto* begin = static_cast<const std::uint8_t*>(data);
     buffer.insert(buffer.end(), begin, begin + size);
   };
-  const int ok = stbi_write_png_to_func(append, &encodedPng, image.width, image.height, outComponents, bytes.data(),
-                                        image.width * outComponents);
+  const int ok =
+      stbi_write_png_to_func(append, &encodedPng, width, height, components, bytes.data(), width * components);
   if (!ok || encodedPng.empty()) fail(path, "cannot encode PNG");
   writeFileAtomically(path, encodedPng.data(), encodedPng.size());
 }
+
+std::uint64_t pngWriteBytes(std::uint64_t pixels, int components) { return 4 * pixels * std::uint64_t(components + 1); }
 
 namespace {
 

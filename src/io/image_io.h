@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 namespace bounce::io {
 
 // Any problem with an image file. what() always names the file and the reason.
@@ -56,6 +58,43 @@ constexpr std::int64_t kMaxImagePixels = std::int64_t(1) << 28;
 // bad pixel and the count).
 ImageF readImage(const std::filesystem::path& path, bool allowNonFinite = false);
 
+// What readImage would make of a file, from its header alone: nothing is
+// decoded, so a command can work out the memory its images will take before
+// it reads them (docs/reliability.md).
+struct ImageInfo {
+  int width = 0;
+  int height = 0;
+  std::size_t channels = 0;        // of the ImageF readImage returns
+  std::uint64_t decoderBytes = 0;  // what decoding needs beside that image (file bytes, decoded samples), at most
+
+  std::uint64_t pixels() const { return std::uint64_t(width) * std::uint64_t(height); }
+  // The ImageF's pixels.
+  std::uint64_t imageBytes() const { return pixels() * channels * sizeof(float); }
+  // The most readImage holds at once while it reads the file.
+  std::uint64_t readBytes() const { return imageBytes() + decoderBytes; }
+};
+
+// Reads a file's header as readImage does, with the same errors for a file
+// that is missing, empty, of an unknown format or with a header readImage
+// refuses (a corrupt one, a size of zero or over the limits above). A file
+// whose pixels are damaged passes: only readImage finds that.
+ImageInfo readImageInfo(const std::filesystem::path& path);
+
+// The most memory a command may plan for its images at once: 2 GiB. A small
+// file can declare a huge image (a 261 KB PNG of 16384 x 16384 zeros), so
+// commands work out their peak from the headers (readImageInfo) and refuse
+// beyond this before decoding, rather than let the kernel end the process,
+// or another one (docs/reliability.md says what each command counts).
+inline constexpr std::uint64_t kImageMemoryLimit = std::uint64_t(2) << 30;
+
+// Bytes as people read them: "1.3 GiB", "640 MiB", "12 KiB".
+std::string memoryText(std::uint64_t bytes);
+
+// Throws ImageIoError "FILE: WHAT needs about 9.6 GiB of memory, more than
+// the limit of 2.0 GiB (docs/reliability.md)" when bytes is over
+// kImageMemoryLimit; `what` says what for ("comparing two 16384x16384 images").
+void refuseOverMemoryLimit(const std::filesystem::path& file, std::uint64_t bytes, const std::string& what);
+
 // Whether a file holds linear radiance (EXR, Radiance HDR) rather than
 // display values (PNG, JPEG), by its signature as readImage decides; false
 // for a file that cannot be read.
@@ -94,6 +133,24 @@ ImageF firstChannels(const ImageF& image, std::size_t count);
 // What writePng would show, as RGB display values in [0,1] (non-finite
 // pixels magenta), e.g. to lay several images out on one contact sheet.
 ImageF toDisplay(const ImageF& image, PngEncoding encoding, float exposure = 1.0f);
+
+// The display colour of one pixel of a 1- to 4-channel image (its first
+// channels, as toDisplay reads them): what toDisplay and writePng make of it.
+glm::vec3 displayColour(const float* pixel, std::size_t channelCount, PngEncoding encoding, float exposure = 1.0f);
+
+// A display value as writePng stores it: clamped to [0,1], in 8 bits.
+std::uint8_t displayByte(float value);
+
+// Writes 8-bit samples as they are (components 1 grey, 2 grey and alpha, 3
+// RGB, 4 RGBA; rows top to bottom) as a PNG; writePng's atomic write and
+// errors. For pictures made as bytes, which then need no float copy.
+void writePngBytes(const std::filesystem::path& path, int width, int height, int components,
+                   std::span<const std::uint8_t> bytes);
+
+// The bytes writePngBytes needs at most beside the samples it is given, for
+// an image of `pixels` pixels of `components` bytes: the filtered rows and
+// the compressed stream (at worst larger than the samples), twice.
+std::uint64_t pngWriteBytes(std::uint64_t pixels, int components);
 
 // Writes an 8-bit PNG (RGB, or RGBA when the image has 4 channels; one channel
 // becomes grey). Same atomic write and errors as writeExr.

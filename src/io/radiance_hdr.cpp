@@ -134,8 +134,8 @@ std::uint64_t smallestScanlineBytes(long width) {
 
 }  // namespace
 
-ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>& bytes, int maxSide,
-                         std::int64_t maxPixels) {
+RadianceHeader readRadianceHeader(const fs::path& path, const std::vector<unsigned char>& bytes, std::uint64_t fileSize,
+                                  int maxSide, std::int64_t maxPixels) {
   ByteCursor cursor(path, bytes);
   readHeader(path, cursor);
 
@@ -162,17 +162,27 @@ ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>&
          "image size " + size + " is larger than " + std::to_string(maxSide) + " pixels a side (corrupt header?)");
   if (std::int64_t(width) * std::int64_t(height) > maxPixels)
     fail(path, "image size " + size + " is more than " + std::to_string(maxPixels) + " pixels");
+  const std::size_t headerBytes = bytes.size() - cursor.remaining();
+  const std::uint64_t pixelBytes = fileSize > headerBytes ? fileSize - headerBytes : 0;
   const std::uint64_t needed = std::uint64_t(height) * smallestScanlineBytes(width);
-  if (needed > cursor.remaining())
+  if (needed > pixelBytes)
     fail(path, "truncated: the header declares " + size + " pixels, which take at least " + std::to_string(needed) +
-                   " bytes; the file has " + std::to_string(cursor.remaining()) + " after its header");
+                   " bytes; the file has " + std::to_string(pixelBytes) + " after its header");
+  return {int(width), int(height), y == "+Y", headerBytes};
+}
 
-  ImageF image(int(width), int(height), {"R", "G", "B"});
+ImageF decodeRadianceHdr(const fs::path& path, const std::vector<unsigned char>& bytes, int maxSide,
+                         std::int64_t maxPixels) {
+  const RadianceHeader header = readRadianceHeader(path, bytes, bytes.size(), maxSide, maxPixels);
+  const int width = header.width, height = header.height;
+  ByteCursor cursor(path, bytes);
+  cursor.advance(header.pixelOffset);
+
+  ImageF image(width, height, {"R", "G", "B"});
   std::vector<unsigned char> rgbe(std::size_t(width) * 4);
-  const bool bottomUp = y == "+Y";
   for (int row = 0; row < height; ++row) {
-    readScanline(cursor, int(width), rgbe, path);
-    const int imageRow = bottomUp ? int(height) - 1 - row : row;
+    readScanline(cursor, width, rgbe, path);
+    const int imageRow = header.bottomUp ? height - 1 - row : row;
     for (int x = 0; x < width; ++x) rgbeToFloat(&rgbe[std::size_t(x) * 4], &image.at(x, imageRow, 0));
   }
   return image;

@@ -12,6 +12,21 @@
 
 namespace bounce::io {
 
+// What a Radiance file's header says: its size, its row order and where its
+// pixels start.
+struct RadianceHeader {
+  int width = 0;
+  int height = 0;
+  bool bottomUp = false;        // "+Y H": the first scanline is the bottom row
+  std::size_t pixelOffset = 0;  // of the first scanline, in bytes
+};
+
+// Reads the header from `bytes`, the start of a file of fileSize bytes (all
+// of it, or enough to hold the header), with the checks below: the size
+// against maxSide and maxPixels, and against the bytes the file has.
+RadianceHeader readRadianceHeader(const std::filesystem::path& path, const std::vector<unsigned char>& bytes,
+                                  std::uint64_t fileSize, int maxSide, std::int64_t maxPixels);
+
 // Decodes a whole Radiance file (32-bit_rle_rgbe, flat or new-style run-length
 // scanlines, "-Y H +X W" or "+Y H +X W" orientation) into an RGB float image.
 // Every inconsistency (truncation, run past the scanline, zero count, size over

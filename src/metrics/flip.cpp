@@ -199,174 +199,269 @@ FeatureFilters makeFeatureFilters(float ppd) {
     f.firstDerivative[k] /= f.firstDerivative[k] > 0.0f ? firstPositive : firstNegative;
     f.secondDerivative[k] /= f.secondDerivative[k] > 0.0f ? secondPositive : secondNegative;
   }
+  // Below about 1.7 pixels per degree the Gaussian is so narrow that its
+  // taps beside the centre underflow to 0: the lobes above summed to 0 and
+  // the kernels were 0 / 0, NaN, which made every FLIP value NaN (and
+  // HDR-FLIP, whose maximum skips NaN, 0). The kernels' limit as the
+  // Gaussian narrows is the central difference and its second difference.
+  if (!(firstPositive > 0.0f && firstNegative > 0.0f && secondPositive > 0.0f)) {
+    std::fill(f.firstDerivative.begin(), f.firstDerivative.end(), 0.0f);
+    std::fill(f.secondDerivative.begin(), f.secondDerivative.end(), 0.0f);
+    const std::size_t centre = std::size_t(f.radius);
+    f.firstDerivative[centre - 1] = 1.0f;
+    f.firstDerivative[centre + 1] = -1.0f;
+    f.secondDerivative[centre - 1] = 0.5f;
+    f.secondDerivative[centre] = -1.0f;
+    f.secondDerivative[centre + 1] = 0.5f;
+  }
   return f;
 }
 
 // Clamp-to-edge addressing: the image is extended by repeating its border.
 int clampIndex(int i, int size) { return std::min(std::max(i, 0), size - 1); }
 
-// Runs row(y) for every y in [0, height), rows interleaved over the hardware
-// threads. Every output pixel is computed by one thread from inputs no thread
-// writes, so the result is the same bits whatever the thread count.
+// Runs row(y) for every y in [first, last), rows interleaved over the
+// hardware threads; one thread when the rows hold too few pixels to repay
+// starting more. Every output pixel is computed by one thread from inputs no
+// thread writes, so the result is the same bits whatever the thread count.
 template <typename RowFunction>
-void forEachRow(int height, const RowFunction& row) {
-  constexpr int kMinimumRowsPerThread = 32;  // below this, starting threads costs more than it saves
-  const int threads =
-      std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, height / kMinimumRowsPerThread));
+void forEachRow(int first, int last, int width, const RowFunction& row) {
+  constexpr std::size_t kMinimumPixelsPerThread = 16384;
+  const std::size_t pixels = std::size_t(std::max(0, last - first)) * std::size_t(width);
+  const int threads = std::clamp(int(std::thread::hardware_concurrency()), 1,
+                                 int(std::max<std::size_t>(1, pixels / kMinimumPixelsPerThread)));
   if (threads == 1) {
-    for (int y = 0; y < height; ++y) row(y);
+    for (int y = first; y < last; ++y) row(y);
     return;
   }
   std::vector<std::jthread> workers;
   for (int t = 0; t < threads; ++t) {
-    workers.emplace_back([&row, height, threads, t] {
-      for (int y = t; y < height; y += threads) row(y);
+    workers.emplace_back([&row, first, last, threads, t] {
+      for (int y = first + t; y < last; y += threads) row(y);
     });
   }
 }
 
-// --- the two halves of LDR-FLIP
+// --- LDR-FLIP, a band of rows at a time
+//
+// Both halves of LDR-FLIP filter separably: a horizontal pass within each
+// row, then a vertical pass over the rows within the filter's radius. Only
+// the horizontal pass's results (the partial sums below) of the rows a band
+// and its radius cover are ever needed at once, so they are kept in a ring
+// of rows: each row is filtered horizontally once, each band reads its
+// rows and its neighbours', and the image-sized intermediates (YCxCz and
+// partial sums of both images, about 100 bytes a pixel) never exist. Every
+// value is computed from the same inputs in the same order as a whole-image
+// pass would, so the result is the same bits whatever the band size.
 
-// Colour difference per pixel in [0,1]: CSF-filtered YCxCz, back to linear RGB
-// clamped to the display gamut, to Hunt-adjusted CIELAB, HyAB, then the
-// compressing remap. Inputs are YCxCz images.
-ScalarImage colourDifference(const std::vector<glm::vec3>& reference, const std::vector<glm::vec3>& test, int width,
-                             int height, float ppd) {
-  const SpatialFilters filters = makeSpatialFilters(ppd);
-  const int r = filters.radius;
-  const std::size_t count = std::size_t(width) * std::size_t(height);
+// Colour pipeline, horizontal pass: Y, Cx, Cz through blue-yellow Gaussian 1,
+// Cz through Gaussian 2. Each opponent channel has its own filter (the
+// blue-yellow one two, summed after the vertical pass).
+struct ColourPartial {
+  float y, cx, cz1, cz2;
+};
 
-  // Horizontal pass; per pixel (Y, Cx, Cz through Gaussian 1, Cz through Gaussian 2).
-  // Each opponent channel has its own filter (the blue-yellow one two, summed later).
-  struct Partial {
-    float y, cx, cz1, cz2;
-  };
-  const auto addTap = [&](Partial& sum, std::size_t tap, float y, float cx, float cz1, float cz2) {
-    sum.y += filters.achromatic[tap] * y;
-    sum.cx += filters.redGreen[tap] * cx;
-    sum.cz1 += filters.blueYellow1[tap] * cz1;
-    sum.cz2 += filters.blueYellow2[tap] * cz2;
-  };
-  std::vector<Partial> horizontalReference(count), horizontalTest(count);
-  forEachRow(height, [&](int y) {
-    for (int x = 0; x < width; ++x) {
-      Partial ref{0.0f, 0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f, 0.0f};
+// Feature pipeline, horizontal pass: d/dx, d2/dx2 and the plain Gaussian, the
+// latter for the vertical derivatives of the second pass.
+struct FeaturePartial {
+  float dx, ddx, g;
+};
+
+// Output pixels a band computes: enough that starting threads for it pays,
+// few enough that the ring stays small (about 30 MB) whatever the width.
+constexpr std::size_t kBandPixels = std::size_t(1) << 19;
+
+int bandRowsFor(int width, int height) {
+  return std::min(std::max(height, 1), std::max(8, int(kBandPixels / std::size_t(std::max(width, 1)))));
+}
+
+class BandedLdrFlip {
+ public:
+  // bandRows: output rows per band (0: the default for the size).
+  BandedLdrFlip(int width, int height, float ppd, int bandRows)
+      : width_(width),
+        height_(height),
+        spatial_(makeSpatialFilters(ppd)),
+        features_(makeFeatureFilters(ppd)),
+        bandRows_(bandRows > 0 ? std::min(bandRows, height) : bandRowsFor(width, height)),
+        cmax_(maximumColourDifference()),
+        halo_(std::max(spatial_.radius, features_.radius)),
+        ringRows_(std::min(height, bandRows_ + 2 * halo_)),
+        colourReference_(ringSize()),
+        colourTest_(ringSize()),
+        featureReference_(ringSize()),
+        featureTest_(ringSize()) {}
+
+  // displayRow(y, reference, test) fills the two rows' linear display RGB
+  // (width values each; clamped to [0,1] here, as a display would);
+  // useRow(y, errors) takes row y's LDR-FLIP values. Both are called from
+  // several threads at once, for different rows.
+  template <typename DisplayRow, typename UseRow>
+  void run(const DisplayRow& displayRow, const UseRow& useRow) {
+    int filteredUpTo = 0;  // rows [0, filteredUpTo) have been through the horizontal pass
+    for (int y0 = 0; y0 < height_; y0 += bandRows_) {
+      const int y1 = std::min(height_, y0 + bandRows_);
+      const int needed = std::min(height_, y1 + halo_);
+      forEachRow(filteredUpTo, needed, width_, [&](int y) { filterRow(y, displayRow); });
+      filteredUpTo = needed;
+      forEachRow(y0, y1, width_, [&](int y) {
+        std::vector<float> errors(static_cast<std::size_t>(width_));
+        finishRow(y, errors.data());
+        useRow(y, errors.data());
+      });
+    }
+  }
+
+ private:
+  std::size_t ringSize() const { return std::size_t(ringRows_) * std::size_t(width_); }
+  std::size_t at(int x, int y) const { return std::size_t(y % ringRows_) * std::size_t(width_) + std::size_t(x); }
+
+  // Row y through YCxCz and both horizontal passes, into the ring.
+  template <typename DisplayRow>
+  void filterRow(int y, const DisplayRow& displayRow) {
+    const auto width = static_cast<std::size_t>(width_);
+    std::vector<glm::vec3> reference(width), test(width);
+    displayRow(y, reference.data(), test.data());
+    for (std::size_t x = 0; x < reference.size(); ++x) {
+      reference[x] = xyzToYCxCz(linearRgbToXyz(glm::clamp(reference[x], 0.0f, 1.0f)));
+      test[x] = xyzToYCxCz(linearRgbToXyz(glm::clamp(test[x], 0.0f, 1.0f)));
+    }
+    const SpatialFilters& s = spatial_;
+    const auto addTap = [&s](ColourPartial& sum, std::size_t tap, float y, float cx, float cz1, float cz2) {
+      sum.y += s.achromatic[tap] * y;
+      sum.cx += s.redGreen[tap] * cx;
+      sum.cz1 += s.blueYellow1[tap] * cz1;
+      sum.cz2 += s.blueYellow2[tap] * cz2;
+    };
+    const int r = s.radius;
+    for (int x = 0; x < width_; ++x) {
+      ColourPartial ref{0.0f, 0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f, 0.0f};
       for (int k = -r; k <= r; ++k) {
-        const std::size_t source = std::size_t(y) * std::size_t(width) + std::size_t(clampIndex(x + k, width));
+        const std::size_t source = std::size_t(clampIndex(x + k, width_));
         const std::size_t tap = std::size_t(k + r);
         const glm::vec3 a = reference[source];
         const glm::vec3 b = test[source];
         addTap(ref, tap, a.x, a.y, a.z, a.z);
         addTap(tst, tap, b.x, b.y, b.z, b.z);
       }
-      const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
-      horizontalReference[i] = ref;
-      horizontalTest[i] = tst;
+      colourReference_[at(x, y)] = ref;
+      colourTest_[at(x, y)] = tst;
     }
-  });
 
-  const float cmax = maximumColourDifference();
-  const float cutoff = kColourCutoff * cmax;
-  // Filtered YCxCz -> displayable linear RGB -> Hunt-adjusted CIELAB.
-  const auto toPerceptual = [](const Partial& p) {
-    const glm::vec3 rgb = glm::clamp(xyzToLinearRgb(yCxCzToXyz({p.y, p.cx, p.cz1 + p.cz2})), 0.0f, 1.0f);
-    return huntAdjust(xyzToCieLab(linearRgbToXyz(rgb)));
-  };
+    // Luminance normalised to [0,1]: (Y + 16) / 116 of YCxCz, i.e. Y / Y_white.
+    const auto normalisedLuminance = [](const glm::vec3& yCxCz) { return yCxCz.x * (1.0f / 116.0f) + 16.0f / 116.0f; };
+    const FeatureFilters& f = features_;
+    const int rf = f.radius;
+    for (int x = 0; x < width_; ++x) {
+      FeaturePartial ref{0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f};
+      for (int k = -rf; k <= rf; ++k) {
+        const std::size_t source = std::size_t(clampIndex(x + k, width_));
+        const std::size_t tap = std::size_t(k + rf);
+        const float a = normalisedLuminance(reference[source]);
+        const float b = normalisedLuminance(test[source]);
+        ref.dx += f.firstDerivative[tap] * a;
+        ref.ddx += f.secondDerivative[tap] * a;
+        ref.g += f.gaussian[tap] * a;
+        tst.dx += f.firstDerivative[tap] * b;
+        tst.ddx += f.secondDerivative[tap] * b;
+        tst.g += f.gaussian[tap] * b;
+      }
+      featureReference_[at(x, y)] = ref;
+      featureTest_[at(x, y)] = tst;
+    }
+  }
 
-  ScalarImage difference(width, height);
-  forEachRow(height, [&](int y) {
-    for (int x = 0; x < width; ++x) {
-      Partial ref{0.0f, 0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f, 0.0f};
+  // Row y's vertical passes and the two differences combined.
+  void finishRow(int y, float* errors) const {
+    const SpatialFilters& s = spatial_;
+    const int r = s.radius;
+    const float cmax = cmax_;
+    const float cutoff = kColourCutoff * cmax;
+    const auto addTap = [&s](ColourPartial& sum, std::size_t tap, float y, float cx, float cz1, float cz2) {
+      sum.y += s.achromatic[tap] * y;
+      sum.cx += s.redGreen[tap] * cx;
+      sum.cz1 += s.blueYellow1[tap] * cz1;
+      sum.cz2 += s.blueYellow2[tap] * cz2;
+    };
+    // Filtered YCxCz -> displayable linear RGB -> Hunt-adjusted CIELAB.
+    const auto toPerceptual = [](const ColourPartial& p) {
+      const glm::vec3 rgb = glm::clamp(xyzToLinearRgb(yCxCzToXyz({p.y, p.cx, p.cz1 + p.cz2})), 0.0f, 1.0f);
+      return huntAdjust(xyzToCieLab(linearRgbToXyz(rgb)));
+    };
+    const FeatureFilters& f = features_;
+    const int rf = f.radius;
+    // Edge and point responses are gradient-magnitude-like, each in [0, sqrt(2)].
+    const float normalisation = 1.0f / std::sqrt(2.0f);
+    // Where in the ring each tap's row starts (a division per row, not per tap).
+    const auto ringRowStarts = [&](int radius) {
+      std::vector<std::size_t> starts;
+      for (int k = -radius; k <= radius; ++k) starts.push_back(at(0, clampIndex(y + k, height_)));
+      return starts;
+    };
+    const std::vector<std::size_t> colourRows = ringRowStarts(r), featureRows = ringRowStarts(rf);
+    for (int x = 0; x < width_; ++x) {
+      // Colour difference in [0,1]: HyAB of the filtered colours, then the
+      // compressing remap (small differences use most of [0,1], large ones
+      // are compressed into the top).
+      ColourPartial ref{0.0f, 0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f, 0.0f};
       for (int k = -r; k <= r; ++k) {
-        const std::size_t source = std::size_t(clampIndex(y + k, height)) * std::size_t(width) + std::size_t(x);
         const std::size_t tap = std::size_t(k + r);
-        const Partial& a = horizontalReference[source];
-        const Partial& b = horizontalTest[source];
+        const std::size_t source = colourRows[tap] + std::size_t(x);
+        const ColourPartial& a = colourReference_[source];
+        const ColourPartial& b = colourTest_[source];
         addTap(ref, tap, a.y, a.cx, a.cz1, a.cz2);
         addTap(tst, tap, b.y, b.cx, b.cz1, b.cz2);
       }
       const float perceived = std::pow(hyab(toPerceptual(ref), toPerceptual(tst)), kColourExponent);
-      // Small differences use most of [0,1]; large ones are compressed into the top.
-      difference.at(x, y) = perceived < cutoff ? perceived * (kColourCutoffTarget / cutoff)
-                                               : kColourCutoffTarget + ((perceived - cutoff) / (cmax - cutoff)) *
-                                                                           (1.0f - kColourCutoffTarget);
-    }
-  });
-  return difference;
-}
+      const float colour = perceived < cutoff ? perceived * (kColourCutoffTarget / cutoff)
+                                              : kColourCutoffTarget + ((perceived - cutoff) / (cmax - cutoff)) *
+                                                                          (1.0f - kColourCutoffTarget);
 
-// Feature difference per pixel in [0,1]: the larger of the differences in
-// edge strength and in point strength between the images, measured on
-// luminance normalised to [0,1] ((Y + 16) / 116 of YCxCz, i.e. Y / Y_white).
-ScalarImage featureDifference(const std::vector<glm::vec3>& reference, const std::vector<glm::vec3>& test, int width,
-                              int height, float ppd) {
-  const FeatureFilters filters = makeFeatureFilters(ppd);
-  const int r = filters.radius;
-  const std::size_t count = std::size_t(width) * std::size_t(height);
-  const auto normalisedLuminance = [](const glm::vec3& yCxCz) { return yCxCz.x * (1.0f / 116.0f) + 16.0f / 116.0f; };
-
-  // Horizontal pass: d/dx, d2/dx2 and plain Gaussian, the latter for the
-  // vertical derivatives of the second pass.
-  struct Partial {
-    float dx, ddx, g;
-  };
-  std::vector<Partial> horizontalReference(count), horizontalTest(count);
-  forEachRow(height, [&](int y) {
-    for (int x = 0; x < width; ++x) {
-      Partial ref{0.0f, 0.0f, 0.0f}, tst{0.0f, 0.0f, 0.0f};
-      for (int k = -r; k <= r; ++k) {
-        const std::size_t source = std::size_t(y) * std::size_t(width) + std::size_t(clampIndex(x + k, width));
-        const std::size_t tap = std::size_t(k + r);
-        const float a = normalisedLuminance(reference[source]);
-        const float b = normalisedLuminance(test[source]);
-        ref.dx += filters.firstDerivative[tap] * a;
-        ref.ddx += filters.secondDerivative[tap] * a;
-        ref.g += filters.gaussian[tap] * a;
-        tst.dx += filters.firstDerivative[tap] * b;
-        tst.ddx += filters.secondDerivative[tap] * b;
-        tst.g += filters.gaussian[tap] * b;
-      }
-      const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
-      horizontalReference[i] = ref;
-      horizontalTest[i] = tst;
-    }
-  });
-
-  // Edge and point responses are gradient-magnitude-like, each in [0, sqrt(2)].
-  const float normalisation = 1.0f / std::sqrt(2.0f);
-  ScalarImage difference(width, height);
-  forEachRow(height, [&](int y) {
-    for (int x = 0; x < width; ++x) {
+      // Feature difference in [0,1]: the larger of the differences in edge
+      // strength and in point strength.
       float dxRef = 0.0f, ddxRef = 0.0f, dyRef = 0.0f, ddyRef = 0.0f;
       float dxTest = 0.0f, ddxTest = 0.0f, dyTest = 0.0f, ddyTest = 0.0f;
-      for (int k = -r; k <= r; ++k) {
-        const std::size_t source = std::size_t(clampIndex(y + k, height)) * std::size_t(width) + std::size_t(x);
-        const std::size_t tap = std::size_t(k + r);
-        const Partial& a = horizontalReference[source];
-        const Partial& b = horizontalTest[source];
-        dxRef += filters.gaussian[tap] * a.dx;
-        ddxRef += filters.gaussian[tap] * a.ddx;
-        dyRef += filters.firstDerivative[tap] * a.g;
-        ddyRef += filters.secondDerivative[tap] * a.g;
-        dxTest += filters.gaussian[tap] * b.dx;
-        ddxTest += filters.gaussian[tap] * b.ddx;
-        dyTest += filters.firstDerivative[tap] * b.g;
-        ddyTest += filters.secondDerivative[tap] * b.g;
+      for (int k = -rf; k <= rf; ++k) {
+        const std::size_t tap = std::size_t(k + rf);
+        const std::size_t source = featureRows[tap] + std::size_t(x);
+        const FeaturePartial& a = featureReference_[source];
+        const FeaturePartial& b = featureTest_[source];
+        dxRef += f.gaussian[tap] * a.dx;
+        ddxRef += f.gaussian[tap] * a.ddx;
+        dyRef += f.firstDerivative[tap] * a.g;
+        ddyRef += f.secondDerivative[tap] * a.g;
+        dxTest += f.gaussian[tap] * b.dx;
+        ddxTest += f.gaussian[tap] * b.ddx;
+        dyTest += f.firstDerivative[tap] * b.g;
+        ddyTest += f.secondDerivative[tap] * b.g;
       }
       const float edgeDifference =
           std::fabs(std::sqrt(dxRef * dxRef + dyRef * dyRef) - std::sqrt(dxTest * dxTest + dyTest * dyTest));
       const float pointDifference =
           std::fabs(std::sqrt(ddxRef * ddxRef + ddyRef * ddyRef) - std::sqrt(ddxTest * ddxTest + ddyTest * ddyTest));
-      difference.at(x, y) = std::pow(normalisation * std::max(edgeDifference, pointDifference), kFeatureExponent);
-    }
-  });
-  return difference;
-}
+      const float feature = std::pow(normalisation * std::max(edgeDifference, pointDifference), kFeatureExponent);
 
-void checkPair(const RgbImage& reference, const RgbImage& test, float ppd) {
+      // Features sharpen the colour error: where edges or points differ, the
+      // exponent drops below 1 and lifts the error towards 1.
+      errors[x] = std::pow(colour, 1.0f - feature);
+    }
+  }
+
+  int width_, height_;
+  SpatialFilters spatial_;
+  FeatureFilters features_;
+  int bandRows_;
+  float cmax_;  // the largest colour difference, the normaliser of the colour error
+  int halo_, ringRows_;
+  // Row y of the image is ring row y % ringRows_.
+  std::vector<ColourPartial> colourReference_, colourTest_;
+  std::vector<FeaturePartial> featureReference_, featureTest_;
+};
+
+void checkPair(const RgbView& reference, const RgbView& test, float ppd) {
   if (reference.width <= 0 || reference.height <= 0) throw std::invalid_argument("FLIP: the reference image is empty");
-  if (reference.pixels.size() != std::size_t(reference.width) * std::size_t(reference.height) ||
-      test.pixels.size() != std::size_t(test.width) * std::size_t(test.height)) {
+  if (reference.pixelCount != std::size_t(reference.width) * std::size_t(reference.height) ||
+      test.pixelCount != std::size_t(test.width) * std::size_t(test.height) || !reference.data || !test.data) {
     throw std::invalid_argument("FLIP: image pixel count does not match its size");
   }
   if (test.width != reference.width || test.height != reference.height) {
@@ -385,33 +480,11 @@ struct ToneCurve {
   float k0, k1, k2, k3, k4, k5;
 };
 constexpr ToneCurve kAces{0.6f * 0.6f * 2.51f, 0.6f * 0.03f, 0.0f, 0.6f * 0.6f * 2.43f, 0.6f * 0.59f, 0.14f};
+// Far beyond the exposed radiance at which flipToneMap saturates (12.1), far
+// below the one at which its square overflows float (1.8e19).
+constexpr float kToneMapInputLimit = 1.0e6f;
 // HDR-FLIP's exposure range aims the chosen luminances at this display value.
 constexpr float kExposureTarget = 0.85f;
-
-ScalarImage ldrFlipUnchecked(const RgbImage& reference, const RgbImage& test, float ppd) {
-  const std::size_t width = std::size_t(reference.width);
-  const auto toYCxCz = [width](const RgbImage& image) {
-    std::vector<glm::vec3> out(image.pixels.size());
-    forEachRow(image.height, [&](int y) {
-      for (std::size_t i = std::size_t(y) * width; i < std::size_t(y + 1) * width; ++i) {
-        out[i] = xyzToYCxCz(linearRgbToXyz(glm::clamp(image.pixels[i], 0.0f, 1.0f)));
-      }
-    });
-    return out;
-  };
-  const std::vector<glm::vec3> referenceYCxCz = toYCxCz(reference);
-  const std::vector<glm::vec3> testYCxCz = toYCxCz(test);
-  ScalarImage error = colourDifference(referenceYCxCz, testYCxCz, reference.width, reference.height, ppd);
-  const ScalarImage features = featureDifference(referenceYCxCz, testYCxCz, reference.width, reference.height, ppd);
-  // Features sharpen the colour error: where edges or points differ, the
-  // exponent drops below 1 and lifts the error towards 1.
-  forEachRow(reference.height, [&](int y) {
-    for (std::size_t i = std::size_t(y) * width; i < std::size_t(y + 1) * width; ++i) {
-      error.values[i] = std::pow(error.values[i], 1.0f - features.values[i]);
-    }
-  });
-  return error;
-}
 
 }  // namespace
 
@@ -421,19 +494,49 @@ float pixelsPerDegree(float distanceMeters, float displayWidthPixels, float disp
 
 float defaultPixelsPerDegree() { return pixelsPerDegree(0.7f, 3840.0f, 0.7f); }
 
-ScalarImage ldrFlip(const RgbImage& reference, const RgbImage& test, float ppd) {
+ScalarImage ldrFlip(const RgbView& reference, const RgbView& test, float ppd, int bandRows) {
   checkPair(reference, test, ppd);
-  return ldrFlipUnchecked(reference, test, ppd);
+  ScalarImage error(reference.width, reference.height);
+  const std::size_t width = std::size_t(reference.width);
+  BandedLdrFlip(reference.width, reference.height, ppd, bandRows)
+      .run(
+          [&](int y, glm::vec3* referenceRow, glm::vec3* testRow) {
+            for (std::size_t x = 0, p = std::size_t(y) * width; x < width; ++x, ++p) {
+              referenceRow[x] = reference[p];
+              testRow[x] = test[p];
+            }
+          },
+          [&](int y, const float* errors) {
+            std::copy_n(errors, width, error.values.begin() + long(std::size_t(y) * width));
+          });
+  return error;
+}
+
+std::uint64_t flipWorkingBytes(int width, int height, float ppd) {
+  if (width <= 0 || height <= 0 || !(ppd > 0.0f) || !std::isfinite(ppd)) return 0;
+  const std::uint64_t halo = std::uint64_t(std::max(spatialFilterRadius(ppd), makeFeatureFilters(ppd).radius));
+  const std::uint64_t ringRows = std::min<std::uint64_t>(std::uint64_t(height), bandRowsFor(width, height) + 2 * halo);
+  const std::uint64_t ring = ringRows * std::uint64_t(width) * 2 * (sizeof(ColourPartial) + sizeof(FeaturePartial));
+  // Each thread's two rows of colour and one of errors.
+  const std::uint64_t threads = std::max(1u, std::thread::hardware_concurrency());
+  return ring + threads * std::uint64_t(width) * (2 * sizeof(glm::vec3) + sizeof(float));
 }
 
 glm::vec3 flipToneMap(glm::vec3 c) {
+  // The curve squares its input, so radiance times exposure beyond about
+  // 1.8e19 overflowed to infinity and made it inf / inf, NaN: a test image
+  // of 3e38 read as identical to its reference (HDR-FLIP's maximum skips
+  // NaN). The curve is at 1 from 12.1 on, so this clamp changes no value
+  // that was not NaN.
+  c = glm::clamp(c, -kToneMapInputLimit, kToneMapInputLimit);
   const glm::vec3 numerator = c * c * kAces.k0 + c * kAces.k1 + kAces.k2;
   const glm::vec3 denominator = c * c * kAces.k3 + c * kAces.k4 + kAces.k5;
   return glm::clamp(numerator / denominator, 0.0f, 1.0f);
 }
 
-ExposureRange hdrFlipExposureRange(const RgbImage& reference) {
-  if (reference.pixels.empty()) throw std::invalid_argument("HDR-FLIP: the reference image is empty");
+ExposureRange hdrFlipExposureRange(const RgbView& reference) {
+  if (reference.pixelCount == 0 || !reference.data)
+    throw std::invalid_argument("HDR-FLIP: the reference image is empty");
   // The radiance x the tone mapper maps to the target: the larger root of
   // (k0 - t k3) x^2 + (k1 - t k4) x + (k2 - t k5) = 0.
   const float a = kAces.k0 - kExposureTarget * kAces.k3;
@@ -442,8 +545,8 @@ ExposureRange hdrFlipExposureRange(const RgbImage& reference) {
   const float halfB = -0.5f * (b / a);
   const float targetRadiance = halfB + std::sqrt(halfB * halfB - c / a);
 
-  std::vector<float> luminances(reference.pixels.size());
-  for (std::size_t i = 0; i < luminances.size(); ++i) luminances[i] = shared::luminance(reference.pixels[i]);
+  std::vector<float> luminances(reference.pixelCount);
+  for (std::size_t i = 0; i < luminances.size(); ++i) luminances[i] = shared::luminance(reference[i]);
   const float maximum = *std::max_element(luminances.begin(), luminances.end());
   // The upper median (element n/2 of the sorted values), as the FLIP tool takes it.
   const auto middle = luminances.begin() + std::ptrdiff_t(luminances.size() / 2);
@@ -468,8 +571,8 @@ ExposureRange hdrFlipExposureRange(const RgbImage& reference) {
   return range;
 }
 
-HdrFlipResult hdrFlip(const RgbImage& reference, const RgbImage& test, float ppd,
-                      std::optional<ExposureRange> exposures) {
+HdrFlipResult hdrFlip(const RgbView& reference, const RgbView& test, float ppd, std::optional<ExposureRange> exposures,
+                      int bandRows) {
   checkPair(reference, test, ppd);
   HdrFlipResult result;
   result.exposures = exposures ? *exposures : hdrFlipExposureRange(reference);
@@ -483,25 +586,28 @@ HdrFlipResult hdrFlip(const RgbImage& reference, const RgbImage& test, float ppd
   result.error = ScalarImage(reference.width, reference.height, 0.0f);
   result.exposureOfMaximum = ScalarImage(reference.width, reference.height, 0.0f);
   const float step = (range.stop - range.start) / float(range.count - 1);
-  RgbImage exposedReference(reference.width, reference.height);
-  RgbImage exposedTest(reference.width, reference.height);
+  const std::size_t width = std::size_t(reference.width);
+  // One exposure after the other, each pixel keeping its largest error: the
+  // tone-mapped images exist a row at a time, inside the LDR-FLIP bands.
   for (int i = 0; i < range.count; ++i) {
     const float multiplier = std::pow(2.0f, range.start + float(i) * step);
-    const std::size_t width = std::size_t(reference.width);
-    forEachRow(reference.height, [&](int y) {
-      for (std::size_t p = std::size_t(y) * width; p < std::size_t(y + 1) * width; ++p) {
-        exposedReference.pixels[p] = flipToneMap(reference.pixels[p] * multiplier);
-        exposedTest.pixels[p] = flipToneMap(test.pixels[p] * multiplier);
-      }
-    });
-    const ScalarImage error = ldrFlipUnchecked(exposedReference, exposedTest, ppd);
     const float exposurePosition = float(i) / float(range.count - 1);
-    for (std::size_t p = 0; p < error.values.size(); ++p) {
-      if (error.values[p] > result.error.values[p]) {
-        result.error.values[p] = error.values[p];
-        result.exposureOfMaximum.values[p] = exposurePosition;
-      }
-    }
+    BandedLdrFlip(reference.width, reference.height, ppd, bandRows)
+        .run(
+            [&](int y, glm::vec3* referenceRow, glm::vec3* testRow) {
+              for (std::size_t x = 0, p = std::size_t(y) * width; x < width; ++x, ++p) {
+                referenceRow[x] = flipToneMap(reference[p] * multiplier);
+                testRow[x] = flipToneMap(test[p] * multiplier);
+              }
+            },
+            [&](int y, const float* errors) {
+              for (std::size_t x = 0, p = std::size_t(y) * width; x < width; ++x, ++p) {
+                if (errors[x] > result.error.values[p]) {
+                  result.error.values[p] = errors[x];
+                  result.exposureOfMaximum.values[p] = exposurePosition;
+                }
+              }
+            });
   }
   return result;
 }

@@ -36,27 +36,25 @@ std::size_t pixelCount(const io::ImageF& image) { return std::size_t(image.width
 
 }  // namespace
 
+ValueErrors ValueErrorSums::errors() const {
+  if (count_ == 0) throw std::invalid_argument("value errors: no values to compare");
+  ValueErrors errors;
+  errors.valueCount = count_;
+  errors.mse = squared_ / double(count_);
+  errors.rmse = std::sqrt(errors.mse);
+  errors.relMse = relative_ / double(count_);
+  errors.psnrDb = psnrDecibels(errors.mse);
+  return errors;
+}
+
 ValueErrors valueErrors(std::span<const float> reference, std::span<const float> test) {
   if (reference.size() != test.size()) {
     throw std::invalid_argument("value errors: " + std::to_string(test.size()) + " test values against " +
                                 std::to_string(reference.size()) + " reference values");
   }
-  if (reference.empty()) throw std::invalid_argument("value errors: no values to compare");
-  ValueErrors errors;
-  errors.valueCount = reference.size();
-  double squaredSum = 0.0;
-  double relativeSum = 0.0;
-  for (std::size_t i = 0; i < reference.size(); ++i) {
-    const double r = reference[i];
-    const double difference = double(test[i]) - r;
-    squaredSum += difference * difference;
-    relativeSum += difference * difference / (r * r + kRelMseEpsilon);
-  }
-  errors.mse = squaredSum / double(reference.size());
-  errors.rmse = std::sqrt(errors.mse);
-  errors.relMse = relativeSum / double(reference.size());
-  errors.psnrDb = psnrDecibels(errors.mse);
-  return errors;
+  ValueErrorSums sums;
+  for (std::size_t i = 0; i < reference.size(); ++i) sums.add(reference[i], test[i]);
+  return sums.errors();
 }
 
 double psnrDecibels(double mse, double peak) {
@@ -122,6 +120,47 @@ std::vector<float> comparedValues(const io::ImageF& image) {
   return values;
 }
 
+ValueErrors valueErrors(const io::ImageF& reference, const io::ImageF& test) {
+  if (const std::string reason = incompatibility(reference, test); !reason.empty()) {
+    throw std::invalid_argument("the test image " + reason);
+  }
+  // Channel indices of the compared values, in comparedValues' order.
+  const auto indices = [](const io::ImageF& image) {
+    std::vector<std::size_t> list;
+    if (const std::optional<std::array<std::size_t, 3>> rgb = rgbChannelIndices(image)) {
+      list.assign(rgb->begin(), rgb->end());
+    } else {
+      for (std::size_t c = 0; c < image.channelCount(); ++c) list.push_back(c);
+    }
+    return list;
+  };
+  const std::vector<std::size_t> referenceChannels = indices(reference), testChannels = indices(test);
+  const std::size_t referenceStride = reference.channelCount(), testStride = test.channelCount();
+  ValueErrorSums sums;
+  for (std::size_t p = 0; p < pixelCount(reference); ++p) {
+    for (std::size_t c = 0; c < referenceChannels.size(); ++c) {
+      sums.add(reference.pixels[p * referenceStride + referenceChannels[c]],
+               test.pixels[p * testStride + testChannels[c]]);
+    }
+  }
+  return sums.errors();
+}
+
+RgbView rgbView(const io::ImageF& image) {
+  const std::optional<std::array<std::size_t, 3>> rgb = rgbChannelIndices(image);
+  if (!rgb && image.channelCount() != 1) {
+    throw std::invalid_argument("FLIP needs R, G and B channels or a single channel, not " + joined(image.channels));
+  }
+  RgbView view;
+  view.width = image.width;
+  view.height = image.height;
+  view.data = image.pixels.empty() ? nullptr : image.pixels.data();
+  view.pixelCount = image.channelCount() == 0 ? 0 : image.pixels.size() / image.channelCount();
+  view.stride = image.channelCount();
+  view.offsets = rgb ? *rgb : std::array<std::size_t, 3>{0, 0, 0};
+  return view;
+}
+
 RgbImage toRgb(const io::ImageF& image) {
   const std::optional<std::array<std::size_t, 3>> rgb = rgbChannelIndices(image);
   if (!rgb && image.channelCount() != 1) {
@@ -136,19 +175,30 @@ RgbImage toRgb(const io::ImageF& image) {
   return out;
 }
 
-std::vector<float> luminance(const io::ImageF& image) {
-  const std::optional<std::array<std::size_t, 3>> rgb = rgbChannelIndices(image);
-  if (!rgb && image.channelCount() != 1) {
+LuminanceOf::LuminanceOf(const io::ImageF& image) : image_(image), rgb_(rgbChannelIndices(image)) {
+  if (!rgb_ && image.channelCount() != 1) {
     throw std::invalid_argument("luminance needs R, G and B channels or a single channel, not " +
                                 joined(image.channels));
   }
+}
+
+float LuminanceOf::operator()(std::size_t p) const {
+  const float* pixel = image_.pixels.data() + p * image_.channelCount();
+  return rgb_ ? shared::luminance(glm::vec3(pixel[(*rgb_)[0]], pixel[(*rgb_)[1]], pixel[(*rgb_)[2]])) : pixel[0];
+}
+
+std::vector<float> luminance(const io::ImageF& image) {
+  const LuminanceOf luminanceOf(image);
   std::vector<float> out(pixelCount(image));
-  const std::size_t channelCount = image.channelCount();
-  for (std::size_t p = 0; p < out.size(); ++p) {
-    const float* pixel = image.pixels.data() + p * channelCount;
-    out[p] = rgb ? shared::luminance(glm::vec3(pixel[(*rgb)[0]], pixel[(*rgb)[1]], pixel[(*rgb)[2]])) : pixel[0];
-  }
+  for (std::size_t p = 0; p < out.size(); ++p) out[p] = luminanceOf(p);
   return out;
+}
+
+double meanLuminance(const io::ImageF& image) {
+  const LuminanceOf luminanceOf(image);
+  double sum = 0.0;
+  for (std::size_t p = 0; p < pixelCount(image); ++p) sum += luminanceOf(p);
+  return pixelCount(image) == 0 ? 0.0 : sum / double(pixelCount(image));
 }
 
 std::string incompatibility(const io::ImageF& reference, const io::ImageF& test, std::string_view referenceName) {
@@ -165,16 +215,13 @@ std::string incompatibility(const io::ImageF& reference, const io::ImageF& test,
   return {};
 }
 
-Comparison compareImages(const io::ImageF& reference, const io::ImageF& test, const ComparisonOptions& options) {
-  if (const std::string reason = incompatibility(reference, test); !reason.empty()) {
-    throw std::invalid_argument("the test image " + reason);
-  }
+Comparison compareImages(io::ImageF reference, io::ImageF test, const ComparisonOptions& options) {
   Comparison result;
-  result.values = valueErrors(comparedValues(reference), comparedValues(test));
+  result.values = valueErrors(reference, test);
   result.flipMode = options.flipMode;
   result.pixelsPerDegree = options.pixelsPerDegree;
-  const RgbImage referenceRgb = toRgb(reference);
-  const RgbImage testRgb = toRgb(test);
+  const RgbView referenceRgb = rgbView(reference);
+  const RgbView testRgb = rgbView(test);
   if (options.flipMode == FlipMode::Hdr) {
     HdrFlipResult hdr = hdrFlip(referenceRgb, testRgb, options.pixelsPerDegree, options.exposures);
     result.flipMap = std::move(hdr.error);
@@ -182,6 +229,9 @@ Comparison compareImages(const io::ImageF& reference, const io::ImageF& test, co
   } else {
     result.flipMap = ldrFlip(referenceRgb, testRgb, options.pixelsPerDegree);
   }
+  // Freed before the statistics copy the map to sort it.
+  reference = io::ImageF();
+  test = io::ImageF();
   result.flip = errorStatistics(result.flipMap.values);
   return result;
 }

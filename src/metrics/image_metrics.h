@@ -4,6 +4,7 @@
 // docs/metrics.md says what each number means and how to read it.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -34,6 +35,27 @@ struct ValueErrors {
   double relMse = 0.0;  // mean of (test - reference)^2 / (reference^2 + kRelMseEpsilon)
   double psnrDb = 0.0;  // 10 log10(kPsnrPeak^2 / mse); +infinity when mse is 0
   std::size_t valueCount = 0;
+};
+
+// The sums behind ValueErrors, added to value by value: for errors over a
+// part of an image (a region) without copying its values out.
+class ValueErrorSums {
+ public:
+  void add(float reference, float test) {
+    const double r = reference;
+    const double difference = double(test) - r;
+    squared_ += difference * difference;
+    relative_ += difference * difference / (r * r + kRelMseEpsilon);
+    ++count_;
+  }
+  std::size_t count() const { return count_; }
+  // Throws std::invalid_argument when nothing was added.
+  ValueErrors errors() const;
+
+ private:
+  double squared_ = 0.0;
+  double relative_ = 0.0;
+  std::size_t count_ = 0;
 };
 
 // Both spans hold the same number of values (else std::invalid_argument).
@@ -80,12 +102,36 @@ std::vector<std::string> comparedChannels(const io::ImageF& image);
 // The compared channels' values, pixel by pixel.
 std::vector<float> comparedValues(const io::ImageF& image);
 
+// The values of the compared channels of two images incompatibility()
+// passes, compared as valueErrors(comparedValues(reference),
+// comparedValues(test)) would, to the bit, without copying them.
+ValueErrors valueErrors(const io::ImageF& reference, const io::ImageF& test);
+
 // Linear RGB for FLIP: R, G, B, or a single channel as grey. Throws
 // std::invalid_argument for any other channel layout.
 RgbImage toRgb(const io::ImageF& image);
 
+// The same pixels as toRgb's, read in place (the image must outlive the
+// view): FLIP of a large image without a copy of it.
+RgbView rgbView(const io::ImageF& image);
+
+// Rec.709 luminance of RGB, or the single channel's value, pixel by pixel.
+// Throws std::invalid_argument for any other channel layout.
+class LuminanceOf {
+ public:
+  explicit LuminanceOf(const io::ImageF& image);
+  float operator()(std::size_t pixel) const;
+
+ private:
+  const io::ImageF& image_;
+  std::optional<std::array<std::size_t, 3>> rgb_;
+};
+
 // Rec.709 luminance of RGB, or the single channel's value.
 std::vector<float> luminance(const io::ImageF& image);
+
+// The mean of luminance(image), to the bit, without the vector.
+double meanLuminance(const io::ImageF& image);
 
 // Why test cannot be compared with reference (different size or compared
 // channels), phrased about the test image ("is 64x48 but the reference is
@@ -114,8 +160,11 @@ struct Comparison {
 };
 
 // Throws std::invalid_argument when incompatibility() is not empty or the
-// options are invalid.
-Comparison compareImages(const io::ImageF& reference, const io::ImageF& test, const ComparisonOptions& options);
+// options are invalid. The images are moved in and freed once FLIP has read
+// them, so that the statistics' sorted copy of the FLIP map is never held
+// beside them: the most the comparison holds is the two images, the map (two
+// for HDR-FLIP) and FLIP's rows (flip.h).
+Comparison compareImages(io::ImageF reference, io::ImageF test, const ComparisonOptions& options);
 
 // --- temporal stability of a static camera's frames
 

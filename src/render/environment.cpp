@@ -140,31 +140,30 @@ double bandWeight(double a, double b, double height) {
 
 // Area-weighted resampling to a smaller size: each output texel averages the
 // input area it covers, rows weighted by their solid angle, so the map keeps
-// its integral over the sphere.
-io::ImageF shrink(const io::ImageF& in, int width, int height) {
-  io::ImageF out(width, height, in.channels);
-  const int channels = int(in.channelCount());
-  const double scaleX = double(in.width) / width;
-  const double scaleY = double(in.height) / height;
-  // Horizontal pass into rows of `in`, then vertical.
-  io::ImageF rows(width, in.height, in.channels);
-  for (int y = 0; y < in.height; ++y)
+// its integral over the sphere. texel(x, y) gives the input's RGB, so that a
+// large map is read where it lies rather than copied first.
+template <typename Texel>
+io::ImageF shrink(const Texel& texel, int inWidth, int inHeight, int width, int height) {
+  io::ImageF out(width, height, {"R", "G", "B"});
+  const double scaleX = double(inWidth) / width;
+  const double scaleY = double(inHeight) / height;
+  // Horizontal pass into rows of the input's height, then vertical.
+  io::ImageF rows(width, inHeight, {"R", "G", "B"});
+  for (int y = 0; y < inHeight; ++y)
     for (int x = 0; x < width; ++x) {
       const double x0 = x * scaleX, x1 = (x + 1) * scaleX;
-      for (int c = 0; c < channels; ++c) {
-        double sum = 0.0;
-        for (int sx = int(x0); sx < std::min(in.width, int(std::ceil(x1))); ++sx)
-          sum += in.at(sx, y, c) * (std::min(x1, sx + 1.0) - std::max(x0, double(sx)));
-        rows.at(x, y, c) = float(sum / scaleX);
-      }
+      glm::dvec3 sum(0.0);
+      for (int sx = int(x0); sx < std::min(inWidth, int(std::ceil(x1))); ++sx)
+        sum += glm::dvec3(texel(sx, y)) * (std::min(x1, sx + 1.0) - std::max(x0, double(sx)));
+      for (int c = 0; c < 3; ++c) rows.at(x, y, c) = float(sum[c] / scaleX);
     }
   for (int y = 0; y < height; ++y) {
     const double y0 = y * scaleY, y1 = (y + 1) * scaleY;
     for (int x = 0; x < width; ++x)
-      for (int c = 0; c < channels; ++c) {
+      for (int c = 0; c < 3; ++c) {
         double sum = 0.0, weightSum = 0.0;
-        for (int sy = int(y0); sy < std::min(in.height, int(std::ceil(y1))); ++sy) {
-          const double weight = bandWeight(std::max(y0, double(sy)), std::min(y1, sy + 1.0), in.height);
+        for (int sy = int(y0); sy < std::min(inHeight, int(std::ceil(y1))); ++sy) {
+          const double weight = bandWeight(std::max(y0, double(sy)), std::min(y1, sy + 1.0), inHeight);
           sum += rows.at(x, sy, c) * weight;
           weightSum += weight;
         }
@@ -172,6 +171,12 @@ io::ImageF shrink(const io::ImageF& in, int width, int height) {
       }
   }
   return out;
+}
+
+// The width a map of `width` is kept at: maps wider than maxWidth are
+// shrunk to it (an even number, for the 2:1 shape).
+int preparedWidth(int width, std::uint32_t maxWidth) {
+  return std::uint32_t(width) > maxWidth ? int(maxWidth & ~1u) : width;
 }
 
 // The Preetham sun's illuminance (lux) at normal incidence through
@@ -252,32 +257,88 @@ SkyParameters skyParams(const EnvironmentDesc& desc) {
   return params;
 }
 
+void checkEnvironmentMapShape(int width, int height, std::size_t channels, const std::string& name) {
+  if (channels != 1 && channels < 3)
+    throw io::ImageIoError(name + ": an environment map needs 1, 3 or 4 channels, not " + std::to_string(channels));
+  if (width < 8)
+    throw io::ImageIoError(name + ": " + std::to_string(width) + "x" + std::to_string(height) +
+                           " is too small for an environment map (at least 8x4)");
+  if (std::abs(width - 2 * height) > std::max(1, width / 100))
+    throw io::ImageIoError(name + ": " + std::to_string(width) + "x" + std::to_string(height) +
+                           " is not an equirectangular map (width = 2 x height)");
+}
+
+std::uint64_t environmentMapWorkingBytes(int width, int height, std::uint32_t maxWidth) {
+  const std::uint64_t outWidth = std::uint64_t(preparedWidth(width, maxWidth));
+  const std::uint64_t outHeight = std::uint64_t(width) > outWidth ? outWidth / 2 : std::uint64_t(height);
+  const std::uint64_t rgb = 3 * sizeof(float);
+  // Shrinking: the horizontal pass's rows (the output's width, the input's
+  // height) and the shrunk map; else a sanitised copy. Then the RGBA result.
+  const std::uint64_t sanitised = std::uint64_t(width) > outWidth
+                                      ? outWidth * std::uint64_t(height) * rgb + outWidth * outHeight * rgb
+                                      : std::uint64_t(width) * std::uint64_t(height) * rgb;
+  return sanitised + outWidth * outHeight * 4 * sizeof(float);
+}
+
+namespace {
+
+// Radiance beyond the brightest light Bounce renders overflows float once it
+// is scaled: a map of 1.7e38 (Radiance exponent 255) times intensity 4 became
+// infinite, so black, and the whole environment went dark without a word.
+// Such texels are refused by position, as readImage refuses NaN ones. An
+// intensity below 1 does not excuse them: the map itself is not a picture
+// Bounce can light with.
+void checkTexelStrength(const io::ImageF& map, const std::string& name, float intensity) {
+  const std::size_t channels = map.channelCount();
+  const double scale = std::max(1.0, double(intensity));
+  std::size_t count = 0, first = 0;  // texels, and the first one's first bright value
+  for (std::size_t pixel = 0; pixel < map.pixels.size() / channels; ++pixel) {
+    for (std::size_t c = 0; c < std::min<std::size_t>(channels, 3); ++c) {
+      const float value = map.pixels[pixel * channels + c];
+      if (std::isfinite(value) && !scene::lightStrengthProblem(std::fabs(value) * scale).empty()) {
+        if (count == 0) first = pixel * channels + c;
+        ++count;
+        break;
+      }
+    }
+  }
+  if (count == 0) return;
+  const std::size_t pixel = first / channels;
+  const double value = map.pixels[first];
+  std::string strength = number(value);
+  if (scale > 1.0) strength += " times the intensity " + number(intensity) + " (" + number(value * scale) + ")";
+  throw io::ImageIoError(name + ": " + std::to_string(count) + (count == 1 ? " texel" : " texels") +
+                         " too bright, first at pixel (" + std::to_string(pixel % std::size_t(map.width)) + ", " +
+                         std::to_string(pixel / std::size_t(map.width)) + ") channel " +
+                         map.channels[first % channels] + ": radiance " + strength + " is " +
+                         scene::lightStrengthProblem(std::fabs(value) * scale));
+}
+
+}  // namespace
+
 io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
                                  std::uint32_t maxWidth) {
   const std::size_t channels = map.channelCount();
-  if (channels != 1 && channels < 3)
-    throw io::ImageIoError(name + ": an environment map needs 1, 3 or 4 channels, not " + std::to_string(channels));
-  if (map.width < 8)
-    throw io::ImageIoError(name + ": " + std::to_string(map.width) + "x" + std::to_string(map.height) +
-                           " is too small for an environment map (at least 8x4)");
-  if (std::abs(map.width - 2 * map.height) > std::max(1, map.width / 100))
-    throw io::ImageIoError(name + ": " + std::to_string(map.width) + "x" + std::to_string(map.height) +
-                           " is not an equirectangular map (width = 2 x height)");
+  checkEnvironmentMapShape(map.width, map.height, channels, name);
+  checkTexelStrength(map, name, intensity);
 
   // A texel with a NaN or infinite channel is black before it is filtered,
   // so that it cannot spread into its neighbours.
-  io::ImageF rgb(map.width, map.height, {"R", "G", "B", "A"});
-  for (int y = 0; y < map.height; ++y)
-    for (int x = 0; x < map.width; ++x) {
-      glm::vec3 texel;
-      for (int c = 0; c < 3; ++c) texel[c] = map.at(x, y, channels == 1 ? 0 : c);
-      texel = shared::finiteOr(texel, glm::vec3(0.0f));
-      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = texel[c];
-      rgb.at(x, y, 3) = 1.0f;
-    }
-  if (std::uint32_t(rgb.width) > maxWidth) {
-    const int width = int(maxWidth & ~1u);
-    rgb = shrink(rgb, width, width / 2);
+  const auto texel = [&](int x, int y) {
+    glm::vec3 value;
+    for (int c = 0; c < 3; ++c) value[c] = map.at(x, y, channels == 1 ? 0 : c);
+    return shared::finiteOr(value, glm::vec3(0.0f));
+  };
+  io::ImageF rgb;
+  if (const int width = preparedWidth(map.width, maxWidth); width < map.width) {
+    rgb = shrink(texel, map.width, map.height, width, width / 2);
+  } else {
+    rgb = io::ImageF(map.width, map.height, {"R", "G", "B"});
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; ++x) {
+        const glm::vec3 value = texel(x, y);
+        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = value[c];
+      }
   }
 
   // Turning by +a about +Y moves every feature by -a / 360 of the width
@@ -287,7 +348,7 @@ io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name,
   shift -= std::floor(shift / width) * width;
   const int whole = int(std::floor(shift));
   const float fraction = float(shift - whole);
-  io::ImageF out(rgb.width, rgb.height, rgb.channels);
+  io::ImageF out(rgb.width, rgb.height, {"R", "G", "B", "A"});
   for (int y = 0; y < rgb.height; ++y)
     for (int x = 0; x < width; ++x) {
       const int x0 = (x + whole) % width, x1 = (x + whole + 1) % width;
@@ -307,6 +368,15 @@ Environment::Environment(gpu::Context& context, const EnvironmentDesc& desc) : c
   io::ImageF map;
   if (!desc.map.empty()) {
     kind_ = Kind::Map;
+    // The header first: a map of the wrong shape, or one too large to
+    // prepare, is refused before it is decoded.
+    const io::ImageInfo info = io::readImageInfo(desc.map);
+    checkEnvironmentMapShape(info.width, info.height, info.channels, desc.map.string());
+    io::refuseOverMemoryLimit(
+        desc.map,
+        std::max(info.readBytes(),
+                 info.imageBytes() + environmentMapWorkingBytes(info.width, info.height, desc.maxMapWidth)),
+        "preparing a " + std::to_string(info.width) + "x" + std::to_string(info.height) + " environment map");
     map = prepareEnvironmentMap(io::readImage(desc.map), desc.map.string(), desc.intensity, desc.rotationDegrees,
                                 desc.maxMapWidth);
     width = std::uint32_t(map.width);

@@ -104,9 +104,21 @@ glm::vec3 skyHorizontalIrradiance(const SkyParameters& params);
 // everywhere in the renderer: docs/conventions.md), area-filtered
 // down to maxWidth if wider, turned by rotationDegrees about +Y, times
 // intensity. Throws io::ImageIoError naming `name` if it is not 2:1 (within
-// 1 %) or narrower than 8 texels.
+// 1 %) or narrower than 8 texels, or if a texel's radiance (times the
+// intensity, when above 1) is beyond scene::kMaxLightStrength, naming the
+// first such texel and their count.
 io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
                                  std::uint32_t maxWidth);
+
+// prepareEnvironmentMap's refusals of a map's shape, for a size known from a
+// header: throws io::ImageIoError naming `name`.
+void checkEnvironmentMapShape(int width, int height, std::size_t channels, const std::string& name);
+
+// The most prepareEnvironmentMap holds beside the map it is given, in bytes:
+// a wide map is shrunk as it is read (no full-size copy), a narrow one copied
+// once. The Environment refuses a map whose reading or preparing would hold
+// more than io::kImageMemoryLimit.
+std::uint64_t environmentMapWorkingBytes(int width, int height, std::uint32_t maxWidth);
 
 class Environment {
  public:
