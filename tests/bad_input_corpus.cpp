@@ -809,7 +809,7 @@ void gltfScenes(CorpusBuilder& corpus) {
            {"absolute", "/etc/passwd", "outside the glTF file's folder"},
            {"nul", "scene.bin%00.png", "NUL"},
            {"missing", "nowhere.bin", "nowhere.bin"},
-           {"folder", ".", "scene.gltf"},
+           {"folder", ".", "is not a regular file (a folder)"},
            {"bad_base64", "data:application/octet-stream;base64,!!!!", "scene.gltf"},
            {"short_data", "data:application/octet-stream;base64,AAAA", "scene.gltf"},
        }) {
@@ -825,6 +825,15 @@ void gltfScenes(CorpusBuilder& corpus) {
         writeText(dir.parent_path() / "secret.bin", "SECRET-BYTES-SECRET-BYTES-SECRET-BYTES");
       },
       render, "outside the glTF file's folder");
+  // A FIFO would block the read until something writes to it.
+  for (const char* kind : {"buffers", "images"})
+    corpus.add(
+        std::string("gltf_") + kind + "_uri_fifo", "scene.gltf",
+        [kind](const fs::path& dir) {
+          writeGltfCase(dir, [kind](json& doc) { doc[kind][0]["uri"] = "pipe"; });
+          ::mkfifo((dir / "pipe").c_str(), 0600);
+        },
+        render, "is not a regular file (a FIFO)");
   corpus.add(
       "gltf_buffer_symlink_out", "scene.gltf",
       [](const fs::path& dir) {

@@ -375,11 +375,19 @@ std::string resolveAssetPath(const std::string& joined, void* userData) {
   if (uri.find('\0') != std::string::npos) return refuse("has a NUL byte (%00) in its URI");
   // As tinygltf joined it (not normalised: "link/.." must mean what the file
   // system makes of it), except that an absolute URI stays absolute.
-  if (assets.allowOutside) return fs::path(uri).is_absolute() ? uri : joined;
-  const std::optional<fs::path> inside = insideFolder(assets.folder, uri);
-  if (!inside)
+  const std::optional<fs::path> resolved =
+      assets.allowOutside ? std::optional(fs::path(fs::path(uri).is_absolute() ? uri : joined))
+                          : insideFolder(assets.folder, uri);
+  if (!resolved)
     return refuse("lies outside the glTF file's folder; files there are read only with --allow-outside-assets");
-  return inside->string();
+  // tinygltf would call a folder or a FIFO "not found" (and reading a FIFO
+  // would wait for a writer forever).
+  std::error_code error;
+  const fs::file_status status = fs::status(*resolved, error);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    return refuse(std::string("is not a regular file (") +
+                  (fs::is_directory(status) ? "a folder" : fs::is_fifo(status) ? "a FIFO" : "a device or socket") + ")");
+  return resolved->string();
 }
 
 // tinygltf file callbacks that only ever open the absolute paths
