@@ -232,11 +232,17 @@ void environmentMaps(CorpusBuilder& corpus) {
   map("hdr_declares_1_5_gb", "env.hdr", radianceFile("-Y 8000 +X 16000", Bytes(20, 7)), "16000x8000");
   map("hdr_declares_24_gib", "env.hdr", radianceFile("-Y 32768 +X 65536", Bytes(20, 7)), "more than");
   map("hdr_side_over_limit", "env.hdr", radianceFile("-Y 2 +X 70000", Bytes(20, 7)), "70000");
-  map("hdr_zero_run", "env.hdr", radianceFile("-Y 1 +X 8", {2, 2, 0, 8, 0, 0, 0, 0, 0, 0, 0, 0}),
+  // A first scanline that is corrupt, in a file long enough for the 8x4
+  // map it declares (the smallest equirect): the decoder, not the size check, refuses it.
+  const auto fourScanlines = [](Bytes first) {
+    first.resize(4 * 8 * 4 / 2);
+    return first;
+  };
+  map("hdr_zero_run", "env.hdr", radianceFile("-Y 4 +X 8", fourScanlines({2, 2, 0, 8, 0, 0, 0, 0, 0, 0, 0, 0})),
       "corrupt run-length scanline");
-  map("hdr_run_past_scanline", "env.hdr", radianceFile("-Y 1 +X 8", {2, 2, 0, 8, 128 + 9, 1, 0, 0, 0, 0, 0, 0}),
+  map("hdr_run_past_scanline", "env.hdr", radianceFile("-Y 4 +X 8", fourScanlines({2, 2, 0, 8, 128 + 9, 1, 0, 0, 0, 0, 0, 0})),
       "corrupt run-length scanline");
-  map("hdr_wrong_encoded_width", "env.hdr", radianceFile("-Y 1 +X 8", {2, 2, 0, 9, 0, 0, 0, 0, 0, 0, 0, 0}),
+  map("hdr_wrong_encoded_width", "env.hdr", radianceFile("-Y 4 +X 8", fourScanlines({2, 2, 0, 9, 0, 0, 0, 0, 0, 0, 0, 0})),
       "encoded width");
   map("hdr_header_never_ends", "env.hdr", Bytes{'#', '?', 'R', 'G', 'B', 'E', '\n', 'A', 'B'}, "header does not end");
   map(
@@ -1010,8 +1016,10 @@ void gltfAndCameraRound2(CorpusBuilder& corpus) {
   camera("keyframes_twice", R"({"keyframes": [], "keyframes": []})", "'keyframes' is given more than once");
   std::string many = "{\"keyframes\": [";
   for (int k = 0; k <= 100000; ++k)
-    many += (k ? "," : "") + std::string("{\"time\": ") + std::to_string(k) +
-            R"(, "position": [0, 1, 4], "target": [0, 1, 0]})";
+    many.append(k ? "," : "")
+        .append("{\"time\": ")
+        .append(std::to_string(k))
+        .append(R"(, "position": [0, 1, 4], "target": [0, 1, 0]})");
   camera("keyframes_100001", many + "]}", "more than 100000 keyframes");
 
   corpus.add(

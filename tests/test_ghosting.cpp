@@ -217,8 +217,10 @@ TEST(Ghosting, BadArgumentsAreOneClearLine) {
   }
   // A camera that never moves uncovers nothing: said (last, after the
   // device and scene lines) once the event frame is rendered.
-  const Result still =
-      run("ghosting cornell --camera static --width 24 --height 16 --gi-warmup 0 --event-frame 2 --after 1" + out);
+  // (In a folder of its own: the settings file the user put in `dir` is
+  // not Bounce's, so no run may write ghosting.json there.)
+  const Result still = run("ghosting cornell --camera static --width 24 --height 16 --gi-warmup 0 --event-frame 2 "
+                           "--after 1 --out " + (dir / "still").string());
   EXPECT_NE(still.exitCode, 0);
   EXPECT_NE(still.output.find("\nbounce: error: nothing is newly uncovered at frame 2"), std::string::npos)
       << still.output;
