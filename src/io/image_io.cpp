@@ -193,21 +193,36 @@ ImageF readExrLuminanceChroma(const fs::path& path) {
   return image;
 }
 
+// What readExr and readExrInfo both take from a header: the data window's
+// size (checked against the limits) and the channels, by name.
+struct ExrLayout {
+  std::int64_t width = 0, height = 0;
+  std::vector<std::string> channels;
+  bool subsampled = false;  // a channel sampled every other pixel or row
+};
+
+ExrLayout exrLayout(const fs::path& path, const Imf::Header& header) {
+  ExrLayout layout;
+  const Imath::Box2i dataWindow = header.dataWindow();
+  layout.width = std::int64_t(dataWindow.max.x) - dataWindow.min.x + 1;
+  layout.height = std::int64_t(dataWindow.max.y) - dataWindow.min.y + 1;
+  checkReadSize(path, layout.width, layout.height);
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+    layout.channels.emplace_back(it.name());
+    layout.subsampled = layout.subsampled || it.channel().xSampling != 1 || it.channel().ySampling != 1;
+  }
+  if (layout.channels.empty()) fail(path, "EXR file has no channels");
+  return layout;
+}
+
 ImageF readExr(const fs::path& path) {
   Imf::InputFile file(path.c_str());
   const Imf::Header& header = file.header();
   const Imath::Box2i dataWindow = header.dataWindow();
-  const std::int64_t width = std::int64_t(dataWindow.max.x) - dataWindow.min.x + 1;
-  const std::int64_t height = std::int64_t(dataWindow.max.y) - dataWindow.min.y + 1;
-  checkReadSize(path, width, height);
-
-  std::vector<std::string> fileNames;
-  bool subsampled = false;
-  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
-    fileNames.emplace_back(it.name());
-    subsampled = subsampled || it.channel().xSampling != 1 || it.channel().ySampling != 1;
-  }
-  if (fileNames.empty()) fail(path, "EXR file has no channels");
+  const ExrLayout layout = exrLayout(path, header);
+  const std::int64_t width = layout.width, height = layout.height;
+  const std::vector<std::string>& fileNames = layout.channels;
+  const bool subsampled = layout.subsampled;
   const bool luminanceChroma =
       std::any_of(fileNames.begin(), fileNames.end(), [](const std::string& n) { return n == "RY" || n == "BY"; });
   if (luminanceChroma) return readExrLuminanceChroma(path);
@@ -269,17 +284,10 @@ std::uint64_t scanlinesPerChunk(Imf::Compression compression) {
 ImageInfo readExrInfo(const fs::path& path) {
   Imf::InputFile file(path.c_str());
   const Imf::Header& header = file.header();
-  const Imath::Box2i dataWindow = header.dataWindow();
-  const std::int64_t width = std::int64_t(dataWindow.max.x) - dataWindow.min.x + 1;
-  const std::int64_t height = std::int64_t(dataWindow.max.y) - dataWindow.min.y + 1;
-  checkReadSize(path, width, height);
-  std::vector<std::string> fileNames;
-  bool subsampled = false;
-  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
-    fileNames.emplace_back(it.name());
-    subsampled = subsampled || it.channel().xSampling != 1 || it.channel().ySampling != 1;
-  }
-  if (fileNames.empty()) fail(path, "EXR file has no channels");
+  const ExrLayout layout = exrLayout(path, header);
+  const std::int64_t width = layout.width, height = layout.height;
+  const std::vector<std::string>& fileNames = layout.channels;
+  const bool subsampled = layout.subsampled;
   ImageInfo info{int(width), int(height), 0, 0};
   const auto has = [&](const char* name) {
     return std::find(fileNames.begin(), fileNames.end(), name) != fileNames.end();
