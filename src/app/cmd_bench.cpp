@@ -16,6 +16,7 @@
 #include "app/progress.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
+#include "render/frame_memory.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "render/gpu_bvh.h"
@@ -101,11 +102,11 @@ int runBench(const BenchOptions& options) {
     rendererOptions.environment.hasSun = true;
   }
   if (options.sunAzimuth) rendererOptions.environment.sun.azimuthDegrees = *options.sunAzimuth;
-  requireFrameMemory(*context, options.width, options.height,
-                     settings
-                         ? std::optional(std::pair(giContextDesc(options.width, options.height, options.gi), *settings))
-                         : std::nullopt,
-                     false);
+  render::requireFrameMemory(
+      *context, options.width, options.height,
+      settings ? std::optional(std::pair(giContextDesc(options.width, options.height, options.gi), *settings))
+               : std::nullopt,
+      false);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   std::unique_ptr<render::GiBridge> gi;
   if (settings)

@@ -102,9 +102,7 @@ CLI::App* addBrdfVizCommand(CLI::App& app, BrdfVizOptions& options) {
   command->add_option("--roughness", options.roughness, "Roughness of the view sweep")->check(finiteRange(0.0, 1.0));
   command->add_option("--view", options.viewDegrees, "View angle from the normal of the roughness sweep, degrees")
       ->check(finiteRange(0.0, 89.0));
-  command->add_flag("--overwrite", options.overwrite,
-                    "Replace files in OUT that no Bounce run wrote (files an earlier run wrote, listed in "
-                    "OUT/.bounce-written, are always replaced)");
+  addOverwriteFlag(*command, options.overwrite);
   return command;
 }
 

@@ -33,6 +33,7 @@
 #include "gpuio/stage_dump.h"
 #include "io/image_io.h"
 #include "metrics/image_metrics.h"
+#include "render/frame_memory.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
@@ -134,9 +135,7 @@ CLI::App* addDenoiseCommand(CLI::App& app, DenoiseOptions& options) {
   command->add_flag("--dump-stages", options.dumpStages,
                     "Write every pass's output of the last frame (EXR + PNG) to OUT/stages/, the denoiser's "
                     "and its validation sheet among them");
-  command->add_flag("--overwrite", options.overwrite,
-                    "Replace files in OUT that no Bounce run wrote (files an earlier run wrote, listed in "
-                    "OUT/.bounce-written, are always replaced)");
+  addOverwriteFlag(*command, options.overwrite);
   return command;
 }
 
@@ -186,7 +185,7 @@ int runDenoise(const DenoiseOptions& options) {
   // The library as an engine has it: no scene bridge, nothing but images.
   const gi::ContextDesc giDesc{
       .maxWidth = shot.width, .maxHeight = shot.height, .framesInFlight = render::FrameRenderer::kFramesInFlight};
-  requireFrameMemory(*context, shot.width, shot.height, std::pair(giDesc, settings), true);
+  render::requireFrameMemory(*context, shot.width, shot.height, std::pair(giDesc, settings), true);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
   render::GiBridge gi(*context, giDesc, settings);

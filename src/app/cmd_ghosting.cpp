@@ -44,6 +44,7 @@
 #include "metrics/image_metrics.h"
 #include "metrics/uncovered.h"
 #include "plot/canvas.h"
+#include "render/frame_memory.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
@@ -594,9 +595,7 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
       ->check(finiteRange(1.0, 1e6))
       ->capture_default_str();
   command->add_option("--out", options.out, "Output directory (created if missing)")->capture_default_str();
-  command->add_flag("--overwrite", options.overwrite,
-                    "Replace files in OUT that no Bounce run wrote (files an earlier run wrote, listed in "
-                    "OUT/.bounce-written, are always replaced)");
+  addOverwriteFlag(*command, options.overwrite);
   command->add_option("--exposure", options.exposure, "Exposure multiplier of regions.png")->check(finitePositive());
   return command;
 }
@@ -660,8 +659,8 @@ int runGhosting(const GhostingOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
-  requireFrameMemory(*context, shot.width, shot.height,
-                     std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
+  render::requireFrameMemory(*context, shot.width, shot.height,
+                             std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
   render::GiBridge gi(*context, giContextDesc(shot.width, shot.height, options.gi), settings);

@@ -20,6 +20,7 @@
 #include "gpuio/stage_dump.h"
 #include "io/image_io.h"
 #include "metrics/image_metrics.h"
+#include "render/frame_memory.h"
 #include "render/reference_renderer.h"
 #include "scene/camera_path.h"
 
@@ -115,11 +116,7 @@ int runReference(const ReferenceCommandOptions& options) {
   for (const char* part : {".direct", ".indirect-diffuse", ".indirect-specular", ".halfA", ".halfB"})
     for (const char* extension : {".exr", ".png"}) outputs.push_back(sibling(out, std::string(part) + extension));
   for (const fs::path& output : outputs) refuseToOverwriteInputs(output, "--out", inputs);
-  for (const char* folder : {".gbuffer", ".stages"})
-    for (const fs::path& input : inputs)
-      if (isInside(input, sibling(out, folder)))
-        throw UsageError(input.string() + " is an input, and --out " + out.string() + " writes " +
-                         sibling(out, folder).string() + ": choose another --out");
+  for (const char* folder : {".gbuffer", ".stages"}) refuseInputsInside(sibling(out, folder), "--out", inputs);
   const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, view);
   // The frame before (for its motion vectors) and the frame itself.
   const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
@@ -128,7 +125,7 @@ int runReference(const ReferenceCommandOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
-  requireFrameMemory(*context, view.width, view.height, std::nullopt, true);
+  render::requireFrameMemory(*context, view.width, view.height, std::nullopt, true);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
 

@@ -19,6 +19,7 @@
 #include "gpuio/gpu_images.h"
 #include "gpuio/stage_dump.h"
 #include "io/image_io.h"
+#include "render/frame_memory.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "scene/builtin_scenes.h"
@@ -78,9 +79,7 @@ CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
       ->add_option("--cut-frames", options.cutFrames,
                    "Flag these frames as camera cuts (no history is reused), besides the camera path's own")
       ->delimiter(',');
-  command->add_flag("--overwrite", options.overwrite,
-                    "Replace files in OUT that no Bounce run wrote (by default such a file stops the render before "
-                    "it starts; files an earlier render wrote, listed in OUT/.bounce-written, are always replaced)");
+  addOverwriteFlag(*command, options.overwrite);
   return command;
 }
 
@@ -137,7 +136,7 @@ int runRender(const RenderOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
-  requireFrameMemory(
+  render::requireFrameMemory(
       *context, shot.width, shot.height,
       gi ? std::optional(std::pair(giContextDesc(shot.width, shot.height, options.gi), settings)) : std::nullopt,
       false);

@@ -40,18 +40,17 @@ int validationExitCode(const gpu::Context& context);
 // out the memory (lavapipe does, lazily), and the frame would then crawl or
 // be killed by the system long after the command started.
 void checkDeviceMemoryFits(const gpu::Context& context, std::uint32_t width, std::uint32_t height);
-// Before anything of a frame is made: refuses (gpu::GpuError) a frame whose
-// images alone need more than the device has: the renderer's, the GI
-// library's (`gi`: its size and settings; null when GI is off) and the path
-// tracer's (`reference`). checkDeviceMemoryFits then counts the scene too.
-void requireFrameMemory(const gpu::Context& context, std::uint32_t width, std::uint32_t height,
-                        const std::optional<std::pair<gi::ContextDesc, gi::Settings>>& gi, bool reference);
+// (Before anything of a frame is made, render::requireFrameMemory refuses a
+// frame whose images alone do not fit; this then counts the scene too.)
 
 // A SCENE argument: a built-in name, a .gltf/.glb path, or empty for the
 // default built-in. A glTF directional light becomes the sun.
 scene::Scene loadSceneArgument(const std::string& argument, const scene::GltfImportOptions& importOptions);
 // --allow-outside-assets, for every command that takes a SCENE argument.
 void addAllowOutsideAssetsFlag(CLI::App& command, bool& allowOutsideAssets);
+// --overwrite, for every command that fills an output folder (OutputFolder,
+// app/output_files.h).
+void addOverwriteFlag(CLI::App& command, bool& overwrite);
 
 // What a rendering command renders: the scene, the camera path, the image
 // size and the lighting (sky or map, sun). Shared by render and reference.

@@ -7,9 +7,7 @@
 
 #include "app/commands.h"
 #include "app/option_checks.h"
-#include "bounce/gi.h"
 #include "bounce/version.h"
-#include "render/reference_renderer.h"
 #include "util/edit_distance.h"
 #include "util/printable.h"
 
@@ -51,15 +49,6 @@ void checkDeviceMemoryFits(const gpu::Context& context, std::uint32_t width, std
                 "render smaller (--width, --height) or choose another --device",
                 width, height, inUse / kGiB, context.deviceInfo().name.c_str(), heap / kGiB);
   throw std::runtime_error(message);
-}
-
-void requireFrameMemory(const gpu::Context& context, std::uint32_t width, std::uint32_t height,
-                        const std::optional<std::pair<gi::ContextDesc, gi::Settings>>& gi, bool reference) {
-  std::uint64_t bytes = render::FrameRenderer::frameImageBytes(width, height);
-  if (gi) bytes += gi::GiContext::estimateMemoryBytes(gi->first, gi->second);
-  if (reference) bytes += render::ReferenceRenderer::frameImageBytes(width, height);
-  context.requireDeviceMemory(bytes, "a " + std::to_string(width) + "x" + std::to_string(height) + " frame" +
-                                         (gi ? " with GI" : "") + (reference ? " and path tracing" : ""));
 }
 
 namespace {

@@ -75,6 +75,10 @@ void writeTextFile(const fs::path& file, const std::string& text) {
   }
 }
 
+namespace {
+
+// Whether `file` is `folder` or lies inside it, compared as canonical paths
+// (symbolic links and "..", resolved as far as the files exist).
 bool isInside(const fs::path& file, const fs::path& folder) {
   std::error_code error;
   const fs::path f = fs::weakly_canonical(fs::absolute(file), error);
@@ -85,6 +89,15 @@ bool isInside(const fs::path& file, const fs::path& folder) {
     if (fi == f.end() || *fi != *di) return false;
   }
   return true;
+}
+
+}  // namespace
+
+void refuseInputsInside(const fs::path& folder, const std::string& flag, const std::vector<fs::path>& inputs) {
+  for (const fs::path& input : inputs)
+    if (isInside(input, folder))
+      throw UsageError(input.string() + " is an input, and " + flag + " fills " + folder.string() +
+                       " with this run's files: choose another " + flag);
 }
 
 OutputFolder::OutputFolder(fs::path dir, std::string option, bool overwrite)
@@ -121,11 +134,7 @@ std::size_t OutputFolder::prepare(const std::vector<fs::path>& files, const std:
   const auto where = [&](const std::string& file) { return (dir_ / file).string(); };
   for (const std::string& file : planned) refuseToOverwriteInputs(dir_ / file, option_, inputs);
   refuseToOverwriteInputs(recordFile, option_, inputs);
-  for (const fs::path& folder : folders)
-    for (const fs::path& input : inputs)
-      if (isInside(input, dir_ / folder))
-        throw UsageError(input.string() + " is an input, and " + option_ + " " + dir_.string() + " fills " +
-                         (dir_ / folder).string() + " with this run's files: choose another " + option_);
+  for (const fs::path& folder : folders) refuseInputsInside(dir_ / folder, option_, inputs);
   std::vector<std::string> stale;
   std::error_code error;
   for (const std::string& file : earlier)

@@ -61,6 +61,12 @@ class OutputFolder {
   std::set<std::string> record_;  // generic relative paths
 };
 
+// Nor may an input lie in `folder`, which the run fills with its files (a
+// stage dump, a G-buffer): throws UsageError naming the input, the folder
+// and `flag`.
+void refuseInputsInside(const std::filesystem::path& folder, const std::string& flag,
+                        const std::vector<std::filesystem::path>& inputs);
+
 // Creates `dir` when missing and proves it writable by creating and removing
 // a probe file in it. Throws std::runtime_error naming `option` (e.g.
 // "--out"), the folder and the reason.
@@ -73,9 +79,5 @@ void checkWritableFile(const std::filesystem::path& file, const std::string& opt
 // Writes `text` beside `file` and renames it into place, so a failed write
 // never leaves half a file. Throws std::runtime_error.
 void writeTextFile(const std::filesystem::path& file, const std::string& text);
-
-// Whether `file` is `folder` or lies inside it, compared as canonical paths
-// (symbolic links and "..", resolved as far as the files exist).
-bool isInside(const std::filesystem::path& file, const std::filesystem::path& folder);
 
 }  // namespace bounce::app

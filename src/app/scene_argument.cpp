@@ -111,6 +111,12 @@ void addAllowOutsideAssetsFlag(CLI::App& command, bool& allowOutsideAssets) {
                    "symlinks leading out); refused by default, so a downloaded scene cannot read other files");
 }
 
+void addOverwriteFlag(CLI::App& command, bool& overwrite) {
+  command.add_flag("--overwrite", overwrite,
+                   "Replace files in OUT that no Bounce run wrote (by default such a file stops the run before it "
+                   "starts; files an earlier run wrote, listed in OUT/.bounce-written, are always replaced)");
+}
+
 void addSceneOptions(CLI::App& command, SceneOptions& options) {
   std::string names;
   for (const std::string& n : scene::builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;

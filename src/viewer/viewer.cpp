@@ -22,6 +22,7 @@
 #include "gpuio/stage_dump.h"
 #include "io/image_io.h"
 #include "metrics/image_metrics.h"
+#include "render/frame_memory.h"
 #include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
 #include "scene/gltf_export.h"
@@ -153,10 +154,8 @@ class Session {
   // device: nothing is made for a frame it cannot hold.
   static const render::FrameRendererOptions& fitting(const gpu::Context& context, const ViewerOptions& options) {
     const std::uint32_t width = options.renderer.width, height = options.renderer.height;
-    const std::uint64_t bytes = render::FrameRenderer::frameImageBytes(width, height) +
-                                gi::GiContext::estimateMemoryBytes(options.hybrid, options.settings) +
-                                std::uint64_t(width) * height * gpu::formatInfo(gpu::formats::kRgba8).bytesPerPixel;
-    context.requireDeviceMemory(bytes, "a " + std::to_string(width) + "x" + std::to_string(height) + " frame with GI");
+    const std::uint64_t display = std::uint64_t(width) * height * gpu::formatInfo(gpu::formats::kRgba8).bytesPerPixel;
+    render::requireFrameMemory(context, width, height, std::pair(options.hybrid, options.settings), false, display);
     return options.renderer;
   }
   static float sceneSize(const scene::Scene& scene) {
