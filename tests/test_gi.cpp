@@ -473,6 +473,70 @@ TEST_F(GiTest, TheBvhBridgeFindsLightBehindTheCamera) {
   EXPECT_NEAR(withBridge / expected, 1.0, 0.15) << "expected " << expected << ", screen only " << screenOnly;
 }
 
+// The ray budget (gi.world_ray_budget): on sun-room, whose window lets
+// sky samples into spatial reuse, every world ray the library casts is
+// counted by purpose, and the per-pixel purposes stay within the plan,
+// which stays within the budget; a smaller budget cuts sky tests first,
+// then ray candidates; the cache's updates stay within their own count.
+TEST_F(GiTest, WorldRaysStayWithinTheBudget) {
+  const scene::Scene room = scene::makeBuiltinScene("sun-room");
+  const scene::CameraPose camera = *room.suggestedCamera;
+  constexpr std::uint32_t kWidth = 96, kHeight = 54, kFrames = 6;
+  const double reservoirs = double((kWidth + 1) / 2) * double((kHeight + 1) / 2);
+  using Purpose = gi::WorldRayPurpose;
+  const auto perFrame = [](const render::GiBridge::WorldRayTally& tally, Purpose p) {
+    return double(tally.rays[std::size_t(p)]) / double(tally.frames);
+  };
+  const auto perPixelPurposes = [&](const render::GiBridge::WorldRayTally& tally) {
+    double sum = 0.0;
+    for (std::size_t p = 0; p < gi::kWorldRayPurposeCount; ++p)
+      if (Purpose(p) != Purpose::CacheUpdate && Purpose(p) != Purpose::HitShadows) sum += perFrame(tally, Purpose(p));
+    return sum;
+  };
+  const auto measure = [&](const Settings& settings) {
+    Run run = start(room, settings, kWidth, kHeight, false, render::bvhSceneBridge());
+    advance(run, camera, 2u);
+    run.gi->resetWorldRays();
+    advance(run, camera, kFrames);
+    return run.gi->worldRays();
+  };
+
+  const Settings defaults;
+  const WorldRayPlan plan = planWorldRays(defaults);
+  EXPECT_LE(double(plan.perReservoir()), 4.0 * double(defaults.worldRayBudget));
+  const render::GiBridge::WorldRayTally counted = measure(defaults);
+  ASSERT_EQ(counted.frames, kFrames);
+  const double used = perPixelPurposes(counted);
+  std::printf(
+      "sun-room %ux%u: %.3f world rays per pixel and frame (budget %.2f, plan %.2f); candidates %.0f, sky "
+      "tests %.0f, sample visibility %.0f, specular %.0f, cache %.0f, hit shadows %.0f\n",
+      kWidth, kHeight, used / (kWidth * kHeight), double(defaults.worldRayBudget), double(plan.perReservoir()) / 4.0,
+      perFrame(counted, Purpose::DiffuseCandidates), perFrame(counted, Purpose::SkyReuse),
+      perFrame(counted, Purpose::SampleVisibility), perFrame(counted, Purpose::Specular),
+      perFrame(counted, Purpose::CacheUpdate), perFrame(counted, Purpose::HitShadows));
+  EXPECT_LE(used, double(plan.perReservoir()) * reservoirs);
+  EXPECT_LE(used, 4.0 * double(defaults.worldRayBudget) * reservoirs);
+  EXPECT_LE(perFrame(counted, Purpose::DiffuseCandidates), double(plan.diffuseCandidates) * reservoirs);
+  EXPECT_LE(perFrame(counted, Purpose::SkyReuse), double(plan.skyReuseRays * plan.spatialPasses) * reservoirs);
+  EXPECT_LE(perFrame(counted, Purpose::CacheUpdate), double(defaults.cache.updateRays));
+  // Each counter counts: this view needs every default purpose.
+  for (const Purpose p : {Purpose::DiffuseCandidates, Purpose::SkyReuse, Purpose::SampleVisibility, Purpose::Specular,
+                          Purpose::CacheUpdate, Purpose::HitShadows})
+    EXPECT_GT(perFrame(counted, p), 0.0) << gi::worldRayPurposeName(p);
+  EXPECT_EQ(perFrame(counted, Purpose::ReuseVisibility), 0.0);
+  EXPECT_EQ(perFrame(counted, Purpose::ResolveVisibility), 0.0);
+
+  // Three rays per reservoir: sample visibility and specular take two, the
+  // one left cannot pay for a sky test in both passes, so it goes to one candidate.
+  Settings tight;
+  tight.worldRayBudget = 0.75f;
+  const render::GiBridge::WorldRayTally cut = measure(tight);
+  EXPECT_EQ(perFrame(cut, Purpose::SkyReuse), 0.0);
+  EXPECT_GT(perFrame(cut, Purpose::DiffuseCandidates), 0.0);
+  EXPECT_LE(perPixelPurposes(cut), 3.0 * reservoirs);
+  EXPECT_LT(perPixelPurposes(cut), used);
+}
+
 // --- cornell against the reference path tracer
 
 constexpr std::uint32_t kSmallWidth = 64, kSmallHeight = 48;

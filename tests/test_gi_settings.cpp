@@ -65,6 +65,7 @@ std::vector<ExpectedField> expectedFields() {
       {"diffuse.visibility", [](const Settings& s) { return double(s.diffuse.visibility); }},
       {"diffuse.reuse_visibility", [](const Settings& s) { return double(s.diffuse.reuseVisibility); }},
       {"diffuse.sky_reuse_visibility", [](const Settings& s) { return double(s.diffuse.skyReuseVisibility); }},
+      {"diffuse.sky_reuse_rays", [](const Settings& s) { return double(s.diffuse.skyReuseRays); }},
       {"diffuse.visibility_thickness", [](const Settings& s) { return double(s.diffuse.visibilityThickness); }},
       {"diffuse.offscreen_environment_visibility",
        [](const Settings& s) { return double(s.diffuse.offscreenEnvironmentVisibility); }},
@@ -77,11 +78,14 @@ std::vector<ExpectedField> expectedFields() {
       {"specular.trace_steps", [](const Settings& s) { return double(s.specular.traceSteps); }},
       {"specular.trace_thickness", [](const Settings& s) { return double(s.specular.traceThickness); }},
       {"specular.temporal_max_m", [](const Settings& s) { return double(s.specular.temporalMaxM); }},
-      {"specular.temporal_depth_tolerance", [](const Settings& s) { return double(s.specular.temporalDepthTolerance); }},
-      {"specular.temporal_normal_tolerance_degrees", [](const Settings& s) { return double(s.specular.temporalNormalToleranceDegrees); }},
+      {"specular.temporal_depth_tolerance",
+       [](const Settings& s) { return double(s.specular.temporalDepthTolerance); }},
+      {"specular.temporal_normal_tolerance_degrees",
+       [](const Settings& s) { return double(s.specular.temporalNormalToleranceDegrees); }},
       {"specular.spatial_samples", [](const Settings& s) { return double(s.specular.spatialSamples); }},
       {"specular.spatial_max_radius", [](const Settings& s) { return double(s.specular.spatialMaxRadius); }},
-      {"specular.spatial_normal_tolerance_degrees", [](const Settings& s) { return double(s.specular.spatialNormalToleranceDegrees); }},
+      {"specular.spatial_normal_tolerance_degrees",
+       [](const Settings& s) { return double(s.specular.spatialNormalToleranceDegrees); }},
       {"specular.spatial_plane_tolerance", [](const Settings& s) { return double(s.specular.spatialPlaneTolerance); }},
       {"specular.jacobian", [](const Settings& s) { return double(s.specular.jacobian); }},
       {"specular.resolve_max_samples", [](const Settings& s) { return double(s.specular.resolveMaxSamples); }},
@@ -99,7 +103,8 @@ std::vector<ExpectedField> expectedFields() {
       {"denoise.blur_radius", [](const Settings& s) { return double(s.denoise.blurRadius); }},
       {"denoise.min_blur_radius", [](const Settings& s) { return double(s.denoise.minBlurRadius); }},
       {"denoise.post_blur_radius_scale", [](const Settings& s) { return double(s.denoise.postBlurRadiusScale); }},
-      {"denoise.plane_distance_sensitivity", [](const Settings& s) { return double(s.denoise.planeDistanceSensitivity); }},
+      {"denoise.plane_distance_sensitivity",
+       [](const Settings& s) { return double(s.denoise.planeDistanceSensitivity); }},
       {"denoise.lobe_angle_fraction", [](const Settings& s) { return double(s.denoise.lobeAngleFraction); }},
       {"denoise.roughness_fraction", [](const Settings& s) { return double(s.denoise.roughnessFraction); }},
       {"denoise.stabilization_frames", [](const Settings& s) { return double(s.denoise.stabilizationFrames); }},
@@ -498,6 +503,53 @@ TEST(GiSettings, JsonErrorsNameTheFile) {
   const std::string message = runtimeErrorMessage([&] { applySettingsFile(settings, missing); });
   EXPECT_TRUE(message.starts_with(missing.string() + ": ")) << message;
   EXPECT_NE(message.find("no such file"), std::string::npos) << message;
+}
+
+// The ray budget's plan: what the settings fix is paid first, then sky
+// tests in both spatial passes, then ray candidates, each cut to fit.
+TEST(GiSettings, WorldRayPlanSpendsTheBudgetInOrder) {
+  Settings settings;
+  WorldRayPlan plan = planWorldRays(settings);
+  EXPECT_EQ(plan.sampleVisibility, 1u);
+  EXPECT_EQ(plan.specular, 1u);
+  EXPECT_EQ(plan.spatialPasses, 2u);
+  EXPECT_EQ(plan.skyReuseRays, 1u);
+  EXPECT_EQ(plan.diffuseCandidates, 1u);  // 5 of the 5 rays a reservoir of four pixels may cast at 1.25
+  EXPECT_LE(double(plan.perReservoir()), 4.0 * double(settings.worldRayBudget));
+
+  settings.worldRayBudget = 1.5f;  // six: room for both candidates
+  EXPECT_EQ(planWorldRays(settings).diffuseCandidates, 2u);
+  settings.worldRayBudget = 1.0f;  // four: the sky tests, no candidate
+  plan = planWorldRays(settings);
+  EXPECT_EQ(plan.skyReuseRays, 1u);
+  EXPECT_EQ(plan.diffuseCandidates, 0u);
+  settings.worldRayBudget = 0.75f;  // three: one left, too little for a test in both passes
+  plan = planWorldRays(settings);
+  EXPECT_EQ(plan.skyReuseRays, 0u);
+  EXPECT_EQ(plan.diffuseCandidates, 1u);
+
+  // What the settings fix is never cut: a budget below it is refused, naming both.
+  settings.worldRayBudget = 0.25f;
+  std::string message = invalidArgumentMessage([&] { planWorldRays(settings); });
+  EXPECT_NE(message.find("gi.world_ray_budget"), std::string::npos) << message;
+  EXPECT_NE(message.find("0.5 per pixel"), std::string::npos) << message;
+  EXPECT_THROW(validate(settings), std::invalid_argument);
+  settings.worldRayBudget = 1.25f;
+  settings.diffuse.reuseVisibility = true;  // 1 + 2 x (5 + 5) rays of its own
+  message = invalidArgumentMessage([&] { planWorldRays(settings); });
+  EXPECT_NE(message.find("gi.diffuse.reuse_visibility on"), std::string::npos) << message;
+  settings.worldRayBudget = 64.0f;
+  plan = planWorldRays(settings);
+  EXPECT_EQ(plan.reuseVisibility, 21u);
+  EXPECT_EQ(plan.skyReuseRays, 0u);  // every neighbour is tested already
+  EXPECT_EQ(plan.diffuseCandidates, 2u);
+
+  // Without diffuse or specular, none of theirs.
+  settings = Settings{};
+  settings.diffuse.enabled = false;
+  settings.specular.enabled = false;
+  plan = planWorldRays(settings);
+  EXPECT_EQ(plan.perReservoir(), 0u);
 }
 
 TEST(GiSettings, DocsListEveryKeyWithItsTypeAndDefault) {

@@ -41,6 +41,7 @@
 // nothing into the command buffer.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -326,9 +327,35 @@ struct CapturedStage {
   std::vector<std::uint8_t> texels;
 };
 
+// What the world rays of a frame were for (docs/gi-settings.md, "World
+// rays"): every ray the library casts through the scene bridge, and the
+// shadow rays the bridge reports casting to light the library's hits.
+enum class WorldRayPurpose : std::uint32_t {
+  DiffuseCandidates,  // gi.diffuse.gather: closest-hit ray candidates
+  SkyReuse,           // gi.diffuse.spatial_reuse: is the sky open from a neighbour?
+  ReuseVisibility,    // temporal and spatial reuse with gi.diffuse.reuse_visibility
+  SampleVisibility,   // gi.diffuse.sample_visibility: each reservoir's sample
+  ResolveVisibility,  // gi.diffuse.resolve with gi.diffuse.visibility world
+  Specular,           // gi.specular.trace: rays screen space cannot finish
+  CacheUpdate,        // gi.cache.update
+  HitShadows,         // the bridge's shadow rays lighting what rays hit
+  Count
+};
+constexpr std::size_t kWorldRayPurposeCount = std::size_t(WorldRayPurpose::Count);
+// "diffuse_candidates", "sky_reuse", ... (the JSON keys of bounce bench).
+const char* worldRayPurposeName(WorldRayPurpose purpose);
+
+// The world rays one frame cast, by purpose (all 0 with the bridge "none").
+struct WorldRayCount {
+  std::uint64_t frameIndex = 0;
+  std::array<std::uint64_t, kWorldRayPurposeCount> rays{};
+  std::uint64_t total() const;
+};
+
 struct FrameResults {
   std::vector<PassTiming> timings;       // in recorded order, frame by frame
   std::vector<CapturedStage> stages;
+  std::vector<WorldRayCount> worldRays;  // one per frame collected
 };
 
 class GiContext {

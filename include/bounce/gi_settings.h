@@ -84,6 +84,10 @@ struct DiffuseSettings {
   // 320x180: 0.61 -> 0.71 of the reference). Costs up to one ray per
   // neighbour for reservoirs holding a sky sample. Needs a bridge that traces.
   bool skyReuseVisibility = true;
+  // Of those neighbours, one spatial pass tests at most this many with a ray
+  // (rays into the open are the longest a frame casts); the others count
+  // with the share of the tested ones' confidence that saw the sample.
+  std::uint32_t skyReuseRays = 1;
   float visibilityThickness = 0.03f;    // surfaces are this fraction of their viewZ thick
   // Environment samples count as visible where their screen-space march
   // meets the sky (a background pixel, or the screen's edge where it shows
@@ -227,7 +231,36 @@ struct Settings {
   // stay): the baseline every reuse comparison is made against.
   bool restir = true;
   std::uint32_t seed = 0;  // another seed gives other (independent) noise
+  // World rays per pixel and frame the library may cast through a scene
+  // bridge that traces, at most (planWorldRays says how they are spent;
+  // docs/gi-settings.md, "World rays"). Not counted against it: the radiance
+  // cache's updates (cache.update_rays a frame, whatever the size) and the
+  // bridge's own shadow rays at hits (as many as its lights).
+  float worldRayBudget = 1.25f;
 };
+
+// How the library spends Settings::worldRayBudget, in rays per
+// half-resolution reservoir (four pixels) and frame, at most, with a scene
+// bridge that traces. What its settings ask for is fixed (sample
+// visibility, specular continuation, the unbiased reuse option, world
+// visibility at the resolve); what is left pays first for testing sky
+// samples in spatial reuse (diffuse.sky_reuse_rays in each pass), then for
+// ray candidates (diffuse.ray_candidates): each is cut to what the budget
+// holds.
+struct WorldRayPlan {
+  std::uint32_t diffuseCandidates = 0;  // gi.diffuse.gather
+  std::uint32_t skyReuseRays = 0;       // gi.diffuse.spatial_reuse, in each pass
+  std::uint32_t spatialPasses = 0;      // spatial reuse passes that merge neighbours
+  std::uint32_t reuseVisibility = 0;    // the unbiased option, temporal and spatial reuse together
+  std::uint32_t sampleVisibility = 0;   // gi.diffuse.sample_visibility (hybrid visibility)
+  std::uint32_t resolveVisibility = 0;  // gi.diffuse.resolve (world visibility): its reservoirs for each of 4 pixels
+  std::uint32_t specular = 0;           // gi.specular.trace
+  // Every ray above, per reservoir.
+  std::uint32_t perReservoir() const;
+};
+// Throws std::invalid_argument when what the settings fix alone is more than
+// the budget (naming the settings and the budget they would need).
+WorldRayPlan planWorldRays(const Settings& settings);
 
 // One settable field: its key (relative to "gi.", e.g. "diffuse.spatial_radius"),
 // its type and range as text, its default and what it does.

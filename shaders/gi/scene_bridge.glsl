@@ -22,7 +22,10 @@
 //   vec3 sceneDirectRadiance(SceneHit hit, vec3 toOrigin)
 //       the radiance `hit` reflects towards toOrigin (unit) from the direct
 //       light of the engine's lights, shadows included; not its emission
-// The functions must return finite values for finite arguments.
+// The functions must return finite values for finite arguments. The rays
+// the library asks for are counted by the library; rays the bridge traces
+// on its own (shadow rays in sceneDirectRadiance) it counts by calling
+// countBridgeShadowRay() once per ray, so the ray budget sees them.
 #ifndef BOUNCE_GI_SCENE_BRIDGE_GLSL
 #define BOUNCE_GI_SCENE_BRIDGE_GLSL
 
@@ -58,6 +61,11 @@ SceneHit sceneMiss() {
   hit.roughness = 1.0f;
   return hit;
 }
+
+#include "gi/world_ray_count.glsl"
+
+// For the bridge: one shadow ray it traces to light a hit (see above).
+void countBridgeShadowRay() { countWorldRay(kWorldRaysHitShadows); }
 
 #include "scene_bridge_impl.glsl"
 

@@ -3,7 +3,9 @@
 // the radiance a world hit sends back. The including shader includes
 // gi/gi_common.glsl and gi/scene_bridge.glsl first and, when it binds the
 // radiance cache, gi/cache/radiance_cache.glsl (RADIANCE_CACHE defined);
-// every function is only called where kSceneBridgeTraces holds.
+// every function is only called where kSceneBridgeTraces holds. Every ray
+// is counted under the `purpose` its caller gives (gi/world_ray_count.glsl),
+// which must be the same for every invocation calling together.
 #ifndef BOUNCE_GI_WORLD_RAYS_GLSL
 #define BOUNCE_GI_WORLD_RAYS_GLSL
 
@@ -18,26 +20,35 @@ vec3 rayOrigin(vec3 position, vec3 normal, float viewZ) { return position + norm
 
 // Whether nothing lies between the surface at `from` and the point `to` on
 // another surface (the ray stops short of it by its own offset).
-bool worldSegmentVisible(vec3 from, vec3 normal, float viewZ, vec3 to) {
+bool worldSegmentVisible(vec3 from, vec3 normal, float viewZ, vec3 to, uint purpose) {
   vec3 origin = rayOrigin(from, normal, viewZ);
   vec3 d = to - origin;
   float length2 = dot(d, d);
   if (!(length2 > 0.0f)) return true;
   float len = sqrt(length2);
   float end = len * (1.0f - 1e-3f) - 2.0f * rayOffset(to, viewZ);
-  return end <= 0.0f || !sceneTraceAny(origin, d / len, end);
+  if (end <= 0.0f) return true;
+  countWorldRay(purpose);
+  return !sceneTraceAny(origin, d / len, end);
 }
 
 // Whether the environment is reached from `from` along `direction`.
-bool worldDirectionOpen(vec3 from, vec3 normal, float viewZ, vec3 direction) {
+bool worldDirectionOpen(vec3 from, vec3 normal, float viewZ, vec3 direction, uint purpose) {
+  countWorldRay(purpose);
   return !sceneTraceAny(rayOrigin(from, normal, viewZ), direction, 3.0e38f);
 }
 
 // Whether the surface `at` sees a reservoir's sample: the point on a
 // surface it holds, or the environment in the direction it holds.
-bool worldSeesSample(Reservoir r, Surface at) {
-  return reservoirIsEnvironment(r) ? worldDirectionOpen(at.position, at.normal, at.viewZ, r.position)
-                                   : worldSegmentVisible(at.position, at.normal, at.viewZ, r.position);
+bool worldSeesSample(Reservoir r, Surface at, uint purpose) {
+  return reservoirIsEnvironment(r) ? worldDirectionOpen(at.position, at.normal, at.viewZ, r.position, purpose)
+                                   : worldSegmentVisible(at.position, at.normal, at.viewZ, r.position, purpose);
+}
+
+// The first surface along a ray from `origin`, counted under `purpose`.
+SceneHit worldTraceClosest(vec3 origin, vec3 direction, uint purpose) {
+  countWorldRay(purpose);
+  return sceneTraceClosest(origin, direction, 3.0e38f);
 }
 
 // The radiance a world hit sends back along the ray, off screen: its

@@ -26,6 +26,18 @@ float rangeWindow(float distanceSquared, float range) {
   return window * window;
 }
 
+// A shader may define DIRECT_LIGHT_SHADOW_RAY_COUNTED() to count every
+// shadow ray traced here (the GI scene bridge does: the ray budget).
+#ifndef DIRECT_LIGHT_SHADOW_RAY_COUNTED
+#define DIRECT_LIGHT_SHADOW_RAY_COUNTED()
+#endif
+
+// Whether something blocks the shadow ray (0, tMax) along `toLight`.
+bool shadowed(vec3 shadowOrigin, vec3 toLight, float tMax) {
+  DIRECT_LIGHT_SHADOW_RAY_COUNTED();
+  return bvhTraceAny(shadowOrigin, toLight, 0.0f, tMax);
+}
+
 // Reflected radiance towards `toViewer` from the sun and the punctual lights.
 // `shadowOrigin` is `position` moved off the surface (offsetOrigin).
 vec3 directLighting(vec3 position, vec3 shadowOrigin, vec3 normal, vec3 geometricNormal, vec3 toViewer,
@@ -35,7 +47,7 @@ vec3 directLighting(vec3 position, vec3 shadowOrigin, vec3 normal, vec3 geometri
   vec3 toSun = SCENE_FRAME.frame.sunDirection.xyz;
   if (sunIlluminance > 0.0f && dot(geometricNormal, toSun) > 0.0f) {
     vec3 f = materialBrdfCosine(normal, toViewer, toSun, baseColor, metallic, roughness);
-    if (any(greaterThan(f, vec3(0.0f))) && !bvhTraceAny(shadowOrigin, toSun, 0.0f, 1e30f))
+    if (any(greaterThan(f, vec3(0.0f))) && !shadowed(shadowOrigin, toSun, 1e30f))
       radiance += f * sunIlluminance * SCENE_FRAME.frame.sunColor.xyz;
   }
 
@@ -65,7 +77,7 @@ vec3 directLighting(vec3 position, vec3 shadowOrigin, vec3 normal, vec3 geometri
     if (attenuation <= 0.0f || dot(geometricNormal, toLight) <= 0.0f) continue;
     vec3 f = materialBrdfCosine(normal, toViewer, toLight, baseColor, metallic, roughness);
     if (all(equal(f, vec3(0.0f)))) continue;
-    if (bvhTraceAny(shadowOrigin, toLight, 0.0f, distance * 0.9999f)) continue;
+    if (shadowed(shadowOrigin, toLight, distance * 0.9999f)) continue;
     radiance += f * light.radiantColor.xyz * attenuation;
   }
   return radiance;

@@ -159,6 +159,7 @@ int runBench(const BenchOptions& options) {
     for (std::uint32_t i = 0; i < options.warmup; ++i) recordFrame(warmup);
     warmup.finish();
   }
+  if (gi) gi->resetWorldRays();
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
   ProgressBar progress("bench", options.frames);
   for (std::uint32_t i = 0; i < options.frames; ++i) {
@@ -178,6 +179,32 @@ int runBench(const BenchOptions& options) {
     if (t.pass == "render.gbuffer") primaryRays = pixels / seconds;
     if (t.pass == "render.bvh_trace_rays") incoherentClosest = double(options.rays) / seconds;
     if (t.pass == "render.bvh_trace_rays_any") incoherentAny = double(options.rays) / seconds;
+  }
+  double wholeGiMs = 0.0;
+  for (const gpu::PassTiming& t : loop.timings().summary())
+    if (t.pass.starts_with("gi.")) wholeGiMs += t.medianMs;
+  if (gi) std::fprintf(report, "\nwhole GI (every gi.* pass, medians added): %.3f ms\n", wholeGiMs);
+  nlohmann::json worldRays = nlohmann::json::object();
+  if (gi && gi->worldRays().frames > 0) {
+    const render::GiBridge::WorldRayTally& tally = gi->worldRays();
+    const double frames = double(tally.frames);
+    std::fprintf(report, "\nworld rays per frame (mean of %llu frames), by purpose:\n",
+                 static_cast<unsigned long long>(tally.frames));
+    for (std::size_t p = 0; p < gi::kWorldRayPurposeCount; ++p) {
+      const char* name = gi::worldRayPurposeName(gi::WorldRayPurpose(p));
+      const double perFrame = double(tally.rays[p]) / frames;
+      std::fprintf(report, "  %-20s %12.0f  %.3f per pixel\n", name, perFrame, perFrame / pixels);
+      worldRays[name] = perFrame;
+    }
+    const double total = double(tally.total()) / frames;
+    std::fprintf(report, "  %-20s %12.0f  %.3f per pixel\n", "total", total, total / pixels);
+    const gi::WorldRayPlan plan = gi::planWorldRays(gi->library().settings());
+    std::fprintf(report,
+                 "  budget (gi.world_ray_budget): %.2f per pixel; at most %.2f planned (%u ray candidates, %u sky "
+                 "tests per spatial pass, per reservoir of 4 pixels), cache updates and hit shadows apart\n",
+                 double(gi->library().settings().worldRayBudget), double(plan.perReservoir()) / 4.0,
+                 plan.diffuseCandidates, plan.skyReuseRays);
+    worldRays["total"] = total;
   }
   std::fprintf(report, "\nrays per second (median pass time): primary %.0f M (whole G-buffer pass, 1 ray per pixel)",
                primaryRays / 1e6);
@@ -207,6 +234,10 @@ int runBench(const BenchOptions& options) {
                                     {"primary_rays_per_s", primaryRays},
                                     {"incoherent_closest_rays_per_s", incoherentClosest},
                                     {"incoherent_any_rays_per_s", incoherentAny},
+                                    {"scene_bridge", gi ? options.gi.sceneBridge : "off"},
+                                    {"whole_gi_ms", wholeGiMs},
+                                    {"gi_memory_bytes", gi ? gi->library().memoryBytes() : 0},
+                                    {"world_rays_per_frame", worldRays},
                                     {"passes", passes}};
     if (jsonToStdout)
       std::cout << results.dump(2) << "\n" << std::flush;

@@ -141,10 +141,12 @@ struct GiContext::Impl {
         engine(*context) {
     const DiffuseSettings& diffuse = settings.diffuse;
     // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
-    if (diffuse.enabled && scene.traces() && diffuse.screenCandidates + diffuse.brightCandidates +
-                                                     diffuse.rayCandidates == 0)
-      throw Error("gi: gi.diffuse.screen_candidates, bright_candidates and ray_candidates are all 0 with the scene "
-                  "bridge '" + scene.name() + "': every reservoir would stay empty");
+    if (diffuse.enabled && scene.traces() &&
+        diffuse.screenCandidates + diffuse.brightCandidates + planWorldRays(settings).diffuseCandidates == 0)
+      throw Error(
+          "gi: gi.diffuse.screen_candidates and bright_candidates are 0 and no ray candidate is left (gi.diffuse."
+          "ray_candidates, or gi.world_ray_budget too small for one) with the scene bridge '" +
+          scene.name() + "': every reservoir would stay empty");
     branches.push_back(
         std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings, scene, cache));
     branches.push_back(std::make_unique<SpecularBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings,
@@ -152,7 +154,7 @@ struct GiContext::Impl {
     if (settings.denoise.enabled)
       denoiser = std::make_unique<Denoiser>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings);
     for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
-      logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps));
+      logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps, scene.traces()));
   }
 
   DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches[0]); }
@@ -289,6 +291,7 @@ struct GiContext::Impl {
     PassLog& log = *logs[recorded % logs.size()];
     gpu::Recorder recorder(*context, commandBuffer, log.sink());
     log.begin(commandBuffer, recorder, frame.frameIndex, frame.captureStages);
+    if (scene.traces()) scene.countRaysInto(log.rayCounters());
 
     recorder.updateBuffer(*frameConstants, &constants, sizeof constants);
     const FrameGroup group(*frameConstants, engine[Input::ViewZ], engine[Input::NormalRoughness],
@@ -355,6 +358,7 @@ struct GiContext::Impl {
                        {"gIn_IndirectDiffuse", result(DenoiseSignal::Diffuse, f, given)},
                        {"gIn_IndirectSpecular", result(DenoiseSignal::Specular, f, given)},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
+    log.end(recorder);
 
     engine.handBack(recorder);
     // Stage copies moved some images to transfer layouts: every library

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "gi/world_ray_count.glsl"
 #include "gpu/error.h"
 
 namespace bounce::gi {
@@ -34,8 +35,14 @@ Visualization visualization(gpu::Visualize view) {
   return Visualization::Raw;
 }
 
-PassLog::PassLog(gpu::Context& context, bool timestamps)
+PassLog::PassLog(gpu::Context& context, bool timestamps, bool countRays)
     : context_(context), timestamps_(timestamps && context.hasTimestamps()) {
+  if (countRays) {
+    const VkDeviceSize bytes = shared::kWorldRayPurposes * shared::kWorldRayCounterCopies * sizeof(std::uint32_t);
+    rayCounters_ = std::make_unique<gpu::Buffer>(context, "gi.world_ray_counts", bytes, gpu::BufferUsage::DeviceLocal);
+    rayReadback_ =
+        std::make_unique<gpu::Buffer>(context, "gi.world_ray_counts.readback", bytes, gpu::BufferUsage::Readback);
+  }
   if (!timestamps_) return;
   VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   info.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -55,6 +62,15 @@ void PassLog::begin(VkCommandBuffer commandBuffer, gpu::Recorder& recorder, std:
   frameIndex_ = frameIndex;
   if (timestamps_) vkCmdResetQueryPool(commandBuffer, sink_.pool, 0, sink_.capacity);
   if (captureStages) recorder.captureStages(&captures_, frameIndex);
+  rayCountsRecorded_ = false;
+  if (rayCounters_) recorder.fillBuffer(*rayCounters_, 0u);
+}
+
+void PassLog::end(gpu::Recorder& recorder) {
+  if (!rayCounters_) return;
+  recorder.copyBuffer(*rayCounters_, *rayReadback_, rayCounters_->size());
+  recorder.makeHostReadable(*rayReadback_);
+  rayCountsRecorded_ = true;
 }
 
 void PassLog::collectInto(FrameResults& results, const std::string& caller) {
@@ -83,6 +99,14 @@ void PassLog::collectInto(FrameResults& results, const std::string& caller) {
         same->milliseconds += ms;
     }
   }
+  if (rayCountsRecorded_) {
+    WorldRayCount count{.frameIndex = frameIndex};
+    const auto* words = static_cast<const std::uint32_t*>(rayReadback_->mapped());
+    for (std::uint32_t purpose = 0; purpose < shared::kWorldRayPurposes; ++purpose)
+      for (std::uint32_t copy = 0; copy < shared::kWorldRayCounterCopies; ++copy)
+        count.rays[purpose] += words[purpose * shared::kWorldRayCounterCopies + copy];
+    results.worldRays.push_back(count);
+  }
   for (gpu::CapturedStage& capture : captures_) {
     gpu::completeCapture(capture);
     results.stages.push_back({.frameIndex = capture.frame,
@@ -97,6 +121,7 @@ void PassLog::collectInto(FrameResults& results, const std::string& caller) {
   captures_.clear();
   sink_.passes.clear();
   frameIndex_.reset();
+  rayCountsRecorded_ = false;
 }
 
 }  // namespace bounce::gi

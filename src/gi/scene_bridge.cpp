@@ -61,6 +61,11 @@ gpu::PassDesc SceneBridgeBinding::adapt(gpu::PassDesc desc, std::span<const gpu:
            std::none_of(desc.resources.begin(), desc.resources.end(),
                         [&](const gpu::ResourceDecl& r) { return r.name == layout.binding; });
   });
+  // Every shader that includes the bridge counts its rays (gi/world_ray_count.glsl).
+  gpu::declareUsed(desc,
+                   std::vector<gpu::ResourceDecl>{{"gOut_WorldRays", gpu::Access::ReadWrite, VK_FORMAT_UNDEFINED,
+                                                   "world rays counted by purpose", gpu::ResourceKind::StorageBuffer}},
+                   context_.constantsInStorageBuffers());
   if (!bridged) return desc;
   std::vector<gpu::ResourceDecl> declared;
   for (const SceneResourceDecl& resource : resources_)
@@ -119,6 +124,7 @@ std::vector<gpu::Bind> SceneBridgeBinding::binds(const gpu::ComputePass& pass,
     else if (buffers_.size() > i && buffers_[i])
       bridge.emplace_back(resources_[i].name, *buffers_[i]);
   }
+  if (rayCounters_) bridge.emplace_back("gOut_WorldRays", *rayCounters_);
   std::vector<gpu::Bind> list(own);
   for (const gpu::Bind& bind : gpu::bindsDeclaredBy(pass, bridge)) list.push_back(bind);
   return list;

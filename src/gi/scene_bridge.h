@@ -41,6 +41,10 @@ class SceneBridgeBinding {
   // This frame's resources: every declared one bound, nothing else, each of
   // the kind declared (throws Error naming the resource otherwise).
   void take(const FrameInputs& frame);
+  // The buffer this frame's passes count their world rays in
+  // (gi/world_ray_count.glsl's gOut_WorldRays), bound with the bridge's resources.
+  void countRaysInto(gpu::Buffer& counters) { rayCounters_ = &counters; }
+
   // `own` and the bridge resources `pass` declares, for one dispatch.
   std::vector<gpu::Bind> binds(const gpu::ComputePass& pass, std::initializer_list<gpu::Bind> own) const;
 
@@ -54,6 +58,7 @@ class SceneBridgeBinding {
   std::vector<std::unique_ptr<gpu::Buffer>> buffers_;
   std::vector<std::unique_ptr<gpu::Image>> images_;
   std::vector<VkSampler> samplers_;
+  gpu::Buffer* rayCounters_ = nullptr;
 };
 
 }  // namespace bounce::gi

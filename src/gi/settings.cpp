@@ -222,6 +222,9 @@ constexpr std::array kEntries{
     Entry{"diffuse.sky_reuse_visibility", inDiffuse(&DiffuseSettings::skyReuseVisibility), kNoBounds,
           "spatial reuse counts a neighbour towards a sky sample's normalisation only if an any-hit ray finds the sky "
           "open from it (less darkening under windows and arches; costs rays; without a bridge, ignored)"},
+    Entry{"diffuse.sky_reuse_rays", inDiffuse(&DiffuseSettings::skyReuseRays), closed(0, 64),
+          "spatial reuse: neighbours per pass whose view of a sky sample is tested with a ray, at most; the others "
+          "count with the tested ones' share that saw it"},
     Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
           "resolve: surfaces are assumed this fraction of their viewZ thick"},
     Entry{"diffuse.offscreen_environment_visibility", inDiffuse(&DiffuseSettings::offscreenEnvironmentVisibility),
@@ -345,6 +348,10 @@ constexpr std::array kEntries{
     Entry{"restir", inSettings(&Settings::restir), kNoBounds,
           "temporal and spatial reuse (off: the no-reuse baseline; gathering, resolve and filters stay)"},
     Entry{"seed", inSettings(&Settings::seed), kAnyUint, "random seed; another seed gives other, independent noise"},
+    Entry{"world_ray_budget", inSettings(&Settings::worldRayBudget), aboveUpTo(0, 64),
+          "world rays per pixel and frame the library may cast through a scene bridge, at most: after what the "
+          "settings fix, sky tests in spatial reuse, then ray candidates are cut to fit (cache updates and the "
+          "bridge's shadow rays not counted)"},
 };
 
 std::string lowercase(std::string_view text) {
@@ -733,6 +740,57 @@ void validate(const Settings& settings) {
                                 userKey(entryOf(&DiffuseSettings::enabled)) +
                                 " is on: at least one must be above 0 (or turn diffuse off)");
   }
+  planWorldRays(settings);
+}
+
+std::uint32_t WorldRayPlan::perReservoir() const {
+  return diffuseCandidates + skyReuseRays * spatialPasses + reuseVisibility + sampleVisibility + resolveVisibility +
+         specular;
+}
+
+WorldRayPlan planWorldRays(const Settings& settings) {
+  const DiffuseSettings& d = settings.diffuse;
+  WorldRayPlan plan;
+  const std::uint32_t spatialPasses =
+      settings.restir ? (d.spatialSamples > 0 ? 1u : 0u) + (d.spatial2Samples > 0 ? 1u : 0u) : 0u;
+  std::vector<std::string> fixedBy;
+  if (d.enabled) {
+    plan.spatialPasses = spatialPasses;
+    if (d.reuseVisibility && settings.restir) {
+      // Temporal reuse tests the history; each spatial pass tests every
+      // neighbour it merges and again each one it normalises by.
+      plan.reuseVisibility = 1u + 2u * (std::min(d.spatialSamples, 16u) + std::min(d.spatial2Samples, 16u));
+      fixedBy.push_back(userKey(entryOf(&DiffuseSettings::reuseVisibility)) + " on");
+    }
+    if (d.visibility == Visibility::Hybrid) plan.sampleVisibility = 1;
+    if (d.visibility == Visibility::World) {
+      plan.resolveVisibility = 4u * d.resolveReservoirs;
+      fixedBy.push_back(userKey(entryOf(&DiffuseSettings::visibility)) + " world");
+    }
+  }
+  if (settings.specular.enabled) plan.specular = 1;
+  const double budget = 4.0 * double(settings.worldRayBudget);  // per reservoir of four pixels
+  const std::uint32_t fixed = plan.reuseVisibility + plan.sampleVisibility + plan.resolveVisibility + plan.specular;
+  if (double(fixed) > budget + 1e-9) {
+    std::string what = "the world rays the settings fix";
+    if (!fixedBy.empty()) {
+      what += " (";
+      for (std::size_t i = 0; i < fixedBy.size(); ++i) what += (i ? ", " : "") + fixedBy[i];
+      what += ")";
+    }
+    char needed[64];
+    std::snprintf(needed, sizeof needed, "%g", double(fixed) / 4.0);
+    throw std::invalid_argument(userKey(entryOf(&Settings::worldRayBudget)) + " = " +
+                                formatField(settings, entryOf(&Settings::worldRayBudget)) + " is below " + what + ": " +
+                                needed + " per pixel; raise it to at least that");
+  }
+  double left = budget - double(fixed);
+  if (d.enabled && d.skyReuseVisibility && !d.reuseVisibility && spatialPasses > 0) {
+    plan.skyReuseRays = std::min(d.skyReuseRays, std::uint32_t((left + 1e-9) / double(spatialPasses)));
+    left -= double(plan.skyReuseRays * spatialPasses);
+  }
+  if (d.enabled) plan.diffuseCandidates = std::min(d.rayCandidates, std::uint32_t(left + 1e-9));
+  return plan;
 }
 
 }  // namespace bounce::gi

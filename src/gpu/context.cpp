@@ -136,7 +136,8 @@ bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
 
 DeviceInfo describe(VkPhysicalDevice device, int index) {
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-  VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES, &driver};
+  VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &subgroup};
   vkGetPhysicalDeviceProperties2(device, &props);
   VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
@@ -152,6 +153,10 @@ DeviceInfo describe(VkPhysicalDevice device, int index) {
     info.unsuitableReason = "needs Vulkan 1.3, device has " + versionString(info.apiVersion);
   else if (!features13.synchronization2 || !features13.maintenance4)
     info.unsuitableReason = "no synchronization2 or maintenance4 feature";
+  else if (!(subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+           !(subgroup.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT))
+    // The GI library counts world rays with one atomic per subgroup (gi/world_ray_count.glsl).
+    info.unsuitableReason = "no subgroup ballot in compute shaders";
   else if (!hasDeviceExtension(device, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
     info.unsuitableReason = "no VK_KHR_push_descriptor";
   else if (!chooseQueueFamily(device))

@@ -8,6 +8,7 @@
 // correct barriers.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -91,6 +92,15 @@ class GiBridge {
   };
   std::vector<Named> images();
 
+  // The world rays of the frames collected since the last resetWorldRays()
+  // (gi::FrameResults::worldRays), summed by purpose.
+  struct WorldRayTally {
+    std::uint64_t frames = 0;
+    std::array<std::uint64_t, gi::kWorldRayPurposeCount> rays{};
+    std::uint64_t total() const;
+  };
+  const WorldRayTally& worldRays() const { return worldRays_; }
+  void resetWorldRays() { worldRays_ = {}; }
 
  private:
   gpu::Image& wrap(const gi::ImageRef& ref, const std::string& name, gpu::Visualize view);
@@ -104,6 +114,7 @@ class GiBridge {
     gpu::SyncState handedOut;  // the state the library left it in
   };
   std::unordered_map<VkImage, Wrapper> wrappers_;
+  WorldRayTally worldRays_;
 };
 
 }  // namespace bounce::render

@@ -43,7 +43,7 @@ void main() {
   vec3 local = sampleCosineHemisphere(vec2(rngUniform(rng), rngUniform(rng)));
   vec3 direction = normalize(t * local.x + b * local.y + normal * local.z);
   float distance = length(position - c.cameraPosition.xyz);
-  SceneHit hit = sceneTraceClosest(rayOrigin(position, normal, distance), direction, 3.0e38f);
+  SceneHit hit = worldTraceClosest(rayOrigin(position, normal, distance), direction, kWorldRaysCacheUpdate);
   vec3 radiance = hit.hit ? offscreenHitRadiance(hit, direction)
                           : sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), c.environmentMip).xyz);
   cacheAddSample(slot, radiance);

@@ -36,6 +36,7 @@ struct DiffuseConstants {
   uint visibilityMode;         // gi::Visibility (Screen without a bridge that traces)
   uint reuseVisibility;        // 1: reuse tests reused samples with world any-hit rays
   uint skyReuseVisibility;     // 1: spatial reuse's normalisation tests sky samples from each neighbour
+  uint skyReuseRays;           // of those neighbours, the most one pass tests with a ray
 };
 
 #ifdef __cplusplus

@@ -201,7 +201,7 @@ void main() {
       vec3 position, normal, radiance;
       uint flags = 0u;
       if (shown.x < 0) {
-        SceneHit hit = sceneTraceClosest(origin, direction, 3.0e38f);
+        SceneHit hit = worldTraceClosest(origin, direction, kWorldRaysDiffuseCandidates);
         if (!hit.hit) {
           radiance = sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), d.environmentMip).xyz);
           position = direction;

@@ -59,7 +59,7 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
     // Screen space cannot prove the sky open (a sky pixel shows only that
     // the camera's ray there is free): with a bridge it only finds what blocks.
     if (world) {
-      scale = worldSeesSample(r, x) ? 1.0f : 0.0f;
+      scale = worldSeesSample(r, x, kWorldRaysResolveVisibility) ? 1.0f : 0.0f;
     } else if (steps > 0u) {
       float screen = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, d.visibilityThickness,
                                            hybrid ? kLeftScreen : d.offscreenEnvironmentVisibility, false);
@@ -68,7 +68,7 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
   } else {
     scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian, d.jacobian != 0u && !owner.exact);
     if (scale <= 0.0f) return vec3(0.0f);
-    float visible = world ? (worldSeesSample(r, x) ? kVisible : kOccluded)
+    float visible = world ? (worldSeesSample(r, x, kWorldRaysResolveVisibility) ? kVisible : kOccluded)
                     : steps > 0u ? screenVisibility(x.position, r.position, steps, jitter, d.visibilityThickness, hybrid)
                                  : kVisible;
     // Screen-only: a sample beyond the screen's edge cannot be tested, and

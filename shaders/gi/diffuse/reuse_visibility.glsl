@@ -26,17 +26,30 @@
 // unbiased option is on).
 float reuseVisibility(Reservoir r, Surface at) {
   if (!kSceneBridgeTraces || gIn_DiffuseConstants.diffuse.reuseVisibility == 0u || !reservoirHasSample(r)) return 1.0f;
-  return worldSeesSample(r, at) ? 1.0f : 0.0f;
+  return worldSeesSample(r, at, kWorldRaysReuseVisibility) ? 1.0f : 0.0f;
+}
+
+// Whether the neighbours' visibility of the chosen sample is tested with
+// world rays: for sky samples with gi.diffuse.sky_reuse_visibility, for all
+// with the unbiased option.
+bool neighbourVisibilityTested(Reservoir r) {
+  if (!kSceneBridgeTraces || !reservoirHasSample(r)) return false;
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  return d.reuseVisibility != 0u || (d.skyReuseVisibility != 0u && reservoirIsEnvironment(r));
+}
+
+// How many neighbours one spatial pass tests with a ray, at most (the
+// unbiased option tests every one; gi.diffuse.sky_reuse_rays otherwise).
+uint neighbourVisibilityRays() {
+  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
+  return d.reuseVisibility != 0u ? 0xffffffffu : d.skyReuseRays;
 }
 
 // Whether a neighbour at `at` could have held the chosen sample, as far as
-// visibility goes: tested for sky samples with gi.diffuse.sky_reuse_visibility,
-// for all with the unbiased option.
+// visibility goes (only where neighbourVisibilityTested).
 bool neighbourSeesSample(Reservoir r, Surface at) {
-  if (!kSceneBridgeTraces || !reservoirHasSample(r)) return true;
-  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
-  if (d.reuseVisibility == 0u && !(d.skyReuseVisibility != 0u && reservoirIsEnvironment(r))) return true;
-  return worldSeesSample(r, at);
+  uint purpose = gIn_DiffuseConstants.diffuse.reuseVisibility != 0u ? kWorldRaysReuseVisibility : kWorldRaysSkyReuse;
+  return worldSeesSample(r, at, purpose);
 }
 
 #endif

@@ -31,7 +31,7 @@ void main() {
   if (!reservoirHasSample(r)) return;
   Surface x = gbufferSurface(reservoirSurfacePixel(halfPixel));
   if (x.viewZ <= 0.0f) return;
-  if (worldSeesSample(r, x)) return;
+  if (worldSeesSample(r, x, kWorldRaysSampleVisibility)) return;
   r.W = 0.0f;
   r.flags &= ~kReservoirHasSample;
   packReservoir(r, first, second);

@@ -90,17 +90,37 @@ void main() {
     float confidence = own.M;
     // A neighbour counts only if it could have held the chosen sample: it sees
     // it (tested for sky samples by default, for all with the unbiased option;
-    // gi/diffuse/reuse_visibility.glsl says why).
+    // gi/diffuse/reuse_visibility.glsl says why). Sky tests are rays into the
+    // open, the longest there are: at most neighbourVisibilityRays() of the
+    // neighbours are tested, and the rest count with the fraction of the
+    // tested ones' M that saw the sample (a neighbour's visibility estimated
+    // from its tested peers; with none tested, all count, as with the test off).
     float hidden = 0.0f;
+    bool tested = neighbourVisibilityTested(merged);
+    uint raysLeft = neighbourVisibilityRays();
+    float testedM = 0.0f, testedVisibleM = 0.0f, untestedM = 0.0f;
     for (uint i = 0u; i < neighbours; ++i) {
       if (!canHandOver(merged, neighbourPositions[i], neighbourNormals[i], x.position, kMaxSpatialJacobian, jacobian,
                        target))
         continue;
-      if (neighbourSeesSample(merged, Surface(neighbourPositions[i], neighbourNormals[i], viewZ)))
+      if (!tested) {
         confidence += neighbourM[i];
-      else
-        hidden += neighbourM[i];
+      } else if (raysLeft == 0u) {
+        untestedM += neighbourM[i];
+      } else {
+        --raysLeft;
+        testedM += neighbourM[i];
+        if (neighbourSeesSample(merged, Surface(neighbourPositions[i], neighbourNormals[i], viewZ))) {
+          confidence += neighbourM[i];
+          testedVisibleM += neighbourM[i];
+        } else {
+          hidden += neighbourM[i];
+        }
+      }
     }
+    float seenFraction = testedM > 0.0f ? testedVisibleM / testedM : 1.0f;
+    confidence += untestedM * seenFraction;
+    hidden += untestedM * (1.0f - seenFraction);
     reservoirFinalize(merged, targetPdf(merged, x.position, x.normal, target), confidence);
     // The confidence handed on (to the next pass and the next frame) is every
     // M merged, not Z: Z depends on the chosen sample (near creases it is

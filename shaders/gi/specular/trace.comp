@@ -115,7 +115,7 @@ void main() {
     }
   }
   if (!found && kSceneBridgeTraces) {
-    SceneHit hit = sceneTraceClosest(origin, direction, 3.0e38f);
+    SceneHit hit = worldTraceClosest(origin, direction, kWorldRaysSpecular);
     if (hit.hit) {
       candidate.position = hit.position;
       candidate.normal = hit.normal;

@@ -9,6 +9,7 @@
 #define SCENE_FRAME_STORAGE restrict readonly buffer
 #include "render/scene_access.glsl"
 #define DIRECT_LIGHTS_BINDING (SCENE_BRIDGE_FIRST_BINDING + 16)
+#define DIRECT_LIGHT_SHADOW_RAY_COUNTED() countBridgeShadowRay()
 #include "render/direct_lighting.glsl"
 
 const bool kSceneBridgeTraces = true;

@@ -152,12 +152,15 @@ void DiffuseBranch::record(const FrameState& frame) {
   c.varianceClippingGamma = d.varianceClippingGamma;
   c.temporalFilterFrames = float(d.temporalFilterFrames);
   const bool traces = scene_.traces();
-  c.rayCandidates = traces ? d.rayCandidates : 0u;
+  // The ray budget may cut ray candidates and sky tests (planWorldRays).
+  const WorldRayPlan plan = planWorldRays(settings_);
+  c.rayCandidates = traces ? plan.diffuseCandidates : 0u;
   c.environmentCandidates = traces ? 0u : d.environmentCandidates;
   c.rayScreenSteps = d.rayScreenSteps;
   c.visibilityMode = traces ? std::uint32_t(d.visibility) : std::uint32_t(Visibility::Screen);
   c.reuseVisibility = traces && d.reuseVisibility ? 1u : 0u;
   c.skyReuseVisibility = traces && d.skyReuseVisibility ? 1u : 0u;
+  c.skyReuseRays = plan.skyReuseRays;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
 

@@ -30,7 +30,7 @@ gpu::ConstantsDecl diffuseConstantsLayout() {
                                  temporalCosNormalTolerance, environmentMip, spatialCosNormalTolerance,
                                  spatialPlaneTolerance, offscreenEnvironmentVisibility, visibilityThickness,
                                  varianceClippingGamma, temporalFilterFrames, rayCandidates, rayScreenSteps,
-                                 visibilityMode, reuseVisibility, skyReuseVisibility);
+                                 visibilityMode, reuseVisibility, skyReuseVisibility, skyReuseRays);
 }
 // A pass of the branch: (part of) the frame group and the branch's
 // constants first, then its own resources.

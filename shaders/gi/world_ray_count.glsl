@@ -1,0 +1,49 @@
+// World rays counted by purpose: every ray the library casts through the
+// scene bridge adds one to its purpose's counter (the ray budget, docs/
+// gi-settings.md "World rays"), and the bridge counts the shadow rays it
+// casts to light what the library's rays hit. Compiled as GLSL and C++
+// (the purposes); the counters are a storage buffer the library clears at
+// the start of each frame and reads back when the frame is collected
+// (gi::FrameResults::worldRays).
+#ifndef BOUNCE_GI_WORLD_RAY_COUNT_GLSL
+#define BOUNCE_GI_WORLD_RAY_COUNT_GLSL
+
+#ifdef __cplusplus
+namespace bounce::shared {
+#endif
+
+const uint kWorldRaysDiffuseCandidates = 0u;  // gi.diffuse.gather: closest-hit ray candidates
+const uint kWorldRaysSkyReuse = 1u;           // gi.diffuse.spatial_reuse: is the sky open from a neighbour?
+const uint kWorldRaysReuseVisibility = 2u;    // temporal and spatial reuse, gi.diffuse.reuse_visibility (unbiased)
+const uint kWorldRaysSampleVisibility = 3u;   // gi.diffuse.sample_visibility: each reservoir's sample
+const uint kWorldRaysResolveVisibility = 4u;  // gi.diffuse.resolve with gi.diffuse.visibility world
+const uint kWorldRaysSpecular = 5u;           // gi.specular.trace: rays screen space cannot finish
+const uint kWorldRaysCacheUpdate = 6u;        // gi.cache.update
+const uint kWorldRaysHitShadows = 7u;         // the bridge's shadow rays at hits (sceneDirectRadiance)
+const uint kWorldRayPurposes = 8u;
+// Each purpose has this many counters (summed on readback), so the atomics
+// of a frame's workgroups spread over several addresses instead of queueing on one.
+const uint kWorldRayCounterCopies = 16u;
+
+#ifdef __cplusplus
+}  // namespace bounce::shared
+#else
+
+#extension GL_KHR_shader_subgroup_ballot : require
+
+#define WORLD_RAY_COUNT_BINDING 31
+layout(set = 0, binding = WORLD_RAY_COUNT_BINDING, std430) buffer WorldRayCounts { uint items[]; } gOut_WorldRays;
+
+// Adds the rays of every invocation calling this (one each) to `purpose`:
+// one atomic per subgroup.
+void countWorldRay(uint purpose) {
+  uvec4 lanes = subgroupBallot(true);
+  if (subgroupElect()) {
+    uint copy = (gl_WorkGroupID.x + 5u * gl_WorkGroupID.y) % kWorldRayCounterCopies;
+    atomicAdd(gOut_WorldRays.items[purpose * kWorldRayCounterCopies + copy], subgroupBallotBitCount(lanes));
+  }
+}
+
+#endif
+
+#endif
