@@ -124,6 +124,7 @@ std::vector<ExpectedField> expectedFields() {
       {"input.motion_scale_y", [](const Settings& s) { return double(s.input.motionScaleY); }},
       {"restir", [](const Settings& s) { return double(s.restir); }},
       {"seed", [](const Settings& s) { return double(s.seed); }},
+      {"world_ray_budget", [](const Settings& s) { return double(s.worldRayBudget); }},
   };
 }
 

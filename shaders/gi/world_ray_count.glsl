@@ -8,6 +8,8 @@
 #ifndef BOUNCE_GI_WORLD_RAY_COUNT_GLSL
 #define BOUNCE_GI_WORLD_RAY_COUNT_GLSL
 
+#include "shared/lang.glsl"
+
 #ifdef __cplusplus
 namespace bounce::shared {
 #endif

@@ -2,6 +2,8 @@
 // library over many frames of a scene at a given resolution, the BVH's ray
 // throughput (primary, shadow and incoherent rays), and the copy bandwidth
 // the device reaches in compute.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -45,6 +47,61 @@ std::vector<render::BvhRay> randomRays(const scene::Scene& scene, std::uint32_t 
   return rays;
 }
 
+// Rays as GI bounces cast them: from uniformly random points on the placed
+// triangles (by area), a little off the surface on a random side, in
+// cosine-distributed directions about that side's normal, unbounded.
+std::vector<render::BvhRay> surfaceRays(const scene::Scene& scene, std::uint32_t count) {
+  struct Placed {
+    glm::vec3 p0, e1, e2;
+  };
+  std::vector<Placed> triangles;
+  std::vector<double> cumulativeArea;
+  double area = 0.0;
+  for (const scene::Instance& instance : scene::instancesAt(scene, 0.0f)) {
+    const scene::Mesh& mesh = scene.meshes[std::size_t(instance.mesh)];
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+      const auto corner = [&](std::size_t c) {
+        return glm::vec3(instance.objectToWorld * glm::vec4(mesh.positions[mesh.indices[t + c]], 1.0f));
+      };
+      const glm::vec3 p0 = corner(0), e1 = corner(1) - p0, e2 = corner(2) - p0;
+      const double a = 0.5 * double(glm::length(glm::cross(e1, e2)));
+      if (!(a > 0.0) || !std::isfinite(a)) continue;
+      area += a;
+      triangles.push_back({p0, e1, e2});
+      cumulativeArea.push_back(area);
+    }
+  }
+  if (triangles.empty()) return randomRays(scene, count);
+  const scene::Bounds bounds = scene::worldBounds(scene, 0.0f);
+  const float extent = glm::length(bounds.extent());
+  std::mt19937 random(1234);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<render::BvhRay> rays(count);
+  for (render::BvhRay& ray : rays) {
+    const double pick = double(unit(random)) * area;
+    const std::size_t index =
+        std::size_t(std::lower_bound(cumulativeArea.begin(), cumulativeArea.end(), pick) - cumulativeArea.begin());
+    const Placed& triangle = triangles[std::min(index, triangles.size() - 1)];
+    float u = unit(random), v = unit(random);
+    if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+    const glm::vec3 p = triangle.p0 + triangle.e1 * u + triangle.e2 * v;
+    glm::vec3 normal = glm::normalize(glm::cross(triangle.e1, triangle.e2));
+    if (unit(random) < 0.5f) normal = -normal;
+    // Cosine-distributed about the normal (Malley: a uniform disk point lifted to the hemisphere).
+    const float radius = std::sqrt(unit(random)), phi = 6.2831853f * unit(random);
+    const glm::vec3 tangent = glm::normalize(std::abs(normal.x) > 0.5f ? glm::cross(normal, glm::vec3(0, 1, 0))
+                                                                       : glm::cross(normal, glm::vec3(1, 0, 0)));
+    const glm::vec3 bitangent = glm::cross(normal, tangent);
+    const glm::vec3 direction =
+        glm::normalize(tangent * (radius * std::cos(phi)) + bitangent * (radius * std::sin(phi)) +
+                       normal * std::sqrt(std::max(0.0f, 1.0f - radius * radius)));
+    const glm::vec3 origin = p + normal * (1e-4f * (1.0f + glm::length(p)) + 1e-5f * extent);
+    ray.originTMin = glm::vec4(origin, 0.0f);
+    ray.directionTMax = glm::vec4(direction, 1e30f);
+  }
+  return rays;
+}
+
 }  // namespace
 
 CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
@@ -62,6 +119,12 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       ->check(CLI::Range(0u, 4096u));
   command->add_option("--rays", options.rays, "Incoherent rays per frame through render.bvh_trace_rays (0 = skip)")
       ->check(CLI::Range(0u, 1u << 26));
+  command
+      ->add_option("--ray-origins", options.rayOrigins,
+                   "Where the --rays start: bounds (uniformly in the scene's box, uniform directions) or surfaces "
+                   "(on the triangles, cosine-distributed off them: GI bounces)")
+      ->check(CLI::IsMember({"bounds", "surfaces"}))
+      ->capture_default_str();
   command
       ->add_option("--json", options.json,
                    "Also write the results to this JSON file ('-': JSON on stdout, the table on stderr)")
@@ -114,6 +177,11 @@ int runBench(const BenchOptions& options) {
                                             *settings);
   checkDeviceMemoryFits(*context, options.width, options.height);
   std::fprintf(report, "scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
+  const render::SceneBvh& bvh = renderer.bvh();
+  const double bvhBuildMs = bvh.blasBuildSeconds() * 1e3;
+  std::fprintf(report,
+               "BVH: %.2f MiB of device memory; BLASes built in %.0f ms (one CPU thread), depth %u, TLAS depth %u\n",
+               double(bvh.deviceBytes()) / (1 << 20), bvhBuildMs, bvh.blasDepth(), bvh.tlasDepth());
   if (gi)
     std::fprintf(report, "GI library: %.1f MiB of device memory at %ux%u\n",
                  double(gi->library().memoryBytes()) / double(1 << 20), options.width, options.height);
@@ -125,7 +193,8 @@ int runBench(const BenchOptions& options) {
   std::unique_ptr<render::BvhRayTracer> tracer;
   std::unique_ptr<gpu::Buffer> rays, results;
   if (options.rays) {
-    const std::vector<render::BvhRay> rayData = randomRays(scene, options.rays);
+    const std::vector<render::BvhRay> rayData =
+        options.rayOrigins == "surfaces" ? surfaceRays(scene, options.rays) : randomRays(scene, options.rays);
     rays = std::make_unique<gpu::Buffer>(*context, "bench.rays", rayData.size() * sizeof(render::BvhRay),
                                          gpu::BufferUsage::DeviceLocal);
     gpu::uploadBuffer(*context, *rays, rayData.data(), rayData.size() * sizeof(render::BvhRay));
@@ -209,9 +278,9 @@ int runBench(const BenchOptions& options) {
   std::fprintf(report, "\nrays per second (median pass time): primary %.0f M (whole G-buffer pass, 1 ray per pixel)",
                primaryRays / 1e6);
   if (tracer)
-    std::fprintf(report,
-                 ", incoherent closest-hit %.0f M, incoherent any-hit %.0f M (%u random rays in the scene bounds)",
-                 incoherentClosest / 1e6, incoherentAny / 1e6, options.rays);
+    std::fprintf(report, ", incoherent closest-hit %.0f M, incoherent any-hit %.0f M (%u random rays %s)",
+                 incoherentClosest / 1e6, incoherentAny / 1e6, options.rays,
+                 options.rayOrigins == "surfaces" ? "off the scene's surfaces" : "in the scene bounds");
   std::fprintf(report, "\n");
   if (copy)
     std::fprintf(
@@ -234,6 +303,9 @@ int runBench(const BenchOptions& options) {
                                     {"primary_rays_per_s", primaryRays},
                                     {"incoherent_closest_rays_per_s", incoherentClosest},
                                     {"incoherent_any_rays_per_s", incoherentAny},
+                                    {"ray_origins", options.rayOrigins},
+                                    {"bvh_bytes", bvh.deviceBytes()},
+                                    {"bvh_build_ms", bvhBuildMs},
                                     {"scene_bridge", gi ? options.gi.sceneBridge : "off"},
                                     {"whole_gi_ms", wholeGiMs},
                                     {"gi_memory_bytes", gi ? gi->library().memoryBytes() : 0},

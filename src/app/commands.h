@@ -243,6 +243,7 @@ struct BenchOptions {
   std::uint32_t warmup = 20;
   std::uint32_t copyMegabytes = 256;
   std::uint32_t rays = 1u << 20;  // incoherent rays per frame for render.bvh_trace_rays (0 = skip)
+  std::string rayOrigins = "bounds";  // where they start: bounds (anywhere in the scene's box) or surfaces
   std::string json;
   std::optional<float> sunElevation;
   std::optional<float> sunAzimuth;

@@ -410,6 +410,12 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
   setInstances({});
 }
 
+std::size_t SceneBvh::deviceBytes() const {
+  return blasNodes_.size() * sizeof(BvhNode) + triangles_.size() * sizeof(glm::uvec4) +
+         positions_.size() * sizeof(glm::vec4) + instances_.size() * sizeof(BvhInstance) +
+         tlasNodes_.size() * sizeof(BvhNode);
+}
+
 void SceneBvh::setInstances(std::span<const scene::Instance> instances) {
   instanceCount_ = instances.size();
   untraceable_.clear();

@@ -154,6 +154,9 @@ class SceneBvh {
   std::uint32_t blasDepth() const { return blasDepth_; }
   std::uint32_t tlasDepth() const { return tlasDepth_; }
   double blasBuildSeconds() const { return blasBuildSeconds_; }
+  // Bytes of the arrays the GPU reads (nodes, triangles, positions and
+  // corner records, instances), for reports.
+  std::size_t deviceBytes() const;
 
   // --- CPU traversal (the shader's, render/bvh_traverse.glsl), and brute force to check both ---
   // Closest hit in (tMin, tMax); t = kNoHit when nothing was hit.

@@ -12,8 +12,9 @@
 // screen, passes behind a surface of unknown thickness, or only seems to
 // reach the sky), or whose hit last frame's screen showed from a side that
 // glossy surface looks different from, continues through the scene bridge
-// from the start: its hit is lit by the bridge and the radiance cache, or
-// read from last frame's screen where that showed it alike; a true miss sees the sharp environment. With
+// from the start, in gi.specular.world_trace: this pass queues it (its
+// direction and pdf in gOut_PendingRay, the pixel in gOut_WorldQueue) so
+// that the world rays of a frame are traced together. With
 // the bridge "none" such rays read the environment prefiltered at the
 // lobe's roughness, as seed 000 does. The sample goes into a fresh
 // reservoir (M = 1) with the target of its sampling; its hit point keeps the
@@ -44,29 +45,20 @@ layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir
 
 const uint kSaltSpecularTrace = 0x7374u;
 
-void store(ivec2 halfPixel, Reservoir r) {
-  uvec4 first, second;
-  packReservoir(r, first, second);
-  imageStore(gOut_Reservoir0, halfPixel, first);
-  imageStore(gOut_Reservoir1, halfPixel, second);
-}
+#define WORLD_QUEUE_BINDING 11
+layout(set = 0, binding = WORLD_QUEUE_BINDING, rgba32f) writeonly uniform image2D gOut_PendingRay;
+layout(set = 0, binding = WORLD_QUEUE_BINDING + 1, std430) buffer WorldQueue { uint items[]; } gOut_WorldQueue;
+#include "gi/specular/trace_common.glsl"
 
-// Last frame's radiance from the surface at (position, normal), if last
-// frame showed it and what it showed is what the surface sends back along
-// the ray (`direction`): last frame's camera saw it from elsewhere, and a
-// glossy surface's light depends on the side it is seen from (a glint of
-// the sun on polished metal seen by the camera would be reflected as if the
-// metal sent it everywhere). Where the scene bridge cannot trace, what the
-// screen shows is all there is and is taken whatever the side.
-bool previousRadiance(vec3 position, vec3 normal, float roughness, vec3 direction, out vec3 radiance) {
-  radiance = vec3(0.0f);
-  if (gIn_SpecularConstants.specular.hasPreviousFrame == 0u) return false;
-  vec3 seen = normalize(viewPosition(gIn_Frame.frame.previousView) - position);
-  if (kSceneBridgeTraces && !reflectsAlikeTowards(seen, -direction, roughness)) return false;
-  ivec2 shown = previousPixelShowing(position, normal);
-  if (shown.x < 0) return false;
-  radiance = sanitizeRadiance(imageLoad(gPrev_Composite, shown).xyz);
-  return true;
+// Leaves this pixel's ray to gi.specular.world_trace: its direction and pdf,
+// and the pixel appended to the queue (one atomic per subgroup).
+void enqueueWorldRay(ivec2 halfPixel, vec3 direction, float pdf) {
+  imageStore(gOut_PendingRay, halfPixel, vec4(direction, pdf));
+  uvec4 lanes = subgroupBallot(true);
+  uint base = 0u;
+  if (subgroupElect()) base = atomicAdd(gOut_WorldQueue.items[0], subgroupBallotBitCount(lanes));
+  uint slot = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(lanes);
+  gOut_WorldQueue.items[1u + slot] = uint(halfPixel.x) | (uint(halfPixel.y) << 16);
 }
 
 void main() {
@@ -115,19 +107,11 @@ void main() {
     }
   }
   if (!found && kSceneBridgeTraces) {
-    SceneHit hit = worldTraceClosest(origin, direction, kWorldRaysSpecular);
-    if (hit.hit) {
-      candidate.position = hit.position;
-      candidate.normal = hit.normal;
-      if (!previousRadiance(hit.position, hit.normal, hit.roughness, direction, candidate.radiance))
-        candidate.radiance = offscreenHitRadiance(hit, direction);
-    } else {
-      candidate.position = direction;
-      candidate.normal = x.normal;
-      candidate.flags |= kReservoirEnvironment;
-      candidate.radiance = sanitizeRadiance(environmentRadianceLod(gIn_Environment, direction, 0.0f));
-    }
-    found = true;
+    // Through the scene from the start, in a pass of its own (the reservoir
+    // stored here, M = 1 and no sample, is what it fills in).
+    enqueueWorldRay(halfPixel, direction, pdf);
+    store(halfPixel, r);
+    return;
   }
   if (!found && !screenHitUnseen) {
     // No bridge: the environment, prefiltered at the lobe's roughness (seed 000).
@@ -138,11 +122,5 @@ void main() {
         environmentRadianceLod(gIn_Environment, direction, environmentLod(s.roughness, c.environmentLevels)));
     found = true;
   }
-  if (found) {
-    float target = specularTargetPdf(candidate, s, c.sampling, c.lobeFraction);
-    reservoirStream(r, candidate.position, candidate.normal, candidate.radiance, candidate.flags, target / pdf, 0.0f,
-                    0.0f);
-    reservoirFinalize(r, target, 1.0f);
-  }
-  store(halfPixel, r);
+  storeCandidate(halfPixel, r, found, candidate, s, pdf);
 }

@@ -19,6 +19,8 @@ constexpr ImageSpec kImages[] = {
      "the trace's fresh reservoirs: hit position, normal"},
     {"gi.specular.traced1", Resolution::Half, kRgba32ui, false, Visualize::Raw,
      "the trace's fresh reservoirs: radiance, M, W, flags"},
+    {"gi.specular.pending_rays", Resolution::Half, kRgba32f, false, Visualize::Signed,
+     "rays screen space could not finish, left to the world trace: direction (xyz) and its pdf (w; 0: none)"},
     {"gi.specular.reservoirs0", Resolution::Half, kRgba32ui, true, Visualize::Raw,
      "temporal reuse's reservoirs: the next frame's history (seed 000's feedback point, before spatial reuse)"},
     {"gi.specular.reservoirs1", Resolution::Half, kRgba32ui, true, Visualize::Raw, "(second half of the pair)"},
@@ -46,17 +48,34 @@ std::span<const ImageSpec> specularImageTable() { return kImages; }
 
 struct SpecularBranch::Passes {
   gpu::ComputePass trace, temporalReuse, spatialReuse, resolve, temporalFilter;
+  std::unique_ptr<gpu::ComputePass> worldTrace;  // with a bridge that traces only
   std::unique_ptr<gpu::ComputePass> validation;  // made on the first captured frame
   Passes(gpu::Context& context, const SceneBridgeBinding& scene)
       : trace(context, scene.adapt(specularTracePass(), specularTraceRayResources())),
         temporalReuse(context, specularTemporalReusePass()),
         spatialReuse(context, specularSpatialReusePass()),
         resolve(context, specularResolvePass()),
-        temporalFilter(context, specularTemporalFilterPass()) {}
+        temporalFilter(context, specularTemporalFilterPass()) {
+    if (scene.traces())
+      worldTrace = std::make_unique<gpu::ComputePass>(context, scene.adapt(specularWorldTracePass(), cacheResources()));
+  }
 };
 
-SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
-                               const Settings& settings, const SceneBridgeBinding& scene, const RadianceCache& cache)
+namespace {
+
+std::uint64_t worldQueueBytes(Extent maxSize) {
+  const Extent half = extentOf(Resolution::Half, maxSize);
+  return (1 + std::uint64_t(half.width) * half.height) * sizeof(std::uint32_t);
+}
+
+}  // namespace
+
+std::uint64_t SpecularBranch::bufferBytes(Extent maxSize, bool bridgeTraces) {
+  return bridgeTraces ? worldQueueBytes(maxSize) : 0;
+}
+
+SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
+                               const SceneBridgeBinding& scene, const RadianceCache& cache)
     : context_(context),
       scene_(scene),
       cache_(cache),
@@ -64,12 +83,16 @@ SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, E
       images_(context, arena, kImages, maxSize),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.specular.constants", sizeof(shared::SpecularConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
-      passes_(std::make_unique<Passes>(context, scene)) {}
+      passes_(std::make_unique<Passes>(context, scene)) {
+  if (scene.traces())
+    worldQueue_ = std::make_unique<gpu::Buffer>(context, "gi.specular.world_queue", worldQueueBytes(maxSize),
+                                                gpu::BufferUsage::DeviceLocal, &arena);
+}
 
 SpecularBranch::~SpecularBranch() = default;
 
 std::vector<gpu::PassDesc> SpecularBranch::passes() const {
-  return {specularTracePass(),   specularTemporalReusePass(),  specularSpatialReusePass(),
+  return {specularTracePass(),   specularWorldTracePass(),     specularTemporalReusePass(), specularSpatialReusePass(),
           specularResolvePass(), specularTemporalFilterPass(), specularValidationPass()};
 }
 
@@ -113,19 +136,45 @@ void SpecularBranch::record(const FrameState& frame) {
 
   gpu::Image& traced0 = images_.current(kSpecularTraced0, f);
   gpu::Image& traced1 = images_.current(kSpecularTraced1, f);
-  std::vector<gpu::Bind> traceBinds =
-      scene_.binds(passes_->trace, {constants,
-                                    material,
-                                    {"gPrev_Composite", frame.previousComposite},
-                                    {"gPrev_Surface", frame.previousSurface},
-                                    {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
-                                    frame.depthPyramid.bind(),
-                                    {"gOut_Reservoir0", traced0},
-                                    {"gOut_Reservoir1", traced1}});
+  gpu::Image& pending = images_.current(kSpecularPendingRays, f);
+  const gpu::Bind previousComposite("gPrev_Composite", frame.previousComposite);
+  const gpu::Bind previousSurface("gPrev_Surface", frame.previousSurface);
+  const gpu::Bind environment("gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler);
+  if (worldQueue_) {
+    recorder.fillBuffer(*worldQueue_, 0u);
+    recorder.clearImage(pending, {});  // what --dump-stages shows: only this frame's queued rays
+  }
+  std::vector<gpu::Bind> traceBinds = scene_.binds(passes_->trace, {constants,
+                                                                    material,
+                                                                    previousComposite,
+                                                                    previousSurface,
+                                                                    environment,
+                                                                    frame.depthPyramid.bind(),
+                                                                    {"gOut_Reservoir0", traced0},
+                                                                    {"gOut_Reservoir1", traced1},
+                                                                    {"gOut_PendingRay", pending}});
+  if (worldQueue_) traceBinds.emplace_back("gOut_WorldQueue", *worldQueue_);
   const std::vector<gpu::Bind> cache = cache_.binds();
   traceBinds.insert(traceBinds.end(), cache.begin(), cache.end());
   recorder.dispatch(passes_->trace, half.width, half.height, frame.group.binds(),
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->trace, traceBinds)));
+  // The rays screen space left, traced together: one thread each, so a
+  // warp's threads all trace instead of waiting on the few that do
+  // (docs/benchmarks.md, "World rays").
+  if (passes_->worldTrace) {
+    std::vector<gpu::Bind> worldBinds = scene_.binds(*passes_->worldTrace, {constants,
+                                                                            material,
+                                                                            previousComposite,
+                                                                            previousSurface,
+                                                                            environment,
+                                                                            {"gIn_PendingRay", pending},
+                                                                            {"gIn_WorldQueue", *worldQueue_},
+                                                                            {"gOut_Reservoir0", traced0},
+                                                                            {"gOut_Reservoir1", traced1}});
+    worldBinds.insert(worldBinds.end(), cache.begin(), cache.end());
+    recorder.dispatch(*passes_->worldTrace, half.width, half.height, frame.group.binds(),
+                      std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->worldTrace, worldBinds)));
+  }
 
   // Without reuse (gi.restir off) the resolve reads the trace's reservoirs.
   gpu::Image* final0 = &traced0;

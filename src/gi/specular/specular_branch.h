@@ -25,6 +25,7 @@ namespace bounce::gi {
 enum SpecularImage : std::size_t {
   kSpecularTraced0,
   kSpecularTraced1,
+  kSpecularPendingRays,
   kSpecularReservoirs0,
   kSpecularReservoirs1,
   kSpecularSpatial0,
@@ -55,6 +56,11 @@ class SpecularBranch final : public Branch {
   }
   std::vector<gpu::PassDesc> passes() const override;
 
+  // Device memory of what the branch holds besides its images (counted
+  // in GiContext::estimateMemoryBytes): the world-trace queue, with a
+  // bridge that traces.
+  static std::uint64_t bufferBytes(Extent maxSize, bool bridgeTraces);
+
  private:
   struct Passes;
   void recordReuse(const FrameState& frame, gpu::Image& traced0, gpu::Image& traced1, gpu::Image*& final0,
@@ -65,6 +71,9 @@ class SpecularBranch final : public Branch {
   Settings settings_;
   ImageSet images_;
   std::unique_ptr<gpu::Buffer> constants_;
+  // The half-resolution pixels whose ray the trace left to the world trace:
+  // a count, then the pixels (x | y << 16); with a bridge that traces.
+  std::unique_ptr<gpu::Buffer> worldQueue_;
   std::unique_ptr<Passes> passes_;
 };
 

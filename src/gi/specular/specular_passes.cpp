@@ -65,7 +65,29 @@ gpu::PassDesc specularTracePass() {
   return desc;
 }
 
-std::vector<gpu::ResourceDecl> specularTraceRayResources() { return cacheResources(); }
+std::vector<gpu::ResourceDecl> specularTraceRayResources() {
+  // With a bridge that traces, the rays screen space cannot finish wait in
+  // a queue for gi.specular.world_trace (without one the trace writes neither).
+  return joinDecls(cacheResources(),
+                   {{"gOut_PendingRay", Access::Write, kRgba32f, "each queued ray's direction and pdf"},
+                    {"gOut_WorldQueue", Access::ReadWrite, VK_FORMAT_UNDEFINED,
+                     "the pixels whose ray goes on through the bridge", ResourceKind::StorageBuffer}});
+}
+
+gpu::PassDesc specularWorldTracePass() {
+  gpu::PassDesc desc =
+      pass("gi.specular.world_trace", "gi/specular/world_trace",
+           joinDecls({{"gPrev_Composite", Access::Read, kRgba16f, "last frame's composite: what hits it showed send"},
+                      previousSurfaceDecl(),
+                      {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED, "the sky rays that miss see",
+                       ResourceKind::SampledImage},
+                      {"gIn_PendingRay", Access::Read, kRgba32f, "each queued ray's direction and pdf"},
+                      {"gIn_WorldQueue", Access::Read, VK_FORMAT_UNDEFINED, "the pixels whose ray goes on",
+                       ResourceKind::StorageBuffer}},
+                     reservoirDecls("gOut", Access::Write, "the queued pixels' fresh reservoirs")));
+  desc.constants.push_back(cacheConstantsLayout());
+  return desc;
+}
 
 gpu::PassDesc specularTemporalReusePass() {
   return pass("gi.specular.temporal_reuse", "gi/specular/temporal_reuse",

@@ -12,6 +12,9 @@
 namespace bounce::gi {
 
 gpu::PassDesc specularTracePass();
+// gi.specular.world_trace: the rays the trace left (its queue), traced
+// through the bridge one thread each (with a bridge that traces).
+gpu::PassDesc specularWorldTracePass();
 // What the trace adds when a scene bridge traces: the radiance cache
 // (SceneBridgeBinding::adapt declares those the shader uses).
 std::vector<gpu::ResourceDecl> specularTraceRayResources();
