@@ -527,7 +527,7 @@ TEST_F(GiTest, WorldRaysStayWithinTheBudget) {
   EXPECT_EQ(perFrame(counted, Purpose::ResolveVisibility), 0.0);
 
   // Three rays per reservoir: sample visibility and specular take two, the
-  // one left cannot pay for a sky test in both passes, so it goes to one candidate.
+  // one left pays for one candidate, none for a sky test in both passes.
   Settings tight;
   tight.worldRayBudget = 0.75f;
   const render::GiBridge::WorldRayTally cut = measure(tight);

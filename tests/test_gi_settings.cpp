@@ -506,25 +506,29 @@ TEST(GiSettings, JsonErrorsNameTheFile) {
   EXPECT_NE(message.find("no such file"), std::string::npos) << message;
 }
 
-// The ray budget's plan: what the settings fix is paid first, then sky
-// tests in both spatial passes, then ray candidates, each cut to fit.
+// The ray budget's plan: what the settings fix is paid first, then one ray
+// candidate, then sky tests in both spatial passes, then the other
+// candidates, each cut to fit.
 TEST(GiSettings, WorldRayPlanSpendsTheBudgetInOrder) {
   Settings settings;
   WorldRayPlan plan = planWorldRays(settings);
   EXPECT_EQ(plan.sampleVisibility, 1u);
   EXPECT_EQ(plan.specular, 1u);
   EXPECT_EQ(plan.spatialPasses, 2u);
-  EXPECT_EQ(plan.skyReuseRays, 1u);
-  EXPECT_EQ(plan.diffuseCandidates, 1u);  // 5 of the 5 rays a reservoir of four pixels may cast at 1.25
+  EXPECT_EQ(plan.skyReuseRays, 5u) << "every neighbour of a pass, no more";
+  EXPECT_EQ(plan.diffuseCandidates, 2u);
+  EXPECT_EQ(plan.perReservoir(), 14u) << "the default budget pays for every default ray";
   EXPECT_LE(double(plan.perReservoir()), 4.0 * double(settings.worldRayBudget));
 
-  settings.worldRayBudget = 1.5f;  // six: room for both candidates
-  EXPECT_EQ(planWorldRays(settings).diffuseCandidates, 2u);
-  settings.worldRayBudget = 1.0f;  // four: the sky tests, no candidate
+  settings.worldRayBudget = 1.25f;  // five a reservoir: two fixed, a candidate, one sky test a pass
   plan = planWorldRays(settings);
+  EXPECT_EQ(plan.diffuseCandidates, 1u);
   EXPECT_EQ(plan.skyReuseRays, 1u);
-  EXPECT_EQ(plan.diffuseCandidates, 0u);
-  settings.worldRayBudget = 0.75f;  // three: one left, too little for a test in both passes
+  settings.worldRayBudget = 1.0f;  // four: a test in both passes does not fit; the second candidate does
+  plan = planWorldRays(settings);
+  EXPECT_EQ(plan.skyReuseRays, 0u);
+  EXPECT_EQ(plan.diffuseCandidates, 2u);
+  settings.worldRayBudget = 0.75f;  // three: one candidate
   plan = planWorldRays(settings);
   EXPECT_EQ(plan.skyReuseRays, 0u);
   EXPECT_EQ(plan.diffuseCandidates, 1u);
@@ -535,7 +539,7 @@ TEST(GiSettings, WorldRayPlanSpendsTheBudgetInOrder) {
   EXPECT_NE(message.find("gi.world_ray_budget"), std::string::npos) << message;
   EXPECT_NE(message.find("0.5 per pixel"), std::string::npos) << message;
   EXPECT_THROW(validate(settings), std::invalid_argument);
-  settings.worldRayBudget = 1.25f;
+  settings.worldRayBudget = 3.5f;
   settings.diffuse.reuseVisibility = true;  // 1 + 2 x (5 + 5) rays of its own
   message = invalidArgumentMessage([&] { planWorldRays(settings); });
   EXPECT_NE(message.find("gi.diffuse.reuse_visibility on"), std::string::npos) << message;

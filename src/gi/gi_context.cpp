@@ -480,6 +480,7 @@ std::uint64_t GiContext::estimateMemoryBytes(const ContextDesc& desc, const Sett
       imageSetBytes(frameImageTable(), size) + sizeof(shared::GiFrameConstants) +
       RadianceCache::memoryBytes(size, settings) + DepthPyramid::memoryBytes(size) +
       imageSetBytes(diffuseImageTable(), size, brightPyramidLevels(size, settings.diffuse.brightPixels)) +
+      DiffuseBranch::bufferBytes(size, settings, !desc.sceneBridge.shaders.empty()) +
       imageSetBytes(specularImageTable(), size) + SpecularBranch::bufferBytes(size, !desc.sceneBridge.shaders.empty());
   if (settings.denoise.enabled) bytes += imageSetBytes(denoiseImageTable(), size);
   return bytes;

@@ -223,8 +223,8 @@ constexpr std::array kEntries{
           "spatial reuse counts a neighbour towards a sky sample's normalisation only if an any-hit ray finds the sky "
           "open from it (less darkening under windows and arches; costs rays; without a bridge, ignored)"},
     Entry{"diffuse.sky_reuse_rays", inDiffuse(&DiffuseSettings::skyReuseRays), closed(0, 64),
-          "spatial reuse: neighbours per pass whose view of a sky sample is tested with a ray, at most; the others "
-          "count with the tested ones' share that saw it"},
+          "spatial reuse: neighbours per pass whose view of a sky sample is tested with a ray, at most (16: all); the "
+          "others count with the tested ones' share that saw it, which brightens sky light"},
     Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
           "resolve: surfaces are assumed this fraction of their viewZ thick"},
     Entry{"diffuse.offscreen_environment_visibility", inDiffuse(&DiffuseSettings::offscreenEnvironmentVisibility),
@@ -350,8 +350,8 @@ constexpr std::array kEntries{
     Entry{"seed", inSettings(&Settings::seed), kAnyUint, "random seed; another seed gives other, independent noise"},
     Entry{"world_ray_budget", inSettings(&Settings::worldRayBudget), aboveUpTo(0, 64),
           "world rays per pixel and frame the library may cast through a scene bridge, at most: after what the "
-          "settings fix, sky tests in spatial reuse, then ray candidates are cut to fit (cache updates and the "
-          "bridge's shadow rays not counted)"},
+          "settings fix and one ray candidate, sky tests in spatial reuse, then the other ray candidates are cut to "
+          "fit (cache updates and the bridge's shadow rays not counted)"},
 };
 
 std::string lowercase(std::string_view text) {
@@ -785,11 +785,22 @@ WorldRayPlan planWorldRays(const Settings& settings) {
                                 needed + " per pixel; raise it to at least that");
   }
   double left = budget - double(fixed);
-  if (d.enabled && d.skyReuseVisibility && !d.reuseVisibility && spatialPasses > 0) {
-    plan.skyReuseRays = std::min(d.skyReuseRays, std::uint32_t((left + 1e-9) / double(spatialPasses)));
-    left -= double(plan.skyReuseRays * spatialPasses);
+  // As many as wanted of rays costing `each`, within what is left.
+  const auto take = [&](std::uint32_t wanted, std::uint32_t each) {
+    const std::uint32_t n = std::min(wanted, std::uint32_t((left + 1e-9) / double(each)));
+    left -= double(n * each);
+    return n;
+  };
+  if (!d.enabled) return plan;
+  // One ray candidate before anything else: without one nothing off screen
+  // lights the branch (sun-room: a third of the light); then the sky tests
+  // of both passes (at most one per neighbour a pass merges); then the rest.
+  plan.diffuseCandidates = take(std::min(d.rayCandidates, 1u), 1);
+  if (d.skyReuseVisibility && !d.reuseVisibility && spatialPasses > 0) {
+    const std::uint32_t neighbours = std::min(std::max(d.spatialSamples, d.spatial2Samples), 16u);
+    plan.skyReuseRays = take(std::min(d.skyReuseRays, neighbours), spatialPasses);
   }
-  if (d.enabled) plan.diffuseCandidates = std::min(d.rayCandidates, std::uint32_t(left + 1e-9));
+  plan.diffuseCandidates += take(d.rayCandidates - plan.diffuseCandidates, 1);
   return plan;
 }
 

@@ -10,11 +10,12 @@
 //                prefiltered environment at mip gi.diffuse.environment_mip.
 //   ray          (with a scene bridge that traces, in place of environment
 //                candidates) cosine-distributed directions, marched through
-//                the depth buffer and, where that cannot decide, traced
-//                through the bridge from the start; a hit on last frame's
-//                screen takes that pixel's radiance, one off it is shaded by
-//                the bridge and the radiance cache; a true miss sees the
-//                environment.
+//                the depth buffer; a hit on last frame's screen takes that
+//                pixel's radiance. Where the march cannot decide, the ray is
+//                left to gi.diffuse.world_candidates (its direction in
+//                gOut_PendingRays, the pixel in gOut_WorldQueue), which traces
+//                it through the bridge from the start and finishes this
+//                reservoir: the world rays of a frame are traced together.
 // Visibility of screen and bright candidates is not tested here
 // (gi.diffuse.resolve does it); ray candidates are visible by construction.
 //
@@ -58,76 +59,16 @@ layout(set = 0, binding = 10, r32f) readonly uniform image2D gIn_MarchDepth;
 #include "gi/scene_bridge.glsl"
 #include "gi/world_rays.glsl"
 
-const float kMaxFootprintStretch = 5.0f;
+// Where the rays the depth-buffer march cannot decide wait for
+// gi.diffuse.world_candidates: per reservoir and ray candidate, the ray's
+// direction (w = 1; w = 0: no ray waits), and the pixels that have one.
+#define WORLD_QUEUE_BINDING 11
+layout(set = 0, binding = WORLD_QUEUE_BINDING, std430) writeonly buffer PendingRays { vec4 items[]; } gOut_PendingRays;
+layout(set = 0, binding = WORLD_QUEUE_BINDING + 1, std430) buffer WorldQueue { uint items[]; } gOut_WorldQueue;
+#include "gi/diffuse/gather_common.glsl"
 
-// A candidate point on last frame's surfaces: the surface at `pixel`, the
-// radiance it sent, and its area density relative to one uniformly chosen
-// pixel (p-hat / (count * this * distance^2 / cos) is its weight).
-struct ScreenPoint {
-  bool valid;
-  vec3 position;
-  vec3 normal;
-  vec3 radiance;
-  float areaPdf;  // per unit area, for one uniformly random pixel
-};
-
-ScreenPoint screenPoint(ivec2 pixel) {
-  ScreenPoint point;
-  point.valid = false;
-  Surface surface = historySurfaceAt(pixel, imageLoad(gPrev_Surface, pixel).xy);
-  if (surface.viewZ <= 0.0f) return point;
-  ScreenView view = gIn_Frame.frame.previousView;
-  vec3 toSurface = normalize(surface.position - viewPosition(view));
-  vec3 forward = -vec3(view.viewToWorld[2].x, view.viewToWorld[2].y, view.viewToWorld[2].z);
-  // Seen at grazing angles a pixel covers a large area, rarely sampled and
-  // then weighted heavily; counting it as no more than kMaxFootprintStretch
-  // head-on pixels bounds those weights (light from surfaces the camera sees
-  // almost edge-on is slightly undercounted).
-  float footprint = pixelFootprintArea(view, surface.viewZ, dot(toSurface, forward),
-                                       max(abs(dot(surface.normal, toSurface)), 1.0f / kMaxFootprintStretch), fullSize());
-  point.valid = true;
-  point.position = surface.position;
-  point.normal = surface.normal;
-  point.radiance = sanitizeRadiance(imageLoad(gPrev_Composite, pixel).xyz);
-  point.areaPdf = 1.0f / (fullSize().x * fullSize().y * footprint);
-  return point;
-}
-
-// Area density to solid angle at x; 0 where the point cannot light x. The
-// distance is taken as at least minimumDistance: the inverse-square
-// singularity of area sampling would otherwise make points right next to x
-// (in creases) rare fireflies, which the feedback through the composite
-// would spread; light from the nearest millimetres is slightly undercounted.
-float toSolidAngle(float areaPdf, vec3 pointPosition, vec3 pointNormal, vec3 x, float minimumDistance) {
-  vec3 d = x - pointPosition;
-  float distance2 = dot(d, d);
-  float cosine = dot(pointNormal, d) * inversesqrt(max(distance2, 1e-20f));
-  return cosine > 0.0f ? areaPdf * max(distance2, minimumDistance * minimumDistance) / cosine : 0.0f;
-}
-
-// The point techniques' share of a point's density at x: screen candidates,
-// and bright candidates where the pixel is on the list (`listed`).
-float pointTechniques(float screenPdf, bool listed) {
-  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
-  ivec2 brightSize = ivec2(d.brightLevelSize);
-  float brightPerScreen = fullSize().x * fullSize().y / float(brightSize.x * brightSize.y);
-  return float(d.screenCandidates) * screenPdf +
-         (listed ? float(d.brightCandidates) * screenPdf * brightPerScreen : 0.0f);
-}
-
-// Whether `source` is the pixel the bright list holds for its tile.
-bool listedBright(ivec2 source) {
-  DiffuseConstants d = gIn_DiffuseConstants.diffuse;
-  if (d.brightCandidates == 0u) return false;
-  ivec2 brightSize = ivec2(d.brightLevelSize);
-  vec4 entry = imageLoad(gIn_Brightest, min(source >> int(d.brightLevel), brightSize - 1));
-  return entry.w > 0.0f && ivec2(entry.yz) == source;
-}
-
-// The density of ray candidates at direction `direction` from x, per unit solid angle.
-float rayTechnique(vec3 normal, vec3 direction) {
-  return float(gIn_DiffuseConstants.diffuse.rayCandidates) * max(dot(normal, direction), 0.0f) * kInvPi;
-}
+#define WORLD_QUEUE_APPEND
+#include "gi/world_queue.glsl"
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
@@ -149,8 +90,7 @@ void main() {
   ivec2 brightSize = ivec2(d.brightLevelSize);
   // Points closer than this are the shaded surface itself (or a pixel away).
   float minimumDistance = 1e-3f * x.viewZ;
-  // Below this distance the inverse-square law is clamped (toSolidAngle).
-  float nearField = 1e-2f * x.viewZ;
+  float nearField = nearFieldDistance(x);
 
   for (uint i = 0u; i < d.screenCandidates + d.brightCandidates; ++i) {
     bool bright = i >= d.screenCandidates;
@@ -180,11 +120,14 @@ void main() {
     reservoirStream(r, point.position, point.normal, point.radiance, 0u, pHat / techniques, 0.0f, choice);
   }
 
+  bool waiting = false;  // a ray candidate waits for the world trace
   if (kSceneBridgeTraces) {
     vec3 t, b;
     buildOrthonormalBasis(x.normal, t, b);
     vec3 origin = rayOrigin(x.position, x.normal, x.viewZ);
     for (uint i = 0u; i < d.rayCandidates; ++i) {
+      uint slot = (uint(halfPixel.y) * uint(halfSize().x) + uint(halfPixel.x)) * d.rayCandidates + i;
+      gOut_PendingRays.items[slot] = vec4(0.0f);
       vec3 local = sampleCosineHemisphere(vec2(rngUniform(rng), rngUniform(rng)));
       float choice = rngUniform(rng);
       float jitter = rngUniform(rng);
@@ -198,40 +141,13 @@ void main() {
         Surface y = gbufferSurface(screen.texel);
         if (y.viewZ > 0.0f) shown = previousPixelOf(y.position, y.normal);
       }
-      vec3 position, normal, radiance;
-      uint flags = 0u;
       if (shown.x < 0) {
-        SceneHit hit = worldTraceClosest(origin, direction, kWorldRaysDiffuseCandidates);
-        if (!hit.hit) {
-          radiance = sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), d.environmentMip).xyz);
-          position = direction;
-          normal = x.normal;
-          flags = kReservoirEnvironment;
-        } else {
-          position = hit.position;
-          normal = hit.normal;
-          shown = previousPixelOf(hit.position, hit.normal);
-          radiance = shown.x >= 0 ? vec3(0.0f) : offscreenHitRadiance(hit, direction);
-        }
+        // Through the scene from the start, in gi.diffuse.world_candidates.
+        gOut_PendingRays.items[slot] = vec4(direction, 1.0f);
+        waiting = true;
+        continue;
       }
-      float techniques = pdf;
-      if (shown.x >= 0) {
-        ScreenPoint point = screenPoint(shown);
-        if (!point.valid) continue;
-        position = point.position;
-        normal = point.normal;
-        radiance = point.radiance;
-        techniques += pointTechniques(toSolidAngle(point.areaPdf, point.position, point.normal, x.position, nearField),
-                                      listedBright(shown));
-      }
-      Reservoir candidate = emptyReservoir();
-      candidate.position = position;
-      candidate.normal = normal;
-      candidate.radiance = radiance;
-      candidate.flags = flags | kReservoirHasSample;
-      float pHat = targetPdf(candidate, x.position, x.normal, target);
-      if (pHat <= 0.0f) continue;
-      reservoirStream(r, position, normal, radiance, flags, pHat / techniques, 0.0f, choice);
+      streamRayCandidate(r, x, pdf, shown, vec3(0.0f), vec3(0.0f), vec3(0.0f), 0u, nearField, choice);
     }
   }
 
@@ -251,6 +167,19 @@ void main() {
                     0.0f, choice);
   }
 
+  if (waiting) {
+    // Unfinished: gi.diffuse.world_candidates streams the rest in and
+    // finalizes it. Until then W holds the weight sum (which a reservoir
+    // does not store).
+    r.W = r.weightSum;
+    r.M = 1.0f;
+    uvec4 first, second;
+    packReservoir(r, first, second);
+    imageStore(gOut_Reservoir0, halfPixel, first);
+    imageStore(gOut_Reservoir1, halfPixel, second);
+    enqueuePixel(halfPixel);
+    return;
+  }
   reservoirFinalize(r, targetPdf(r, x.position, x.normal, target), 1.0f);
   // One frame's worth of candidates, even when none of them lit x: that
   // too is evidence later merges must weigh.

@@ -50,15 +50,14 @@ layout(set = 0, binding = WORLD_QUEUE_BINDING, rgba32f) writeonly uniform image2
 layout(set = 0, binding = WORLD_QUEUE_BINDING + 1, std430) buffer WorldQueue { uint items[]; } gOut_WorldQueue;
 #include "gi/specular/trace_common.glsl"
 
+#define WORLD_QUEUE_APPEND
+#include "gi/world_queue.glsl"
+
 // Leaves this pixel's ray to gi.specular.world_trace: its direction and pdf,
-// and the pixel appended to the queue (one atomic per subgroup).
+// and the pixel appended to the queue.
 void enqueueWorldRay(ivec2 halfPixel, vec3 direction, float pdf) {
   imageStore(gOut_PendingRay, halfPixel, vec4(direction, pdf));
-  uvec4 lanes = subgroupBallot(true);
-  uint base = 0u;
-  if (subgroupElect()) base = atomicAdd(gOut_WorldQueue.items[0], subgroupBallotBitCount(lanes));
-  uint slot = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(lanes);
-  gOut_WorldQueue.items[1u + slot] = uint(halfPixel.x) | (uint(halfPixel.y) << 16);
+  enqueuePixel(halfPixel);
 }
 
 void main() {

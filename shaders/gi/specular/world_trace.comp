@@ -32,13 +32,12 @@ layout(set = 0, binding = 11, std430) readonly buffer WorldQueue { uint items[];
 #include "gi/scene_bridge.glsl"
 #include "gi/world_rays.glsl"
 #include "gi/specular/trace_common.glsl"
+#define WORLD_QUEUE_READ
+#include "gi/world_queue.glsl"
 
 void main() {
-  // Dispatched over the half-resolution size: thread i takes queue entry i.
-  uint index = gl_GlobalInvocationID.y * uint(halfSize().x) + gl_GlobalInvocationID.x;
-  if (gl_GlobalInvocationID.x >= uint(halfSize().x) || index >= gIn_WorldQueue.items[0]) return;
-  uint entry = gIn_WorldQueue.items[1u + index];
-  ivec2 halfPixel = ivec2(entry & 0xffffu, entry >> 16);
+  ivec2 halfPixel;
+  if (!queuedPixel(halfPixel)) return;
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
   float roughness;
   Surface x = gbufferSurfaceRoughness(pixel, roughness);

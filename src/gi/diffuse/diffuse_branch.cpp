@@ -1,5 +1,6 @@
 #include "gi/diffuse/diffuse_branch.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -64,8 +65,8 @@ std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels)
 
 struct DiffuseBranch::Passes {
   gpu::ComputePass brightPixels, brightReduce, gather, temporalReuse, spatialReuse, resolve, temporalFilter;
-  // Only with a bridge that traces (its shader has nothing to do without one).
-  std::unique_ptr<gpu::ComputePass> sampleVisibility;
+  // Only with a bridge that traces (their shaders have nothing to do without one).
+  std::unique_ptr<gpu::ComputePass> sampleVisibility, worldCandidates;
   std::vector<std::unique_ptr<gpu::ComputePass>> reservoirViews;  // made on the first captured frame
   Passes(gpu::Context& context, const SceneBridgeBinding& scene)
       : brightPixels(context, brightPixelsPass()),
@@ -77,8 +78,31 @@ struct DiffuseBranch::Passes {
         temporalFilter(context, temporalFilterPass()),
         sampleVisibility(scene.traces()
                              ? std::make_unique<gpu::ComputePass>(context, scene.adapt(sampleVisibilityPass()))
-                             : nullptr) {}
+                             : nullptr),
+        worldCandidates(scene.traces() ? std::make_unique<gpu::ComputePass>(
+                                             context, scene.adapt(worldCandidatesPass(), cacheResources()))
+                                       : nullptr) {}
 };
+
+namespace {
+
+// Sizes of the world trace's buffers: a slot per reservoir and ray
+// candidate the budget allows, and a queue entry per reservoir.
+std::uint64_t pendingRayBytes(Extent maxSize, const Settings& settings) {
+  const Extent half = extentOf(Resolution::Half, maxSize);
+  const std::uint64_t candidates = std::max(1u, planWorldRays(settings).diffuseCandidates);
+  return std::uint64_t(half.width) * half.height * candidates * 16;
+}
+std::uint64_t worldQueueBytes(Extent maxSize) {
+  const Extent half = extentOf(Resolution::Half, maxSize);
+  return (1 + std::uint64_t(half.width) * half.height) * sizeof(std::uint32_t);
+}
+
+}  // namespace
+
+std::uint64_t DiffuseBranch::bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces) {
+  return bridgeTraces ? pendingRayBytes(maxSize, settings) + worldQueueBytes(maxSize) : 0;
+}
 
 DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
                              const SceneBridgeBinding& scene, const RadianceCache& cache)
@@ -89,14 +113,21 @@ DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Ext
       images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels)),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.diffuse.constants", sizeof(shared::DiffuseConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
-      passes_(std::make_unique<Passes>(context, scene)) {}
+      passes_(std::make_unique<Passes>(context, scene)) {
+  if (scene.traces()) {
+    pendingRays_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.pending_rays", pendingRayBytes(maxSize, settings),
+                                                 gpu::BufferUsage::DeviceLocal, &arena);
+    worldQueue_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.world_queue", worldQueueBytes(maxSize),
+                                                gpu::BufferUsage::DeviceLocal, &arena);
+  }
+}
 
 DiffuseBranch::~DiffuseBranch() = default;
 
 std::vector<gpu::PassDesc> DiffuseBranch::passes() const {
-  std::vector<gpu::PassDesc> list = {brightPixelsPass(), brightPixelsReducePass(), gatherPass(),
-                                     temporalReusePass(), spatialReusePass(),      sampleVisibilityPass(),
-                                     resolvePass(),       temporalFilterPass()};
+  std::vector<gpu::PassDesc> list = {
+      brightPixelsPass(), brightPixelsReducePass(), gatherPass(),  worldCandidatesPass(), temporalReusePass(),
+      spatialReusePass(), sampleVisibilityPass(),   resolvePass(), temporalFilterPass()};
   for (const char* after : kViewAfter) list.push_back(reservoirViewPass(after));
   return list;
 }
@@ -193,8 +224,30 @@ void DiffuseBranch::record(const FrameState& frame) {
                      {"gOut_Reservoir1", gathered1}});
   const std::vector<gpu::Bind> cache = cache_.binds();
   gatherBinds.insert(gatherBinds.end(), cache.begin(), cache.end());
+  if (worldQueue_) {
+    recorder.fillBuffer(*worldQueue_, 0u);
+    gatherBinds.emplace_back("gOut_PendingRays", *pendingRays_);
+    gatherBinds.emplace_back("gOut_WorldQueue", *worldQueue_);
+  }
   recorder.dispatch(passes_->gather, half.width, half.height, frame.group.binds(),
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->gather, gatherBinds)));
+  // The ray candidates the march left, traced together (one thread per
+  // pixel that has any): the gather's reservoirs are finished there.
+  if (passes_->worldCandidates) {
+    std::vector<gpu::Bind> worldBinds = scene_.binds(
+        *passes_->worldCandidates, {constants,
+                                    {"gPrev_Composite", frame.previousComposite},
+                                    {"gPrev_Surface", frame.previousSurface},
+                                    {"gIn_Brightest", images_.level(kBrightLevels, levels)},
+                                    {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
+                                    {"gIn_PendingRays", *pendingRays_},
+                                    {"gIn_WorldQueue", *worldQueue_},
+                                    {"gInOut_Reservoir0", gathered0},
+                                    {"gInOut_Reservoir1", gathered1}});
+    worldBinds.insert(worldBinds.end(), cache.begin(), cache.end());
+    recorder.dispatch(*passes_->worldCandidates, half.width, half.height, frame.group.binds(),
+                      std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->worldCandidates, worldBinds)));
+  }
   if (frame.capturing) viewReservoirs(frame, 0, gathered0, gathered1);
 
   gpu::Image* final0 = &gathered0;

@@ -62,6 +62,11 @@ class DiffuseBranch final : public Branch {
   gpu::Image& previousResult(std::uint64_t frameIndex) { return images_.previous(kFiltered, frameIndex); }
   std::vector<gpu::PassDesc> passes() const override;
 
+  // Device memory of what the branch holds besides its images (counted in
+  // GiContext::estimateMemoryBytes): with a bridge that traces, the rays
+  // waiting for gi.diffuse.world_candidates and their queue.
+  static std::uint64_t bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces);
+
  private:
   struct Passes;
   void recordReuse(const FrameState& frame, gpu::Image*& final0, gpu::Image*& final1);
@@ -73,6 +78,10 @@ class DiffuseBranch final : public Branch {
   Settings settings_;
   ImageSet images_;
   std::unique_ptr<gpu::Buffer> constants_;
+  // With a bridge that traces: per reservoir and ray candidate, the
+  // direction of a ray the gather left to the world trace; and the queue of
+  // their pixels (a count, then x | y << 16).
+  std::unique_ptr<gpu::Buffer> pendingRays_, worldQueue_;
   std::unique_ptr<Passes> passes_;
 };
 

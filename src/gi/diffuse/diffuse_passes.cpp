@@ -76,9 +76,30 @@ gpu::PassDesc gatherPass() {
 }
 
 std::vector<gpu::ResourceDecl> gatherRayResources() {
-  std::vector<ResourceDecl> resources = {{"gIn_MarchDepth", Access::Read, kR32f, "the depth ray candidates march through"}};
+  std::vector<ResourceDecl> resources = {
+      {"gIn_MarchDepth", Access::Read, kR32f, "the depth ray candidates march through"},
+      {"gOut_PendingRays", Access::Write, VK_FORMAT_UNDEFINED,
+       "per reservoir and ray candidate, the direction of a ray left to the world trace", ResourceKind::StorageBuffer},
+      {"gOut_WorldQueue", Access::ReadWrite, VK_FORMAT_UNDEFINED, "the pixels with such rays",
+       ResourceKind::StorageBuffer}};
   for (const ResourceDecl& d : cacheResources()) resources.push_back(d);
   return resources;
+}
+
+gpu::PassDesc worldCandidatesPass() {
+  gpu::PassDesc desc = pass(
+      "gi.diffuse.world_candidates", "gi/diffuse/world_candidates", GroupPart::Surfaces,
+      {{"gPrev_Composite", Access::Read, kRgba16f, "radiance of hits last frame showed"},
+       previousSurfaceDecl(),
+       {"gIn_Brightest", Access::Read, kRgba32f, "the bright-pixel pyramid's last level (MIS weights)"},
+       {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED, "the sky rays that miss see", ResourceKind::SampledImage},
+       {"gIn_PendingRays", Access::Read, VK_FORMAT_UNDEFINED, "the directions of the rays left by the gather",
+        ResourceKind::StorageBuffer},
+       {"gIn_WorldQueue", Access::Read, VK_FORMAT_UNDEFINED, "the pixels with such rays", ResourceKind::StorageBuffer},
+       {"gInOut_Reservoir0", Access::ReadWrite, kRgba32ui, "the gather's reservoirs, finished here"},
+       {"gInOut_Reservoir1", Access::ReadWrite, kRgba32ui, "(second half of the pair)"}});
+  desc.constants.push_back(cacheConstantsLayout());
+  return desc;
 }
 
 gpu::PassDesc temporalReusePass() {

@@ -21,6 +21,9 @@ gpu::PassDesc gatherPass();
 // march depth and the radiance cache (SceneBridgeBinding::adapt declares
 // those the shader uses).
 std::vector<gpu::ResourceDecl> gatherRayResources();
+// gi.diffuse.world_candidates: the gather's ray candidates the march left,
+// traced through the bridge one thread per pixel (with a bridge that traces).
+gpu::PassDesc worldCandidatesPass();
 gpu::PassDesc temporalReusePass();
 gpu::PassDesc spatialReusePass();
 // With gi.diffuse.visibility hybrid and a bridge that traces: each

@@ -140,10 +140,10 @@ void SpecularBranch::record(const FrameState& frame) {
   const gpu::Bind previousComposite("gPrev_Composite", frame.previousComposite);
   const gpu::Bind previousSurface("gPrev_Surface", frame.previousSurface);
   const gpu::Bind environment("gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler);
-  if (worldQueue_) {
-    recorder.fillBuffer(*worldQueue_, 0u);
-    recorder.clearImage(pending, {});  // what --dump-stages shows: only this frame's queued rays
-  }
+  // What --dump-stages shows: only this frame's queued rays (and, without a
+  // bridge that traces, an image no pass writes still has a defined layout).
+  images_.clearToZero(recorder, {kSpecularPendingRays}, f);
+  if (worldQueue_) recorder.fillBuffer(*worldQueue_, 0u);
   std::vector<gpu::Bind> traceBinds = scene_.binds(passes_->trace, {constants,
                                                                     material,
                                                                     previousComposite,
