@@ -7,9 +7,10 @@
 #   entries  "name|scene|lighting flags" of cornell, pillars, sun-room and,
 #            when scenes_dir has them, Sponza and the Breakfast Room
 #   field A B KEY   KEY (mean, relMSE, FLIP) of `bounce compare A B`
-#   scene_reference ENTRY   parses an entry into name, scene, lighting, makes
-#            dir="$out/NAME" and the reference of the default view in it
-#            (ref.exr and its parts, seed 7)
+#   scene_reference ENTRY [FLAGS...]   parses an entry into name, scene,
+#            lighting, makes dir="$out/NAME" and the reference of the default
+#            view in it (ref.exr and its parts, seed 7; FLAGS go to the
+#            reference too, e.g. --frame 32)
 bounce=${BOUNCE:-./build/bounce}
 spp=${REFERENCE_SPP:-1024}
 size=(--width "${WIDTH:-640}" --height "${HEIGHT:-360}")
@@ -29,8 +30,9 @@ field() { "$bounce" compare "$1" "$2" | awk -v key="$3" '$1 == key { print ($1 =
 
 scene_reference() {
   IFS='|' read -r name scene lighting <<< "$1"
+  shift
   dir="$out/$name"
   mkdir -p "$dir"
   # shellcheck disable=SC2086
-  "$bounce" reference "$scene" "${size[@]}" $lighting --spp "$spp" --seed 7 --out "$dir/ref.exr" > "$dir/ref.log"
+  "$bounce" reference "$scene" "${size[@]}" $lighting "$@" --spp "$spp" --seed 7 --out "$dir/ref.exr" > "$dir/ref.log"
 }

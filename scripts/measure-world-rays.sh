@@ -30,10 +30,7 @@ for entry in "${entries[@]}"; do
   IFS='|' read -r name scene lighting <<< "$entry"
   dir="$out/$name"
   mkdir -p "$dir"
-  if [ "${QUALITY:-1}" != 0 ]; then
-    # shellcheck disable=SC2086
-    "$bounce" reference "$scene" "${size[@]}" $lighting --frame 32 --spp "$spp" --seed 7 --out "$dir/ref.exr" > "$dir/ref.log"
-  fi
+  if [ "${QUALITY:-1}" != 0 ]; then scene_reference "$entry" --frame 32; fi
   for variant in "$@"; do
     IFS='|' read -r label flags <<< "$variant"
     gi_ms=- rays=- flip=- whole=- diffuse=- specular=-

@@ -485,7 +485,7 @@ TEST_F(GiTest, WorldRaysStayWithinTheBudget) {
   const double reservoirs = double((kWidth + 1) / 2) * double((kHeight + 1) / 2);
   using Purpose = gi::WorldRayPurpose;
   const auto perFrame = [](const render::GiBridge::WorldRayTally& tally, Purpose p) {
-    return double(tally.rays[std::size_t(p)]) / double(tally.frames);
+    return double(tally.sum.rays[std::size_t(p)]) / double(tally.frames);
   };
   const auto perPixelPurposes = [&](const render::GiBridge::WorldRayTally& tally) {
     double sum = 0.0;

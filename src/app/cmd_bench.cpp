@@ -23,6 +23,7 @@
 #include "render/gi_bridge.h"
 #include "render/gpu_bvh.h"
 #include "scene/camera_path.h"
+#include "shared/sampling.glsl"
 
 namespace bounce::app {
 namespace {
@@ -87,14 +88,11 @@ std::vector<render::BvhRay> surfaceRays(const scene::Scene& scene, std::uint32_t
     const glm::vec3 p = triangle.p0 + triangle.e1 * u + triangle.e2 * v;
     glm::vec3 normal = glm::normalize(glm::cross(triangle.e1, triangle.e2));
     if (unit(random) < 0.5f) normal = -normal;
-    // Cosine-distributed about the normal (Malley: a uniform disk point lifted to the hemisphere).
-    const float radius = std::sqrt(unit(random)), phi = 6.2831853f * unit(random);
-    const glm::vec3 tangent = glm::normalize(std::abs(normal.x) > 0.5f ? glm::cross(normal, glm::vec3(0, 1, 0))
-                                                                       : glm::cross(normal, glm::vec3(1, 0, 0)));
-    const glm::vec3 bitangent = glm::cross(normal, tangent);
-    const glm::vec3 direction =
-        glm::normalize(tangent * (radius * std::cos(phi)) + bitangent * (radius * std::sin(phi)) +
-                       normal * std::sqrt(std::max(0.0f, 1.0f - radius * radius)));
+    // Cosine-distributed about the normal, as the GI's ray candidates are.
+    glm::vec3 tangent, bitangent;
+    shared::buildOrthonormalBasis(normal, tangent, bitangent);
+    const glm::vec3 local = shared::sampleCosineHemisphere(glm::vec2(unit(random), unit(random)));
+    const glm::vec3 direction = glm::normalize(tangent * local.x + bitangent * local.y + normal * local.z);
     const glm::vec3 origin = p + normal * (1e-4f * (1.0f + glm::length(p)) + 1e-5f * extent);
     ray.originTMin = glm::vec4(origin, 0.0f);
     ray.directionTMax = glm::vec4(direction, 1e30f);
@@ -240,7 +238,7 @@ int runBench(const BenchOptions& options) {
 
   std::fprintf(report, "\nGPU time per pass, %ux%u, %u frames (%s):\n%s", options.width, options.height, options.frames,
                device.name.c_str(), loop.timings().table().c_str());
-  double bandwidth = 0.0, primaryRays = 0.0, incoherentClosest = 0.0, incoherentAny = 0.0;
+  double bandwidth = 0.0, primaryRays = 0.0, incoherentClosest = 0.0, incoherentAny = 0.0, wholeGiMs = 0.0;
   const double pixels = double(options.width) * double(options.height);
   for (const gpu::PassTiming& t : loop.timings().summary()) {
     const double seconds = t.medianMs * 1e-3;
@@ -248,10 +246,8 @@ int runBench(const BenchOptions& options) {
     if (t.pass == "render.gbuffer") primaryRays = pixels / seconds;
     if (t.pass == "render.bvh_trace_rays") incoherentClosest = double(options.rays) / seconds;
     if (t.pass == "render.bvh_trace_rays_any") incoherentAny = double(options.rays) / seconds;
-  }
-  double wholeGiMs = 0.0;
-  for (const gpu::PassTiming& t : loop.timings().summary())
     if (t.pass.starts_with("gi.")) wholeGiMs += t.medianMs;
+  }
   if (gi) std::fprintf(report, "\nwhole GI (every gi.* pass, medians added): %.3f ms\n", wholeGiMs);
   nlohmann::json worldRays = nlohmann::json::object();
   if (gi && gi->worldRays().frames > 0) {
@@ -261,11 +257,11 @@ int runBench(const BenchOptions& options) {
                  static_cast<unsigned long long>(tally.frames));
     for (std::size_t p = 0; p < gi::kWorldRayPurposeCount; ++p) {
       const char* name = gi::worldRayPurposeName(gi::WorldRayPurpose(p));
-      const double perFrame = double(tally.rays[p]) / frames;
+      const double perFrame = double(tally.sum.rays[p]) / frames;
       std::fprintf(report, "  %-20s %12.0f  %.3f per pixel\n", name, perFrame, perFrame / pixels);
       worldRays[name] = perFrame;
     }
-    const double total = double(tally.total()) / frames;
+    const double total = double(tally.sum.total()) / frames;
     std::fprintf(report, "  %-20s %12.0f  %.3f per pixel\n", "total", total, total / pixels);
     const gi::WorldRayPlan plan = gi::planWorldRays(gi->library().settings());
     std::fprintf(report,

@@ -179,7 +179,8 @@ void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, st
       for (const gi::PassTiming& timing : results.timings) timings->add(timing.pass, timing.milliseconds);
     for (const gi::WorldRayCount& count : results.worldRays) {
       ++worldRays_.frames;
-      for (std::size_t p = 0; p < count.rays.size(); ++p) worldRays_.rays[p] += count.rays[p];
+      worldRays_.sum.frameIndex = count.frameIndex;
+      for (std::size_t p = 0; p < count.rays.size(); ++p) worldRays_.sum.rays[p] += count.rays[p];
     }
     if (captures)
       for (gi::CapturedStage& stage : results.stages) captures->push_back(capturedStage(std::move(stage), stage.frameIndex));
@@ -197,12 +198,6 @@ void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, st
     wrapper.image->sync() = libraryState();
     wrapper.handedOut = libraryState();
   }
-}
-
-std::uint64_t GiBridge::WorldRayTally::total() const {
-  std::uint64_t sum = 0;
-  for (std::uint64_t r : rays) sum += r;
-  return sum;
 }
 
 gpu::Image& GiBridge::composite() {

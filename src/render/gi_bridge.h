@@ -8,7 +8,6 @@
 // correct barriers.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -93,11 +92,11 @@ class GiBridge {
   std::vector<Named> images();
 
   // The world rays of the frames collected since the last resetWorldRays()
-  // (gi::FrameResults::worldRays), summed by purpose.
+  // (gi::FrameResults::worldRays), summed by purpose; sum.frameIndex is the
+  // last frame added.
   struct WorldRayTally {
     std::uint64_t frames = 0;
-    std::array<std::uint64_t, gi::kWorldRayPurposeCount> rays{};
-    std::uint64_t total() const;
+    gi::WorldRayCount sum;
   };
   const WorldRayTally& worldRays() const { return worldRays_; }
   void resetWorldRays() { worldRays_ = {}; }

@@ -8,6 +8,7 @@
 
 #include "gi/diffuse/diffuse_common.glsl"
 #include "gi/diffuse/diffuse_passes.h"
+#include "gi/world_queue.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -86,22 +87,17 @@ struct DiffuseBranch::Passes {
 
 namespace {
 
-// Sizes of the world trace's buffers: a slot per reservoir and ray
-// candidate the budget allows, and a queue entry per reservoir.
-std::uint64_t pendingRayBytes(Extent maxSize, const Settings& settings) {
+// The waiting rays' directions: a vec4 per reservoir and ray candidate the
+// budget allows (the queue is gi/world_queue.h's).
+std::uint64_t pendingRayBytes(Extent maxSize, const WorldRayPlan& plan) {
   const Extent half = extentOf(Resolution::Half, maxSize);
-  const std::uint64_t candidates = std::max(1u, planWorldRays(settings).diffuseCandidates);
-  return std::uint64_t(half.width) * half.height * candidates * 16;
-}
-std::uint64_t worldQueueBytes(Extent maxSize) {
-  const Extent half = extentOf(Resolution::Half, maxSize);
-  return (1 + std::uint64_t(half.width) * half.height) * sizeof(std::uint32_t);
+  return std::uint64_t(half.width) * half.height * std::max(1u, plan.diffuseCandidates) * 16;
 }
 
 }  // namespace
 
 std::uint64_t DiffuseBranch::bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces) {
-  return bridgeTraces ? pendingRayBytes(maxSize, settings) + worldQueueBytes(maxSize) : 0;
+  return bridgeTraces ? pendingRayBytes(maxSize, planWorldRays(settings)) + worldQueueBytes(maxSize) : 0;
 }
 
 DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
@@ -110,15 +106,15 @@ DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Ext
       scene_(scene),
       cache_(cache),
       settings_(settings),
+      plan_(planWorldRays(settings)),
       images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels)),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.diffuse.constants", sizeof(shared::DiffuseConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
   if (scene.traces()) {
-    pendingRays_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.pending_rays", pendingRayBytes(maxSize, settings),
+    pendingRays_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.pending_rays", pendingRayBytes(maxSize, plan_),
                                                  gpu::BufferUsage::DeviceLocal, &arena);
-    worldQueue_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.world_queue", worldQueueBytes(maxSize),
-                                                gpu::BufferUsage::DeviceLocal, &arena);
+    worldQueue_ = makeWorldQueue(context, arena, maxSize, "gi.diffuse.world_queue");
   }
 }
 
@@ -183,15 +179,14 @@ void DiffuseBranch::record(const FrameState& frame) {
   c.varianceClippingGamma = d.varianceClippingGamma;
   c.temporalFilterFrames = float(d.temporalFilterFrames);
   const bool traces = scene_.traces();
-  // The ray budget may cut ray candidates and sky tests (planWorldRays).
-  const WorldRayPlan plan = planWorldRays(settings_);
-  c.rayCandidates = traces ? plan.diffuseCandidates : 0u;
+  // The ray budget may cut ray candidates and sky tests (plan_).
+  c.rayCandidates = traces ? plan_.diffuseCandidates : 0u;
   c.environmentCandidates = traces ? 0u : d.environmentCandidates;
   c.rayScreenSteps = d.rayScreenSteps;
   c.visibilityMode = traces ? std::uint32_t(d.visibility) : std::uint32_t(Visibility::Screen);
   c.reuseVisibility = traces && d.reuseVisibility ? 1u : 0u;
   c.skyReuseVisibility = traces && d.skyReuseVisibility ? 1u : 0u;
-  c.skyReuseRays = plan.skyReuseRays;
+  c.skyReuseRays = plan_.skyReuseRays;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
 

@@ -76,6 +76,7 @@ class DiffuseBranch final : public Branch {
   const SceneBridgeBinding& scene_;
   const RadianceCache& cache_;
   Settings settings_;
+  WorldRayPlan plan_;  // how the ray budget is spent (planWorldRays(settings_))
   ImageSet images_;
   std::unique_ptr<gpu::Buffer> constants_;
   // With a bridge that traces: per reservoir and ray candidate, the

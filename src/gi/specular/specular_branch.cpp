@@ -6,6 +6,7 @@
 
 #include "gi/specular/specular_common.glsl"
 #include "gi/specular/specular_passes.h"
+#include "gi/world_queue.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -61,15 +62,6 @@ struct SpecularBranch::Passes {
   }
 };
 
-namespace {
-
-std::uint64_t worldQueueBytes(Extent maxSize) {
-  const Extent half = extentOf(Resolution::Half, maxSize);
-  return (1 + std::uint64_t(half.width) * half.height) * sizeof(std::uint32_t);
-}
-
-}  // namespace
-
 std::uint64_t SpecularBranch::bufferBytes(Extent maxSize, bool bridgeTraces) {
   return bridgeTraces ? worldQueueBytes(maxSize) : 0;
 }
@@ -85,8 +77,7 @@ SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, E
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
   if (scene.traces())
-    worldQueue_ = std::make_unique<gpu::Buffer>(context, "gi.specular.world_queue", worldQueueBytes(maxSize),
-                                                gpu::BufferUsage::DeviceLocal, &arena);
+    worldQueue_ = makeWorldQueue(context, arena, maxSize, "gi.specular.world_queue");
 }
 
 SpecularBranch::~SpecularBranch() = default;
