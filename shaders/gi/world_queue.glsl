@@ -1,8 +1,10 @@
-// The queue of pixels whose world rays a pass leaves to a pass of its own
-// (gi.diffuse.gather -> gi.diffuse.world_candidates, gi.specular.trace ->
-// gi.specular.world_trace): a storage buffer of uints, a count and then
-// each half-resolution pixel as x | y << 16; the library clears the count
-// each frame. The writer declares it as gOut_WorldQueue and defines
+// The queues of work a pass leaves to a pass of its own, so that the rays
+// of one purpose are traced together (gi.diffuse.gather ->
+// gi.diffuse.world_candidates, gi.specular.trace -> gi.specular.world_trace:
+// half-resolution pixels, each as x | y << 16; gi.diffuse.spatial_reuse ->
+// gi.diffuse.neighbour_visibility: slot indices). A storage buffer of
+// uints: a count, then the entries; the library clears the count before
+// the writer runs. The writer declares it as gOut_WorldQueue and defines
 // WORLD_QUEUE_APPEND, the reader as gIn_WorldQueue and defines
 // WORLD_QUEUE_READ, before including this.
 #ifndef BOUNCE_GI_WORLD_QUEUE_GLSL
@@ -10,24 +12,35 @@
 
 #ifdef WORLD_QUEUE_APPEND
 #extension GL_KHR_shader_subgroup_ballot : require
-// Appends halfPixel (one atomic per subgroup).
-void enqueuePixel(ivec2 halfPixel) {
+// Appends an entry (one atomic per subgroup: the entries of one subgroup's
+// invocations stay together, in lane order).
+void enqueue(uint entry) {
   uvec4 lanes = subgroupBallot(true);
   uint base = 0u;
   if (subgroupElect()) base = atomicAdd(gOut_WorldQueue.items[0], subgroupBallotBitCount(lanes));
   uint slot = subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(lanes);
-  gOut_WorldQueue.items[1u + slot] = uint(halfPixel.x) | (uint(halfPixel.y) << 16);
+  gOut_WorldQueue.items[1u + slot] = entry;
 }
+
+void enqueuePixel(ivec2 halfPixel) { enqueue(uint(halfPixel.x) | (uint(halfPixel.y) << 16)); }
 #endif
 
 #ifdef WORLD_QUEUE_READ
-// The pixel of this invocation's queue entry, for a pass dispatched over
-// the half-resolution size (invocation i takes entry i); false past the end.
+// For a pass dispatched over the half-resolution size: this invocation's
+// number, and how many there are.
+uint queueInvocation() { return gl_GlobalInvocationID.y * uint(halfSize().x) + gl_GlobalInvocationID.x; }
+uint queueInvocations() { return uint(halfSize().x) * uint(halfSize().y); }
+
+uint queuedCount() { return gIn_WorldQueue.items[0]; }
+uint queuedEntry(uint index) { return gIn_WorldQueue.items[1u + index]; }
+
+// The pixel of this invocation's queue entry (invocation i takes entry i);
+// false past the end.
 bool queuedPixel(out ivec2 halfPixel) {
   halfPixel = ivec2(0);
-  uint index = gl_GlobalInvocationID.y * uint(halfSize().x) + gl_GlobalInvocationID.x;
-  if (gl_GlobalInvocationID.x >= uint(halfSize().x) || index >= gIn_WorldQueue.items[0]) return false;
-  uint entry = gIn_WorldQueue.items[1u + index];
+  uint index = queueInvocation();
+  if (gl_GlobalInvocationID.x >= uint(halfSize().x) || index >= queuedCount()) return false;
+  uint entry = queuedEntry(index);
   halfPixel = ivec2(entry & 0xffffu, entry >> 16);
   return true;
 }

@@ -1,6 +1,8 @@
-// The host side of gi/world_queue.glsl: the queue of pixels whose world
-// rays a pass leaves to a pass of its own (the gather's to
-// gi.diffuse.world_candidates, the specular trace's to gi.specular.world_trace).
+// The host side of gi/world_queue.glsl: the queue of work whose world rays
+// a pass leaves to a pass of its own (pixels: the gather's to
+// gi.diffuse.world_candidates, the specular trace's to
+// gi.specular.world_trace; test slots: spatial reuse's to
+// gi.diffuse.neighbour_visibility).
 #pragma once
 
 #include <cstdint>
@@ -12,10 +14,10 @@
 
 namespace bounce::gi {
 
-// A count, then room for every half-resolution pixel of maxSize.
-std::uint64_t worldQueueBytes(Extent maxSize);
-// The queue, in `arena`; the branch clears its count each frame (fillBuffer).
+// A count, then room for `entriesPerPixel` entries of every half-resolution pixel of maxSize.
+std::uint64_t worldQueueBytes(Extent maxSize, std::uint32_t entriesPerPixel = 1);
+// The queue, in `arena`; the branch clears its count before each writer (fillBuffer).
 std::unique_ptr<gpu::Buffer> makeWorldQueue(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
-                                            const char* name);
+                                            const char* name, std::uint32_t entriesPerPixel = 1);
 
 }  // namespace bounce::gi

@@ -10,14 +10,19 @@
 // normalised by the M of those reservoirs alone that could have produced it
 // (its sender faces them and lies above their tangent plane, and its
 // Jacobian from them is not rejected; Bitterli et al. 2020, Algorithm 6): dividing by every M would darken wherever neighbours
-// see less of the sky of this pixel (creases, corners). Run twice (radius
-// and count are push constants); the second pass's output is next frame's history.
+// see less of the sky of this pixel (creases, corners). Whether a neighbour
+// sees the chosen sample is asked by a world ray where the settings say so;
+// those rays are queued here and traced by gi.diffuse.neighbour_visibility,
+// and gi.diffuse.spatial_normalize counts their verdicts in
+// (gi/diffuse/neighbour_tests.glsl). Run twice (radius and count are push
+// constants); the second pass's output is next frame's history.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
 #include "gi/diffuse/reuse_visibility.glsl"
 #include "shared/reservoir.glsl"
 #include "shared/sampling.glsl"
+#include "gi/diffuse/neighbour_tests.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -25,12 +30,11 @@ layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
 layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
 layout(set = 0, binding = 6, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 7, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
-
-layout(push_constant) uniform Params {
-  float radius;   // half-resolution pixels at the surface
-  uint samples;   // neighbours tried
-  uint passIndex; // decorrelates the two passes' random numbers
-} params;
+layout(set = 0, binding = 8, rgba32f) writeonly uniform image2D gOut_TestSummary;
+layout(set = 0, binding = 9, std430) writeonly buffer NeighbourTests { uvec2 items[]; } gOut_NeighbourTests;
+layout(set = 0, binding = 10, std430) buffer WorldQueue { uint items[]; } gOut_WorldQueue;
+#define WORLD_QUEUE_APPEND
+#include "gi/world_queue.glsl"
 
 const uint kMaxNeighbours = 16u;  // more samples than this per pass are not taken
 
@@ -42,6 +46,7 @@ void main() {
   ivec2 pixel = reservoirSurfacePixel(halfPixel);
   Surface x = gbufferSurface(pixel);
   float viewZ = x.viewZ;
+  vec4 summary = vec4(0.0f);
   if (viewZ > 0.0f && params.samples > 0u) {
     DiffuseConstants d = gIn_DiffuseConstants.diffuse;
     uint target = d.targetFunction;
@@ -60,6 +65,7 @@ void main() {
     vec3 neighbourPositions[kMaxNeighbours];
     vec3 neighbourNormals[kMaxNeighbours];
     float neighbourM[kMaxNeighbours];
+    uint neighbourPixels[kMaxNeighbours];
     uint neighbours = 0u;
     for (uint i = 0u; i < min(params.samples, kMaxNeighbours); ++i) {
       float ux = rngUniform(rng);
@@ -84,6 +90,7 @@ void main() {
       neighbourPositions[neighbours] = neighbour.position;
       neighbourNormals[neighbours] = neighbour.normal;
       neighbourM[neighbours] = candidate.M;
+      neighbourPixels[neighbours] = uint(neighbourHalf.x) | (uint(neighbourHalf.y) << 16);
       ++neighbours;
     }
     // Own M always counts: the chosen sample has p-hat > 0 here.
@@ -94,45 +101,41 @@ void main() {
     // open, the longest there are: at most neighbourVisibilityRays() of the
     // neighbours are tested, and the rest count with the fraction of the
     // tested ones' M that saw the sample (a neighbour's visibility estimated
-    // from its tested peers; with none tested, all count, as with the test off).
-    float hidden = 0.0f;
+    // from its tested peers; with none tested, all count, as with the test
+    // off). The tests are queued; until gi.diffuse.spatial_normalize has
+    // their verdicts, every neighbour counts as seeing the sample.
     bool tested = neighbourVisibilityTested(merged);
-    uint raysLeft = neighbourVisibilityRays();
-    float testedM = 0.0f, testedVisibleM = 0.0f, untestedM = 0.0f;
+    uint tests = min(neighbourVisibilityRays(), params.slotsPerPixel);
+    uint queued = 0u;
+    float untestedM = 0.0f;
     for (uint i = 0u; i < neighbours; ++i) {
       if (!canHandOver(merged, neighbourPositions[i], neighbourNormals[i], x.position, kMaxSpatialJacobian, jacobian,
                        target))
         continue;
-      if (!tested) {
-        confidence += neighbourM[i];
-      } else if (raysLeft == 0u) {
+      confidence += neighbourM[i];
+      if (!tested || !(neighbourM[i] > 0.0f)) continue;
+      if (queued == tests) {
         untestedM += neighbourM[i];
-      } else {
-        --raysLeft;
-        testedM += neighbourM[i];
-        if (neighbourSeesSample(merged, Surface(neighbourPositions[i], neighbourNormals[i], viewZ))) {
-          confidence += neighbourM[i];
-          testedVisibleM += neighbourM[i];
-        } else {
-          hidden += neighbourM[i];
-        }
+        continue;
       }
+      uint slot = neighbourTestSlot(halfPixel, queued);
+      gOut_NeighbourTests.items[slot] = uvec2(neighbourPixels[i], floatBitsToUint(neighbourM[i]));
+      enqueue(slot);
+      ++queued;
     }
-    float seenFraction = testedM > 0.0f ? testedVisibleM / testedM : 1.0f;
-    confidence += untestedM * seenFraction;
-    hidden += untestedM * (1.0f - seenFraction);
     reservoirFinalize(merged, targetPdf(merged, x.position, x.normal, target), confidence);
     // The confidence handed on (to the next pass and the next frame) is every
     // M merged, not Z: Z depends on the chosen sample (near creases it is
     // small), and a confidence that does biases every later merge against
     // such samples (tests/test_reservoir.cpp shows the darkening). But the M
-    // of neighbours that cannot see the sample is left out: handing it on
-    // with a W normalised without it makes every later merge weigh the
-    // sample up (sun-room, 96x54: +8 % over no spatial reuse with it, +4 %
-    // without).
-    merged.M -= hidden;
+    // of neighbours that cannot see the sample is left out (by
+    // gi.diffuse.spatial_normalize): handing it on with a W normalised
+    // without it makes every later merge weigh the sample up (sun-room,
+    // 96x54: +8 % over no spatial reuse with it, +4 % without).
+    if (queued > 0u) summary = vec4(float(queued), untestedM, confidence, 0.0f);
     packReservoir(merged, first, second);
   }
   imageStore(gOut_Reservoir0, halfPixel, first);
   imageStore(gOut_Reservoir1, halfPixel, second);
+  if (kSceneBridgeTraces) imageStore(gOut_TestSummary, halfPixel, summary);
 }

@@ -44,6 +44,8 @@ constexpr ImageSpec kImages[] = {
      "a reservoir's confidence M (captured frames only)", true},
     {"gi.diffuse.reservoir_W", Resolution::Half, kR32f, false, Visualize::Heat,
      "a reservoir's contribution weight W (captured frames only)", true},
+    {"gi.diffuse.neighbour_tests", Resolution::Half, kRgba32f, false, Visualize::Raw,
+     "the last spatial pass's visibility tests: queued, M untested, confidence if all see, M hidden"},
 };
 static_assert(std::size(kImages) == kDiffuseImageCount, "one table entry per DiffuseImage");
 
@@ -67,14 +69,14 @@ std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels)
 struct DiffuseBranch::Passes {
   gpu::ComputePass brightPixels, brightReduce, gather, temporalReuse, spatialReuse, resolve, temporalFilter;
   // Only with a bridge that traces (their shaders have nothing to do without one).
-  std::unique_ptr<gpu::ComputePass> sampleVisibility, worldCandidates;
+  std::unique_ptr<gpu::ComputePass> sampleVisibility, worldCandidates, neighbourVisibility, spatialNormalize;
   std::vector<std::unique_ptr<gpu::ComputePass>> reservoirViews;  // made on the first captured frame
   Passes(gpu::Context& context, const SceneBridgeBinding& scene)
       : brightPixels(context, brightPixelsPass()),
         brightReduce(context, brightPixelsReducePass()),
         gather(context, scene.adapt(gatherPass(), gatherRayResources())),
         temporalReuse(context, scene.adapt(temporalReusePass())),
-        spatialReuse(context, scene.adapt(spatialReusePass())),
+        spatialReuse(context, scene.adapt(spatialReusePass(), neighbourTestResources())),
         resolve(context, scene.adapt(resolvePass())),
         temporalFilter(context, temporalFilterPass()),
         sampleVisibility(scene.traces()
@@ -82,7 +84,12 @@ struct DiffuseBranch::Passes {
                              : nullptr),
         worldCandidates(scene.traces() ? std::make_unique<gpu::ComputePass>(
                                              context, scene.adapt(worldCandidatesPass(), cacheResources()))
-                                       : nullptr) {}
+                                       : nullptr),
+        neighbourVisibility(scene.traces()
+                                ? std::make_unique<gpu::ComputePass>(context, scene.adapt(neighbourVisibilityPass()))
+                                : nullptr),
+        spatialNormalize(scene.traces() ? std::make_unique<gpu::ComputePass>(context, spatialNormalizePass())
+                                        : nullptr) {}
 };
 
 namespace {
@@ -94,10 +101,32 @@ std::uint64_t pendingRayBytes(Extent maxSize, const WorldRayPlan& plan) {
   return std::uint64_t(half.width) * half.height * std::max(1u, plan.diffuseCandidates) * 16;
 }
 
+// How many neighbours one spatial pass may ask for their visibility of the
+// chosen sample with a ray: every one it merges (at most 16, the shader's
+// kMaxNeighbours) with the unbiased option, as many as the plan's sky tests
+// with the sky test on, none otherwise.
+std::uint32_t neighbourTestSlots(const Settings& settings, const WorldRayPlan& plan) {
+  const DiffuseSettings& d = settings.diffuse;
+  if (!settings.restir) return 0;
+  const std::uint32_t neighbours = std::min(std::max(d.spatialSamples, d.spatial2Samples), 16u);
+  if (d.reuseVisibility) return neighbours;
+  return d.skyReuseVisibility ? std::min(neighbours, plan.skyReuseRays) : 0u;
+}
+
+// The tests: a uvec2 per pixel and slot.
+std::uint64_t neighbourTestBytes(Extent maxSize, std::uint32_t slots) {
+  const Extent half = extentOf(Resolution::Half, maxSize);
+  return std::uint64_t(half.width) * half.height * std::max(1u, slots) * 8;
+}
+
 }  // namespace
 
 std::uint64_t DiffuseBranch::bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces) {
-  return bridgeTraces ? pendingRayBytes(maxSize, planWorldRays(settings)) + worldQueueBytes(maxSize) : 0;
+  if (!bridgeTraces) return 0;
+  const WorldRayPlan plan = planWorldRays(settings);
+  const std::uint32_t slots = neighbourTestSlots(settings, plan);
+  return pendingRayBytes(maxSize, plan) + worldQueueBytes(maxSize) + neighbourTestBytes(maxSize, slots) +
+         worldQueueBytes(maxSize, std::max(1u, slots));
 }
 
 DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
@@ -115,15 +144,28 @@ DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Ext
     pendingRays_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.pending_rays", pendingRayBytes(maxSize, plan_),
                                                  gpu::BufferUsage::DeviceLocal, &arena);
     worldQueue_ = makeWorldQueue(context, arena, maxSize, "gi.diffuse.world_queue");
+    testSlots_ = neighbourTestSlots(settings, plan_);
+    neighbourTests_ =
+        std::make_unique<gpu::Buffer>(context, "gi.diffuse.neighbour_test_slots",
+                                      neighbourTestBytes(maxSize, testSlots_), gpu::BufferUsage::DeviceLocal, &arena);
+    testQueue_ = makeWorldQueue(context, arena, maxSize, "gi.diffuse.neighbour_test_queue", std::max(1u, testSlots_));
   }
 }
 
 DiffuseBranch::~DiffuseBranch() = default;
 
 std::vector<gpu::PassDesc> DiffuseBranch::passes() const {
-  std::vector<gpu::PassDesc> list = {
-      brightPixelsPass(), brightPixelsReducePass(), gatherPass(),  worldCandidatesPass(), temporalReusePass(),
-      spatialReusePass(), sampleVisibilityPass(),   resolvePass(), temporalFilterPass()};
+  std::vector<gpu::PassDesc> list = {brightPixelsPass(),
+                                     brightPixelsReducePass(),
+                                     gatherPass(),
+                                     worldCandidatesPass(),
+                                     temporalReusePass(),
+                                     spatialReusePass(),
+                                     neighbourVisibilityPass(),
+                                     spatialNormalizePass(),
+                                     sampleVisibilityPass(),
+                                     resolvePass(),
+                                     temporalFilterPass()};
   for (const char* after : kViewAfter) list.push_back(reservoirViewPass(after));
   return list;
 }
@@ -306,21 +348,46 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
                      {"gOut_Reservoir1", temporalOut1},
                      {"gPrev_Composite", frame.previousComposite}})));
   if (frame.capturing) viewReservoirs(frame, 1, temporalOut0, temporalOut1);
+  // A spatial pass merges; with a bridge that traces, the visibility tests
+  // it queued are traced apart and counted in after it.
+  gpu::Image& summary = images_.current(kTestSummary, f);
   const auto spatialPass = [&](gpu::Image& in0, gpu::Image& in1, gpu::Image& out0, gpu::Image& out1,
                                const SpatialReuseParams& params) {
-    const std::vector<gpu::Bind> binds = scene_.binds(passes_->spatialReuse, {constants,
-                                                                              {"gIn_Reservoir0", in0},
-                                                                              {"gIn_Reservoir1", in1},
-                                                                              {"gOut_Reservoir0", out0},
-                                                                              {"gOut_Reservoir1", out1}});
-    recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(), std::span<const gpu::Bind>(binds), &params,
+    std::vector<gpu::Bind> binds = scene_.binds(passes_->spatialReuse, {constants,
+                                                                        {"gIn_Reservoir0", in0},
+                                                                        {"gIn_Reservoir1", in1},
+                                                                        {"gOut_Reservoir0", out0},
+                                                                        {"gOut_Reservoir1", out1}});
+    if (testQueue_) {
+      recorder.fillBuffer(*testQueue_, 0u);
+      binds.emplace_back("gOut_TestSummary", summary);
+      binds.emplace_back("gOut_NeighbourTests", *neighbourTests_);
+      binds.emplace_back("gOut_WorldQueue", *testQueue_);
+    }
+    recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),
+                      std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->spatialReuse, binds)), &params,
                       sizeof params);
+    if (!testQueue_ || params.slotsPerPixel == 0) return;
+    recorder.dispatch(*passes_->neighbourVisibility, half.width, half.height, frame.group.binds(),
+                      std::span<const gpu::Bind>(
+                          scene_.binds(*passes_->neighbourVisibility, {constants,
+                                                                       {"gIn_Reservoir0", out0},
+                                                                       {"gIn_Reservoir1", out1},
+                                                                       {"gInOut_NeighbourTests", *neighbourTests_},
+                                                                       {"gIn_WorldQueue", *testQueue_}})),
+                      &params, sizeof params);
+    recorder.dispatch(*passes_->spatialNormalize, half.width, half.height, frame.group.binds(GroupPart::Constants),
+                      {{"gIn_Reservoir0", out0},
+                       {"gInOut_Reservoir1", out1},
+                       {"gInOut_TestSummary", summary},
+                       {"gIn_NeighbourTests", *neighbourTests_}},
+                      &params, sizeof params);
   };
   gpu::Image& spatial0 = images_.current(kSpatial0, f);
   gpu::Image& spatial1 = images_.current(kSpatial1, f);
-  spatialPass(temporalOut0, temporalOut1, spatial0, spatial1, {d.spatialRadius, d.spatialSamples, 0u});
+  spatialPass(temporalOut0, temporalOut1, spatial0, spatial1, {d.spatialRadius, d.spatialSamples, 0u, testSlots_});
   if (frame.capturing) viewReservoirs(frame, 2, spatial0, spatial1);
-  spatialPass(spatial0, spatial1, spatialOut0, spatialOut1, {d.spatial2Radius, d.spatial2Samples, 1u});
+  spatialPass(spatial0, spatial1, spatialOut0, spatialOut1, {d.spatial2Radius, d.spatial2Samples, 1u, testSlots_});
   final0 = &spatialOut0;
   final1 = &spatialOut1;
   if (frame.capturing) viewReservoirs(frame, 3, *final0, *final1);

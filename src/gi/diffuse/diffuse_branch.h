@@ -4,7 +4,9 @@
 //   gi.diffuse.bright_pixels(_reduce)  the last frame's brightest pixels, 2x2 -> 1 per level
 //   gi.diffuse.gather                  half res: candidates into one reservoir per pixel
 //   gi.diffuse.temporal_reuse          half res: merge with last frame's reservoir
-//   gi.diffuse.spatial_reuse           half res: merge with neighbours, twice
+//   gi.diffuse.spatial_reuse           half res: merge with neighbours, twice; each time
+//     gi.diffuse.neighbour_visibility  (a bridge that traces) the neighbours' visibility tests it queued
+//     gi.diffuse.spatial_normalize     and their verdicts counted in
 //   gi.diffuse.sample_visibility       half res (hybrid, a bridge that traces): hidden samples dropped
 //   gi.diffuse.resolve                 full res: indirect diffuse
 //   gi.diffuse.temporal_filter         full res: reprojected history, clamped to the fast history
@@ -38,6 +40,7 @@ enum DiffuseImage : std::size_t {
   kReservoirEstimate,
   kReservoirM,
   kReservoirW,
+  kTestSummary,
   kDiffuseImageCount
 };
 std::span<const ImageSpec> diffuseImageTable();
@@ -64,7 +67,8 @@ class DiffuseBranch final : public Branch {
 
   // Device memory of what the branch holds besides its images (counted in
   // GiContext::estimateMemoryBytes): with a bridge that traces, the rays
-  // waiting for gi.diffuse.world_candidates and their queue.
+  // waiting for gi.diffuse.world_candidates and their queue, and spatial
+  // reuse's visibility tests and theirs.
   static std::uint64_t bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces);
 
  private:
@@ -83,6 +87,10 @@ class DiffuseBranch final : public Branch {
   // direction of a ray the gather left to the world trace; and the queue of
   // their pixels (a count, then x | y << 16).
   std::unique_ptr<gpu::Buffer> pendingRays_, worldQueue_;
+  // With a bridge that traces: spatial reuse's visibility tests (per pixel
+  // testSlots_ of them) and their queue (gi/diffuse/neighbour_tests.glsl).
+  std::uint32_t testSlots_ = 0;
+  std::unique_ptr<gpu::Buffer> neighbourTests_, testQueue_;
   std::unique_ptr<Passes> passes_;
 };
 

@@ -111,11 +111,49 @@ gpu::PassDesc temporalReusePass() {
                                "last frame's composited radiance: what reused samples on its screen send now"}}))));
 }
 
+gpu::ConstantsDecl spatialReuseParamsLayout() {
+  return BOUNCE_CONSTANTS_LAYOUT("", SpatialReuseParams, radius, samples, passIndex, slotsPerPixel);
+}
+
 gpu::PassDesc spatialReusePass() {
   return pass("gi.diffuse.spatial_reuse", "gi/diffuse/spatial_reuse", GroupPart::Surfaces,
               joinDecls(reservoirDecls("gIn", Access::Read, "reservoirs"),
-                   reservoirDecls("gOut", Access::Write, "reservoirs merged with neighbours")),
-              {BOUNCE_CONSTANTS_LAYOUT("", SpatialReuseParams, radius, samples, passIndex)});
+                        reservoirDecls("gOut", Access::Write, "reservoirs merged with neighbours")),
+              {spatialReuseParamsLayout()});
+}
+
+std::vector<gpu::ResourceDecl> neighbourTestResources() {
+  return {{"gOut_TestSummary", Access::Write, kRgba32f,
+           "per pixel: tests queued, M untested, confidence if all see the sample, M found hidden (later)"},
+          {"gOut_NeighbourTests", Access::Write, VK_FORMAT_UNDEFINED,
+           "per pixel and test: the neighbour to ask whether it sees the chosen sample, and its M",
+           ResourceKind::StorageBuffer},
+          {"gOut_WorldQueue", Access::ReadWrite, VK_FORMAT_UNDEFINED, "the test slots queued",
+           ResourceKind::StorageBuffer}};
+}
+
+gpu::PassDesc neighbourVisibilityPass() {
+  return pass("gi.diffuse.neighbour_visibility", "gi/diffuse/neighbour_visibility", GroupPart::Surfaces,
+              joinDecls(reservoirDecls("gIn", Access::Read, "the merged reservoirs, whose samples are tested"),
+                        {{"gInOut_NeighbourTests", Access::ReadWrite, VK_FORMAT_UNDEFINED,
+                          "the tests; a neighbour's M is negated where it does not see the sample",
+                          ResourceKind::StorageBuffer},
+                         {"gIn_WorldQueue", Access::Read, VK_FORMAT_UNDEFINED, "the test slots queued",
+                          ResourceKind::StorageBuffer}}),
+              {spatialReuseParamsLayout()});
+}
+
+gpu::PassDesc spatialNormalizePass() {
+  // No diffuse constants: the summary, the tests and the reservoirs.
+  gpu::PassDesc desc = framePass(
+      "gi.diffuse.spatial_normalize", "gi/diffuse/spatial_normalize", GroupPart::Constants,
+      {{"gIn_Reservoir0", Access::Read, kRgba32ui, "the merged reservoirs: sample position, normal"},
+       {"gInOut_Reservoir1", Access::ReadWrite, kRgba32ui, "their radiance, M, W, flags: W and M corrected here"},
+       {"gInOut_TestSummary", Access::ReadWrite, kRgba32f, "the merge's summary; w: the M found hidden"},
+       {"gIn_NeighbourTests", Access::Read, VK_FORMAT_UNDEFINED, "the tests and their verdicts",
+        ResourceKind::StorageBuffer}});
+  desc.constants.push_back(spatialReuseParamsLayout());
+  return desc;
 }
 
 gpu::PassDesc sampleVisibilityPass() {

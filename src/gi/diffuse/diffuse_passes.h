@@ -26,6 +26,14 @@ std::vector<gpu::ResourceDecl> gatherRayResources();
 gpu::PassDesc worldCandidatesPass();
 gpu::PassDesc temporalReusePass();
 gpu::PassDesc spatialReusePass();
+// What spatial reuse adds when a scene bridge traces: the visibility tests
+// it queues (gi/diffuse/neighbour_tests.glsl).
+std::vector<gpu::ResourceDecl> neighbourTestResources();
+// gi.diffuse.neighbour_visibility: those tests, one ray per invocation, and
+// gi.diffuse.spatial_normalize: their verdicts counted into the reservoirs
+// (with a bridge that traces).
+gpu::PassDesc neighbourVisibilityPass();
+gpu::PassDesc spatialNormalizePass();
 // With gi.diffuse.visibility hybrid and a bridge that traces: each
 // reservoir's sample tested from its own surface, hidden ones dropped.
 gpu::PassDesc sampleVisibilityPass();
@@ -35,11 +43,13 @@ gpu::PassDesc temporalFilterPass();
 // (the pass is then called gi.diffuse.reservoir_view.<after>).
 gpu::PassDesc reservoirViewPass(const std::string& after);
 
-// Push constants of gi.diffuse.spatial_reuse.
+// Push constants of gi.diffuse.spatial_reuse, neighbour_visibility and
+// spatial_normalize (gi/diffuse/neighbour_tests.glsl).
 struct SpatialReuseParams {
   float radius;
   std::uint32_t samples;
   std::uint32_t passIndex;
+  std::uint32_t slotsPerPixel;
 };
 
 // Push constants of gi.diffuse.bright_pixels_reduce: how much of each level

@@ -1,0 +1,40 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// gi.diffuse.neighbour_visibility: the visibility tests gi.diffuse.spatial_reuse
+// queued, one any-hit ray through the scene bridge per invocation: does the
+// neighbour in the test's slot see the sample the pixel chose? A neighbour
+// that does not has its M negated in the slot, for
+// gi.diffuse.spatial_normalize. Dispatched over the half-resolution size;
+// the queue can hold several tests per pixel, so each invocation takes
+// every queueInvocations()-th entry from its own on (gi/diffuse/neighbour_tests.glsl).
+#include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "gi/diffuse/diffuse_common.glsl"
+#include "gi/diffuse/reuse_visibility.glsl"
+#include "gi/diffuse/neighbour_tests.glsl"
+#include "shared/reservoir.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 4, rgba32ui) readonly uniform uimage2D gIn_Reservoir0;
+layout(set = 0, binding = 5, rgba32ui) readonly uniform uimage2D gIn_Reservoir1;
+layout(set = 0, binding = 6, std430) buffer NeighbourTests { uvec2 items[]; } gInOut_NeighbourTests;
+layout(set = 0, binding = 7, std430) readonly buffer WorldQueue { uint items[]; } gIn_WorldQueue;
+#define WORLD_QUEUE_READ
+#include "gi/world_queue.glsl"
+
+void main() {
+  if (!kSceneBridgeTraces || params.slotsPerPixel == 0u || gl_GlobalInvocationID.x >= uint(halfSize().x)) return;
+  uint count = queuedCount();
+  for (uint index = queueInvocation(); index < count; index += queueInvocations()) {
+    uint slot = queuedEntry(index);
+    uint pixelIndex = slot / params.slotsPerPixel;
+    ivec2 halfPixel = ivec2(pixelIndex % uint(halfSize().x), pixelIndex / uint(halfSize().x));
+    uvec2 test = gInOut_NeighbourTests.items[slot];
+    ivec2 neighbourHalf = ivec2(test.x & 0xffffu, test.x >> 16);
+    Reservoir chosen = unpackReservoir(imageLoad(gIn_Reservoir0, halfPixel), imageLoad(gIn_Reservoir1, halfPixel));
+    Surface neighbour = gbufferSurface(reservoirSurfacePixel(neighbourHalf));
+    if (!neighbourSeesSample(chosen, neighbour))
+      gInOut_NeighbourTests.items[slot].y = floatBitsToUint(-uintBitsToFloat(test.y));
+  }
+}
