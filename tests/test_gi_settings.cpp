@@ -119,6 +119,7 @@ std::vector<ExpectedField> expectedFields() {
       {"cache.history_samples", [](const Settings& s) { return double(s.cache.historySamples); }},
       {"cache.max_age", [](const Settings& s) { return double(s.cache.maxAge); }},
       {"cache.inject_stride", [](const Settings& s) { return double(s.cache.injectStride); }},
+      {"cache.direct_light", [](const Settings& s) { return double(s.cache.directLight); }},
       {"input.motion_units", [](const Settings& s) { return double(s.input.motionUnits); }},
       {"input.motion_scale_x", [](const Settings& s) { return double(s.input.motionScaleX); }},
       {"input.motion_scale_y", [](const Settings& s) { return double(s.input.motionScaleY); }},

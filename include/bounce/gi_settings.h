@@ -217,12 +217,16 @@ struct InputSettings {
 // bridge that traces.
 struct CacheSettings {
   bool enabled = true;
-  std::uint32_t memoryMib = 64;  // device memory for the cells at most (capacity: a power of two)
+  std::uint32_t memoryMib = 72;  // device memory for the cells at most (capacity: a power of two)
   float cellSize = 0.02f;        // a cell's edge as a fraction of its distance to the camera (rounded to 2^k)
   std::uint32_t updateRays = 65536;  // rays per frame from cells world hits used, at most
   std::uint32_t historySamples = 64;  // a cell's value averages at most this many samples
   std::uint32_t maxAge = 64;          // cells nobody used for this many frames are evicted
   std::uint32_t injectStride = 4;     // the screen fills cells from one pixel of every stride x stride block
+  // Cells also hold the direct light at their point (one shadow ray a cell
+  // and frame), and diffuse world hits take theirs from the cell instead of
+  // a shadow ray each (docs/gi.md, "The radiance cache").
+  bool directLight = true;
 };
 
 struct Settings {

@@ -246,7 +246,8 @@ constexpr std::array kEntries{
     Entry{"specular.reuse_min_roughness", inSpecular(&SpecularSettings::reuseMinRoughness), closed(0, 1),
           "below this perceptual roughness no reservoir is reused in time or space: each pixel keeps its own ray"},
     Entry{"specular.trace_steps", inSpecular(&SpecularSettings::traceSteps), closed(0, 512),
-          "screen-space march steps of a ray through the depth buffer before it continues through the scene bridge (0: the "
+          "screen-space march steps of a ray through the depth buffer before it continues through the scene bridge (0: "
+          "the "
           "bridge at once)"},
     Entry{"specular.trace_thickness", inSpecular(&SpecularSettings::traceThickness), aboveUpTo(0, 1),
           "trace: depth-buffer surfaces are assumed this fraction of their viewZ thick"},
@@ -278,8 +279,8 @@ constexpr std::array kEntries{
     Entry{"specular.reprojection", inSpecular(&SpecularSettings::reprojection), kNoBounds,
           "temporal filter: history reprojected with the surface's motion, the reflection's (virtual) motion, or "
           "both blended by roughness and agreement with this frame"},
-    Entry{"specular.variance_clipping_gamma", inSpecular(&SpecularSettings::varianceClippingGamma),
-          aboveUpTo(0, 100), "temporal filter: history clamped to the fast history +- gamma * temporal sigma"},
+    Entry{"specular.variance_clipping_gamma", inSpecular(&SpecularSettings::varianceClippingGamma), aboveUpTo(0, 100),
+          "temporal filter: history clamped to the fast history +- gamma * temporal sigma"},
     Entry{"specular.temporal_filter_frames", inSpecular(&SpecularSettings::temporalFilterFrames), closed(1, 1024),
           "temporal filter: the longest history, for rough surfaces (smooth ones keep fewer frames)"},
     Entry{"denoise.enabled", inDenoise(&DenoiseSettings::enabled), kNoBounds,
@@ -303,8 +304,8 @@ constexpr std::array kEntries{
           "blur: the smallest radius in pixels, however long the history (at 1080 rows; scaled with the height)"},
     Entry{"denoise.post_blur_radius_scale", inDenoise(&DenoiseSettings::postBlurRadiusScale), closed(0, 4),
           "post-blur: its radius as a fraction of blur's"},
-    Entry{"denoise.plane_distance_sensitivity", inDenoise(&DenoiseSettings::planeDistanceSensitivity),
-          aboveUpTo(0, 1), "spatial passes: a neighbour this fraction of viewZ off the pixel's plane weighs 0"},
+    Entry{"denoise.plane_distance_sensitivity", inDenoise(&DenoiseSettings::planeDistanceSensitivity), aboveUpTo(0, 1),
+          "spatial passes: a neighbour this fraction of viewZ off the pixel's plane weighs 0"},
     Entry{"denoise.lobe_angle_fraction", inDenoise(&DenoiseSettings::lobeAngleFraction), aboveUpTo(0, 1),
           "spatial passes: the normal weight's cone holds 0.75 * this^2 of the lobe once the history is long (0.75 "
           "at its start)"},
@@ -338,6 +339,9 @@ constexpr std::array kEntries{
           "radiance cache: cells nobody used for this many frames are evicted"},
     Entry{"cache.inject_stride", inCache(&CacheSettings::injectStride), closed(1, 64),
           "radiance cache: the screen fills cells from one pixel of every stride x stride block of the last frame"},
+    Entry{"cache.direct_light", inCache(&CacheSettings::directLight), kNoBounds,
+          "radiance cache: cells also hold the direct light at their point, and the diffuse ray candidates' hits "
+          "take theirs from there instead of a shadow ray each"},
     Entry{"input.motion_units", inInput(&InputSettings::motionUnits), kNoBounds,
           "what the engine's motion vectors are in: pixels, or uv (fractions of the render size)"},
     Entry{"input.motion_scale_x", inInput(&InputSettings::motionScaleX), closed(-1e6, 1e6),

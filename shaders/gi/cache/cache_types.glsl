@@ -20,6 +20,7 @@ struct CacheConstants {
   uint maxAge;           // cells untouched for more frames are evicted
   uint injectStride;     // gi.cache.inject takes one pixel of every stride x stride block
   float environmentMip;  // prefiltered environment level update rays that miss read
+  uint directLight;      // 1: cells also hold the direct light at their point (gi.cache.direct_light)
 };
 
 #ifdef __cplusplus

@@ -4,14 +4,20 @@
 // what a white Lambert surface there reflects of the light arriving by
 // indirect paths (demodulated, like gi.diffuse's output): a world hit off
 // screen adds albedo * this to its direct light and emission, so no ray
-// ever recurses. docs/gi.md, "The radiance cache", has the whole design.
+// ever recurses. With gi.cache.direct_light, a cell also holds the direct
+// light a white Lambert surface reflects at the point it was made (the
+// bridge's, shadow rays included, worked out by gi.cache.update each frame
+// the cell is used), and diffuse world hits take their direct light from
+// it instead of a shadow ray of their own. docs/gi.md, "The radiance
+// cache", has the whole design.
 //
 // Buffers (the including shader defines CACHE_FIRST_BINDING; seven bindings):
 //   + 0 gIn_CacheConstants   CacheConstants
 //   + 1 gCache_Keys          uint per cell: the key's checksum, 0 = empty
 //   + 2 gCache_Cells         uvec4 per cell: where it was made (position bits, octahedral normal)
 //   + 3 gCache_Accumulators  uvec4 per cell: this frame's samples, rgb in fixed point, count
-//   + 4 gCache_Radiance      vec4 per cell: rgb value, the frames of samples it averages
+//   + 4 gCache_Radiance      vec4 per cell: rgb value, the frames of samples it averages;
+//                            then (from entry `capacity`) vec4 per cell: rgb direct light, w = 1 once known
 //   + 5 gCache_Touched       uint per cell: the last frame it was queried or filled
 //   + 6 gCache_Updates       uint: [0] cells listed this frame, [1] live cells, then the listed indices
 // Cells are made by the first query or fill that needs one (atomic
@@ -123,15 +129,35 @@ void cacheAddSample(uint slot, vec3 value) {
   atomicAdd(gCache_Accumulators.items[slot].w, 1u);
 }
 
+// The direct light a white Lambert surface at the cell's point reflects,
+// w = 1 once gi.cache.update has worked it out (gi.cache.direct_light).
+vec4 cacheDirect(uint slot) { return gCache_Radiance.items[gIn_CacheConstants.cache.capacity + slot]; }
+void cacheSetDirect(uint slot, vec3 direct) {
+  gCache_Radiance.items[gIn_CacheConstants.cache.capacity + slot] = vec4(sanitizeRadiance(direct), 1.0f);
+}
+
 // What a white Lambert surface at `position` facing `normal` reflects of
-// indirect light, as the cache knows it (0 for a cell with no samples yet);
-// makes and touches the cell, so the next frames update it.
-vec3 cacheQuery(vec3 position, vec3 normal) {
-  if (gIn_CacheConstants.cache.enabled == 0u) return vec3(0.0f);
+// indirect light, as the cache knows it (0 for a cell with no samples yet),
+// and whether `direct` holds its direct light (gi.cache.direct_light, once
+// worked out); makes and touches the cell, so the next frames update it.
+bool cacheQueryLight(vec3 position, vec3 normal, out vec3 indirect, out vec3 direct) {
+  indirect = vec3(0.0f);
+  direct = vec3(0.0f);
+  if (gIn_CacheConstants.cache.enabled == 0u) return false;
   uint slot = cacheFindOrMake(cacheKey(position, normal), position, normal);
-  if (slot == kCacheNoCell) return vec3(0.0f);
+  if (slot == kCacheNoCell) return false;
   cacheTouch(slot);
-  return gCache_Radiance.items[slot].xyz;
+  indirect = gCache_Radiance.items[slot].xyz;
+  if (gIn_CacheConstants.cache.directLight == 0u) return false;
+  vec4 known = cacheDirect(slot);
+  direct = known.xyz;
+  return known.w > 0.0f;
+}
+
+vec3 cacheQuery(vec3 position, vec3 normal) {
+  vec3 indirect, direct;
+  cacheQueryLight(position, normal, indirect, direct);
+  return indirect;
 }
 
 #endif

@@ -24,6 +24,7 @@ void main() {
   if (c.frame - gCache_Touched.items[slot] > c.maxAge) {
     gCache_Keys.items[slot] = 0u;
     gCache_Radiance.items[slot] = vec4(0.0f);
+    gCache_Radiance.items[c.capacity + slot] = vec4(0.0f);
     gCache_Accumulators.items[slot] = uvec4(0u);
     return;
   }

@@ -7,7 +7,9 @@
 // Its hit is shaded with the bridge's direct light, its emission and the
 // cache's own value there (more bounces, no recursion); a miss sees the
 // environment. With cosine sampling the mean of those radiances is what a
-// white Lambert surface at the cell reflects.
+// white Lambert surface at the cell reflects. With gi.cache.direct_light,
+// the cell's own direct light is worked out here too (the bridge's, for a
+// white Lambert surface at the cell's point), for the hits that read it.
 #include "gi/gi_common.glsl"
 #include "shared/equirect.glsl"
 #include "shared/sampling.glsl"
@@ -44,7 +46,18 @@ void main() {
   vec3 direction = normalize(t * local.x + b * local.y + normal * local.z);
   float distance = length(position - c.cameraPosition.xyz);
   SceneHit hit = worldTraceClosest(rayOrigin(position, normal, distance), direction, kWorldRaysCacheUpdate);
-  vec3 radiance = hit.hit ? offscreenHitRadiance(hit, direction)
+  vec3 radiance = hit.hit ? offscreenHitRadiance(hit, direction, true)
                           : sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), c.environmentMip).xyz);
   cacheAddSample(slot, radiance);
+  if (c.directLight != 0u) {
+    SceneHit at = sceneMiss();
+    at.hit = true;
+    at.t = distance;
+    at.position = position;
+    at.geometricNormal = normal;
+    at.normal = normal;
+    at.diffuseAlbedo = vec3(1.0f);
+    at.baseColor = vec3(1.0f);
+    cacheSetDirect(slot, sceneDirectRadiance(at, normal));
+  }
 }

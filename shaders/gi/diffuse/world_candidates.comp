@@ -69,7 +69,7 @@ void main() {
       position = hit.position;
       normal = hit.normal;
       shown = previousPixelOf(hit.position, hit.normal);
-      radiance = shown.x >= 0 ? vec3(0.0f) : offscreenHitRadiance(hit, direction);
+      radiance = shown.x >= 0 ? vec3(0.0f) : offscreenHitRadiance(hit, direction, true);
     }
     streamRayCandidate(r, x, rayTechnique(x.normal, direction), shown, position, normal, radiance, flags, nearField,
                        choice);

@@ -42,7 +42,7 @@ Reservoir worldCandidate(vec3 origin, vec3 direction, vec3 normal) {
     candidate.position = hit.position;
     candidate.normal = hit.normal;
     if (!previousRadiance(hit.position, hit.normal, hit.roughness, direction, candidate.radiance))
-      candidate.radiance = offscreenHitRadiance(hit, direction);
+      candidate.radiance = offscreenHitRadiance(hit, direction, false);
   } else {
     candidate.position = direction;
     candidate.normal = normal;

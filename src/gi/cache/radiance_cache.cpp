@@ -86,19 +86,21 @@ std::uint32_t cacheCapacity(std::uint32_t memoryMib) {
 }
 
 std::vector<gpu::ResourceDecl> cacheResources() {
-  return {{"gIn_CacheConstants", Access::Read, VK_FORMAT_UNDEFINED, "the radiance cache's settings this frame",
-           ResourceKind::UniformBuffer},
-          buffer("gCache_Keys", Access::ReadWrite, "radiance cache: each slot's key checksum (0: empty)"),
-          buffer("gCache_Cells", Access::ReadWrite, "radiance cache: where each cell was made"),
-          buffer("gCache_Accumulators", Access::ReadWrite, "radiance cache: this frame's samples per cell"),
-          buffer("gCache_Radiance", Access::ReadWrite, "radiance cache: each cell's value"),
-          buffer("gCache_Touched", Access::ReadWrite, "radiance cache: the last frame each cell was used"),
-          buffer("gCache_Updates", Access::ReadWrite, "radiance cache: cells to update this frame, live cells")};
+  return {
+      {"gIn_CacheConstants", Access::Read, VK_FORMAT_UNDEFINED, "the radiance cache's settings this frame",
+       ResourceKind::UniformBuffer},
+      buffer("gCache_Keys", Access::ReadWrite, "radiance cache: each slot's key checksum (0: empty)"),
+      buffer("gCache_Cells", Access::ReadWrite, "radiance cache: where each cell was made"),
+      buffer("gCache_Accumulators", Access::ReadWrite, "radiance cache: this frame's samples per cell"),
+      buffer("gCache_Radiance", Access::ReadWrite, "radiance cache: each cell's value, then each cell's direct light"),
+      buffer("gCache_Touched", Access::ReadWrite, "radiance cache: the last frame each cell was used"),
+      buffer("gCache_Updates", Access::ReadWrite, "radiance cache: cells to update this frame, live cells")};
 }
 
 gpu::ConstantsDecl cacheConstantsLayout() {
-  return BOUNCE_CONSTANTS_LAYOUT("gIn_CacheConstants", shared::CacheConstants, cameraPosition, capacity, enabled,
-                                 frame, updateBudget, cellSize, historyFrames, maxAge, injectStride, environmentMip);
+  return BOUNCE_CONSTANTS_LAYOUT("gIn_CacheConstants", shared::CacheConstants, cameraPosition, capacity, enabled, frame,
+                                 updateBudget, cellSize, historyFrames, maxAge, injectStride, environmentMip,
+                                 directLight);
 }
 
 struct RadianceCache::Passes {
@@ -127,7 +129,7 @@ RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Ext
   keys_ = make("gi.cache.keys", std::uint64_t(capacity_) * 4);
   cells_ = make("gi.cache.cells", std::uint64_t(capacity_) * 16);
   accumulators_ = make("gi.cache.accumulators", std::uint64_t(capacity_) * 16);
-  radiance_ = make("gi.cache.radiance", std::uint64_t(capacity_) * 16);
+  radiance_ = make("gi.cache.radiance", std::uint64_t(capacity_) * 32);  // indirect, then direct light
   touched_ = make("gi.cache.touched", std::uint64_t(capacity_) * 4);
   updates_ = make("gi.cache.updates", (2 + std::uint64_t(settings_.updateRays)) * 4);
   passes_ = std::make_unique<Passes>(context, scene);
@@ -137,8 +139,7 @@ RadianceCache::~RadianceCache() = default;
 
 std::uint64_t RadianceCache::memoryBytes(Extent maxSize, const Settings& settings) {
   // keys, cells, accumulators, radiance, touched (as the constructor makes them) and the update list.
-  constexpr std::uint64_t kBytesPerSlot = 4 + 16 + 16 + 16 + 4;
-  return imageSetBytes(kImages, maxSize) + std::uint64_t(cacheCapacity(settings.cache.memoryMib)) * kBytesPerSlot +
+  return imageSetBytes(kImages, maxSize) + std::uint64_t(cacheCapacity(settings.cache.memoryMib)) * kCacheBytesPerCell +
          (2 + std::uint64_t(settings.cache.updateRays)) * 4 + sizeof(shared::CacheConstants);
 }
 
@@ -168,6 +169,7 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
   c.maxAge = settings_.maxAge;
   c.injectStride = settings_.injectStride;
   c.environmentMip = environmentMip_;
+  c.directLight = settings_.directLight ? 1u : 0u;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   if (!c.enabled || !frame.usableHistory) return;
   const std::uint32_t stride = settings_.injectStride;

@@ -21,8 +21,8 @@
 
 namespace bounce::gi {
 
-// Bytes a cell takes in the cache's buffers (key, cell, accumulator, value, last use).
-constexpr std::uint64_t kCacheBytesPerCell = 4 + 16 + 16 + 16 + 4;
+// Bytes a cell takes in the cache's buffers (key, cell, accumulator, indirect and direct value, last use).
+constexpr std::uint64_t kCacheBytesPerCell = 4 + 16 + 16 + 32 + 4;
 // Cells the cache holds within `memoryMib`: the largest power of two that fits.
 std::uint32_t cacheCapacity(std::uint32_t memoryMib);
 
