@@ -246,8 +246,7 @@ constexpr std::array kEntries{
     Entry{"specular.reuse_min_roughness", inSpecular(&SpecularSettings::reuseMinRoughness), closed(0, 1),
           "below this perceptual roughness no reservoir is reused in time or space: each pixel keeps its own ray"},
     Entry{"specular.trace_steps", inSpecular(&SpecularSettings::traceSteps), closed(0, 512),
-          "screen-space march steps of a ray through the depth buffer before it continues through the scene bridge (0: "
-          "the "
+          "screen-space march steps of a ray through the depth buffer before it continues through the scene bridge (0: the "
           "bridge at once)"},
     Entry{"specular.trace_thickness", inSpecular(&SpecularSettings::traceThickness), aboveUpTo(0, 1),
           "trace: depth-buffer surfaces are assumed this fraction of their viewZ thick"},
@@ -279,8 +278,8 @@ constexpr std::array kEntries{
     Entry{"specular.reprojection", inSpecular(&SpecularSettings::reprojection), kNoBounds,
           "temporal filter: history reprojected with the surface's motion, the reflection's (virtual) motion, or "
           "both blended by roughness and agreement with this frame"},
-    Entry{"specular.variance_clipping_gamma", inSpecular(&SpecularSettings::varianceClippingGamma), aboveUpTo(0, 100),
-          "temporal filter: history clamped to the fast history +- gamma * temporal sigma"},
+    Entry{"specular.variance_clipping_gamma", inSpecular(&SpecularSettings::varianceClippingGamma),
+          aboveUpTo(0, 100), "temporal filter: history clamped to the fast history +- gamma * temporal sigma"},
     Entry{"specular.temporal_filter_frames", inSpecular(&SpecularSettings::temporalFilterFrames), closed(1, 1024),
           "temporal filter: the longest history, for rough surfaces (smooth ones keep fewer frames)"},
     Entry{"denoise.enabled", inDenoise(&DenoiseSettings::enabled), kNoBounds,
@@ -304,8 +303,8 @@ constexpr std::array kEntries{
           "blur: the smallest radius in pixels, however long the history (at 1080 rows; scaled with the height)"},
     Entry{"denoise.post_blur_radius_scale", inDenoise(&DenoiseSettings::postBlurRadiusScale), closed(0, 4),
           "post-blur: its radius as a fraction of blur's"},
-    Entry{"denoise.plane_distance_sensitivity", inDenoise(&DenoiseSettings::planeDistanceSensitivity), aboveUpTo(0, 1),
-          "spatial passes: a neighbour this fraction of viewZ off the pixel's plane weighs 0"},
+    Entry{"denoise.plane_distance_sensitivity", inDenoise(&DenoiseSettings::planeDistanceSensitivity),
+          aboveUpTo(0, 1), "spatial passes: a neighbour this fraction of viewZ off the pixel's plane weighs 0"},
     Entry{"denoise.lobe_angle_fraction", inDenoise(&DenoiseSettings::lobeAngleFraction), aboveUpTo(0, 1),
           "spatial passes: the normal weight's cone holds 0.75 * this^2 of the lobe once the history is long (0.75 "
           "at its start)"},
