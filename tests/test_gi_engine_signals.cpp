@@ -278,6 +278,20 @@ TEST_F(GiEngineSignals, TheMemoryEstimateMatchesWhatAContextHolds) {
       // it up to 128 MiB, so at most about twice what is used, or 128 MiB more.
       constexpr std::uint64_t kMiB = 1 << 20;
       EXPECT_LE(held, std::max(2 * estimate, estimate + 128 * kMiB) + 4 * kMiB);
+      // By unit: every allocation in one, so the units add up to what the
+      // estimate counts (and what the pools' alignment adds) without the
+      // pools' unused tails; the denoiser holds nothing when off.
+      std::uint64_t units = 0;
+      for (const UnitMemory& unit : gi.memoryByUnit()) {
+        units += unit.bytes;
+        if (unit.unit == "denoise")
+          EXPECT_EQ(unit.bytes > 0, settings.denoise.enabled) << unit.unit;
+        else
+          EXPECT_GT(unit.bytes, 0u) << unit.unit;
+      }
+      EXPECT_LE(estimate, units);
+      EXPECT_LE(units, held);
+      EXPECT_LE(units, estimate + estimate / 50 + kMiB) << "alignment should add little";
     }
 }
 

@@ -307,6 +307,15 @@ struct LibraryImage {
   std::string purpose;
 };
 
+// Device memory of one unit of the library: "diffuse", "specular",
+// "cache" (the radiance cache), "denoise", or "frame" (what the frame level
+// holds: histories of the surface and the composite, the depth pyramid,
+// constants, ray counters).
+struct UnitMemory {
+  std::string unit;
+  std::uint64_t bytes = 0;
+};
+
 struct PassTiming {
   std::uint64_t frameIndex = 0;
   std::string pass;  // e.g. "gi.diffuse.resolve"
@@ -408,6 +417,10 @@ class GiContext {
 
   // Device memory the library holds (its images and buffers), in bytes.
   std::uint64_t memoryBytes() const;
+  // The same by unit (each image's and buffer's own bytes, named
+  // gi.UNIT.*; the pools' unused tails, in memoryBytes(), are in none),
+  // in the order diffuse, specular, cache, denoise, frame.
+  std::vector<UnitMemory> memoryByUnit() const;
   // What memoryBytes() of a context made with `desc` and `settings` will be,
   // before making it (its images' and buffers' bytes; the few MiB the pools
   // round up to are not counted): to refuse a size the device cannot hold

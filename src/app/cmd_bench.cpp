@@ -180,9 +180,18 @@ int runBench(const BenchOptions& options) {
   std::fprintf(report,
                "BVH: %.2f MiB of device memory; BLASes built in %.0f ms (one CPU thread), depth %u, TLAS depth %u\n",
                double(bvh.deviceBytes()) / (1 << 20), bvhBuildMs, bvh.blasDepth(), bvh.tlasDepth());
-  if (gi)
-    std::fprintf(report, "GI library: %.1f MiB of device memory at %ux%u\n",
+  nlohmann::json memoryByUnit = nlohmann::json::object();
+  if (gi) {
+    std::fprintf(report, "GI library: %.1f MiB of device memory at %ux%u (",
                  double(gi->library().memoryBytes()) / double(1 << 20), options.width, options.height);
+    const char* separator = "";
+    for (const gi::UnitMemory& unit : gi->library().memoryByUnit()) {
+      std::fprintf(report, "%s%s %.1f", separator, unit.unit.c_str(), double(unit.bytes) / double(1 << 20));
+      memoryByUnit[unit.unit] = unit.bytes;
+      separator = ", ";
+    }
+    std::fprintf(report, " MiB)\n");
+  }
   const scene::CameraPose camera = scene::defaultCameraPath(scene)->pose(0.0f);
 
   std::unique_ptr<CopyBandwidthProbe> copy;
@@ -305,6 +314,7 @@ int runBench(const BenchOptions& options) {
                                     {"scene_bridge", gi ? options.gi.sceneBridge : "off"},
                                     {"whole_gi_ms", wholeGiMs},
                                     {"gi_memory_bytes", gi ? gi->library().memoryBytes() : 0},
+                                    {"gi_memory_bytes_by_unit", memoryByUnit},
                                     {"world_rays_per_frame", worldRays},
                                     {"passes", passes}};
     if (jsonToStdout)

@@ -473,6 +473,17 @@ std::vector<LibraryImage> GiContext::images() const {
 
 std::uint64_t GiContext::memoryBytes() const { return impl_->arena.bytes(); }
 
+std::vector<UnitMemory> GiContext::memoryByUnit() const {
+  std::vector<UnitMemory> units = {{"diffuse"}, {"specular"}, {"cache"}, {"denoise"}, {"frame"}};
+  for (const auto& [name, bytes] : impl_->arena.bytesByName()) {
+    UnitMemory* owner = &units.back();
+    for (UnitMemory& unit : units)
+      if (name.rfind("gi." + unit.unit + ".", 0) == 0) owner = &unit;
+    owner->bytes += bytes;
+  }
+  return units;
+}
+
 std::uint64_t GiContext::estimateMemoryBytes(const ContextDesc& desc, const Settings& settings) {
   // The units Impl makes, each sized as it sizes itself.
   const Extent size{desc.maxWidth, desc.maxHeight};

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include "gpu/context.h"
 #include "gpu/error.h"
@@ -42,7 +43,7 @@ MemoryArena::~MemoryArena() {
 }
 
 MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
-                                              const std::string& what) {
+                                              const char* kind, const std::string& name) {
   const std::uint32_t type = context_.findMemoryType(requirements.memoryTypeBits, required);
   // Images and buffers may share a block: keeping every start at a multiple
   // of bufferImageGranularity keeps linear and optimal data off one page.
@@ -54,6 +55,7 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
     const VkDeviceSize offset = alignUp(block.used);
     if (offset + requirements.size > block.size) continue;
     block.used = offset + requirements.size;
+    allocations_.emplace_back(name, requirements.size);
     return {block.memory, offset};
   }
   Block block;
@@ -63,11 +65,13 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = block.size;
   alloc.memoryTypeIndex = type;
-  check(vkAllocateMemory(context_.device(), &alloc, nullptr, &block.memory),
-        ("allocating " + std::to_string(block.size) + " bytes of device memory for " + what).c_str());
+  check(
+      vkAllocateMemory(context_.device(), &alloc, nullptr, &block.memory),
+      ("allocating " + std::to_string(block.size) + " bytes of device memory for " + kind + " '" + name + "'").c_str());
   context_.trackAllocation(type, std::int64_t(block.size));
   block.used = requirements.size;
   blocks_.push_back(block);
+  allocations_.emplace_back(name, requirements.size);
   return {block.memory, 0};
 }
 
@@ -107,7 +111,7 @@ Buffer::Buffer(Context& context, std::string name, VkDeviceSize size, BufferUsag
   if (arena && usage == BufferUsage::DeviceLocal) {
     MemoryArena::Allocation allocation;
     try {
-      allocation = arena->allocate(requirements, required, "buffer '" + name_ + "'");
+      allocation = arena->allocate(requirements, required, "buffer", name_);
     } catch (...) {
       vkDestroyBuffer(device, buffer_, nullptr);
       throw;
@@ -194,7 +198,7 @@ Image::Image(Context& context, const ImageDesc& desc, MemoryArena* arena) : cont
   if (arena) {
     MemoryArena::Allocation allocation;
     try {
-      allocation = arena->allocate(requirements, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "image '" + desc.name + "'");
+      allocation = arena->allocate(requirements, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "image", desc.name);
     } catch (...) {
       vkDestroyImage(device, image_, nullptr);
       throw;

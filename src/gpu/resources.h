@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -63,10 +64,14 @@ class MemoryArena {
     VkDeviceMemory memory = VK_NULL_HANDLE;
     VkDeviceSize offset = 0;
   };
-  Allocation allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
-                      const std::string& what);
+  // `kind` ("buffer", "image") and `name` say what it is for, in errors and in bytesByName().
+  Allocation allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required, const char* kind,
+                      const std::string& name);
 
   VkDeviceSize bytes() const;                                // device memory held
+  // The bytes each allocation took, by its name, in the order made (the
+  // blocks' unused tails, in bytes() but in none of these, not counted).
+  const std::vector<std::pair<std::string, VkDeviceSize>>& bytesByName() const { return allocations_; }
   std::size_t allocationCount() const { return blocks_.size(); }  // vkAllocateMemory calls
 
  private:
@@ -79,6 +84,7 @@ class MemoryArena {
   Context& context_;
   VkDeviceSize maxBlock_;
   std::vector<Block> blocks_;
+  std::vector<std::pair<std::string, VkDeviceSize>> allocations_;
 };
 
 enum class BufferUsage {
