@@ -249,6 +249,11 @@ void DiffuseBranch::record(const FrameState& frame) {
     }
   }
 
+  // Spatial reuse writes the test summary only with a bridge that traces;
+  // cleared once, it holds zeros (in the layout every library image is in)
+  // for whoever lists it otherwise.
+  if (f == 0) images_.clearToZero(recorder, {kTestSummary}, f);
+
   gpu::Image& gathered0 = images_.current(kGathered0, f);
   gpu::Image& gathered1 = images_.current(kGathered1, f);
   std::vector<gpu::Bind> gatherBinds = scene_.binds(passes_->gather, {constants,
