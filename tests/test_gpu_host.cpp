@@ -56,12 +56,14 @@ TEST(Reflection, ReadsNamesBindingsKindsFormatsAccessAndSizes) {
   // whose one member is a struct (described by that struct's members).
   const gpu::ShaderReflection spatial =
       gpu::reflectShader(gpu::findShader(gi::shaders(), "gi/diffuse/spatial_reuse"), "gi/diffuse/spatial_reuse");
-  EXPECT_EQ(spatial.pushConstantSize, 12u);
-  ASSERT_EQ(spatial.pushConstantMembers.size(), 3u);
+  EXPECT_EQ(spatial.pushConstantSize, 16u);
+  ASSERT_EQ(spatial.pushConstantMembers.size(), 4u);
   EXPECT_EQ(spatial.pushConstantMembers[1].name, "samples");
   EXPECT_EQ(spatial.pushConstantMembers[1].offset, 4u);
   EXPECT_EQ(spatial.pushConstantMembers[2].name, "passIndex");
   EXPECT_EQ(spatial.pushConstantMembers[2].size, 4u);
+  EXPECT_EQ(spatial.pushConstantMembers[3].name, "slotsPerPixel");
+  EXPECT_EQ(spatial.pushConstantMembers[3].offset, 12u);
   const gpu::ReflectedBinding& frameBlock = bindingNamed(spatial, "gIn_Frame");
   ASSERT_GE(frameBlock.members.size(), 3u);
   EXPECT_EQ(frameBlock.members[0].name, "view");
