@@ -130,7 +130,7 @@ struct GiContext::Impl {
         settings(s),
         context(openLibraryContext(device)),
         scene(*context, d.sceneBridge),
-        arena(*context),
+        arena(*context, VkDeviceSize(128) << 20, GiContext::estimateMemoryBytes(d, s)),
         frameImages(*context, arena, kFrameImages, {d.maxWidth, d.maxHeight}),
         frameConstants(std::make_unique<gpu::Buffer>(*context, "gi.frame_constants", sizeof(shared::GiFrameConstants),
                                                      gpu::BufferUsage::DeviceLocal, &arena)),

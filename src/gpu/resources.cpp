@@ -33,7 +33,8 @@ void bindImageMemory(Context& context, VkImage image, VkDeviceMemory memory, VkD
 
 }  // namespace
 
-MemoryArena::MemoryArena(Context& context, VkDeviceSize maxBlock) : context_(context), maxBlock_(maxBlock) {}
+MemoryArena::MemoryArena(Context& context, VkDeviceSize maxBlock, VkDeviceSize expected)
+    : context_(context), maxBlock_(maxBlock), expected_(expected) {}
 
 MemoryArena::~MemoryArena() {
   for (const Block& block : blocks_) {
@@ -55,13 +56,20 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
     const VkDeviceSize offset = alignUp(block.used);
     if (offset + requirements.size > block.size) continue;
     block.used = offset + requirements.size;
+    requested_ += requirements.size;
     allocations_.emplace_back(name, requirements.size);
     return {block.memory, offset};
   }
   Block block;
   block.type = type;
   constexpr VkDeviceSize kFirstBlock = VkDeviceSize(4) << 20;
-  block.size = std::max(requirements.size, std::clamp(bytes(), kFirstBlock, std::max(kFirstBlock, maxBlock_)));
+  VkDeviceSize size = std::clamp(bytes(), kFirstBlock, std::max(kFirstBlock, maxBlock_));
+  if (requested_ < expected_) {
+    // What is left of the expected, and room for alignment: 1/32 of it and 1 MiB.
+    const VkDeviceSize left = expected_ - requested_;
+    size = std::min(std::max(kFirstBlock, maxBlock_), left + left / 32 + (VkDeviceSize(1) << 20));
+  }
+  block.size = std::max(requirements.size, size);
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = block.size;
   alloc.memoryTypeIndex = type;
@@ -71,6 +79,7 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
   context_.trackAllocation(type, std::int64_t(block.size));
   block.used = requirements.size;
   blocks_.push_back(block);
+  requested_ += requirements.size;
   allocations_.emplace_back(name, requirements.size);
   return {block.memory, 0};
 }

@@ -51,11 +51,15 @@ enum class Visualize {
 // outlive what it holds). Drivers limit the number of allocations (4096 is
 // common) and each one costs. Blocks grow with what the arena holds: the
 // first is 4 MiB, each next one as large as all before it, up to maxBlock,
-// so a small context wastes little and a large one needs few blocks (a GI
-// context at 1080p: five or six).
+// so a small context needs few blocks. An owner that knows what it is about
+// to allocate says so (`expected`): then each new block is as large as what
+// is left of that (up to maxBlock, plus a little for alignment), so the last
+// block ends near the last allocation instead of up to half empty (a GI
+// context at 1080p on an H100 left 226 MiB of its blocks unused without it,
+// 167 with it).
 class MemoryArena {
  public:
-  explicit MemoryArena(Context& context, VkDeviceSize maxBlock = VkDeviceSize(128) << 20);
+  explicit MemoryArena(Context& context, VkDeviceSize maxBlock = VkDeviceSize(128) << 20, VkDeviceSize expected = 0);
   ~MemoryArena();
   MemoryArena(const MemoryArena&) = delete;
   MemoryArena& operator=(const MemoryArena&) = delete;
@@ -83,6 +87,8 @@ class MemoryArena {
   };
   Context& context_;
   VkDeviceSize maxBlock_;
+  VkDeviceSize expected_;
+  VkDeviceSize requested_ = 0;  // what allocations have asked for so far
   std::vector<Block> blocks_;
   std::vector<std::pair<std::string, VkDeviceSize>> allocations_;
 };
