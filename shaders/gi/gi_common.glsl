@@ -25,6 +25,14 @@ bool historyUsable() { return gIn_Frame.frame.noHistory == 0u; }
 bool insideFull(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(fullSize()))); }
 bool insideHalf(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(halfSize()))); }
 
+// Entry `slot` of the `slotsPerPixel` a half-resolution pixel has in a
+// buffer laid out pixel by pixel, row by row (the diffuse branch's pending
+// rays and neighbour tests); slot / slotsPerPixel is the pixel's index
+// (shared/packing.glsl's pixelToIndex over the half size).
+uint halfPixelSlot(ivec2 halfPixel, uint slotsPerPixel, uint slot) {
+  return pixelToIndex(uvec2(halfPixel), uint(halfSize().x)) * slotsPerPixel + slot;
+}
+
 // The full-resolution pixel whose surface a half-resolution reservoir belongs to.
 ivec2 reservoirSurfacePixel(ivec2 halfPixel) { return halfPixel * 2; }
 

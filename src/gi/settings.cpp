@@ -23,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gi/diffuse/diffuse_common.glsl"
 #include "util/edit_distance.h"
 #include "util/json_error.h"
 #include "util/json_parse.h"
@@ -762,7 +763,8 @@ WorldRayPlan planWorldRays(const Settings& settings) {
     if (d.reuseVisibility && settings.restir) {
       // Temporal reuse tests the history; each spatial pass tests every
       // neighbour it merges and again each one it normalises by.
-      plan.reuseVisibility = 1u + 2u * (std::min(d.spatialSamples, 16u) + std::min(d.spatial2Samples, 16u));
+      plan.reuseVisibility = 1u + 2u * (std::min(d.spatialSamples, shared::kMaxSpatialNeighbours) +
+                                        std::min(d.spatial2Samples, shared::kMaxSpatialNeighbours));
       fixedBy.push_back(userKey(entryOf(&DiffuseSettings::reuseVisibility)) + " on");
     }
     if (d.visibility == Visibility::Hybrid) plan.sampleVisibility = 1;
@@ -800,7 +802,8 @@ WorldRayPlan planWorldRays(const Settings& settings) {
   // of both passes (at most one per neighbour a pass merges); then the rest.
   plan.diffuseCandidates = take(std::min(d.rayCandidates, 1u), 1);
   if (d.skyReuseVisibility && !d.reuseVisibility && spatialPasses > 0) {
-    const std::uint32_t neighbours = std::min(std::max(d.spatialSamples, d.spatial2Samples), 16u);
+    const std::uint32_t neighbours =
+        std::min(std::max(d.spatialSamples, d.spatial2Samples), shared::kMaxSpatialNeighbours);
     plan.skyReuseRays = take(std::min(d.skyReuseRays, neighbours), spatialPasses);
   }
   plan.diffuseCandidates += take(d.rayCandidates - plan.diffuseCandidates, 1);

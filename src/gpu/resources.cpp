@@ -51,14 +51,17 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
   const VkDeviceSize alignment =
       std::max(requirements.alignment, context_.properties().limits.bufferImageGranularity);
   const auto alignUp = [alignment](VkDeviceSize value) { return (value + alignment - 1) / alignment * alignment; };
+  const auto handedOut = [&](Allocation allocation) {
+    requested_ += requirements.size;
+    allocations_.emplace_back(name, requirements.size);
+    return allocation;
+  };
   for (Block& block : blocks_) {
     if (block.type != type) continue;
     const VkDeviceSize offset = alignUp(block.used);
     if (offset + requirements.size > block.size) continue;
     block.used = offset + requirements.size;
-    requested_ += requirements.size;
-    allocations_.emplace_back(name, requirements.size);
-    return {block.memory, offset};
+    return handedOut({block.memory, offset});
   }
   Block block;
   block.type = type;
@@ -79,9 +82,7 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
   context_.trackAllocation(type, std::int64_t(block.size));
   block.used = requirements.size;
   blocks_.push_back(block);
-  requested_ += requirements.size;
-  allocations_.emplace_back(name, requirements.size);
-  return {block.memory, 0};
+  return handedOut({block.memory, 0});
 }
 
 VkDeviceSize MemoryArena::bytes() const {

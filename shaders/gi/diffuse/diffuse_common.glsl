@@ -39,6 +39,10 @@ struct DiffuseConstants {
   uint skyReuseRays;           // of those neighbours, the most one pass tests with a ray
 };
 
+// Neighbours one spatial pass merges at most (more samples are not taken):
+// its shader's arrays, and the rays the budget plans for them.
+const uint kMaxSpatialNeighbours = 16u;
+
 #ifdef __cplusplus
 }  // namespace bounce::shared
 #else

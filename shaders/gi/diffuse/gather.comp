@@ -126,7 +126,7 @@ void main() {
     buildOrthonormalBasis(x.normal, t, b);
     vec3 origin = rayOrigin(x.position, x.normal, x.viewZ);
     for (uint i = 0u; i < d.rayCandidates; ++i) {
-      uint slot = (uint(halfPixel.y) * uint(halfSize().x) + uint(halfPixel.x)) * d.rayCandidates + i;
+      uint slot = halfPixelSlot(halfPixel, d.rayCandidates, i);
       gOut_PendingRays.items[slot] = vec4(0.0f);
       vec3 local = sampleCosineHemisphere(vec2(rngUniform(rng), rngUniform(rng)));
       float choice = rngUniform(rng);

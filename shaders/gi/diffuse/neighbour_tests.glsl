@@ -27,8 +27,6 @@ layout(push_constant) uniform Params {
   uint slotsPerPixel;  // test slots each pixel has (none: no tests)
 } params;
 
-uint neighbourTestSlot(ivec2 halfPixel, uint test) {
-  return (uint(halfPixel.y) * uint(halfSize().x) + uint(halfPixel.x)) * params.slotsPerPixel + test;
-}
+uint neighbourTestSlot(ivec2 halfPixel, uint test) { return halfPixelSlot(halfPixel, params.slotsPerPixel, test); }
 
 #endif

@@ -28,8 +28,7 @@ void main() {
   uint count = queuedCount();
   for (uint index = queueInvocation(); index < count; index += queueInvocations()) {
     uint slot = queuedEntry(index);
-    uint pixelIndex = slot / params.slotsPerPixel;
-    ivec2 halfPixel = ivec2(pixelIndex % uint(halfSize().x), pixelIndex / uint(halfSize().x));
+    ivec2 halfPixel = ivec2(indexToPixel(slot / params.slotsPerPixel, uint(halfSize().x)));
     uvec2 test = gInOut_NeighbourTests.items[slot];
     ivec2 neighbourHalf = ivec2(test.x & 0xffffu, test.x >> 16);
     Reservoir chosen = unpackReservoir(imageLoad(gIn_Reservoir0, halfPixel), imageLoad(gIn_Reservoir1, halfPixel));

@@ -36,7 +36,6 @@ layout(set = 0, binding = 10, std430) buffer WorldQueue { uint items[]; } gOut_W
 #define WORLD_QUEUE_APPEND
 #include "gi/world_queue.glsl"
 
-const uint kMaxNeighbours = 16u;  // more samples than this per pass are not taken
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
@@ -62,12 +61,12 @@ void main() {
     buildOrthonormalBasis(x.normal, tangent, bitangent);
     bool jacobian = d.jacobian != 0u;
     // The surfaces and confidences of the neighbours merged, to normalise by later.
-    vec3 neighbourPositions[kMaxNeighbours];
-    vec3 neighbourNormals[kMaxNeighbours];
-    float neighbourM[kMaxNeighbours];
-    uint neighbourPixels[kMaxNeighbours];
+    vec3 neighbourPositions[kMaxSpatialNeighbours];
+    vec3 neighbourNormals[kMaxSpatialNeighbours];
+    float neighbourM[kMaxSpatialNeighbours];
+    uint neighbourPixels[kMaxSpatialNeighbours];
     uint neighbours = 0u;
-    for (uint i = 0u; i < min(params.samples, kMaxNeighbours); ++i) {
+    for (uint i = 0u; i < min(params.samples, kMaxSpatialNeighbours); ++i) {
       float ux = rngUniform(rng);
       float uy = rngUniform(rng);
       float choice = rngUniform(rng);

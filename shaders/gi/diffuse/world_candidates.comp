@@ -53,7 +53,7 @@ void main() {
   float nearField = nearFieldDistance(x);
   vec3 origin = rayOrigin(x.position, x.normal, x.viewZ);
   for (uint i = 0u; i < d.rayCandidates; ++i) {
-    uint slot = (uint(halfPixel.y) * uint(halfSize().x) + uint(halfPixel.x)) * d.rayCandidates + i;
+    uint slot = halfPixelSlot(halfPixel, d.rayCandidates, i);
     vec4 pending = gIn_PendingRays.items[slot];
     float choice = rngUniform(rng);
     if (pending.w == 0.0f) continue;

@@ -102,15 +102,13 @@ std::uint64_t pendingRayBytes(Extent maxSize, const WorldRayPlan& plan) {
 }
 
 // How many neighbours one spatial pass may ask for their visibility of the
-// chosen sample with a ray: every one it merges (at most 16, the shader's
-// kMaxNeighbours) with the unbiased option, as many as the plan's sky tests
-// with the sky test on, none otherwise.
+// chosen sample with a ray: every one it merges with the unbiased option,
+// else the plan's sky tests (none when they are off or there is no reuse).
 std::uint32_t neighbourTestSlots(const Settings& settings, const WorldRayPlan& plan) {
   const DiffuseSettings& d = settings.diffuse;
   if (!settings.restir) return 0;
-  const std::uint32_t neighbours = std::min(std::max(d.spatialSamples, d.spatial2Samples), 16u);
-  if (d.reuseVisibility) return neighbours;
-  return d.skyReuseVisibility ? std::min(neighbours, plan.skyReuseRays) : 0u;
+  if (d.reuseVisibility) return std::min(std::max(d.spatialSamples, d.spatial2Samples), shared::kMaxSpatialNeighbours);
+  return plan.skyReuseRays;
 }
 
 // The tests: a uvec2 per pixel and slot.
