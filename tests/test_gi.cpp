@@ -873,7 +873,7 @@ TEST_F(GiTest, TheDenoiserLowersTheErrorOfASettledFrame) {
     advance(run, cornellFront(), 96u);
     for (int frame = 0; frame < kFrames; ++frame) {
       advance(run, cornellFront(), 1u);
-      const io::ImageF diffuse = rgb(gpuio::readbackImage(context(), run.gi->indirectDiffuse()));
+      const io::ImageF diffuse = rgb(gpuio::readbackImage(context(), run.gi->indirect(gi::kDiffuseSignal)));
       errors[denoise] += relMse(truth, diffuse) / kFrames;
       ratios[denoise] += meanLuminance(diffuse) / meanLuminance(truth) / kFrames;
     }
@@ -919,7 +919,7 @@ void GiTest::checkFastTurn(const Settings& settings, float keptAbove, float long
   after.target.x -= 1.0f;
   advance(run, after, 1u);
   const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
-  const io::ImageF filtered = gpuio::readbackImage(context(), run.gi->indirectDiffuse());
+  const io::ImageF filtered = gpuio::readbackImage(context(), run.gi->indirect(gi::kDiffuseSignal));
   // Which pixels show a surface the previous frame saw, worked out on the CPU.
   const auto viewOf = [](const scene::CameraPose& p) {
     return screenView(render::giCamera(p, kSmallWidth, kSmallHeight, glm::vec2(0.0f)), "camera");

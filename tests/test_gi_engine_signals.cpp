@@ -81,6 +81,8 @@ class GiEngineSignals : public testing::GpuTest {
     std::unique_ptr<render::GiBridge> gi;
     std::unique_ptr<gpu::FrameLoop> loop;
     std::unique_ptr<gpu::Image> noisy[2];  // the engine's signals: sampled rgba32f, as an engine might keep them
+    // The engine's own further signals given this frame (FrameInputs::noisy[id]), uploaded by the test.
+    std::vector<std::pair<SignalId, gpu::Image*>> extra;
     bool checkerboard = false;             // gi.denoise.checkerboard: they are packed to half width
     io::ImageF truth;                      // the noise-free signal (rgb), once the first frame has run
     io::ImageF lastNoisy[2];               // the last frame's signals before any packing, rgb
@@ -90,13 +92,14 @@ class GiEngineSignals : public testing::GpuTest {
     std::mt19937 random{7};
   };
 
-  Run start(const Settings& settings) {
+  // `signals`: the engine's own signals beyond the library's two (ContextDesc::signals).
+  Run start(const Settings& settings, std::vector<SignalDesc> signals = {}) {
     Run run;
     run.scene = std::make_unique<scene::Scene>(scene::makeBuiltinScene("cornell"));
     run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene,
                                                            testing::smallRendererOptions(*run.scene, kWidth, kHeight));
-    run.gi =
-        std::make_unique<render::GiBridge>(context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight}, settings);
+    run.gi = std::make_unique<render::GiBridge>(
+        context(), ContextDesc{.maxWidth = kWidth, .maxHeight = kHeight, .signals = std::move(signals)}, settings);
     run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
     run.checkerboard = settings.denoise.checkerboard;
     for (int s = 0; s < 2; ++s)
@@ -171,6 +174,11 @@ class GiEngineSignals : public testing::GpuTest {
       made.inputs.noisySpecular = render::imageRef(*run.noisy[kSpecular]);
       made.images.push_back(run.noisy[kSpecular].get());
     }
+    for (const auto& [id, image] : run.extra) {
+      if (made.inputs.noisy.size() <= id) made.inputs.noisy.resize(id + 1);
+      made.inputs.noisy[id] = render::imageRef(*image);
+      made.images.push_back(image);
+    }
     if (edit) edit(made.inputs);
     run.gi->record(recorder, made.inputs, made.images);
     run.loop->endFrame();
@@ -186,18 +194,9 @@ class GiEngineSignals : public testing::GpuTest {
   };
   Output output(Run& run) {
     run.loop->finish();
-    return {{gpuio::readbackImage(context(), run.gi->indirectDiffuse()),
-             gpuio::readbackImage(context(), run.gi->indirectSpecular())},
+    return {{gpuio::readbackImage(context(), run.gi->indirect(gi::kDiffuseSignal)),
+             gpuio::readbackImage(context(), run.gi->indirect(gi::kSpecularSignal))},
             gpuio::readbackImage(context(), run.gi->composite())};
-  }
-
-  // A library image by name, once the frames recorded so far have run.
-  io::ImageF libraryImage(Run& run, const std::string& name) {
-    run.loop->finish();
-    for (const render::GiBridge::Named& named : run.gi->images())
-      if (named.name == name) return gpuio::readbackImage(context(), *named.image);
-    ADD_FAILURE() << "the library lists no image " << name;
-    return {};
   }
 
   // Refusals of bad inputs: after a frame of `run`, a frame is begun and
@@ -225,6 +224,23 @@ class GiEngineSignals : public testing::GpuTest {
       ADD_FAILURE() << "accepted: " << words;
     });
     run.loop->endFrame();
+  }
+
+  // What each pass of the frames recorded so far wrote right after it ran
+  // (frames that capture their stages: FrameInputs::captureStages); the
+  // denoiser's scratch images hold each signal in turn, so their copies
+  // are where one signal's is seen. Takes the captures: a second call
+  // returns the frames' since.
+  std::vector<gpu::CapturedStage> stageOutputs(Run& run) {
+    run.loop->finish();
+    return run.loop->takeCaptures();
+  }
+  static io::ImageF stageOutput(const std::vector<gpu::CapturedStage>& captures, const std::string& pass,
+                                const std::string& binding) {
+    for (auto it = captures.rbegin(); it != captures.rend(); ++it)
+      if (it->pass == pass && it->binding == binding) return gpuio::texelsToImage(it->image, it->texels.data());
+    ADD_FAILURE() << "no capture of " << pass << " " << binding;
+    return {};
   }
 
   // The passes of the frames recorded so far, once they have run.
@@ -549,10 +565,16 @@ TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnl
       for (int x = 0; x < noisy.width; ++x)
         for (int c = 0; c < 3; ++c) noisy.at(x, y, c) = run.truth.at(x, y, c) * (1.0f + 2.0f * float(x) / kWidth);
   };
-  frame(run, {true, true}, false, pattern);
+  frame(run, {true, true}, false, pattern, [](FrameInputs& inputs) { inputs.captureStages = true; });
   const std::vector<std::string> passes = passesRecorded(run);
   ASSERT_NE(std::find(passes.begin(), passes.end(), "gi.denoise.diffuse.pre_pass"), passes.end())
       << "checkerboard mode needs the pre-pass even at radius 0";
+  const std::vector<gpu::CapturedStage> captures = stageOutputs(run);
+  io::ImageF prePassOutputs[2];
+  for (int s = 0; s < 2; ++s)
+    prePassOutputs[s] =
+        stageOutput(captures, std::string("gi.denoise.") + (s == kDiffuse ? "diffuse" : "specular") + ".pre_pass",
+                    "gOut_PrePassed");
   const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
   const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
   const auto normalAt = [&](int x, int y) {
@@ -576,8 +598,7 @@ TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnl
   };
   for (int s = 0; s < 2; ++s) {
     SCOPED_TRACE(s == kDiffuse ? "diffuse" : "specular");
-    const io::ImageF prePassed =
-        libraryImage(run, std::string("gi.denoise.") + (s == kDiffuse ? "diffuse" : "specular") + ".pre_passed");
+    const io::ImageF& prePassed = prePassOutputs[s];
     ASSERT_EQ(prePassed.width, int(kWidth));
     const io::ImageF& given = run.lastNoisy[s];
     int kept = 0, keptWrong = 0, between = 0, betweenWrong = 0, oneSided = 0, oneSidedWrong = 0;
@@ -757,6 +778,131 @@ TEST_F(GiEngineSignals, AMovingEmittersLightDoesNotStayBehind) {
   EXPECT_GT(wentOut, 0.05) << "the emitter's light did not reach the denoised signal";
   EXPECT_LT(later, 0.12);
   EXPECT_LT(later, 0.6 * wentOut);
+}
+
+// A signal of the engine's own beyond the library's two (ContextDesc::
+// signals: here an ambient occlusion of kind diffuse, 0.3..1 by the
+// normal's height, with the fixture's noise) runs through the same
+// denoiser code as the library's: after 10 frames indirect(2) is that
+// signal denoised (a small part of its noise, the same mean), apart from
+// the library's signals given with it, under passes named after it. A frame
+// without it restarts only its own history. (A denoiser that took the
+// signal for another, or shared its history, misses its truth.)
+TEST_F(GiEngineSignals, AnEnginesOwnThirdSignalIsDenoisedByTheSameDenoiser) {
+  Run run = start(denoised(), {{"ambient_occlusion", SignalKind::Diffuse}});
+  constexpr SignalId kOcclusion = 2;
+  ASSERT_EQ(run.gi->library().signals().size(), 3u);
+  EXPECT_EQ(run.gi->library().signals()[kOcclusion].name, "ambient_occlusion");
+  gpu::Image occlusion(context(), gpu::ImageDesc{.name = "engine.noisy_occlusion",
+                                                 .width = kWidth,
+                                                 .height = kHeight,
+                                                 .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+                                                 .storage = false});
+  frame(run);  // the G-buffer the truth comes from
+  const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
+  io::ImageF truth(int(kWidth), int(kHeight), {"R", "G", "B"});
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x)
+      for (int c = 0; c < 3; ++c)
+        truth.at(x, y, c) = run.truth.at(x, y, 0) > 0.0f ? 0.3f + 0.7f * std::abs(normals.at(x, y, 1)) : 0.0f;
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  io::ImageF lastNoisy;
+  const auto occlusionFrame = [&](bool give) {
+    run.loop->finish();  // the upload replaces what the last frame read
+    io::ImageF noisy(int(kWidth), int(kHeight), {"R", "G", "B", "A"});
+    for (int y = 0; y < int(kHeight); ++y)
+      for (int x = 0; x < int(kWidth); ++x) {
+        const float weight = uniform(run.random) < kBrightShare ? 1.0f / kBrightShare : 0.0f;
+        for (int c = 0; c < 3; ++c) noisy.at(x, y, c) = truth.at(x, y, c) * weight;
+      }
+    gpuio::uploadImage(context(), occlusion, noisy);
+    lastNoisy = rgb(noisy);
+    run.extra.clear();
+    if (give) run.extra.push_back({kOcclusion, &occlusion});
+    frame(run);
+  };
+  for (int f = 0; f < 10; ++f) occlusionFrame(true);
+  const std::vector<std::string> passes = passesRecorded(run);
+  for (const char* pass :
+       {"gi.engine_signal.ambient_occlusion", "gi.denoise.ambient_occlusion.pre_pass",
+        "gi.denoise.ambient_occlusion.temporal_accumulation", "gi.denoise.ambient_occlusion.temporal_stabilization"})
+    EXPECT_NE(std::find(passes.begin(), passes.end(), pass), passes.end()) << pass << " did not run";
+  const io::ImageF denoisedOcclusion = gpuio::readbackImage(context(), run.gi->indirect(kOcclusion));
+  const double noisyError = relMse(truth, lastNoisy);
+  const double denoisedError = relMse(truth, rgb(denoisedOcclusion));
+  const double meanRatio = meanLuminance(rgb(denoisedOcclusion)) / meanLuminance(truth);
+  std::printf("ambient occlusion: relMSE %.4f noisy, %.4f denoised (%.4f of it); mean / truth %.3f\n", noisyError,
+              denoisedError, denoisedError / noisyError, meanRatio);
+  EXPECT_LT(denoisedError, 0.1 * noisyError);
+  EXPECT_NEAR(meanRatio, 1.0, 0.1);
+  // The library's diffuse signal, given alongside, is still its own.
+  const Output out = output(run);
+  EXPECT_LT(relMse(run.truth, rgb(out.signal[kDiffuse])), 0.1 * relMse(run.truth, run.lastNoisy[kDiffuse]));
+  EXPECT_GT(relMse(truth, rgb(out.signal[kDiffuse])), 10.0 * denoisedError) << "the two signals look alike";
+
+  // A frame without the signal, then one with it: its history starts over
+  // (history length 1 on every surface), the library's does not.
+  occlusionFrame(false);
+  occlusionFrame(true);
+  run.loop->finish();
+  const io::ImageF restarted = gpuio::readbackImage(context(), run.gi->indirect(kOcclusion));
+  const io::ImageF diffuse = gpuio::readbackImage(context(), run.gi->indirect(kDiffuseSignal));
+  double occlusionFrames = 0.0, diffuseFrames = 0.0, surfaces = 0.0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      if (run.truth.at(x, y, 0) <= 0.0f) continue;
+      occlusionFrames += restarted.at(x, y, 3);
+      diffuseFrames += diffuse.at(x, y, 3);
+      surfaces += 1.0;
+    }
+  EXPECT_NEAR(occlusionFrames / surfaces, 1.0, 0.01) << "its history did not restart";
+  EXPECT_GT(diffuseFrames / surfaces, 5.0) << "the library's history restarted with it";
+}
+
+// What an engine declares of its own signals is checked when the context is
+// made, and the frame's signals against them, each refusal naming the fault.
+TEST_F(GiEngineSignals, BadSignalDeclarationsAreRefusedWithTheirNames) {
+  const auto refusedContext = [&](const Settings& settings, std::vector<SignalDesc> signals, const std::string& words) {
+    try {
+      GiContext gi(render::giDevice(context()), ContextDesc{.maxWidth = 16, .maxHeight = 16, .signals = signals},
+                   settings);
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted: " << words;
+  };
+  refusedContext(denoised(), {{"Ambient Occlusion", SignalKind::Diffuse}},
+                 "ContextDesc::signals[0] ('Ambient Occlusion'): a signal's name is 1-32 of a-z, 0-9 and '_'");
+  refusedContext(denoised(), {{"", SignalKind::Diffuse}}, "ContextDesc::signals[0] (''): a signal's name");
+  refusedContext(denoised(), {{"specular", SignalKind::Specular}},
+                 "ContextDesc::signals[0] ('specular'): the name is taken by the library's own signal");
+  refusedContext(denoised(), {{"ao", SignalKind::Diffuse}, {"ao", SignalKind::Specular}},
+                 "ContextDesc::signals[1] ('ao'): the name is taken by an earlier signal");
+  refusedContext(denoised(), {{"ao", SignalKind(7)}}, "kind 7 is neither SignalKind::Diffuse nor Specular");
+  refusedContext(denoised(), std::vector<SignalDesc>(31, {"ao", SignalKind::Diffuse}),
+                 "declares 31 signals; at most 30 besides the library's diffuse and specular");
+  Settings off = denoised();
+  off.denoise.enabled = false;
+  refusedContext(off, {{"ao", SignalKind::Diffuse}}, "but the denoiser is off");
+
+  Run run = start(denoised(), {{"ao", SignalKind::Diffuse}});
+  EXPECT_THROW((void)run.gi->library().indirect(3), Error);
+  expectRefusals(run, [&](const FrameInputs& good, const Refused& refused) {
+    FrameInputs tooMany = good;
+    tooMany.noisy.resize(4);
+    refused(run.gi->library(), tooMany,
+            "frame input noisy has 4 entries; the context denoises 3 signals (diffuse, specular and the 1 of "
+            "ContextDesc::signals)");
+    FrameInputs twice = good;
+    twice.noisy = {render::imageRef(*run.noisy[kSpecular])};
+    refused(run.gi->library(), twice,
+            "frame inputs noisy[0] (diffuse) and noisyDiffuse are both given, as different images");
+    FrameInputs small = good;
+    small.noisy = {{}, {}, render::imageRef(run.renderer->baseColorMetallic())};
+    refused(run.gi->library(), small,
+            "frame input noisy[2] (ao) has the format VK_FORMAT_R8G8B8A8_UNORM; noisy[2] (ao) takes");
+  });
 }
 
 }  // namespace

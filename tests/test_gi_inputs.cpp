@@ -174,7 +174,7 @@ class GiInputs : public testing::GpuTest {
       render::GiBridge* bridges[] = {&first, &second};
       for (int i = 0; i < 2; ++i) {
         result.composites[i].push_back(crop(gpuio::readbackImage(context(), bridges[i]->composite())));
-        result.histories[i].push_back(crop(gpuio::readbackImage(context(), bridges[i]->indirectDiffuse())));
+        result.histories[i].push_back(crop(gpuio::readbackImage(context(), bridges[i]->indirect(gi::kDiffuseSignal))));
       }
     }
     return result;

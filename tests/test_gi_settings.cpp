@@ -109,6 +109,8 @@ std::vector<ExpectedField> expectedFields() {
       {"denoise.roughness_fraction", [](const Settings& s) { return double(s.denoise.roughnessFraction); }},
       {"denoise.stabilization_frames", [](const Settings& s) { return double(s.denoise.stabilizationFrames); }},
       {"denoise.disocclusion_threshold", [](const Settings& s) { return double(s.denoise.disocclusionThreshold); }},
+      {"denoise.normal_tolerance_degrees", [](const Settings& s) { return double(s.denoise.normalToleranceDegrees); }},
+      {"denoise.depth_tolerance", [](const Settings& s) { return double(s.denoise.depthTolerance); }},
       {"denoise.clamp_sigma", [](const Settings& s) { return double(s.denoise.clampSigma); }},
       {"denoise.anti_firefly", [](const Settings& s) { return double(s.denoise.antiFirefly); }},
       {"denoise.checkerboard", [](const Settings& s) { return double(s.denoise.checkerboard); }},
@@ -632,9 +634,15 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
   for (std::string line; std::getline(docs, line);)
     if (line.rfind("| `gi.", 0) == 0) rows.insert(line);
   std::string missing;
-  for (const std::span<const ImageSpec> table : {frameImageTable(), diffuseImageTable(), specularImageTable(),
-                                                 denoiseImageTable(), engineSignalImageTable(),
-                                                 std::span<const ImageSpec>(&DepthPyramid::spec(), 1)})
+  // The denoiser's and the engine signals' tables follow the signals: the
+  // library's two, as a context without ContextDesc::signals has them.
+  const DenoiseSignalDesc librarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
+  ImageTableBuilder denoiseTable, engineSignalTable;
+  addDenoiseImages(denoiseTable, librarySignals);
+  for (const DenoiseSignalDesc& signal : librarySignals) addEngineSignalImage(engineSignalTable, signal.name);
+  for (const std::span<const ImageSpec> table :
+       {frameImageTable(), diffuseImageTable(), specularImageTable(), denoiseTable.specs(), engineSignalTable.specs(),
+        std::span<const ImageSpec>(&DepthPyramid::spec(), 1)})
     for (const ImageSpec& spec : table) {
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
                               gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +

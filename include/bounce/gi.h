@@ -6,7 +6,7 @@
 //   bounce::gi::GiContext gi(device, {.maxWidth = 1920, .maxHeight = 1080});
 //   every frame, after the engine's G-buffer and direct light, in its command buffer:
 //     gi.record(commandBuffer, inputs);
-//     ... read gi.composite() (the frame, HDR) or gi.indirectDiffuse() ...
+//     ... read gi.composite() (the frame, HDR) or gi.indirect(bounce::gi::kDiffuseSignal) ...
 //
 // The passes it records (docs/passes.md has each one's inputs and outputs):
 //   gi.store_history                    this frame's depth and normals, for the next frame
@@ -27,7 +27,7 @@
 //   gi.specular.resolve                 full res: 1..8 reservoirs per pixel by roughness -> indirect specular
 //   gi.specular.temporal_filter         full res: surface and reflection (virtual) motion, blended
 //   gi.engine_signal.SIGNAL             full res, for a noisy signal the engine gives (FrameInputs::
-//                                       noisyDiffuse, noisySpecular): taken in, non-finite values dropped
+//                                       noisy): taken in, non-finite values dropped
 //   gi.denoise.*                        with Settings::denoise.enabled: the denoiser, per signal, in place
 //                                       of the branches' temporal filters (docs/gi.md, "The denoiser")
 //   gi.composite                        direct + albedo * indirect diffuse + specular reflectance *
@@ -171,6 +171,38 @@ struct Camera {
   float jitter[2] = {0.0f, 0.0f};  // the G-buffer's sample of pixel (i, j) lies at (i + 0.5, j + 0.5) + jitter
 };
 
+// --- The signals the denoiser denoises (docs/gi.md, "The denoiser").
+// Each signal is a noisy image of demodulated light with a hit distance
+// (FrameInputs::noisy says what it holds), denoised on its own history.
+// The library's two branches produce the first two; an engine may declare
+// more of its own (ContextDesc::signals: its ambient occlusion, a second
+// diffuse layer, ...), which the library denoises and leaves for the engine
+// to read (GiContext::indirect), without compositing them.
+enum class SignalKind : std::uint32_t {
+  // Light through a wide lobe (a Lambert lobe, occlusion): blurred across
+  // the surface's plane within a cone of normals, reprojected with the
+  // surface.
+  Diffuse = 0,
+  // Light through a GGX lobe: blurred within the lobe by roughness and by
+  // how far the light came from (a contact reflection stays sharp), and
+  // reprojected with the reflection as well (virtual motion).
+  Specular = 1,
+};
+// A signal's index: kDiffuseSignal, kSpecularSignal, then the engine's
+// ContextDesc::signals in order (2, 3, ...).
+using SignalId = std::uint32_t;
+constexpr SignalId kDiffuseSignal = 0;   // the diffuse branch's signal (or the engine's in its place)
+constexpr SignalId kSpecularSignal = 1;  // the specular branch's
+// At most this many signals in all (the library's two included).
+constexpr std::size_t kMaxSignals = 32;
+
+// A signal an engine declares: its name (1-32 of a-z, 0-9 and '_', not
+// "diffuse" or "specular"; its passes are gi.denoise.NAME.*) and its kind.
+struct SignalDesc {
+  std::string name;
+  SignalKind kind = SignalKind::Diffuse;
+};
+
 // What the engine hands the library each frame. The frame covers the
 // rectangle [0, width) x [0, height) of every image (images may be larger:
 // the render size can change from frame to frame up to the context's
@@ -189,8 +221,8 @@ struct Camera {
 //   emissive           optional (image VK_NULL_HANDLE: `direct` holds the emission), as `direct`
 //   environment        R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT equirect with a prefiltered mip
 //                      chain (mip k = GGX roughness k / (levels - 1)): EnvironmentPrefilter makes one
-//   noisyDiffuse,      optional, R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT: a noisy signal of the
-//   noisySpecular      engine's own for the library's denoiser (below)
+//   noisy[id]          optional, R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT: a noisy signal of the
+//                      engine's own for the library's denoiser (below)
 //   materialId         optional, R8_UINT, R16_UINT or R32_UINT: a material id per pixel, of which
 //                      the low 8 bits count (below)
 // A NaN or infinite value in any input is treated as invalid (no surface,
@@ -225,21 +257,32 @@ struct FrameInputs {
   std::vector<SceneResource> sceneResources;
 
   // --- The denoiser on the engine's own signals (docs/gi.md, "Denoising an
-  // engine's own signals"). An engine that has a noisy indirect diffuse or
-  // specular signal of its own (its path tracer's, its ray-traced
-  // reflections at one sample a pixel, ...) hands it over here, and the
-  // library denoises it in place of the branch that makes that signal: the
-  // branch records none of its passes this frame, and indirectDiffuse() /
-  // indirectSpecular() and composite() hold the engine's signal, denoised
-  // (and remodulated by the composite). Each is optional (image
-  // VK_NULL_HANDLE: the library's branch makes the signal, when enabled).
-  // Needs Settings::denoise.enabled (record() throws Error otherwise).
+  // engine's own signals"), by SignalId: noisy[id] (entries past the end,
+  // or with image VK_NULL_HANDLE, are not given). Needs
+  // Settings::denoise.enabled (record() throws Error otherwise).
+  //   noisy[kDiffuseSignal], noisy[kSpecularSignal]: an engine that has a
+  //        noisy indirect diffuse or specular signal of its own (its path
+  //        tracer's, its ray-traced reflections at one sample a pixel, ...)
+  //        hands it over here, and the library denoises it in place of the
+  //        branch that makes that signal: the branch records none of its
+  //        passes this frame, and indirect(id) and composite() hold the
+  //        engine's signal, denoised (and remodulated by the composite).
+  //        Starting or stopping to give one of these restarts every history
+  //        for that frame, as a camera cut does. When every enabled
+  //        branch's signal comes from the engine, no branch runs and
+  //        `environment` (and its sampler) may be left out.
+  //   noisy[2...]: the signals of ContextDesc::signals, denoised into
+  //        indirect(id) on the frames they are given (a frame without one
+  //        leaves its result as it was; the next frame that gives it starts
+  //        its history over). The composite does not read them.
+  // Each image holds (R16G16B16A16_SFLOAT or R32G32B32A32_SFLOAT):
   //   rgb  demodulated radiance, linear HDR, as the library's own:
-  //        noisyDiffuse the light arriving through a white Lambert lobe
-  //        (the composite multiplies it by base colour (1 - metallic));
-  //        noisySpecular the GGX lobe's reflected light divided by
+  //        diffuse the light arriving through a white Lambert lobe (the
+  //        composite multiplies it by base colour (1 - metallic));
+  //        specular the GGX lobe's reflected light divided by
   //        specularReflectance(F0, n.v, roughness) of shaders/shared/brdf.glsl
-  //        (the composite multiplies it back)
+  //        (the composite multiplies it back); an engine's own signal
+  //        whatever it denoises (occlusion in all three channels, ...)
   //   a    the distance in world units from the surface to where the light
   //        came from (the first hit of the ray or path; averaged over a
   //        pixel's samples), 0 where unknown; a ray that escaped to the
@@ -248,15 +291,18 @@ struct FrameInputs {
   // Checkerboard mode (Settings::denoise.checkerboard, REBLUR's): an
   // engine that traces every other pixel hands each signal packed to
   // ceil(width / 2) x height, pixel (x, y) of the frame at (x / 2, y), for
-  // the pixels where x + y + frameIndex is odd in noisyDiffuse and even in
-  // noisySpecular (shaders/shared/checkerboard.glsl; the two together
-  // cover every pixel of a frame). The denoiser fills the other pixels from
-  // their neighbours on the same surface. The branches' signals stay full.
+  // the pixels where x + y + frameIndex is odd in signals of kind Diffuse
+  // and even in signals of kind Specular (shaders/shared/checkerboard.glsl;
+  // a diffuse and a specular signal together cover every pixel of a
+  // frame). The denoiser fills the other pixels from their neighbours on
+  // the same surface. The branches' signals stay full.
   // NaN and infinite radiance counts as no light, a non-finite or negative
-  // distance as unknown. Starting or stopping to give a signal restarts
-  // every history for that frame, as a camera cut does. When every enabled
-  // branch's signal comes from the engine, no branch runs and `environment`
-  // (and its sampler) may be left out.
+  // distance as unknown.
+  std::vector<ImageRef> noisy;
+  // The names of noisy[kDiffuseSignal] and noisy[kSpecularSignal] before
+  // signals went by id, kept for one release (deprecated): each is read as
+  // that entry of `noisy`. Give a signal in one place only (the same image
+  // in both is taken; two different ones are refused).
   ImageRef noisyDiffuse;
   ImageRef noisySpecular;
 };
@@ -281,6 +327,11 @@ struct ContextDesc {
   bool timestamps = true;  // time every pass (collect() returns the times)
   InputState inputState = InputState::Restore;
   SceneBridge sceneBridge;  // "none": screen space only
+  // The engine's own signals for the denoiser, beyond the library's two:
+  // SignalId 2, 3, ... in this order (FrameInputs::noisy, indirect()).
+  // Needs Settings::denoise.enabled; each adds its histories to the
+  // denoiser's memory (estimateMemoryBytes counts them).
+  std::vector<SignalDesc> signals;
 };
 
 // How an image of the library is best looked at (bounce --dump-stages uses it).
@@ -395,20 +446,25 @@ class GiContext {
   // for a frame index never recorded.
   FrameResults collect(std::uint64_t completedFrameIndex);
 
-  // Indirect diffuse after the temporal filter, demodulated (light arriving
-  // through a white Lambert lobe; multiply by base colour (1 - metallic));
-  // RGBA32F (it is the filter's history: half floats lose a little of every
-  // frame's increment, measured 5 % over 64 frames), alpha the history length
-  // in frames. With the denoiser on, its result; with FrameInputs::
-  // noisyDiffuse given, the engine's signal denoised. See LibraryImage for
-  // its state.
+  // A signal after the temporal filter, demodulated; RGBA32F (it is the
+  // filter's history: half floats lose a little of every frame's increment,
+  // measured 5 % over 64 frames), alpha the history length in frames. With
+  // the denoiser on, its result; with FrameInputs::noisy[id] given, the
+  // engine's signal denoised. See LibraryImage for its state.
+  //   kDiffuseSignal   indirect diffuse: light arriving through a white
+  //                    Lambert lobe; multiply by base colour (1 - metallic)
+  //   kSpecularSignal  indirect specular: divided by shaders/shared/brdf.glsl's
+  //                    specularReflectance(F0, n.v, roughness); multiply by it
+  //   2, 3, ...        ContextDesc::signals, denoised (as of the last frame
+  //                    that gave them; zero before the first)
+  // Throws Error for an id the context does not have.
+  ImageRef indirect(SignalId signal) const;
+  // Every signal the context denoises, by SignalId: "diffuse" and
+  // "specular" (their kinds), then ContextDesc::signals.
+  std::vector<SignalDesc> signals() const;
+  // indirect(kDiffuseSignal) and indirect(kSpecularSignal) by their names
+  // before signals went by id, kept for one release (deprecated).
   ImageRef indirectDiffuse() const;
-  // Indirect specular after the temporal filter, demodulated (divided by
-  // the specular reflectance of shaders/shared/brdf.glsl's
-  // specularReflectance(F0, n.v, roughness); multiply by it), RGBA32F, alpha
-  // the history length in frames. With the denoiser on, its result; with
-  // FrameInputs::noisySpecular given, the engine's signal denoised. See
-  // LibraryImage for its state.
   ImageRef indirectSpecular() const;
   // The composited frame: linear HDR, RGBA16F.
   ImageRef composite() const;

@@ -184,13 +184,18 @@ struct DenoiseSettings {
   float roughnessFraction = 0.15f;          // the roughness weight's reach in fractions of the roughness
   std::uint32_t stabilizationFrames = 8;    // temporal stabilisation's longest history (0: off)
   float disocclusionThreshold = 0.01f;      // last frame's depth may differ by this fraction of the frustum (REBLUR's)
+  // Temporal passes: a reprojected normal may turn this far; a reprojected
+  // depth (stabilisation's, the reflection's virtual history) may differ by
+  // this fraction of viewZ.
+  float normalToleranceDegrees = 25.0f;
+  float depthTolerance = 0.05f;
   float clampSigma = 1.5f;                  // history clamping to the fast history and the neighbourhood, in sigmas
   bool antiFirefly = true;                  // history fix brings outliers down to their neighbours' mean + 2 sigma
-  // The engine's noisy signals (FrameInputs::noisyDiffuse, noisySpecular)
-  // are checkerboarded, REBLUR's checkerboard mode: each holds every other
-  // pixel of a row, packed to ceil(width / 2) x height, pixel (x, y) at
-  // (x / 2, y) where (x + y + frameIndex) is odd for diffuse, even for
-  // specular (shaders/shared/checkerboard.glsl); the pre-pass fills the
+  // The engine's noisy signals (FrameInputs::noisy) are checkerboarded,
+  // REBLUR's checkerboard mode: each holds every other pixel of a row,
+  // packed to ceil(width / 2) x height, pixel (x, y) at (x / 2, y) where
+  // (x + y + frameIndex) is odd for signals of kind Diffuse, even for
+  // Specular (shaders/shared/checkerboard.glsl); the pre-pass fills the
   // rest. The branches' own signals are full resolution whatever it says.
   bool checkerboard = false;
 };

@@ -2,7 +2,7 @@
 // camera path is path-traced at a few samples per pixel a frame (1 by
 // default, a new seed each frame); each frame's noisy indirect diffuse and
 // specular (demodulated, first-hit distance in alpha) go to the library as
-// an engine's own signals (FrameInputs::noisyDiffuse, noisySpecular), and
+// an engine's own signals (FrameInputs::noisy), and
 // the denoised result is measured against a converged reference of the
 // last frame's view. Nothing of the library's ReSTIR branches runs: this is
 // the test that the denoiser is a general one (issue 14: the 1-spp
@@ -268,8 +268,7 @@ int runDenoise(const DenoiseOptions& options) {
         packer->record(recorder, signal, *given[signal], made.inputs.frameIndex);
         given[signal] = &packer->packed(signal);
       }
-    made.inputs.noisyDiffuse = render::imageRef(*given[0]);
-    made.inputs.noisySpecular = render::imageRef(*given[1]);
+    made.inputs.noisy = {render::imageRef(*given[gi::kDiffuseSignal]), render::imageRef(*given[gi::kSpecularSignal])};
     made.images.push_back(given[0]);
     made.images.push_back(given[1]);
     gi.record(recorder, made.inputs, made.images);
@@ -282,7 +281,7 @@ int runDenoise(const DenoiseOptions& options) {
       loop.finish();
       noisy = {rgbOf(*context, pathTracer.indirectDiffuseImage()), rgbOf(*context, pathTracer.indirectSpecularImage()),
                rgbOf(*context, pathTracer.radianceImage())};
-      denoised = {rgbOf(*context, gi.indirectDiffuse()), rgbOf(*context, gi.indirectSpecular()),
+      denoised = {rgbOf(*context, gi.indirect(gi::kDiffuseSignal)), rgbOf(*context, gi.indirect(gi::kSpecularSignal)),
                   rgbOf(*context, gi.composite())};
       Measured m{frame, {}};
       for (int part = 0; part < kPartCount; ++part)

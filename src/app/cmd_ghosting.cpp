@@ -783,9 +783,10 @@ int runGhosting(const GhostingOptions& options) {
 
     const bool settledNow = settles && frame == settledFrame;
     if ((frame >= firstEvent && frame <= lastMeasured) || settledNow) {
-      const std::array<io::ImageF, kPartCount> made = {gpuio::readbackImage(*context, gi.composite()),
-                                                       gpuio::readbackImage(*context, gi.indirectDiffuse()),
-                                                       gpuio::readbackImage(*context, gi.indirectSpecular())};
+      const std::array<io::ImageF, kPartCount> made = {
+          gpuio::readbackImage(*context, gi.composite()),
+          gpuio::readbackImage(*context, gi.indirect(gi::kDiffuseSignal)),
+          gpuio::readbackImage(*context, gi.indirect(gi::kSpecularSignal))};
       // This frame's reference, traced from the same G-buffer.
       if (!pathTracer) {
         pathTracer = std::make_unique<render::ReferenceRenderer>(*context, renderer, scene, index, time, tracing);

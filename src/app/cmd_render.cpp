@@ -218,9 +218,9 @@ int runRender(const RenderOptions& options) {
         io::writeExr(framesDir / (std::string(name) + ".exr"), image);
         if (gi) {
           io::writeExr(framesDir / (std::string(name) + ".indirect-diffuse.exr"),
-                       gpuio::readbackImage(*context, giBridge->indirectDiffuse()));
+                       gpuio::readbackImage(*context, giBridge->indirect(gi::kDiffuseSignal)));
           io::writeExr(framesDir / (std::string(name) + ".indirect-specular.exr"),
-                       gpuio::readbackImage(*context, giBridge->indirectSpecular()));
+                       gpuio::readbackImage(*context, giBridge->indirect(gi::kSpecularSignal)));
         }
       }
     }
@@ -250,8 +250,8 @@ int runRender(const RenderOptions& options) {
   if (!options.aovs.empty()) {
     std::vector<render::Aov> giAovs;
     if (gi) {
-      giAovs.push_back({"indirect-diffuse", &giBridge->indirectDiffuse()});
-      giAovs.push_back({"indirect-specular", &giBridge->indirectSpecular()});
+      giAovs.push_back({"indirect-diffuse", &giBridge->indirect(gi::kDiffuseSignal)});
+      giAovs.push_back({"indirect-specular", &giBridge->indirect(gi::kSpecularSignal)});
     }
     folder.wrote(writeAovs(*context, renderer, options.aovs, outDir / "aov", options.exposure, giAovs));
   }

@@ -36,6 +36,9 @@ struct FrameState {
   // a branch that traces it is on (GiContext::Impl::needsDepthPyramid).
   const DepthPyramid& depthPyramid;
   bool capturing;                 // this frame's stages are captured: debug passes run too
+  // The denoiser takes the branches' resolved signals (resolved()): they
+  // record no temporal filter of their own.
+  bool denoised;
 };
 
 class Branch {

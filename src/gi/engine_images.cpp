@@ -13,8 +13,7 @@ struct InputFamily {
   const char* name;  // as in FrameInputs: "viewZ"
   std::span<const VkFormat> formats;
   bool optional;     // may be absent (image VK_NULL_HANDLE)
-  bool renderSized;  // must cover the render size (the environment need not; GiContext checks the noisy
-                     // signals, whose size gi.denoise.checkerboard halves)
+  bool renderSized;  // must cover the render size (the environment need not)
 };
 
 constexpr VkFormat kViewZ[] = {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16_SFLOAT};
@@ -35,8 +34,6 @@ constexpr InputFamily kFamilies[] = {
     {Input::Direct, "direct", kRadiance, false, true},
     {Input::Emissive, "emissive", kRadiance, true, true},
     {Input::Environment, "environment", kEnvironment, false, false},
-    {Input::NoisyDiffuse, "noisyDiffuse", kRadiance, true, false},
-    {Input::NoisySpecular, "noisySpecular", kRadiance, true, false},
     {Input::MaterialId, "materialId", kMaterialId, true, true},
 };
 
@@ -54,10 +51,6 @@ const ImageRef& refOf(const FrameInputs& frame, Input input) {
       return frame.direct;
     case Input::Emissive:
       return frame.emissive;
-    case Input::NoisyDiffuse:
-      return frame.noisyDiffuse;
-    case Input::NoisySpecular:
-      return frame.noisySpecular;
     case Input::MaterialId:
       return frame.materialId;
     case Input::Environment:
@@ -115,26 +108,40 @@ std::string formatList(std::span<const VkFormat> formats) {
   return list;
 }
 
-void EngineImages::take(const FrameInputs& frame, InputState state, bool needsEnvironment) {
+void EngineImages::take(const FrameInputs& frame, std::span<const Noisy> noisy, InputState state,
+                        bool needsEnvironment) {
+  // Every input as one list of slots: the Inputs, then the noisy signals
+  // (GiContext checks their size, which checkerboard mode halves).
+  struct Slot {
+    std::string name;
+    const ImageRef* ref;
+    std::span<const VkFormat> formats;
+    bool optional, renderSized, environment;
+  };
+  std::vector<Slot> slots;
+  for (const InputFamily& family : kFamilies)
+    slots.push_back({family.name, &refOf(frame, family.input), family.formats, family.optional, family.renderSized,
+                     family.input == Input::Environment});
+  for (const Noisy& signal : noisy) slots.push_back({signal.name, &signal.ref, kRadiance, true, false, false});
+
   // Every check first: a throw leaves nothing half-taken.
-  for (const InputFamily& family : kFamilies) {
-    const ImageRef& ref = refOf(frame, family.input);
-    const std::string input = std::string("gi: frame input ") + family.name;
-    const bool environment = family.input == Input::Environment;
-    if (ref.image == VK_NULL_HANDLE && (family.optional || (environment && !needsEnvironment))) continue;
+  for (const Slot& slot : slots) {
+    const ImageRef& ref = *slot.ref;
+    const std::string input = "gi: frame input " + slot.name;
+    if (ref.image == VK_NULL_HANDLE && (slot.optional || (slot.environment && !needsEnvironment))) continue;
     if (ref.image == VK_NULL_HANDLE || ref.view == VK_NULL_HANDLE)
       throw Error(input + " is missing (its " + (ref.image == VK_NULL_HANDLE ? "image" : "view") +
                   " is VK_NULL_HANDLE)" +
-                  (environment ? "; the branches read it (only a frame whose every enabled signal comes from the "
-                                 "engine, noisyDiffuse or noisySpecular, may leave it out)"
-                               : ""));
-    if (std::find(family.formats.begin(), family.formats.end(), ref.format) == family.formats.end())
-      throw Error(input + " has the format " + gpu::formatName(ref.format) + "; " + family.name + " takes " +
-                  formatList(family.formats));
+                  (slot.environment ? "; the branches read it (only a frame whose every enabled signal comes from "
+                                      "the engine, FrameInputs::noisy, may leave it out)"
+                                    : ""));
+    if (std::find(slot.formats.begin(), slot.formats.end(), ref.format) == slot.formats.end())
+      throw Error(input + " has the format " + gpu::formatName(ref.format) + "; " + slot.name + " takes " +
+                  formatList(slot.formats));
     if (ref.width == 0 || ref.height == 0 || ref.mipLevels == 0)
       throw Error(input + " is " + size(ref.width, ref.height) + " with " + std::to_string(ref.mipLevels) +
                   " mip levels; give its real size");
-    if (family.renderSized && (ref.width < frame.width || ref.height < frame.height))
+    if (slot.renderSized && (ref.width < frame.width || ref.height < frame.height))
       throw Error(input + " is " + size(ref.width, ref.height) + ", smaller than the render size " +
                   size(frame.width, frame.height));
     if (ref.layout == VK_IMAGE_LAYOUT_UNDEFINED || ref.layout == VK_IMAGE_LAYOUT_PREINITIALIZED)
@@ -143,37 +150,36 @@ void EngineImages::take(const FrameInputs& frame, InputState state, bool needsEn
   }
   if (frame.environmentSampler == VK_NULL_HANDLE && (needsEnvironment || frame.environment.image != VK_NULL_HANDLE))
     throw Error("gi: frame input environmentSampler is missing (EnvironmentPrefilter::sampler() is one)");
-  for (const InputFamily& a : kFamilies)
-    for (const InputFamily& b : kFamilies) {
-      if (&b >= &a) break;
-      const ImageRef& ra = refOf(frame, a.input);
-      const ImageRef& rb = refOf(frame, b.input);
+  for (std::size_t a = 0; a < slots.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b) {
+      const ImageRef& ra = *slots[a].ref;
+      const ImageRef& rb = *slots[b].ref;
       if (ra.image == VK_NULL_HANDLE || ra.image != rb.image) continue;
       if (ra.view != rb.view || ra.layout != rb.layout || ra.stage != rb.stage || ra.access != rb.access)
-        throw Error(std::string("gi: frame inputs ") + b.name + " and " + a.name +
+        throw Error("gi: frame inputs " + slots[b].name + " and " + slots[a].name +
                     " are the same VkImage but differ in view, layout, stage or access; one image is in one state");
     }
 
   state_ = state;
-  for (const InputFamily& family : kFamilies) {
-    const std::size_t slot = std::size_t(family.input);
-    const ImageRef& ref = refOf(frame, family.input);
-    given_[slot] = ref;
-    owned_[slot].reset();
-    wrapped_[slot] = nullptr;
+  given_.assign(slots.size(), ImageRef{});
+  owned_.clear();
+  owned_.resize(slots.size());
+  wrapped_.assign(slots.size(), nullptr);
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    const ImageRef& ref = *slots[i].ref;
+    given_[i] = ref;
     if (ref.image == VK_NULL_HANDLE) continue;
-    const auto same = std::find_if(kFamilies, &family, [&](const InputFamily& earlier) {
-      return refOf(frame, earlier.input).image == ref.image;
-    });
-    if (same != &family) {
-      wrapped_[slot] = wrapped_[std::size_t(same->input)];
+    const auto same = std::find_if(slots.begin(), slots.begin() + std::ptrdiff_t(i),
+                                   [&](const Slot& earlier) { return earlier.ref->image == ref.image; });
+    if (same != slots.begin() + std::ptrdiff_t(i)) {
+      wrapped_[i] = wrapped_[std::size_t(same - slots.begin())];
       continue;
     }
-    owned_[slot] = std::make_unique<gpu::Image>(context_, engineImage(ref, std::string("engine.") + family.name));
-    owned_[slot]->setSampledLayout(state == InputState::LeaveGeneral ? VK_IMAGE_LAYOUT_GENERAL
-                                   : sampleableInPlace(ref.layout)   ? ref.layout
-                                                                     : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-    wrapped_[slot] = owned_[slot].get();
+    owned_[i] = std::make_unique<gpu::Image>(context_, engineImage(ref, "engine." + slots[i].name));
+    owned_[i]->setSampledLayout(state == InputState::LeaveGeneral ? VK_IMAGE_LAYOUT_GENERAL
+                                : sampleableInPlace(ref.layout)   ? ref.layout
+                                                                  : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    wrapped_[i] = owned_[i].get();
   }
 }
 

@@ -13,6 +13,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "bounce/gi.h"
 #include "gpu/context.h"
@@ -29,9 +30,7 @@ enum class Input : std::size_t {
   Direct,
   Emissive,
   Environment,
-  NoisyDiffuse,   // the engine's own signals for the denoiser (optional)
-  NoisySpecular,
-  MaterialId,     // optional
+  MaterialId,  // optional
   Count
 };
 
@@ -48,15 +47,30 @@ ImageRef libraryRef(const gpu::Image& image);
 
 class EngineImages {
  public:
-  explicit EngineImages(gpu::Context& context) : context_(context) {}
+  explicit EngineImages(gpu::Context& context) : context_(context), wrapped_(std::size_t(Input::Count), nullptr) {}
 
-  // Checks every input of `frame` (throws Error naming the first bad one)
-  // and wraps them, reading in place when the layout allows (LeaveGeneral:
-  // in GENERAL). `needsEnvironment`: a branch runs this frame, so the
-  // environment and its sampler must be given (else they are optional).
-  void take(const FrameInputs& frame, InputState state, bool needsEnvironment);
+  // An engine's noisy signal for the denoiser (FrameInputs::noisy), by the
+  // name errors give it ("noisy[2] (ao)", or "noisyDiffuse" where the
+  // engine used the older field). Its size GiContext checks (checkerboard
+  // mode halves its width).
+  struct Noisy {
+    std::string name;
+    ImageRef ref;  // image VK_NULL_HANDLE: not given
+  };
+
+  // Checks every input of `frame` and the noisy signals, one per signal
+  // (throws Error naming the first bad one), and wraps them, reading in
+  // place when the layout allows (LeaveGeneral: in GENERAL).
+  // `needsEnvironment`: a branch runs this frame, so the environment and
+  // its sampler must be given (else they are optional).
+  void take(const FrameInputs& frame, std::span<const Noisy> noisy, InputState state, bool needsEnvironment);
   bool has(Input input) const { return wrapped_[std::size_t(input)] != nullptr; }
   gpu::Image& operator[](Input input) { return *wrapped_[std::size_t(input)]; }
+  // Signal `signal`'s noisy image this frame; null when not given.
+  gpu::Image* noisy(std::size_t signal) const {
+    const std::size_t slot = std::size_t(Input::Count) + signal;
+    return slot < wrapped_.size() ? wrapped_[slot] : nullptr;
+  }
 
   // Records what hands the inputs back after the library's last read of
   // them (Restore: their layouts and the stage and access the engine gave;
@@ -66,9 +80,10 @@ class EngineImages {
  private:
   gpu::Context& context_;
   InputState state_ = InputState::Restore;
-  std::array<ImageRef, std::size_t(Input::Count)> given_{};
-  std::array<std::unique_ptr<gpu::Image>, std::size_t(Input::Count)> owned_;
-  std::array<gpu::Image*, std::size_t(Input::Count)> wrapped_{};  // shared when two inputs are one image
+  // By slot: the Inputs, then the noisy signals.
+  std::vector<ImageRef> given_;
+  std::vector<std::unique_ptr<gpu::Image>> owned_;
+  std::vector<gpu::Image*> wrapped_;  // shared when two inputs are one image
 };
 
 }  // namespace bounce::gi

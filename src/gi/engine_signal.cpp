@@ -1,5 +1,5 @@
 // gi.engine_signal.SIGNAL: how an engine's own noisy signal reaches the
-// denoiser (FrameInputs::noisyDiffuse, noisySpecular). The denoiser reads
+// denoiser (FrameInputs::noisy). The denoiser reads
 // its input as a storage image in rgba16f, the format of the branches'
 // resolved signals; an engine's image is sampled only and may be rgba32f,
 // so one full-resolution pass copies it into an image of the library's,
@@ -13,18 +13,12 @@
 #include "gpu/format.h"
 
 namespace bounce::gi {
-namespace {
-
-constexpr ImageSpec kEngineSignalImages[] = {
-    {"gi.engine_signal.diffuse", Resolution::Full, gpu::formats::kRgba16f, false, gpu::Visualize::Radiance,
-     "the engine's noisy indirect diffuse as the denoiser reads it: demodulated radiance, hit distance (-1: no sample, checkerboard mode)"},
-    {"gi.engine_signal.specular", Resolution::Full, gpu::formats::kRgba16f, false, gpu::Visualize::Radiance,
-     "the engine's noisy indirect specular as the denoiser reads it: demodulated radiance, hit distance (-1: no sample, checkerboard mode)"},
-};
-
-}  // namespace
-
-std::span<const ImageSpec> engineSignalImageTable() { return kEngineSignalImages; }
+void addEngineSignalImage(ImageTableBuilder& table, const std::string& signal) {
+  table.add("gi.engine_signal." + signal,
+            {"", Resolution::Full, gpu::formats::kRgba16f, false, gpu::Visualize::Radiance,
+             "the engine's noisy signal as the denoiser reads it: demodulated radiance, hit distance (-1: no "
+             "sample, checkerboard mode)"});
+}
 
 gpu::PassDesc engineSignalPass(const std::string& signal) {
   gpu::PassDesc desc = framePass(

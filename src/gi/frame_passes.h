@@ -22,8 +22,8 @@ gpu::PassDesc compositePass();
 enum FrameImage : std::size_t { kHistorySurface, kMarchDepth, kComposite, kFrameImageCount };
 std::span<const ImageSpec> frameImageTable();
 
-// `signal` ("diffuse", "specular"): gi.engine_signal.SIGNAL, the engine's
-// noisy signal (FrameInputs::noisyDiffuse, noisySpecular) into the
+// `signal` ("diffuse", "specular", an engine's): gi.engine_signal.SIGNAL,
+// the engine's noisy signal (FrameInputs::noisy) into the
 // library's rgba16f image of it, non-finite values dropped; in
 // checkerboard mode unpacked to full width, the pixels without a sample
 // marked (shaders/gi/engine_signal.comp).
@@ -31,10 +31,11 @@ gpu::PassDesc engineSignalPass(const std::string& signal);
 // Its push constants.
 struct EngineSignalParams {
   std::uint32_t checkerboard;  // 1: gi.denoise.checkerboard, the engine's image is packed to half width
-  std::uint32_t dataParity;    // shared::kCheckerboardDiffuseParity or kCheckerboardSpecularParity
+  std::uint32_t dataParity;    // shared::kCheckerboardDiffuseParity or kCheckerboardSpecularParity (by kind)
 };
-// The images the engine's signals are taken into, one per signal (diffuse
-// first, as DenoiseSignal counts them); made on the first frame that gives one.
-std::span<const ImageSpec> engineSignalImageTable();
+// The image signal `signal`'s engine signal is taken into
+// (gi.engine_signal.SIGNAL); made for every signal on the first frame that
+// gives one.
+void addEngineSignalImage(ImageTableBuilder& table, const std::string& signal);
 
 }  // namespace bounce::gi

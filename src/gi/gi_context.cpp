@@ -47,22 +47,82 @@ constexpr ImageSpec kFrameImages[] = {
 };
 static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per FrameImage");
 
-// Names of the signals as passes and images spell them, in DenoiseSignal order.
-constexpr std::array<const char*, kDenoiseSignals> kSignalNames = {"diffuse", "specular"};
-constexpr std::array<const char*, kDenoiseSignals> kNoisyInputNames = {"noisyDiffuse", "noisySpecular"};
-constexpr std::array<Input, kDenoiseSignals> kNoisyInputs = {Input::NoisyDiffuse, Input::NoisySpecular};
-// Which pixels of a checkerboarded signal hold samples (gi.denoise.checkerboard).
-constexpr std::array<std::uint32_t, kDenoiseSignals> kCheckerboardParities = {
-    shared::kCheckerboardDiffuseParity, shared::kCheckerboardSpecularParity};
-
-// Which of the signals the engine gives this frame (FrameInputs::noisyDiffuse, noisySpecular).
-using SignalFlags = std::array<bool, kDenoiseSignals>;
-SignalFlags engineSignalsOf(const FrameInputs& frame) {
-  return {frame.noisyDiffuse.image != VK_NULL_HANDLE, frame.noisySpecular.image != VK_NULL_HANDLE};
+// The library's own signals, SignalId kDiffuseSignal and kSpecularSignal:
+// what its branches make (or an engine gives in their place).
+const DenoiseSignalDesc kLibrarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
+constexpr std::size_t kLibrarySignalCount = std::size(kLibrarySignals);
+// Which pixels of a checkerboarded signal of each kind hold samples (gi.denoise.checkerboard).
+std::uint32_t checkerboardParityOf(SignalKind kind) {
+  return kind == SignalKind::Specular ? shared::kCheckerboardSpecularParity : shared::kCheckerboardDiffuseParity;
 }
 
-const ImageRef& noisyInputOf(const FrameInputs& frame, std::size_t signal) {
-  return signal == 0 ? frame.noisyDiffuse : frame.noisySpecular;
+// Every signal of a context: the library's two, then the engine's (ContextDesc::signals).
+std::vector<DenoiseSignalDesc> signalsOf(const ContextDesc& desc) {
+  std::vector<DenoiseSignalDesc> all(std::begin(kLibrarySignals), std::end(kLibrarySignals));
+  for (const SignalDesc& signal : desc.signals) all.push_back({signal.name, signal.kind});
+  return all;
+}
+
+// ContextDesc::signals as the denoiser can take them: names that make pass
+// names (and clash with no other), known kinds, not too many.
+void checkSignals(const ContextDesc& desc, const Settings& settings) {
+  if (desc.signals.empty()) return;
+  if (!settings.denoise.enabled)
+    throw Error("gi: ContextDesc::signals declares " + std::to_string(desc.signals.size()) +
+                " signal(s) of the engine's, but the denoiser is off (Settings::denoise.enabled, "
+                "gi.denoise.enabled): the library takes an engine's signal only to denoise it");
+  if (kLibrarySignalCount + desc.signals.size() > kMaxSignals)
+    throw Error("gi: ContextDesc::signals declares " + std::to_string(desc.signals.size()) + " signals; at most " +
+                std::to_string(kMaxSignals - kLibrarySignalCount) + " besides the library's diffuse and specular");
+  std::vector<std::string> seen = {"diffuse", "specular"};
+  for (std::size_t i = 0; i < desc.signals.size(); ++i) {
+    const SignalDesc& signal = desc.signals[i];
+    const std::string where = "gi: ContextDesc::signals[" + std::to_string(i) + "] ('" + signal.name + "')";
+    const bool wellFormed = !signal.name.empty() && signal.name.size() <= 32 &&
+                            std::all_of(signal.name.begin(), signal.name.end(), [](char c) {
+                              return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+                            });
+    if (!wellFormed)
+      throw Error(where + ": a signal's name is 1-32 of a-z, 0-9 and '_' (its passes are gi.denoise.NAME.*)");
+    if (std::find(seen.begin(), seen.end(), signal.name) != seen.end())
+      throw Error(
+          where + ": the name is taken by " +
+          (signal.name == "diffuse" || signal.name == "specular" ? "the library's own signal" : "an earlier signal"));
+    if (signal.kind != SignalKind::Diffuse && signal.kind != SignalKind::Specular)
+      throw Error(where + ": kind " + std::to_string(std::uint32_t(signal.kind)) +
+                  " is neither SignalKind::Diffuse nor Specular");
+    seen.push_back(signal.name);
+  }
+}
+
+// Which signals the engine gives this frame, by SignalId.
+using SignalFlags = std::vector<bool>;
+
+// The engine's noisy signals of a frame, one per signal of the context
+// (FrameInputs::noisy, with the library's two also under their older names
+// noisyDiffuse and noisySpecular), named as errors call them.
+std::vector<EngineImages::Noisy> noisyInputsOf(const FrameInputs& frame, std::span<const DenoiseSignalDesc> signals) {
+  if (frame.noisy.size() > signals.size())
+    throw Error("gi: frame input noisy has " + std::to_string(frame.noisy.size()) + " entries; the context denoises " +
+                std::to_string(signals.size()) + " signals (diffuse, specular and the " +
+                std::to_string(signals.size() - kLibrarySignalCount) + " of ContextDesc::signals)");
+  std::vector<EngineImages::Noisy> noisy;
+  for (std::size_t id = 0; id < signals.size(); ++id) {
+    EngineImages::Noisy input{"noisy[" + std::to_string(id) + "] (" + signals[id].name + ")", {}};
+    if (id < frame.noisy.size()) input.ref = frame.noisy[id];
+    if (id < kLibrarySignalCount) {
+      const ImageRef& older = id == kDiffuseSignal ? frame.noisyDiffuse : frame.noisySpecular;
+      const char* olderName = id == kDiffuseSignal ? "noisyDiffuse" : "noisySpecular";
+      if (older.image != VK_NULL_HANDLE) {
+        if (input.ref.image != VK_NULL_HANDLE && input.ref.image != older.image)
+          throw Error("gi: frame inputs " + input.name + " and " + olderName + " are both given, as different " +
+                      "images; " + olderName + " is the older name of " + input.name + ": give the signal once");
+        input = {olderName, older};
+      }
+    }
+    noisy.push_back(std::move(input));
+  }
+  return noisy;
 }
 
 std::string sizeText(std::uint32_t width, std::uint32_t height) {
@@ -107,12 +167,14 @@ struct GiContext::Impl {
   RadianceCache cache;
   DepthPyramid depthPyramid;
   std::vector<std::unique_ptr<Branch>> branches;
-  std::unique_ptr<Denoiser> denoiser;  // made only when gi.denoise.enabled: its images are large
+  std::vector<DenoiseSignalDesc> signals;  // by SignalId: the library's two, then ContextDesc::signals
+  std::unique_ptr<Denoiser> denoiser;      // made only when gi.denoise.enabled: its images are large
   // The engine's own noisy signals as the denoiser reads them, and the
   // passes that take them in: made on the first frame that gives one, so
   // a context whose engine never does holds no memory for them.
+  ImageTableBuilder engineSignalTable;
   std::unique_ptr<ImageSet> engineSignals;
-  std::array<std::unique_ptr<gpu::ComputePass>, kDenoiseSignals> engineSignalPasses;
+  std::vector<std::unique_ptr<gpu::ComputePass>> engineSignalPasses;
   gpu::ComputePass storeHistory, compositor;
   EngineImages engine;
   std::vector<std::unique_ptr<PassLog>> logs;  // one per frame in flight, used in turn
@@ -122,7 +184,7 @@ struct GiContext::Impl {
   std::optional<std::uint64_t> lastFrameIndex;
   Camera lastCamera;
   Extent lastSize;
-  SignalFlags lastEngineSignals{};  // which signals the engine gave
+  SignalFlags lastEngineSignals;    // which signals the engine gave
   bool pyramidBuilt = false;        // the depth pyramid holds last frame's depth
 
   Impl(const Device& device, const ContextDesc& d, const Settings& s)
@@ -138,7 +200,9 @@ struct GiContext::Impl {
         depthPyramid(*context, arena, {d.maxWidth, d.maxHeight}),
         storeHistory(*context, storeHistoryPass()),
         compositor(*context, compositePass()),
-        engine(*context) {
+        engine(*context),
+        signals(signalsOf(d)),
+        lastEngineSignals(signals.size(), false) {
     const DiffuseSettings& diffuse = settings.diffuse;
     // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
     if (diffuse.enabled && scene.traces() &&
@@ -152,23 +216,24 @@ struct GiContext::Impl {
     branches.push_back(std::make_unique<SpecularBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings,
                                                         scene, cache));
     if (settings.denoise.enabled)
-      denoiser = std::make_unique<Denoiser>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings);
+      denoiser =
+          std::make_unique<Denoiser>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings.denoise, signals);
     for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
       logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps, scene.traces()));
   }
 
   DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches[0]); }
   SpecularBranch& specular() { return static_cast<SpecularBranch&>(*branches[1]); }
-  Branch& branchOf(DenoiseSignal signal) {
-    return signal == DenoiseSignal::Diffuse ? static_cast<Branch&>(diffuse()) : specular();
+  // The branch that makes a library signal (kDiffuseSignal, kSpecularSignal).
+  Branch& branchOf(SignalId signal) { return *branches[signal]; }
+  bool branchEnabled(SignalId signal) const {
+    return signal == kDiffuseSignal ? settings.diffuse.enabled : settings.specular.enabled;
   }
-  bool branchEnabled(DenoiseSignal signal) const {
-    return signal == DenoiseSignal::Diffuse ? settings.diffuse.enabled : settings.specular.enabled;
-  }
-  // Whether the library's branch makes a signal this frame: it is enabled
-  // and the engine does not give the signal itself.
-  SignalFlags branchesRunning(const SignalFlags& given) const {
-    return {branchEnabled(DenoiseSignal::Diffuse) && !given[0], branchEnabled(DenoiseSignal::Specular) && !given[1]};
+  // Whether the library's branch of each library signal makes it this
+  // frame: it is enabled and the engine does not give the signal itself.
+  std::array<bool, kLibrarySignalCount> branchesRunning(const SignalFlags& given) const {
+    return {branchEnabled(kDiffuseSignal) && !given[kDiffuseSignal],
+            branchEnabled(kSpecularSignal) && !given[kSpecularSignal]};
   }
   std::uint64_t current() const { return recorded == 0 ? 0 : recorded - 1; }
   // Only the specular trace marches the pyramid (the diffuse visibility
@@ -186,19 +251,17 @@ struct GiContext::Impl {
                   std::to_string(*lastFrameIndex) + "); frame indices must increase");
     screenView(frame.camera, "camera");
     if (!frame.cameraCut) screenView(frame.previousCamera, "previousCamera");
-    const SignalFlags given = engineSignalsOf(frame);
-    for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal)
-      if (given[signal] && !denoiser)
-        throw Error(std::string("gi: frame input ") + kNoisyInputNames[signal] +
-                    " is given, but the denoiser is off (Settings::denoise.enabled, gi.denoise.enabled): the "
-                    "library takes an engine's signal only to denoise it");
     // The noisy signals' size depends on the mode (EngineImages checks the
     // rest of them): the render size, or in checkerboard mode half its
     // width, rounded up. As every input, an image may be larger.
-    for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal) {
-      if (!given[signal]) continue;
-      const ImageRef& ref = noisyInputOf(frame, signal);
-      const std::string input = std::string("gi: frame input ") + kNoisyInputNames[signal];
+    for (const EngineImages::Noisy& noisy : noisyInputsOf(frame, signals)) {
+      const ImageRef& ref = noisy.ref;
+      if (ref.image == VK_NULL_HANDLE) continue;
+      const std::string input = "gi: frame input " + noisy.name;
+      if (!denoiser)
+        throw Error(input +
+                    " is given, but the denoiser is off (Settings::denoise.enabled, gi.denoise.enabled): "
+                    "the library takes an engine's signal only to denoise it");
       if (!settings.denoise.checkerboard) {
         if (ref.width < frame.width || ref.height < frame.height)
           throw Error(input + " is " + sizeText(ref.width, ref.height) + ", smaller than the render size " +
@@ -218,22 +281,23 @@ struct GiContext::Impl {
   // the first frame that gives one records anything.
   void makeEngineSignalUnit() {
     if (engineSignals) return;
-    engineSignals = std::make_unique<ImageSet>(*context, arena, engineSignalImageTable(),
-                                               Extent{desc.maxWidth, desc.maxHeight});
-    for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal)
-      engineSignalPasses[signal] =
-          std::make_unique<gpu::ComputePass>(*context, engineSignalPass(kSignalNames[signal]));
+    for (const DenoiseSignalDesc& signal : signals) {
+      addEngineSignalImage(engineSignalTable, signal.name);
+      engineSignalPasses.push_back(std::make_unique<gpu::ComputePass>(*context, engineSignalPass(signal.name)));
+    }
+    engineSignals =
+        std::make_unique<ImageSet>(*context, arena, engineSignalTable.specs(), Extent{desc.maxWidth, desc.maxHeight});
   }
 
   // gi.engine_signal.SIGNAL: the engine's signal into the library's image
   // of it (in checkerboard mode, unpacked to full width).
   gpu::Image& takeEngineSignal(const FrameState& state, std::size_t signal) {
     gpu::Image& taken = engineSignals->current(signal, state.frameIndex);
-    const EngineSignalParams params{settings.denoise.checkerboard ? 1u : 0u, kCheckerboardParities[signal]};
+    const EngineSignalParams params{settings.denoise.checkerboard ? 1u : 0u,
+                                    checkerboardParityOf(signals[signal].kind)};
     state.recorder.dispatch(*engineSignalPasses[signal], state.renderSize.width, state.renderSize.height,
                             state.group.binds(GroupPart::Constants),
-                            {{"gIn_Noisy", state.engine[kNoisyInputs[signal]], state.nearestSampler},
-                             {"gOut_Signal", taken}},
+                            {{"gIn_Noisy", *state.engine.noisy(signal), state.nearestSampler}, {"gOut_Signal", taken}},
                             params);
     return taken;
   }
@@ -266,22 +330,27 @@ struct GiContext::Impl {
   void record(VkCommandBuffer commandBuffer, const FrameInputs& frame) {
     if (commandBuffer == VK_NULL_HANDLE) throw Error("gi: record() needs a command buffer in the recording state");
     check(frame);
-    const SignalFlags given = engineSignalsOf(frame);
-    const SignalFlags running = branchesRunning(given);
-    const bool anyBranch = running[0] || running[1];
+    const std::vector<EngineImages::Noisy> noisy = noisyInputsOf(frame, signals);
+    SignalFlags given(signals.size());
+    for (std::size_t id = 0; id < signals.size(); ++id) given[id] = noisy[id].ref.image != VK_NULL_HANDLE;
+    const auto running = branchesRunning(given);
+    const bool anyBranch = running[kDiffuseSignal] || running[kSpecularSignal];
     scene.take(frame);
     // Only the branches read the environment: without them it may be left out.
-    engine.take(frame, desc.inputState, anyBranch);
-    if (given[0] || given[1]) makeEngineSignalUnit();
+    engine.take(frame, noisy, desc.inputState, anyBranch);
+    if (std::find(given.begin(), given.end(), true) != given.end()) makeEngineSignalUnit();
 
     const Extent size{frame.width, frame.height};
     // A new render size makes last frame's images another picture: nothing of them is reused.
     const bool hasHistory = recorded > 0 && size.width == lastSize.width && size.height == lastSize.height;
-    // A signal that changed hands (the branch's last frame, the engine's
-    // now, or back) finds histories the other never wrote: the branch's
-    // reservoirs and filters, the denoiser's history of that signal. All
-    // restart, as on a cut; engines switch rarely (a debug toggle).
-    const bool sameSources = recorded == 0 || given == lastEngineSignals;
+    // A library signal that changed hands (the branch's last frame, the
+    // engine's now, or back) finds histories the other never wrote: the
+    // branch's reservoirs and filters, the denoiser's history of that
+    // signal. All restart, as on a cut; engines switch rarely (a debug
+    // toggle). (An engine's own signal given again restarts only its own
+    // history: below.)
+    const bool sameSources = recorded == 0 || (given[kDiffuseSignal] == lastEngineSignals[kDiffuseSignal] &&
+                                               given[kSpecularSignal] == lastEngineSignals[kSpecularSignal]);
     const bool usableHistory = hasHistory && !frame.cameraCut && sameSources;
     const shared::GiFrameConstants constants = frameConstantsOf(frame, hasHistory, usableHistory);
     const std::uint64_t f = recorded;  // the history images' index
@@ -306,7 +375,7 @@ struct GiContext::Impl {
                                                       : frameImages.previous(kHistorySurface, f),
                         context->nearestSampler()}});
     // The specular trace is the pyramid's one reader.
-    pyramidBuilt = needsDepthPyramid() && running[std::size_t(DenoiseSignal::Specular)];
+    pyramidBuilt = needsDepthPyramid() && running[kSpecularSignal];
     if (pyramidBuilt) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
 
     const FrameState state{.recorder = recorder,
@@ -323,29 +392,34 @@ struct GiContext::Impl {
                            .currentSurface = frameImages.current(kHistorySurface, f),
                            .marchDepth = frameImages.current(kMarchDepth, f),
                            .depthPyramid = depthPyramid,
-                           .capturing = frame.captureStages};
+                           .capturing = frame.captureStages,
+                           .denoised = denoiser != nullptr};
     // The radiance cache serves the branches; with none running it rests.
     if (anyBranch) {
       const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
       cache.recordBegin(state, glm::value_ptr(cameraPosition),
-                        denoiser && settings.diffuse.enabled ? denoiser->previousResult(DenoiseSignal::Diffuse, f)
+                        denoiser && settings.diffuse.enabled ? denoiser->previousResult(kDiffuseSignal, f)
                                                              : diffuse().previousResult(f));
     }
     // A branch whose signal the engine gives records nothing; one that is
     // disabled records the clearing of its result (what the composite reads).
-    for (const DenoiseSignal signal : {DenoiseSignal::Diffuse, DenoiseSignal::Specular})
-      if (!given[std::size_t(signal)]) branchOf(signal).record(state);
+    for (const SignalId signal : {kDiffuseSignal, kSpecularSignal})
+      if (!given[signal]) branchOf(signal).record(state);
     if (anyBranch) cache.recordEnd(state);
     if (denoiser) {
-      std::array<gpu::Image*, kDenoiseSignals> noisy{};
-      // Checkerboard mode is the engine's: the branches' signals are full.
-      std::array<bool, kDenoiseSignals> checkerboarded{};
-      for (const DenoiseSignal signal : {DenoiseSignal::Diffuse, DenoiseSignal::Specular}) {
-        const std::size_t s = std::size_t(signal);
-        noisy[s] = given[s] ? &takeEngineSignal(state, s) : running[s] ? &branchOf(signal).resolved(f) : nullptr;
-        checkerboarded[s] = given[s] && settings.denoise.checkerboard;
+      std::vector<Denoiser::SignalInput> inputs(signals.size());
+      for (std::size_t id = 0; id < signals.size(); ++id) {
+        Denoiser::SignalInput& in = inputs[id];
+        const bool library = id < kLibrarySignalCount;
+        in.noisy = given[id]                ? &takeEngineSignal(state, id)
+                   : library && running[id] ? &branchOf(SignalId(id)).resolved(f)
+                                            : nullptr;
+        // Checkerboard mode is the engine's: the branches' signals are full.
+        in.checkerboarded = given[id] && settings.denoise.checkerboard;
+        // An engine's own signal not given last frame has no history of last frame's.
+        in.historyKept = library || lastEngineSignals[id];
       }
-      denoiser->record(state, noisy, checkerboarded);
+      denoiser->record(state, inputs);
     }
 
     gpu::Image& direct = engine[Input::Direct];
@@ -355,8 +429,8 @@ struct GiContext::Impl {
                        {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
                        // Not read without an emissive image (the constants say so); bound only to fill the slot.
                        {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
-                       {"gIn_IndirectDiffuse", result(DenoiseSignal::Diffuse, f, given)},
-                       {"gIn_IndirectSpecular", result(DenoiseSignal::Specular, f, given)},
+                       {"gIn_IndirectDiffuse", result(kDiffuseSignal, f, given)},
+                       {"gIn_IndirectSpecular", result(kSpecularSignal, f, given)},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
     log.end(recorder);
 
@@ -387,12 +461,14 @@ struct GiContext::Impl {
     return sets;
   }
 
-  // What the composite reads for a signal: the denoised one (the branch's
-  // or the engine's), or the branch's own filtered one (denoiser off, or
-  // the branch off: then it is the branch's cleared result). `given`: the
-  // engine gave the signal that frame.
-  gpu::Image& result(DenoiseSignal signal, std::uint64_t f, const SignalFlags& given) {
-    const bool denoised = branchEnabled(signal) || given[std::size_t(signal)];
+  // What the composite reads for a library signal: the denoised one (the
+  // branch's or the engine's), or the branch's own filtered one (denoiser
+  // off, or the branch off: then it is the branch's cleared result); an
+  // engine's own signal: the denoised one. `given`: the engine gave the
+  // signal that frame.
+  gpu::Image& result(SignalId signal, std::uint64_t f, const SignalFlags& given) {
+    if (signal >= kLibrarySignalCount) return denoiser->result(signal, f);
+    const bool denoised = branchEnabled(signal) || given[signal];
     return denoiser && denoised ? denoiser->result(signal, f) : branchOf(signal).result(f);
   }
 
@@ -422,6 +498,7 @@ GiContext::GiContext(const Device& device, const ContextDesc& desc, const Settin
   } catch (const std::invalid_argument& e) {
     throw Error(e.what());
   }
+  checkSignals(desc, settings);
   try {
     impl_ = std::make_unique<Impl>(device, desc, settings);
   } catch (const gpu::GpuError& e) {
@@ -447,13 +524,22 @@ FrameResults GiContext::collect(std::uint64_t completedFrameIndex) {
   }
 }
 
-ImageRef GiContext::indirectDiffuse() const {
-  return libraryRef(impl_->result(DenoiseSignal::Diffuse, impl_->current(), impl_->lastEngineSignals));
+ImageRef GiContext::indirect(SignalId signal) const {
+  if (signal >= impl_->signals.size())
+    throw Error("gi: indirect(" + std::to_string(signal) + "): the context has " +
+                std::to_string(impl_->signals.size()) + " signals (diffuse, specular and ContextDesc::signals)");
+  return libraryRef(impl_->result(signal, impl_->current(), impl_->lastEngineSignals));
 }
 
-ImageRef GiContext::indirectSpecular() const {
-  return libraryRef(impl_->result(DenoiseSignal::Specular, impl_->current(), impl_->lastEngineSignals));
+std::vector<SignalDesc> GiContext::signals() const {
+  std::vector<SignalDesc> all;
+  for (const DenoiseSignalDesc& signal : impl_->signals) all.push_back({signal.name, signal.kind});
+  return all;
 }
+
+ImageRef GiContext::indirectDiffuse() const { return indirect(kDiffuseSignal); }
+
+ImageRef GiContext::indirectSpecular() const { return indirect(kSpecularSignal); }
 
 ImageRef GiContext::composite() const { return libraryRef(impl_->frameImages.current(kComposite, impl_->current())); }
 
@@ -493,7 +579,7 @@ std::uint64_t GiContext::estimateMemoryBytes(const ContextDesc& desc, const Sett
       imageSetBytes(diffuseImageTable(), size, brightPyramidLevels(size, settings.diffuse.brightPixels)) +
       DiffuseBranch::bufferBytes(size, settings, !desc.sceneBridge.shaders.empty()) +
       imageSetBytes(specularImageTable(), size) + SpecularBranch::bufferBytes(size, !desc.sceneBridge.shaders.empty());
-  if (settings.denoise.enabled) bytes += imageSetBytes(denoiseImageTable(), size);
+  if (settings.denoise.enabled) bytes += denoiserMemoryBytes(size, signalsOf(desc));
   return bytes;
 }
 const Settings& GiContext::settings() const { return impl_->settings; }

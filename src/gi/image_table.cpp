@@ -38,6 +38,12 @@ Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level) {
   return renderSize;
 }
 
+void ImageTableBuilder::add(std::string name, ImageSpec spec, std::string purpose) {
+  spec.name = text_.emplace_back(std::move(name));
+  if (!purpose.empty()) spec.purpose = text_.emplace_back(std::move(purpose));
+  specs_.push_back(spec);
+}
+
 std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels) {
   const auto bytes = [](const ImageSpec& spec, Extent size) {
     return std::uint64_t(size.width) * size.height * gpu::formatInfo(spec.format).bytesPerPixel;

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <initializer_list>
 #include <memory>
 #include <span>
@@ -40,6 +41,23 @@ struct ImageSpec {
   gpu::Visualize view;
   std::string_view purpose;
   bool debug = false;  // made on the first frame whose stages are captured, and only shown then
+};
+
+// A table made at run time, for a unit whose images follow what the engine
+// declares (the denoiser's: a set per signal, named after it). It owns the
+// names and purposes its specs point to.
+class ImageTableBuilder {
+ public:
+  ImageTableBuilder() = default;
+  ImageTableBuilder(const ImageTableBuilder&) = delete;
+  ImageTableBuilder& operator=(const ImageTableBuilder&) = delete;
+  // Appends `spec` under `name` (and `purpose`, when given).
+  void add(std::string name, ImageSpec spec, std::string purpose = {});
+  std::span<const ImageSpec> specs() const { return specs_; }
+
+ private:
+  std::deque<std::string> text_;  // a deque: growing it moves no string the specs point into
+  std::vector<ImageSpec> specs_;
 };
 
 struct Extent {

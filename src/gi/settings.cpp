@@ -316,14 +316,19 @@ constexpr std::array kEntries{
     Entry{"denoise.disocclusion_threshold", inDenoise(&DenoiseSettings::disocclusionThreshold), aboveUpTo(0, 1),
           "temporal accumulation: last frame's depth may differ by this fraction of the frustum's width seen "
           "head-on (plus a pixel; wider at grazing angles and for a still camera)"},
+    Entry{"denoise.normal_tolerance_degrees", inDenoise(&DenoiseSettings::normalToleranceDegrees), open(0, 180),
+          "temporal passes: a reprojected history's normal may differ from the pixel's by this many degrees"},
+    Entry{"denoise.depth_tolerance", inDenoise(&DenoiseSettings::depthTolerance), aboveUpTo(0, 1),
+          "temporal stabilisation and the reflection's (virtual) history (specular kind): reprojected depth may "
+          "differ by this fraction of viewZ"},
     Entry{"denoise.clamp_sigma", inDenoise(&DenoiseSettings::clampSigma), aboveUpTo(0, 100),
           "history clamping (accumulation and stabilisation): mean +- this many sigma"},
     Entry{"denoise.anti_firefly", inDenoise(&DenoiseSettings::antiFirefly), kNoBounds,
           "history fix brings a pixel above its neighbours' mean + 2 sigma down to it"},
     Entry{"denoise.checkerboard", inDenoise(&DenoiseSettings::checkerboard), kNoBounds,
-          "the engine's noisy signals (noisyDiffuse, noisySpecular) are checkerboarded, as REBLUR's checkerboard "
-          "mode: ceil(width / 2) x height, pixel (x, y) stored at (x / 2, y) where x + y + frameIndex is odd "
-          "(diffuse) or even (specular); the pre-pass fills the other pixels. Ignored for the branches' own "
+          "the engine's noisy signals (FrameInputs::noisy) are checkerboarded, as REBLUR's checkerboard mode: "
+          "ceil(width / 2) x height, pixel (x, y) stored at (x / 2, y) where x + y + frameIndex is odd (kind "
+          "diffuse) or even (kind specular); the pre-pass fills the other pixels. Ignored for the branches' own "
           "signals, which are full resolution"},
     Entry{"cache.enabled", inCache(&CacheSettings::enabled), kNoBounds,
           "the world-space radiance cache lights what world rays hit off screen (more bounces; needs a scene bridge)"},

@@ -192,7 +192,13 @@ void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, st
   for (gpu::Image* image : images) {
     const auto ref = std::find_if(std::begin(refs), std::end(refs),
                                   [&](const gi::ImageRef* r) { return r->image == image->handle(); });
-    if (ref != std::end(refs)) tookBack(*image, **ref);
+    if (ref != std::end(refs)) {
+      tookBack(*image, **ref);
+      continue;
+    }
+    const auto noisy = std::find_if(inputs.noisy.begin(), inputs.noisy.end(),
+                                    [&](const gi::ImageRef& r) { return r.image == image->handle(); });
+    if (noisy != inputs.noisy.end()) tookBack(*image, *noisy);
   }
   for (auto& [handle, wrapper] : wrappers_) {
     wrapper.image->sync() = libraryState();
@@ -204,12 +210,10 @@ gpu::Image& GiBridge::composite() {
   return wrap(library_->composite(), "gi.composite", gpu::Visualize::Radiance);
 }
 
-gpu::Image& GiBridge::indirectDiffuse() {
-  return wrap(library_->indirectDiffuse(), "gi.diffuse.filtered", gpu::Visualize::Radiance);
-}
-
-gpu::Image& GiBridge::indirectSpecular() {
-  return wrap(library_->indirectSpecular(), "gi.specular.filtered", gpu::Visualize::Radiance);
+gpu::Image& GiBridge::indirect(gi::SignalId signal) {
+  const std::vector<gi::SignalDesc> signals = library_->signals();
+  const std::string name = signal < signals.size() ? signals[signal].name : std::to_string(signal);
+  return wrap(library_->indirect(signal), "gi.indirect." + name, gpu::Visualize::Radiance);
 }
 
 std::vector<GiBridge::Named> GiBridge::images() {

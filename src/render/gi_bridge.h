@@ -83,8 +83,9 @@ class GiBridge {
   // last record() left them; the renderer may read them in its recorders
   // and hands them back at the next record().
   gpu::Image& composite();
-  gpu::Image& indirectDiffuse();
-  gpu::Image& indirectSpecular();
+  gpu::Image& indirect(gi::SignalId signal);  // gi::GiContext::indirect
+  gpu::Image& indirectDiffuse() { return indirect(gi::kDiffuseSignal); }
+  gpu::Image& indirectSpecular() { return indirect(gi::kSpecularSignal); }
   struct Named {
     std::string name;
     gpu::Image* image;

@@ -108,7 +108,7 @@ class ReferenceRenderer {
   // rgba32f: the frame; indirect diffuse and specular, demodulated, alpha
   // the mean first-hit distance of their paths in world units
   // (shared::kEscapedHitDistance for the sky, 0 where no path had a ray):
-  // the signals FrameInputs::noisyDiffuse and noisySpecular take.
+  // the signals FrameInputs::noisy[kDiffuseSignal] and noisy[kSpecularSignal] take.
   gpu::Image& radianceImage() { return *radiance_; }
   gpu::Image& indirectDiffuseImage() { return *diffuse_; }
   gpu::Image& indirectSpecularImage() { return *specular_; }

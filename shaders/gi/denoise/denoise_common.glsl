@@ -1,14 +1,14 @@
 // What every pass of the denoiser (gi/denoise, after NVIDIA's REBLUR, seed
 // 004) shares: its constants (binding 3, gIn_DenoiseConstants), filled from
 // gi::DenoiseSettings by src/gi/denoise/denoiser.cpp and laid out alike in
-// GLSL (std140) and C++; the two signals it denoises side by side (0:
-// diffuse, 1: specular; radiance in xyz, hit distance in world units in w,
-// 0 where unknown); REBLUR's hit-distance normalisation and the edge-
-// stopping weights of its spatial passes (shared/denoise_weights.glsl);
-// which pixels of a checkerboarded signal hold samples
-// (shared/checkerboard.glsl). The including shader includes
-// gi/gi_common.glsl and gi/gbuffer.glsl first; its own resources start at
-// binding 4.
+// GLSL (std140) and C++; the signal a pass runs for (push constants: its
+// kind, which sets the weights, radii and motion, and its slot among the
+// signals; radiance in xyz, hit distance in world units in w, 0 where
+// unknown); REBLUR's hit-distance normalisation and the edge-stopping
+// weights of its spatial passes (shared/denoise_weights.glsl); which pixels
+// of a checkerboarded signal hold samples (shared/checkerboard.glsl). The
+// including shader includes gi/gi_common.glsl and gi/gbuffer.glsl first;
+// its own resources start at binding 4.
 #ifndef BOUNCE_GI_DENOISE_COMMON_GLSL
 #define BOUNCE_GI_DENOISE_COMMON_GLSL
 
@@ -19,7 +19,6 @@ namespace bounce::shared {
 
 struct DenoiseConstants {
   vec4 hitDistanceParameters;       // REBLUR's A, B, C, D (first: std140 aligns a vec4 to 16 bytes)
-  uint signals;                     // bit 0: diffuse, bit 1: specular (the other's images are not read)
   float maxAccumulatedFrames;       // the longest history (REBLUR: 30)
   float historyFixFrames;           // below this history length, history fix rebuilds the pixel (REBLUR: 3)
   float historyFixStride;           // pixels between history fix's taps
@@ -31,16 +30,21 @@ struct DenoiseConstants {
   float roughnessFraction;          // the roughness weight's reach, as a fraction of the roughness
   float stabilizationFrames;        // temporal stabilisation's longest history (0: off)
   float clampSigma;                 // history clamping: fast history mean +- this many sigma
-  float depthTolerance;             // reflection (virtual) reprojection: fraction of viewZ
+  float depthTolerance;             // stabilisation and reflection (virtual) reprojection: fraction of viewZ
   float cosNormalTolerance;         // temporal reprojection
   float disocclusionThreshold;      // temporal accumulation: REBLUR's, a fraction of the frustum's width
-  uint hasHistory;                  // 0: a cut or the first frame; nothing is reprojected
   uint frameIndex;                  // rotates the blur kernels
   uint antiFirefly;                 // history fix clamps outliers to their neighbourhood
   float diffusePrePassRadius;       // pixels (scaled with the height); 0: no pre-pass (but in checkerboard mode)
-  float specularPrePassRadius;
-  uint checkerboard;                // bit 0: diffuse, bit 1: specular is an engine's checkerboarded signal
+  float specularPrePassRadius;      // the same for signals of kind specular
 };
+
+// A signal's kind (gi::SignalKind): which weights, radii and motion apply.
+const uint kSignalKindDiffuse = 0u;
+const uint kSignalKindSpecular = 1u;
+// Bits of a signal's flags (push constants).
+const uint kSignalHasHistory = 1u;    // last frame's history of this signal may be reprojected (else: a cut)
+const uint kSignalCheckerboard = 2u;  // an engine's signal with samples at every other pixel
 
 #ifdef __cplusplus
 }  // namespace bounce::shared
@@ -50,29 +54,35 @@ struct DenoiseConstants {
 
 layout(set = 0, binding = 3, std140) CONSTANT_BLOCK DenoiseBlock { DenoiseConstants denoise; } gIn_DenoiseConstants;
 
-const uint kSignalDiffuse = 0u;
-const uint kSignalSpecular = 1u;
-
-// Whether the denoiser is given this signal this frame.
-bool signalOn(uint signal) { return (gIn_DenoiseConstants.denoise.signals & (1u << signal)) != 0u; }
-
-// Each pass runs once per signal; which one, and the pass's radius scale.
+#ifndef DENOISE_VIEW_PASS
+// Each pass runs once per signal (but the validation view, which defines
+// DENOISE_VIEW_PASS): which one (its kind, its slot among the signals, its
+// flags) and the pass's radius scale.
 layout(push_constant) uniform SignalParams {
-  uint signal;        // kSignalDiffuse or kSignalSpecular: which weights and radii apply
+  uint slot;          // the signal's index: its kernels rotate apart from the other signals'
+  uint kind;          // kSignalKindDiffuse or kSignalKindSpecular
+  uint flags;         // kSignalHasHistory, kSignalCheckerboard
   float radiusScale;  // of the blur passes' radius
 } gSignal;
+
+bool specularKind() { return gSignal.kind == kSignalKindSpecular; }
+// Whether last frame's history of this signal may be reprojected: not on a
+// cut or the first frame, nor on the first frame an engine gives a signal
+// after a frame without it.
+bool signalHasHistory() { return (gSignal.flags & kSignalHasHistory) != 0u; }
 
 // Checkerboard mode (gi.denoise.checkerboard, an engine's signal only):
 // whether this pass's signal came with every other pixel, and whether
 // `pixel` holds a sample of it this frame (the others the pre-pass
-// reconstructs). The parity follows FrameInputs::frameIndex, as the
-// engine's does. Any other signal has a sample everywhere.
-bool signalCheckerboarded() { return (gIn_DenoiseConstants.denoise.checkerboard & (1u << gSignal.signal)) != 0u; }
+// reconstructs). The parity follows the kind and FrameInputs::frameIndex,
+// as the engine's does. Any other signal has a sample everywhere.
+bool signalCheckerboarded() { return (gSignal.flags & kSignalCheckerboard) != 0u; }
 bool pixelHasSample(ivec2 pixel) {
   if (!signalCheckerboarded()) return true;
-  uint parity = gSignal.signal == kSignalDiffuse ? kCheckerboardDiffuseParity : kCheckerboardSpecularParity;
+  uint parity = specularKind() ? kCheckerboardSpecularParity : kCheckerboardDiffuseParity;
   return checkerboardHasData(uvec2(pixel), gIn_Frame.frame.frameIndex, parity);
 }
+#endif
 
 #ifdef DENOISE_READS_TILES
 // 1 where a 16x16 tile holds a surface (gi.denoise.classify_tiles).
@@ -81,15 +91,16 @@ const int kDenoiseTile = 16;
 bool tileEmpty(ivec2 pixel) { return imageLoad(gIn_Tiles, pixel / kDenoiseTile).x == 0.0f; }
 #endif
 
+#ifndef DENOISE_VIEW_PASS
 // How much a neighbour (its surface and roughness) counts towards the
 // average of a pixel with `frames` of history: on its plane, inside its
-// lobe (diffuse: roughness 1), of a like roughness (specular only); the
+// lobe (kind diffuse: roughness 1), of a like roughness (specular only); the
 // cone and the roughness reach `widening` times wider (the pre-pass's 2).
 float neighbourWeightWidened(Surface x, float roughness, float frames, Surface y, float neighbourRoughness,
                              float widening) {
   if (y.viewZ <= 0.0f) return 0.0f;
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  bool specular = gSignal.signal == kSignalSpecular;
+  bool specular = specularKind();
   float halfAngle = lobeHalfAngle(specular ? roughness : 1.0f, d.lobeAngleFraction, 1.0f / (1.0f + frames));
   float w = planeWeight(x.normal, x.position, y.position, x.viewZ, d.planeDistanceSensitivity) *
             normalWeight(x.normal, y.normal, halfAngle * widening);
@@ -106,10 +117,11 @@ float neighbourWeight(Surface x, float roughness, float frames, Surface y, float
 // not blurred) and with the hit distance (a contact reflection is sharp).
 float blurRadius(float frames, float roughness, float normalizedHit) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  float f = gSignal.signal == kSignalSpecular ? clamp(roughness * 2.0f, 0.0f, 1.0f) * normalizedHit : 1.0f;
+  float f = specularKind() ? clamp(roughness * 2.0f, 0.0f, 1.0f) * normalizedHit : 1.0f;
   float radius = d.blurRadius * gSignal.radiusScale * sqrt(f / (1.0f + frames));
   return max(radius, d.minBlurRadius * gSignal.radiusScale);
 }
+#endif
 
 #endif
 

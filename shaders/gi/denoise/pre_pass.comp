@@ -120,7 +120,7 @@ void main() {
   }
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
   vec4 center = pixelHasSample(pixel) ? signalAt(pixel) : checkerboardResolve(pixel, x, roughness);
-  bool specular = gSignal.signal == kSignalSpecular;
+  bool specular = specularKind();
   float maxRadius = (specular ? d.specularPrePassRadius : d.diffusePrePassRadius) * gSignal.radiusScale;
   // Radius 0: the pass runs for the checkerboard resolve alone.
   if (maxRadius <= 0.0f) {
@@ -150,7 +150,7 @@ void main() {
 
   float normalizedHit = normalizedHitDistance(d.hitDistanceParameters, hit, x.viewZ, r);
   float historyWeight = 1.0f / (1.0f + kPrePassHistoryFrames);
-  float rotation = diskRotation(d.frameIndex, 4u + gSignal.signal);
+  float rotation = diskRotation(d.frameIndex, 4u + gSignal.slot);
   vec3 sum = center.xyz;
   float weightSum = 1.0f;
   // Hit distances average over the taps that know theirs (0: unknown).

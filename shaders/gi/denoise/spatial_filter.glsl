@@ -20,7 +20,7 @@ vec4 spatialFilter(ivec2 pixel) {
   float normalizedHit =
       normalizedHitDistance(d.hitDistanceParameters, imageLoad(gIn_Signal, pixel).w, x.viewZ, roughness);
   float radius = blurRadius(center.w, roughness, normalizedHit);
-  float rotation = diskRotation(d.frameIndex, 2u * gSignal.signal + (gSignal.radiusScale < 1.0f ? 1u : 0u));
+  float rotation = diskRotation(d.frameIndex, 2u * gSignal.slot + (gSignal.radiusScale < 1.0f ? 1u : 0u));
   vec3 sum = center.xyz;
   float weightSum = 1.0f;
   for (uint i = 0u; i < 8u; ++i) {

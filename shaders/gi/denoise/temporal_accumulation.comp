@@ -7,7 +7,7 @@
 // where some did not (gi/temporal_history.glsl), so a disocclusion starts
 // over. A tap shows the same surface when its depth lies within REBLUR's
 // disocclusion threshold (wider at grazing angles, and for a still camera)
-// and its normal and material id agree. Specular light also fetches the reflection's
+// and its normal and material id agree. Specular-kind light also fetches the reflection's
 // (virtual) history and blends the two as the specular branch's filter
 // does (virtual for smooth lobes, each weighed by its agreement with this
 // frame's neighbourhood); the virtual share goes to the moments' alpha for
@@ -48,7 +48,7 @@ layout(set = 0, binding = 12, rg32ui) readonly uniform uimage2D gIn_Surface;
 // with the view and keeps few frames, a rough lobe's barely does.
 float maxFrames(float roughness) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  if (gSignal.signal != kSignalSpecular) return d.maxAccumulatedFrames;
+  if (!specularKind()) return d.maxAccumulatedFrames;
   return max(1.0f, d.maxAccumulatedFrames * clamp(roughness * roughness * 4.0f, 0.1f, 1.0f));
 }
 
@@ -201,15 +201,15 @@ void main() {
   History history;
   history.found = false;
   float virtualShare = 0.0f;
-  vec2 motion = d.hasHistory != 0u ? motionAt(pixel) : vec2(0.0f);
-  if (d.hasHistory != 0u && usableMotion(motion)) {
+  vec2 motion = signalHasHistory() ? motionAt(pixel) : vec2(0.0f);
+  if (signalHasHistory() && usableMotion(motion)) {
     uint material = materialOf(imageLoad(gIn_Surface, pixel).xy);
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
     if (expectedViewZ > 0.0f)
       history = fetchHistoryCatmullRom(vec2(pixel) + motion,
                                        ExpectedSurface(x.position, x.normal, expectedViewZ, disocclusionTolerance(x),
                                                        d.cosNormalTolerance, material));
-    if (gSignal.signal == kSignalSpecular) {
+    if (specularKind()) {
       float hitDistance = imageLoad(gIn_Signal, pixel).w;
       vec3 projected = reflectionReprojection(x, pixel, motion, roughness, max(finiteOr(hitDistance, 0.0f), 0.0f));
       History virtualHistory = fetchVirtualHistory(x, projected, d.depthTolerance, d.cosNormalTolerance, material);

@@ -32,7 +32,7 @@ vec4 stabilizedHistory(Surface x) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   vec2 motion = motionAt(pixel);
-  if (d.hasHistory == 0u || !usableMotion(motion)) return vec4(0.0f);
+  if (!signalHasHistory() || !usableMotion(motion)) return vec4(0.0f);
   float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
   if (!(expectedViewZ > 0.0f)) return vec4(0.0f);
   ivec2 corner;

@@ -8,23 +8,34 @@
 // bottom: the diffuse and specular history lengths (black 0 to white
 // max_accumulated_frames, via red and yellow) and the denoised diffuse and
 // specular light (tonemapped) with the pixels whose history was lost this
-// frame (disocclusion, a cut) in red. A panel of a signal that is off is
-// black.
+// frame (disocclusion, a cut) in red. "Diffuse" and "specular" are the
+// first signal of each kind the denoiser ran this frame (the library's
+// two, unless the engine declared others first); a panel of a kind none
+// ran is black.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
+#define DENOISE_VIEW_PASS
 #include "gi/denoise/denoise_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
-layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_DiffuseAccumulated;
-layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_SpecularAccumulated;
+layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_DiffuseHistory;
+layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_SpecularHistory;
 layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_SpecularMoments;
 layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gIn_Diffuse;
 layout(set = 0, binding = 9, rgba32f) readonly uniform image2D gIn_Specular;
 layout(set = 0, binding = 10, rgba16f) writeonly uniform image2D gOut_Validation;
 
 #include "gi/motion.glsl"
+
+// Which kinds have a signal in the panels.
+layout(push_constant) uniform ValidationParams {
+  uint diffuseShown;   // 1: the diffuse panels show a signal
+  uint specularShown;  // 1: the specular panels do
+} gShown;
+
+bool signalOn(uint kind) { return (kind == kSignalKindDiffuse ? gShown.diffuseShown : gShown.specularShown) != 0u; }
 
 // Black, red, yellow, white as t goes 0..1.
 vec3 heat(float t) {
@@ -42,18 +53,18 @@ vec3 panel(uint which, ivec2 source) {
     return usableMotion(motion) ? vec3(clamp(vec2(0.5f) + motion / 32.0f, 0.0f, 1.0f), 0.5f) : vec3(1.0f, 0.0f, 1.0f);
   }
   if (which == 3u)
-    return signalOn(kSignalSpecular) && viewZ > 0.0f
+    return signalOn(kSignalKindSpecular) && viewZ > 0.0f
                ? vec3(0.0f, 1.0f, 1.0f) * clamp(imageLoad(gIn_SpecularMoments, source).w, 0.0f, 1.0f)
                : vec3(0.0f);
   if (which == 4u)
-    return signalOn(kSignalDiffuse) ? heat(imageLoad(gIn_DiffuseAccumulated, source).w / d.maxAccumulatedFrames)
+    return signalOn(kSignalKindDiffuse) ? heat(imageLoad(gIn_DiffuseHistory, source).w / d.maxAccumulatedFrames)
                                     : vec3(0.0f);
   if (which == 5u)
-    return signalOn(kSignalSpecular) ? heat(imageLoad(gIn_SpecularAccumulated, source).w / d.maxAccumulatedFrames)
+    return signalOn(kSignalKindSpecular) ? heat(imageLoad(gIn_SpecularHistory, source).w / d.maxAccumulatedFrames)
                                      : vec3(0.0f);
   bool diffuse = which == 6u;
-  if (!signalOn(diffuse ? kSignalDiffuse : kSignalSpecular) || viewZ <= 0.0f) return vec3(0.0f);
-  float frames = diffuse ? imageLoad(gIn_DiffuseAccumulated, source).w : imageLoad(gIn_SpecularAccumulated, source).w;
+  if (!signalOn(diffuse ? kSignalKindDiffuse : kSignalKindSpecular) || viewZ <= 0.0f) return vec3(0.0f);
+  float frames = diffuse ? imageLoad(gIn_DiffuseHistory, source).w : imageLoad(gIn_SpecularHistory, source).w;
   if (frames <= 1.0f) return vec3(1.0f, 0.0f, 0.0f);
   vec3 light = max(diffuse ? imageLoad(gIn_Diffuse, source).xyz : imageLoad(gIn_Specular, source).xyz, vec3(0.0f));
   return light / (1.0f + light);

@@ -23,12 +23,11 @@ ResourceDecl denoiseConstants() {
 }
 
 gpu::ConstantsDecl denoiseConstantsLayout() {
-  return BOUNCE_CONSTANTS_LAYOUT("gIn_DenoiseConstants", DenoiseConstants, hitDistanceParameters, signals,
-                                 maxAccumulatedFrames, historyFixFrames, historyFixStride, blurRadius,
-                                 postBlurRadiusScale, minBlurRadius, planeDistanceSensitivity, lobeAngleFraction,
-                                 roughnessFraction, stabilizationFrames, clampSigma, depthTolerance,
-                                 cosNormalTolerance, disocclusionThreshold, hasHistory, frameIndex, antiFirefly,
-                                 diffusePrePassRadius, specularPrePassRadius, checkerboard);
+  return BOUNCE_CONSTANTS_LAYOUT("gIn_DenoiseConstants", DenoiseConstants, hitDistanceParameters, maxAccumulatedFrames,
+                                 historyFixFrames, historyFixStride, blurRadius, postBlurRadiusScale, minBlurRadius,
+                                 planeDistanceSensitivity, lobeAngleFraction, roughnessFraction, stabilizationFrames,
+                                 clampSigma, depthTolerance, cosNormalTolerance, disocclusionThreshold, frameIndex,
+                                 antiFirefly, diffusePrePassRadius, specularPrePassRadius);
 }
 
 ResourceDecl tilesDecl() {
@@ -36,14 +35,13 @@ ResourceDecl tilesDecl() {
 }
 
 // A per-signal pass: the frame's surfaces, the denoiser's constants and the
-// tiles first, then its own resources; the signal in push constants where
-// the pass weighs anything by it (`weighs`).
+// tiles first, then its own resources; the signal in push constants.
 gpu::PassDesc signalPass(const std::string& pass, const std::string& signal, const char* shader,
-                         std::vector<ResourceDecl> own, bool weighs = true) {
+                         std::vector<ResourceDecl> own) {
   own.insert(own.begin(), {denoiseConstants(), tilesDecl()});
   gpu::PassDesc desc = framePass("gi.denoise." + signal + "." + pass, shader, GroupPart::Surfaces, own);
   desc.constants.push_back(denoiseConstantsLayout());
-  if (weighs) desc.constants.push_back(BOUNCE_CONSTANTS_LAYOUT("", DenoiseSignalParams, signal, radiusScale));
+  desc.constants.push_back(BOUNCE_CONSTANTS_LAYOUT("", DenoiseSignalParams, slot, kind, flags, radiusScale));
   return desc;
 }
 
@@ -109,8 +107,7 @@ gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal) {
                      previousSurfaceDecl(),
                      {"gPrev_Stabilized", Access::Read, kRgba32f, "last frame's stabilised signal"},
                      {"gOut_Stabilized", Access::Write, kRgba32f, "the denoised signal, history length"},
-                     currentSurfaceDecl()},
-                    false);
+                     currentSurfaceDecl()});
 }
 
 gpu::PassDesc denoiseValidationPass() {
@@ -118,14 +115,15 @@ gpu::PassDesc denoiseValidationPass() {
       "gi.denoise.validation", "gi/denoise/validation", GroupPart::Surfaces,
       {denoiseConstants(),
        motionDecl(),
-       {"gIn_DiffuseAccumulated", Access::Read, kRgba32f, "diffuse temporal accumulation: its history length"},
-       {"gIn_SpecularAccumulated", Access::Read, kRgba32f, "specular temporal accumulation: its history length"},
-       {"gIn_SpecularMoments", Access::Read, kRgba32f, "specular temporal accumulation: its virtual history's share"},
-       {"gIn_Diffuse", Access::Read, kRgba32f, "the denoised diffuse light"},
-       {"gIn_Specular", Access::Read, kRgba32f, "the denoised specular light"},
+       {"gIn_DiffuseHistory", Access::Read, kRgba32f, "the first diffuse-kind signal's history: its length"},
+       {"gIn_SpecularHistory", Access::Read, kRgba32f, "the first specular-kind signal's history: its length"},
+       {"gIn_SpecularMoments", Access::Read, kRgba32f, "its temporal accumulation: the virtual history's share"},
+       {"gIn_Diffuse", Access::Read, kRgba32f, "the denoised diffuse-kind light"},
+       {"gIn_Specular", Access::Read, kRgba32f, "the denoised specular-kind light"},
        {"gOut_Validation", Access::Write, kRgba16f,
         "4 x 2 panels: viewZ, normals, motion, virtual history; histories, denoised light with disocclusions"}});
   desc.constants.push_back(denoiseConstantsLayout());
+  desc.constants.push_back(BOUNCE_CONSTANTS_LAYOUT("", DenoiseValidationParams, diffuseShown, specularShown));
   return desc;
 }
 

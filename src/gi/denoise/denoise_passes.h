@@ -1,7 +1,8 @@
 // The host declarations of the denoiser's passes (shaders/gi/denoise/,
 // folder = stage, file = pass): each runs once per signal, named
-// gi.denoise.SIGNAL.PASS (SIGNAL: diffuse or specular), except the tile
-// classification, which both signals share.
+// gi.denoise.SIGNAL.PASS (SIGNAL: the signal's name, "diffuse", "specular"
+// or an engine's), except the tile classification, which all signals share,
+// and the validation view.
 #pragma once
 
 #include <cstdint>
@@ -11,11 +12,18 @@
 
 namespace bounce::gi {
 
-// Push constants of every per-signal pass: which signal (its weights and
-// radii) and the blur's radius scale.
+// Push constants of every per-signal pass (denoise_common.glsl's
+// SignalParams): which signal, its kind and flags, and the blur's radius scale.
 struct DenoiseSignalParams {
-  std::uint32_t signal;  // shared::kSignalDiffuse (0) or kSignalSpecular (1)
+  std::uint32_t slot;   // the signal's index among the denoiser's
+  std::uint32_t kind;   // gi::SignalKind: shared::kSignalKindDiffuse or kSignalKindSpecular
+  std::uint32_t flags;  // shared::kSignalHasHistory, kSignalCheckerboard
   float radiusScale;
+};
+// The validation view's: which kinds' panels show a signal.
+struct DenoiseValidationParams {
+  std::uint32_t diffuseShown;
+  std::uint32_t specularShown;
 };
 
 gpu::PassDesc denoiseClassifyTilesPass();

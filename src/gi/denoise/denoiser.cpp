@@ -1,6 +1,8 @@
 #include "gi/denoise/denoiser.h"
 
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 
 #include <glm/glm.hpp>
 
@@ -14,44 +16,57 @@ namespace {
 using namespace gpu::formats;
 using gpu::Visualize;
 
-constexpr std::array<const char*, kDenoiseSignals> kSignalNames = {"diffuse", "specular"};
-
 // The render height the settings' radii are given for.
 constexpr float kReferenceRows = 1080.0f;
 
-// The images of one signal (names gi.denoise.SIGNAL.*).
-#define BOUNCE_DENOISE_SIGNAL_IMAGES(SIGNAL)                                                                       \
-  {"gi.denoise." SIGNAL ".pre_passed", Resolution::Full, kRgba16f, false, Visualize::Radiance,                    \
-   "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance"},                                    \
-      {"gi.denoise." SIGNAL ".accumulated", Resolution::Full, kRgba32f, false, Visualize::Radiance,                   \
-   "temporal accumulation's output, then blur's: radiance, history length"},                                      \
-      {"gi.denoise." SIGNAL ".moments", Resolution::Full, kRgba32f, true, Visualize::Raw,                         \
-       "luminance moments: mean and mean square over the history, mean of the fast history; specular: the "     \
-       "virtual history's share"},                     \
-      {"gi.denoise." SIGNAL ".fixed", Resolution::Full, kRgba32f, false, Visualize::Radiance,                     \
-       "history fix's output: short histories rebuilt, fireflies removed"},                                       \
-      {"gi.denoise." SIGNAL ".history", Resolution::Full, kRgba32f, true, Visualize::Radiance,                    \
-       "post-blur's output: next frame's history; alpha: history length"},                                        \
-      {"gi.denoise." SIGNAL ".stabilized", Resolution::Full, kRgba32f, true, Visualize::Radiance,                 \
-       "the denoised signal (temporal stabilisation's output); alpha: its history length"}
-
-constexpr ImageSpec kImages[] = {
+constexpr ImageSpec kSharedImages[] = {
     {"gi.denoise.tiles", Resolution::Tile, kR16f, false, Visualize::Raw, "1 where a 16x16 tile has a surface"},
-    BOUNCE_DENOISE_SIGNAL_IMAGES("diffuse"),
-    BOUNCE_DENOISE_SIGNAL_IMAGES("specular"),
+    {"gi.denoise.pre_passed", Resolution::Full, kRgba16f, false, Visualize::Radiance,
+     "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance (each signal in turn)"},
+    {"gi.denoise.accumulated", Resolution::Full, kRgba32f, false, Visualize::Radiance,
+     "temporal accumulation's output, then blur's: radiance, history length (each signal in turn)"},
+    {"gi.denoise.fixed", Resolution::Full, kRgba32f, false, Visualize::Radiance,
+     "history fix's output: short histories rebuilt, fireflies removed (each signal in turn)"},
     {"gi.denoise.validation", Resolution::Full, kRgba16f, false, Visualize::Color,
      "the validation view: viewZ, normals, motion, specular virtual history; diffuse and specular history "
      "length, denoised light with disocclusions in red (captured frames only)",
      true},
 };
-#undef BOUNCE_DENOISE_SIGNAL_IMAGES
-static_assert(std::size(kImages) == kDenoiseImageCount, "one table entry per DenoiseImage");
+static_assert(std::size(kSharedImages) == kDenoiseSharedImages, "one table entry per DenoiseImage");
 
-std::size_t imageOf(std::size_t signal, DenoiseImage image) { return image + kDenoisePerSignal * signal; }
+// Each signal's own images, named gi.denoise.SIGNAL.NAME.
+struct SignalImage {
+  const char* name;
+  ImageSpec spec;
+};
+constexpr SignalImage kSignalImages[] = {
+    {"moments",
+     {"", Resolution::Full, kRgba32f, true, Visualize::Raw,
+      "luminance moments: mean and mean square over the history, mean of the fast history; specular kind: the "
+      "virtual history's share"}},
+    {"history",
+     {"", Resolution::Full, kRgba32f, true, Visualize::Radiance,
+      "post-blur's output: next frame's history; alpha: history length"}},
+    {"stabilized",
+     {"", Resolution::Full, kRgba32f, true, Visualize::Radiance,
+      "the denoised signal (temporal stabilisation's output); alpha: its history length"}},
+};
+static_assert(std::size(kSignalImages) == kDenoisePerSignal, "one table entry per DenoiseSignalImage");
 
 }  // namespace
 
-std::span<const ImageSpec> denoiseImageTable() { return kImages; }
+void addDenoiseImages(ImageTableBuilder& table, std::span<const DenoiseSignalDesc> signals) {
+  for (const ImageSpec& spec : kSharedImages) table.add(std::string(spec.name), spec);
+  for (const DenoiseSignalDesc& signal : signals)
+    for (const SignalImage& image : kSignalImages)
+      table.add("gi.denoise." + signal.name + "." + image.name, image.spec);
+}
+
+std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const DenoiseSignalDesc> signals) {
+  ImageTableBuilder table;
+  addDenoiseImages(table, signals);
+  return imageSetBytes(table.specs(), maxSize) + sizeof(shared::DenoiseConstants);
+}
 
 struct Denoiser::Passes {
   struct Signal {
@@ -65,56 +80,61 @@ struct Denoiser::Passes {
           temporalStabilization(context, denoiseTemporalStabilizationPass(name)) {}
   };
   gpu::ComputePass classifyTiles;
-  std::array<std::unique_ptr<Signal>, kDenoiseSignals> signals;
+  std::vector<std::unique_ptr<Signal>> signals;
   std::unique_ptr<gpu::ComputePass> validation;  // made on the first captured frame
-  explicit Passes(gpu::Context& context) : classifyTiles(context, denoiseClassifyTilesPass()) {
-    for (std::size_t s = 0; s < kDenoiseSignals; ++s) signals[s] = std::make_unique<Signal>(context, kSignalNames[s]);
+  Passes(gpu::Context& context, std::span<const DenoiseSignalDesc> descs)
+      : classifyTiles(context, denoiseClassifyTilesPass()) {
+    for (const DenoiseSignalDesc& signal : descs) signals.push_back(std::make_unique<Signal>(context, signal.name));
   }
 };
 
-Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings)
-    : context_(context),
-      settings_(settings),
-      images_(context, arena, kImages, maxSize),
-      constants_(std::make_unique<gpu::Buffer>(context, "gi.denoise.constants", sizeof(shared::DenoiseConstants),
-                                               gpu::BufferUsage::DeviceLocal, &arena)),
-      passes_(std::make_unique<Passes>(context)) {}
+Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
+                   std::vector<DenoiseSignalDesc> signals)
+    : context_(context), settings_(settings), signals_(std::move(signals)) {
+  addDenoiseImages(table_, signals_);
+  images_ = std::make_unique<ImageSet>(context, arena, table_.specs(), maxSize);
+  constants_ = std::make_unique<gpu::Buffer>(context, "gi.denoise.constants", sizeof(shared::DenoiseConstants),
+                                             gpu::BufferUsage::DeviceLocal, &arena);
+  passes_ = std::make_unique<Passes>(context, signals_);
+}
 
 Denoiser::~Denoiser() = default;
 
 std::vector<gpu::PassDesc> Denoiser::passes() const {
   std::vector<gpu::PassDesc> all = {denoiseClassifyTilesPass()};
-  for (const char* signal : kSignalNames)
-    for (gpu::PassDesc desc : {denoisePrePass(signal), denoiseTemporalAccumulationPass(signal), denoiseHistoryFixPass(signal),
-                               denoiseBlurPass(signal), denoisePostBlurPass(signal),
-                               denoiseTemporalStabilizationPass(signal)})
+  for (const DenoiseSignalDesc& signal : signals_)
+    for (gpu::PassDesc desc : {denoisePrePass(signal.name), denoiseTemporalAccumulationPass(signal.name),
+                               denoiseHistoryFixPass(signal.name), denoiseBlurPass(signal.name),
+                               denoisePostBlurPass(signal.name), denoiseTemporalStabilizationPass(signal.name)})
       all.push_back(std::move(desc));
   all.push_back(denoiseValidationPass());
   return all;
 }
 
-gpu::Image& Denoiser::result(DenoiseSignal signal, std::uint64_t frameIndex) {
-  return images_.current(imageOf(std::size_t(signal), kDenoiseStabilized), frameIndex);
+std::size_t Denoiser::imageOf(std::size_t signal, DenoiseSignalImage image) const {
+  return kDenoiseSharedImages + kDenoisePerSignal * signal + image;
 }
 
-gpu::Image& Denoiser::previousResult(DenoiseSignal signal, std::uint64_t frameIndex) {
-  return images_.previous(imageOf(std::size_t(signal), kDenoiseStabilized), frameIndex);
+gpu::Image& Denoiser::result(std::size_t signal, std::uint64_t frameIndex) {
+  return images_->current(imageOf(signal, kDenoiseStabilized), frameIndex);
 }
 
-void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy,
-                      const std::array<bool, kDenoiseSignals>& checkerboarded) {
+gpu::Image& Denoiser::previousResult(std::size_t signal, std::uint64_t frameIndex) {
+  return images_->previous(imageOf(signal, kDenoiseStabilized), frameIndex);
+}
+
+void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inputs) {
+  if (inputs.size() != signals_.size())
+    throw std::logic_error("gi: the denoiser has " + std::to_string(signals_.size()) + " signals, given " +
+                           std::to_string(inputs.size()));
   gpu::Recorder& recorder = frame.recorder;
   const std::uint64_t f = frame.frameIndex;
-  const DenoiseSettings& s = settings_.denoise;
+  const DenoiseSettings& s = settings_;
   const Extent full = frame.renderSize;
 
   shared::DenoiseConstants c{};
   // REBLUR's hit-distance normalisation (A, B, C, D).
   c.hitDistanceParameters = glm::vec4(3.0f, 0.1f, 20.0f, -25.0f);
-  for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal) {
-    if (noisy[signal]) c.signals |= 1u << signal;
-    if (noisy[signal] && checkerboarded[signal]) c.checkerboard |= 1u << signal;
-  }
   c.maxAccumulatedFrames = float(s.maxAccumulatedFrames);
   c.historyFixFrames = float(s.historyFixFrames);
   // Radii are set for 1080 rows (REBLUR's pixels) and follow the render
@@ -129,97 +149,111 @@ void Denoiser::record(const FrameState& frame, const std::array<gpu::Image*, kDe
   c.roughnessFraction = s.roughnessFraction;
   c.stabilizationFrames = float(s.stabilizationFrames);
   c.clampSigma = s.clampSigma;
-  // Reprojection tolerances as the branches' temporal filters use them.
-  c.depthTolerance = settings_.specular.temporalDepthTolerance;
-  c.cosNormalTolerance = std::cos(glm::radians(settings_.specular.temporalNormalToleranceDegrees));
+  c.depthTolerance = s.depthTolerance;
+  c.cosNormalTolerance = std::cos(glm::radians(s.normalToleranceDegrees));
   c.disocclusionThreshold = s.disocclusionThreshold;
-  c.hasHistory = frame.usableHistory ? 1u : 0u;
   c.frameIndex = std::uint32_t(f);
   c.antiFirefly = s.antiFirefly ? 1u : 0u;
   c.diffusePrePassRadius = s.diffusePrePassRadius * pixelScale;
   c.specularPrePassRadius = s.specularPrePassRadius * pixelScale;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DenoiseConstants", *constants_);
-  gpu::Image& tiles = images_.current(kDenoiseTiles, f);
+  gpu::Image& tiles = images_->current(kDenoiseTiles, f);
   recorder.dispatch(passes_->classifyTiles, full.width, full.height, frame.group.binds(GroupPart::Depth),
                     {{"gOut_Tiles", tiles}});
   const gpu::Bind tilesBind("gIn_Tiles", tiles);
   const gpu::Bind motion("gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler);
+  gpu::Image& prePassed = images_->current(kDenoisePrePassed, f);
+  gpu::Image& accumulated = images_->current(kDenoiseAccumulated, f);
+  gpu::Image& fixed = images_->current(kDenoiseFixed, f);
 
-  for (std::size_t signal = 0; signal < kDenoiseSignals; ++signal) {
-    if (!noisy[signal]) continue;
+  for (std::size_t signal = 0; signal < signals_.size(); ++signal) {
+    const SignalInput& in = inputs[signal];
+    if (!in.noisy) continue;
     Passes::Signal& p = *passes_->signals[signal];
-    const auto image = [&](DenoiseImage which) -> gpu::Image& { return images_.current(imageOf(signal, which), f); };
-    const auto previous = [&](DenoiseImage which) -> gpu::Image& {
-      return images_.previous(imageOf(signal, which), f);
+    const bool specular = signals_[signal].kind == SignalKind::Specular;
+    const auto image = [&](DenoiseSignalImage which) -> gpu::Image& {
+      return images_->current(imageOf(signal, which), f);
     };
-    const DenoiseSignalParams atFullRadius{std::uint32_t(signal), 1.0f};
-    const DenoiseSignalParams post{std::uint32_t(signal), s.postBlurRadiusScale};
+    const auto previous = [&](DenoiseSignalImage which) -> gpu::Image& {
+      return images_->previous(imageOf(signal, which), f);
+    };
+    const std::uint32_t flags = (frame.usableHistory && in.historyKept ? shared::kSignalHasHistory : 0u) |
+                                (in.checkerboarded ? shared::kSignalCheckerboard : 0u);
+    const DenoiseSignalParams atFullRadius{std::uint32_t(signal), std::uint32_t(signals_[signal].kind), flags, 1.0f};
+    DenoiseSignalParams post = atFullRadius;
+    post.radiusScale = s.postBlurRadiusScale;
     // The pre-pass's output takes the noisy signal's place in every later
     // pass; without a pre-pass, the noisy signal. A checkerboarded signal
     // always has one: it fills the pixels without a sample, even where it
     // blurs nothing (radius 0).
-    const float prePassRadius = signal == 0 ? s.diffusePrePassRadius : s.specularPrePassRadius;
-    const bool prePass = prePassRadius > 0.0f || checkerboarded[signal];
+    const float prePassRadius = specular ? s.specularPrePassRadius : s.diffusePrePassRadius;
+    const bool prePass = prePassRadius > 0.0f || in.checkerboarded;
     if (prePass)
       recorder.dispatch(p.prePass, full.width, full.height, frame.group.binds(),
-                        {constants, tilesBind, {"gIn_Signal", *noisy[signal]},
-                         {"gOut_PrePassed", image(kDenoisePrePassed)}},
-                        atFullRadius);
-    const gpu::Bind input("gIn_Signal", prePass ? image(kDenoisePrePassed) : *noisy[signal]);
+                        {constants, tilesBind, {"gIn_Signal", *in.noisy}, {"gOut_PrePassed", prePassed}}, atFullRadius);
+    const gpu::Bind input("gIn_Signal", prePass ? prePassed : *in.noisy);
     recorder.dispatch(p.temporalAccumulation, full.width, full.height, frame.group.binds(),
-                      {constants, tilesBind, motion, input,
+                      {constants,
+                       tilesBind,
+                       motion,
+                       input,
                        {"gPrev_Surface", frame.previousSurface},
                        {"gPrev_Filtered", previous(kDenoiseHistory)},
                        {"gPrev_Moments", previous(kDenoiseMoments)},
-                       {"gOut_Accumulated", image(kDenoiseAccumulated)},
+                       {"gOut_Accumulated", accumulated},
                        {"gOut_Moments", image(kDenoiseMoments)},
                        {"gIn_Surface", frame.currentSurface}},
                       atFullRadius);
     recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(),
-                      {constants, tilesBind,
-                       {"gIn_Accumulated", image(kDenoiseAccumulated)},
-                       {"gOut_Fixed", image(kDenoiseFixed)}},
-                      atFullRadius);
+                      {constants, tilesBind, {"gIn_Accumulated", accumulated}, {"gOut_Fixed", fixed}}, atFullRadius);
     recorder.dispatch(p.blur, full.width, full.height, frame.group.binds(),
-                      {constants, tilesBind, input,
-                       {"gIn_Filtered", image(kDenoiseFixed)},
-                       {"gOut_Filtered", image(kDenoiseAccumulated)}},
+                      {constants, tilesBind, input, {"gIn_Filtered", fixed}, {"gOut_Filtered", accumulated}},
                       atFullRadius);
-    recorder.dispatch(p.postBlur, full.width, full.height, frame.group.binds(),
-                      {constants, tilesBind, input,
-                       {"gIn_Filtered", image(kDenoiseAccumulated)},
-                       {"gOut_Filtered", image(kDenoiseHistory)}},
-                      post);
+    recorder.dispatch(
+        p.postBlur, full.width, full.height, frame.group.binds(),
+        {constants, tilesBind, input, {"gIn_Filtered", accumulated}, {"gOut_Filtered", image(kDenoiseHistory)}}, post);
     recorder.dispatch(p.temporalStabilization, full.width, full.height, frame.group.binds(),
-                      {constants, tilesBind, motion,
+                      {constants,
+                       tilesBind,
+                       motion,
                        {"gIn_Filtered", image(kDenoiseHistory)},
                        {"gPrev_Surface", frame.previousSurface},
                        {"gPrev_Stabilized", previous(kDenoiseStabilized)},
                        {"gOut_Stabilized", image(kDenoiseStabilized)},
-                       {"gIn_Surface", frame.currentSurface}});
+                       {"gIn_Surface", frame.currentSurface}},
+                      atFullRadius);
   }
-  if (frame.capturing) recordValidation(frame, noisy);
+  if (frame.capturing) recordValidation(frame, inputs);
 }
 
-void Denoiser::recordValidation(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy) {
+void Denoiser::recordValidation(const FrameState& frame, std::span<const SignalInput> inputs) {
+  // The panels show the first signal of each kind denoised this frame.
+  std::optional<std::size_t> diffuse, specular;
+  for (std::size_t signal = 0; signal < signals_.size(); ++signal) {
+    if (!inputs[signal].noisy) continue;
+    std::optional<std::size_t>& shown = signals_[signal].kind == SignalKind::Specular ? specular : diffuse;
+    if (!shown) shown = signal;
+  }
+  if (!diffuse && !specular) return;
   if (!passes_->validation) {
     passes_->validation = std::make_unique<gpu::ComputePass>(context_, denoiseValidationPass());
-    images_.makeDebugImages();
+    images_->makeDebugImages();
   }
   const std::uint64_t f = frame.frameIndex;
-  // A signal that is off shows black; its slot is filled with the other's image.
-  const std::size_t diffuse = noisy[0] ? 0 : 1, specular = noisy[1] ? 1 : 0;
-  frame.recorder.dispatch(
-      *passes_->validation, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
-      {{"gIn_DenoiseConstants", *constants_},
-       {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
-       {"gIn_DiffuseAccumulated", images_.current(imageOf(diffuse, kDenoiseAccumulated), f)},
-       {"gIn_SpecularAccumulated", images_.current(imageOf(specular, kDenoiseAccumulated), f)},
-       {"gIn_SpecularMoments", images_.current(imageOf(specular, kDenoiseMoments), f)},
-       {"gIn_Diffuse", images_.current(imageOf(diffuse, kDenoiseStabilized), f)},
-       {"gIn_Specular", images_.current(imageOf(specular, kDenoiseStabilized), f)},
-       {"gOut_Validation", images_.current(kDenoiseValidation, f)}});
+  // A kind none of whose signals ran shows black; its slots hold the other kind's images.
+  const std::size_t d = diffuse.value_or(*specular), s = specular.value_or(*diffuse);
+  const DenoiseValidationParams params{diffuse ? 1u : 0u, specular ? 1u : 0u};
+  frame.recorder.dispatch(*passes_->validation, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
+                          {{"gIn_DenoiseConstants", *constants_},
+                           {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+                           {"gIn_DiffuseHistory", images_->current(imageOf(d, kDenoiseHistory), f)},
+                           {"gIn_SpecularHistory", images_->current(imageOf(s, kDenoiseHistory), f)},
+                           {"gIn_SpecularMoments", images_->current(imageOf(s, kDenoiseMoments), f)},
+                           {"gIn_Diffuse", images_->current(imageOf(d, kDenoiseStabilized), f)},
+                           {"gIn_Specular", images_->current(imageOf(s, kDenoiseStabilized), f)},
+                           {"gOut_Validation", images_->current(kDenoiseValidation, f)}},
+                          params);
 }
 
 }  // namespace bounce::gi

@@ -1,74 +1,107 @@
 // The denoiser (docs/gi.md, "The denoiser"): NVIDIA's REBLUR as seed 004
-// walks through it, for any number of noisy signals of a frame (here the
-// diffuse and specular branches' resolved, demodulated light). It sees the
-// frame's surfaces (viewZ, normal, roughness), the motion vectors and last
-// frame's surfaces, and nothing of the branches. Its passes, per signal:
-//   gi.denoise.classify_tiles                   16x16 tiles with a surface (both signals)
+// walks through it, for any number of noisy signals of a frame, each of a
+// kind its producer declares (gi::SignalKind: diffuse-like, or specular-like
+// with roughness, hit distance and reflection motion). It sees the frame's
+// surfaces (viewZ, normal, roughness), the motion vectors and last frame's
+// surfaces, its own settings, and nothing of who made the signals. Its
+// passes, per signal (SIGNAL: the signal's name):
+//   gi.denoise.classify_tiles                   16x16 tiles with a surface (all signals)
 //   gi.denoise.SIGNAL.pre_pass                 checkerboard resolve; 8-tap pre-blur, radius from hit distance
 //                                              and lobe
-//   gi.denoise.SIGNAL.temporal_accumulation    Catmull-Rom surface-motion history (specular: + reflection
+//   gi.denoise.SIGNAL.temporal_accumulation    Catmull-Rom surface-motion history (specular kind: + reflection
 //                                              motion), history length, fast-history clamp, anti-lag
 //   gi.denoise.SIGNAL.history_fix              short histories rebuilt from a wide neighbourhood; anti-firefly
 //   gi.denoise.SIGNAL.blur                     8-tap disk, radius from history length, lobe and hit distance
 //   gi.denoise.SIGNAL.post_blur                the same at half the radius: next frame's history
 //   gi.denoise.SIGNAL.temporal_stabilization   a second, clamped history: the result
 //   gi.denoise.validation                      captured frames only: NRD-style validation view
+// The signals are denoised one after another, so the images a signal uses
+// only within a frame (pre-passed, accumulated, fixed) are one set for all;
+// each signal keeps its own histories (moments, history, stabilised).
 #pragma once
 
-#include <array>
 #include <memory>
 #include <span>
+#include <string>
+#include <vector>
 
+#include "bounce/gi.h"
 #include "bounce/gi_settings.h"
 #include "gi/branch.h"
 
 namespace bounce::gi {
 
-// The two signals the library denoises (shared::kSignalDiffuse, kSignalSpecular).
-enum class DenoiseSignal : std::uint32_t { Diffuse = 0, Specular = 1 };
-constexpr std::size_t kDenoiseSignals = 2;
-
-// The denoiser's images, in the order of denoiseImageTable(): the tiles,
-// then per signal (diffuse first) the same six.
+// The denoiser's images: the shared ones first (in this order), then per
+// signal the kDenoisePerSignal of DenoiseSignalImage.
 enum DenoiseImage : std::size_t {
   kDenoiseTiles,
-  kDenoisePrePassed,    // + kDenoisePerSignal * signal
-  kDenoiseAccumulated,  // also blur's output
-  kDenoiseMoments,
-  kDenoiseFixed,
-  kDenoiseHistory,      // post-blur's output, next frame's history
-  kDenoiseStabilized,   // the result
-  kDenoisePerSignal = kDenoiseStabilized,  // images per signal
-  kDenoiseValidation = 1 + kDenoisePerSignal * kDenoiseSignals,  // captured frames only
-  kDenoiseImageCount
+  kDenoisePrePassed,    // a signal's pre-pass output (scratch, shared by the signals)
+  kDenoiseAccumulated,  // temporal accumulation's output, then blur's (scratch)
+  kDenoiseFixed,        // history fix's output (scratch)
+  kDenoiseValidation,   // captured frames only
+  kDenoiseSharedImages
 };
-std::span<const ImageSpec> denoiseImageTable();
+enum DenoiseSignalImage : std::size_t {
+  kDenoiseMoments,     // luminance moments (history)
+  kDenoiseHistory,     // post-blur's output, next frame's history
+  kDenoiseStabilized,  // the result (history)
+  kDenoisePerSignal
+};
+
+// A signal as the denoiser knows it: name (its passes and images are
+// gi.denoise.NAME.*) and kind.
+struct DenoiseSignalDesc {
+  std::string name;
+  SignalKind kind = SignalKind::Diffuse;
+};
+
+// The denoiser's image table for these signals (names of the signals' own
+// images follow theirs).
+void addDenoiseImages(ImageTableBuilder& table, std::span<const DenoiseSignalDesc> signals);
+// Its device memory at `maxSize` (images and constants).
+std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const DenoiseSignalDesc> signals);
 
 class Denoiser {
  public:
-  Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings);
+  Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
+           std::vector<DenoiseSignalDesc> signals);
   ~Denoiser();
 
-  ImageSet& images() { return images_; }
-  // Denoises each signal whose noisy image is given (rgba16f: demodulated
-  // radiance, hit distance in world units or 0): `noisy[signal]`, null for
-  // a signal that is off. `checkerboarded[signal]`: the image holds samples
-  // only at the pixels of the signal's checkerboard parity
-  // (shared/checkerboard.glsl; an engine's signal in gi.denoise.checkerboard
-  // mode, unpacked by gi.engine_signal), which the pre-pass fills in.
-  void record(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy,
-              const std::array<bool, kDenoiseSignals>& checkerboarded);
-  // This frame's denoised signal (rgba32f: radiance, history length).
-  gpu::Image& result(DenoiseSignal signal, std::uint64_t frameIndex);
-  gpu::Image& previousResult(DenoiseSignal signal, std::uint64_t frameIndex);
+  ImageSet& images() { return *images_; }
+  std::span<const DenoiseSignalDesc> signals() const { return signals_; }
+
+  // What a signal brings to a frame.
+  struct SignalInput {
+    // The noisy image (rgba16f: demodulated radiance, hit distance in
+    // world units or 0); null: the signal is not denoised this frame.
+    gpu::Image* noisy = nullptr;
+    // The image holds samples only at the pixels of the kind's checkerboard
+    // parity (shared/checkerboard.glsl; an engine's signal in
+    // gi.denoise.checkerboard mode, unpacked by gi.engine_signal), which
+    // the pre-pass fills in.
+    bool checkerboarded = false;
+    // Last frame's history of this signal may be reprojected (besides the
+    // frame's own FrameState::usableHistory): false on the first frame a
+    // signal is given after one without it.
+    bool historyKept = true;
+  };
+  // Denoises each signal whose noisy image is given; `inputs`: one per signal.
+  void record(const FrameState& frame, std::span<const SignalInput> inputs);
+  // A signal's denoised result of this frame (rgba32f: radiance, history
+  // length), and last frame's.
+  gpu::Image& result(std::size_t signal, std::uint64_t frameIndex);
+  gpu::Image& previousResult(std::size_t signal, std::uint64_t frameIndex);
   std::vector<gpu::PassDesc> passes() const;
 
  private:
   struct Passes;
-  void recordValidation(const FrameState& frame, const std::array<gpu::Image*, kDenoiseSignals>& noisy);
+  std::size_t imageOf(std::size_t signal, DenoiseSignalImage image) const;
+  void recordValidation(const FrameState& frame, std::span<const SignalInput> inputs);
   gpu::Context& context_;
-  Settings settings_;
-  ImageSet images_;
+  DenoiseSettings settings_;
+  std::vector<DenoiseSignalDesc> signals_;
+  ImageTableBuilder table_;
+  std::unique_ptr<ImageSet> images_;
   std::unique_ptr<gpu::Buffer> constants_;
   std::unique_ptr<Passes> passes_;
 };

@@ -308,7 +308,7 @@ void DiffuseBranch::record(const FrameState& frame) {
                                                     {"gIn_Reservoir1", *final1},
                                                     {"gIn_MarchDepth", frame.marchDepth},
                                                     {"gOut_Diffuse", resolved}})));
-  if (settings_.denoise.enabled) {  // the denoiser takes the resolved signal
+  if (frame.denoised) {  // the denoiser takes the resolved signal
     // The filter's images are never written then; cleared once, they hold
     // zeros (in the layout every library image is in) for whoever lists them.
     if (f == 0) images_.clearToZero(recorder, {kFiltered, kMoments}, f);

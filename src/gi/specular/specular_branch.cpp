@@ -190,7 +190,7 @@ void SpecularBranch::record(const FrameState& frame) {
                      {"gIn_Reservoir0", *final0},
                      {"gIn_Reservoir1", *final1},
                      {"gOut_Specular", resolved}});
-  if (settings_.denoise.enabled) {  // the denoiser takes the resolved signal
+  if (frame.denoised) {  // the denoiser takes the resolved signal
     // The filter's images are never written then; cleared once, they hold
     // zeros (in the layout every library image is in) for whoever lists them.
     if (f == 0) images_.clearToZero(recorder, {kSpecularFiltered, kSpecularMoments, kSpecularReprojection}, f);
