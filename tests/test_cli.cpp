@@ -334,6 +334,10 @@ TEST(Cli, BenchPrintsTimingsAndBandwidth) {
   EXPECT_NE(r.output.find("incoherent closest-hit"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("bench.copy_bandwidth"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("copy bandwidth:"), std::string::npos) << r.output;
+  // Each GI pass against its traffic floor, at the copy pass's bandwidth.
+  EXPECT_NE(r.output.find("traffic floors of the GI passes"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the copy pass's bandwidth"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("all gi.*"), std::string::npos) << r.output;
 }
 
 }  // namespace
@@ -986,6 +990,15 @@ TEST(CliHardening, BenchJsonIsValidJsonInAFileOrOnStdoutAndBenchValidatesClean) 
   const nlohmann::json parsed = nlohmann::json::parse(readText(dir / "bench.json"));
   EXPECT_EQ(parsed.at("scene"), "cornell");
   EXPECT_GT(parsed.at("passes").size(), 2u);
+  // The composite reads and writes images of the render size: its traffic
+  // floor is at least its output's bytes (rgba16f, 16x16).
+  bool composite = false;
+  for (const nlohmann::json& pass : parsed.at("passes"))
+    if (pass.at("name") == "gi.composite") {
+      composite = true;
+      EXPECT_GE(pass.at("image_bytes").get<std::uint64_t>(), 16u * 16u * 8u) << pass;
+    }
+  EXPECT_TRUE(composite) << "no gi.composite in the JSON";
 
   const auto toStdout = runArgs({"bench", "cornell", "--width", "16", "--height", "16", "--frames", "2", "--warmup",
                                  "0", "--rays", "0", "--copy-mb", "1", "--json", "-"},

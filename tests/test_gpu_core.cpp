@@ -215,6 +215,12 @@ TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {
     EXPECT_EQ(row.samples, std::size_t(kFrames));
     EXPECT_GT(row.maxMs, 0.0);
   }
+  // Each pass's traffic floor: the images its binds cover, each once
+  // (rgba16f: 8 bytes a texel); the write binds one image, the read two.
+  constexpr std::uint64_t kImageBytes = std::uint64_t(kSize) * kSize * 8;
+  EXPECT_EQ(rows[0].imageBytes, kImageBytes);
+  EXPECT_EQ(rows[1].imageBytes, 2 * kImageBytes);
+  EXPECT_EQ(rows[0].bufferBytes, 0u);
 
   // Frame 3 was captured: each pass's output as it was right after that pass.
   std::vector<gpu::CapturedStage> captures = loop.takeCaptures();
@@ -225,6 +231,34 @@ TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {
   }
   EXPECT_EQ(captures[0].binding, "gOut_Value");
   EXPECT_EQ(captures[1].binding, "gOut_Copy");
+}
+
+// A pass dispatched several times in a frame is one row whose traffic adds
+// up; a pass that binds one mip level counts that level alone, and an image
+// bound in two slots once.
+TEST_F(GpuCore, APassTrafficFloorAddsItsDispatchesAndCountsTheLevelsBound) {
+  gpu::ComputePass write(context(), writeProbeDesc());
+  gpu::ComputePass read(context(), readProbeDesc());
+  gpu::Image source(context(), probeImage("probe.source")), copy(context(), probeImage("probe.copy"));
+  gpu::ImageDesc mipped = probeImage("probe.mipped");
+  mipped.mipLevels = 3;
+  gpu::Image levels(context(), mipped);
+  gpu::FrameLoop loop(context(), 1);
+  gpu::Recorder& r = loop.beginFrame();
+  r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, glm::vec4(1.0f));
+  r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+  r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+  r.dispatch(write, kSize / 4, kSize / 4, {{"gOut_Value", levels, gpu::MipLevel{2}}}, glm::vec4(2.0f));
+  // One image in both slots (in place): its texels once.
+  r.dispatch(read, kSize, kSize, {{"gIn_Value", copy}, {"gOut_Copy", copy}});
+  loop.endFrame();
+  loop.finish();
+  const auto rows = loop.timings().summary();
+  ASSERT_EQ(rows.size(), 2u);
+  constexpr std::uint64_t kImageBytes = std::uint64_t(kSize) * kSize * 8;
+  EXPECT_EQ(rows[1].pass, "tests.barrier_probe_read");
+  EXPECT_EQ(rows[1].imageBytes, 5 * kImageBytes) << "two dispatches of two images each, one of one image twice";
+  EXPECT_EQ(rows[0].imageBytes, kImageBytes + kImageBytes / 16) << "level 2 is a 16th of level 0";
 }
 
 TEST_F(GpuCore, UploadAndReadbackRoundTripEveryFormat) {

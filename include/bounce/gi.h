@@ -371,6 +371,13 @@ struct PassTiming {
   std::uint64_t frameIndex = 0;
   std::string pass;  // e.g. "gi.diffuse.resolve"
   double milliseconds = 0.0;
+  // What its bindings cover, each once: the least the pass must move (its
+  // traffic floor; bytes / the device's bandwidth is the shortest time it
+  // can take). Images count the levels bound at their full size; storage
+  // buffers count whole, apart, as some are sized for the worst case and
+  // the pass touches less of them.
+  std::uint64_t imageBytes = 0;
+  std::uint64_t bufferBytes = 0;
 };
 
 // A copy of one image a pass wrote, taken right after that pass ran (so

@@ -100,6 +100,37 @@ std::vector<render::BvhRay> surfaceRays(const scene::Scene& scene, std::uint32_t
   return rays;
 }
 
+// Each GI pass against its traffic floor (docs/benchmarks.md, "Traffic
+// floors"): the bytes of the images its binds cover, each once, over the
+// device's bandwidth is the least time it could take; the share of that in
+// its median time says how far it is from bandwidth-bound (100 %). Storage
+// buffers are shown apart (counted whole: some are sized for the worst case).
+void printTrafficFloors(std::FILE* report, const std::vector<gpu::PassTiming>& timings, double bandwidthGbps,
+                        const char* bandwidthSource) {
+  std::size_t width = 4;
+  for (const gpu::PassTiming& t : timings)
+    if (t.pass.starts_with("gi.")) width = std::max(width, t.pass.size());
+  std::fprintf(report,
+               "\ntraffic floors of the GI passes (images each once, at %.0f GB/s: %s bandwidth):\n"
+               "%-*s  %9s  %10s  %9s  %10s  %8s  %8s\n",
+               bandwidthGbps, bandwidthSource, int(width), "pass", "median ms", "images MB", "floor ms", "buffers MB",
+               "of floor", "GB/s");
+  double ms = 0.0, floorMs = 0.0, imageMb = 0.0;
+  for (const gpu::PassTiming& t : timings) {
+    if (!t.pass.starts_with("gi.")) continue;
+    const double mb = double(t.imageBytes) / 1e6;
+    const double floor = mb / bandwidthGbps;  // MB / (GB/s) = ms
+    std::fprintf(report, "%-*s  %9.4f  %10.1f  %9.4f  %10.1f  %7.1f%%  %8.0f\n", int(width), t.pass.c_str(), t.medianMs,
+                 mb, floor, double(t.bufferBytes) / 1e6, t.medianMs > 0 ? 100.0 * floor / t.medianMs : 0.0,
+                 t.medianMs > 0 ? mb / t.medianMs : 0.0);
+    ms += t.medianMs;
+    floorMs += floor;
+    imageMb += mb;
+  }
+  std::fprintf(report, "%-*s  %9.4f  %10.1f  %9.4f  %10s  %7.1f%%  %8.0f\n", int(width), "all gi.*", ms, imageMb,
+               floorMs, "", ms > 0 ? 100.0 * floorMs / ms : 0.0, ms > 0 ? imageMb / ms : 0.0);
+}
+
 }  // namespace
 
 CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
@@ -115,6 +146,11 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       ->check(CLI::Range(0u, 100000u));
   command->add_option("--copy-mb", options.copyMegabytes, "Buffer size of the copy-bandwidth pass, MiB (0 = skip)")
       ->check(CLI::Range(0u, 4096u));
+  command
+      ->add_option("--bandwidth-gbps", options.bandwidthGbps,
+                   "Device bandwidth, GB/s, for the passes' traffic floors when the copy pass is skipped (--copy-mb "
+                   "0); else the copy pass's measured bandwidth")
+      ->check(CLI::Range(1.0, 100000.0));
   command->add_option("--rays", options.rays, "Incoherent rays per frame through render.bvh_trace_rays (0 = skip)")
       ->check(CLI::Range(0u, 1u << 26));
   command
@@ -257,7 +293,11 @@ int runBench(const BenchOptions& options) {
     if (t.pass == "render.bvh_trace_rays_any") incoherentAny = double(options.rays) / seconds;
     if (t.pass.starts_with("gi.")) wholeGiMs += t.medianMs;
   }
-  if (gi) std::fprintf(report, "\nwhole GI (every gi.* pass, medians added): %.3f ms\n", wholeGiMs);
+  if (gi) {
+    std::fprintf(report, "\nwhole GI (every gi.* pass, medians added): %.3f ms\n", wholeGiMs);
+    printTrafficFloors(report, loop.timings().summary(), copy ? bandwidth : options.bandwidthGbps,
+                       copy ? "the copy pass's" : "--bandwidth-gbps");
+  }
   nlohmann::json worldRays = nlohmann::json::object();
   if (gi && gi->worldRays().frames > 0) {
     const render::GiBridge::WorldRayTally& tally = gi->worldRays();
@@ -296,7 +336,12 @@ int runBench(const BenchOptions& options) {
   if (!options.json.empty()) {
     nlohmann::json passes = nlohmann::json::array();
     for (const gpu::PassTiming& t : loop.timings().summary())
-      passes.push_back({{"name", t.pass}, {"median_ms", t.medianMs}, {"min_ms", t.minMs}, {"max_ms", t.maxMs}});
+      passes.push_back({{"name", t.pass},
+                        {"median_ms", t.medianMs},
+                        {"min_ms", t.minMs},
+                        {"max_ms", t.maxMs},
+                        {"image_bytes", t.imageBytes},
+                        {"buffer_bytes", t.bufferBytes}});
     const nlohmann::json results = {{"device", device.name},
                                     {"driver", device.driver},
                                     {"scene", scene.name},

@@ -242,6 +242,10 @@ struct BenchOptions {
   std::uint32_t frames = 200;
   std::uint32_t warmup = 20;
   std::uint32_t copyMegabytes = 256;
+  // What the traffic floors are measured against when the copy pass does
+  // not run (--copy-mb 0): the H100's copy bandwidth as this bench measured
+  // it (docs/benchmarks.md).
+  double bandwidthGbps = 3000.0;
   std::uint32_t rays = 1u << 20;  // incoherent rays per frame for render.bvh_trace_rays (0 = skip)
   std::string rayOrigins = "bounds";  // where they start: bounds (anywhere in the scene's box) or surfaces
   std::string json;

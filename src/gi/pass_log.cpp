@@ -59,6 +59,7 @@ void PassLog::begin(VkCommandBuffer commandBuffer, gpu::Recorder& recorder, std:
                     bool captureStages) {
   captures_.clear();
   sink_.passes.clear();
+  sink_.traffic.clear();
   frameIndex_ = frameIndex;
   if (timestamps_) vkCmdResetQueryPool(commandBuffer, sink_.pool, 0, sink_.capacity);
   if (captureStages) recorder.captureStages(&captures_, frameIndex);
@@ -93,10 +94,14 @@ void PassLog::collectInto(FrameResults& results, const std::string& caller) {
       const std::string& pass = sink_.passes[i];
       const auto same = std::find_if(results.timings.begin() + std::ptrdiff_t(first), results.timings.end(),
                                      [&](const PassTiming& t) { return t.pass == pass; });
-      if (same == results.timings.end())
-        results.timings.push_back({frameIndex, pass, ms});
-      else
+      const gpu::PassTraffic& traffic = sink_.traffic[i];
+      if (same == results.timings.end()) {
+        results.timings.push_back({frameIndex, pass, ms, traffic.imageBytes, traffic.bufferBytes});
+      } else {
         same->milliseconds += ms;
+        same->imageBytes += traffic.imageBytes;
+        same->bufferBytes += traffic.bufferBytes;
+      }
     }
   }
   if (rayCountsRecorded_) {
@@ -120,6 +125,7 @@ void PassLog::collectInto(FrameResults& results, const std::string& caller) {
   }
   captures_.clear();
   sink_.passes.clear();
+  sink_.traffic.clear();
   frameIndex_.reset();
   rayCountsRecorded_ = false;
 }

@@ -58,20 +58,28 @@ void FrameLoop::collect(Slot& slot) {
     // A pass dispatched several times in a frame (one mip level or pyramid
     // step each) is one row: its dispatches' times add up.
     const double msPerTick = context_.timestampPeriodNs() * 1e-6;
-    std::vector<std::pair<const std::string*, double>> frameTotals;
+    struct Total {
+      const std::string* pass;
+      double ms;
+      PassTraffic traffic;
+    };
+    std::vector<Total> frameTotals;
     for (std::size_t i = 0; i < slot.timestamps.passes.size(); ++i) {
       const double ms = double(queryResults_[2 * i + 1] - queryResults_[2 * i]) * msPerTick;
       const std::string& pass = slot.timestamps.passes[i];
       const auto same =
-          std::find_if(frameTotals.begin(), frameTotals.end(), [&](const auto& t) { return *t.first == pass; });
-      if (same == frameTotals.end())
-        frameTotals.emplace_back(&pass, ms);
-      else
-        same->second += ms;
+          std::find_if(frameTotals.begin(), frameTotals.end(), [&](const Total& t) { return *t.pass == pass; });
+      if (same == frameTotals.end()) {
+        frameTotals.push_back({&pass, ms, slot.timestamps.traffic[i]});
+      } else {
+        same->ms += ms;
+        same->traffic += slot.timestamps.traffic[i];
+      }
     }
-    for (const auto& [pass, ms] : frameTotals) timings_.add(*pass, ms);
+    for (const Total& t : frameTotals) timings_.add(*t.pass, t.ms, t.traffic.imageBytes, t.traffic.bufferBytes);
   }
   slot.timestamps.passes.clear();
+  slot.timestamps.traffic.clear();
   for (CapturedStage& c : slot.captures) {
     completeCapture(c);
     completedCaptures_.push_back(std::move(c));

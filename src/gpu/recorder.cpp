@@ -129,7 +129,7 @@ void Recorder::flushBarriers() {
   memoryBarrierPending_ = false;
 }
 
-void Recorder::writeTimestamp(bool begin, const std::string& passName) {
+void Recorder::writeTimestamp(bool begin, const std::string& passName, const PassTraffic& traffic) {
   if (!timestamps_) return;
   auto index = std::uint32_t(timestamps_->passes.size() * 2 + (begin ? 0 : 1));
   if (index >= timestamps_->capacity)
@@ -139,7 +139,10 @@ void Recorder::writeTimestamp(bool begin, const std::string& passName) {
   // work finished to its own end, so waiting on earlier passes is not
   // charged to it.
   vkCmdWriteTimestamp2(cmd_, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, timestamps_->pool, index);
-  if (!begin) timestamps_->passes.push_back(passName);
+  if (!begin) {
+    timestamps_->passes.push_back(passName);
+    timestamps_->traffic.push_back(traffic);
+  }
 }
 
 std::vector<Bind> bindsDeclaredBy(const ComputePass& pass, std::span<const Bind> binds) {
@@ -180,6 +183,8 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
     ordered_[index] = &bind;
   }
 
+  PassTraffic traffic;
+  countedLevels_.clear();
   writes_.clear();
   imageInfos_.clear();
   bufferInfos_.clear();
@@ -233,6 +238,19 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
       info.imageLayout = layout;
       if (kind == ResourceKind::SampledImage) info.sampler = bind->sampler ? bind->sampler : context_.linearSampler();
       imageInfos_.push_back(info);
+      // The levels the view shows: one bound level, a storage image's
+      // level 0, or every level of a sampled image; an image bound in two
+      // slots (one filling a slot the pass leaves unread) counts once.
+      const bool allLevels = bind->mipLevel == Bind::kAllMips && kind == ResourceKind::SampledImage;
+      const std::uint32_t first = bind->mipLevel == Bind::kAllMips ? 0 : bind->mipLevel;
+      const std::uint32_t end = allLevels ? image.desc().mipLevels : first + 1;
+      for (std::uint32_t level = first; level < end; ++level) {
+        const std::pair<VkImage, std::uint32_t> key(image.handle(), level);
+        if (std::find(countedLevels_.begin(), countedLevels_.end(), key) != countedLevels_.end()) continue;
+        countedLevels_.push_back(key);
+        traffic.imageBytes +=
+            std::uint64_t(image.mipWidth(level)) * image.mipHeight(level) * formatInfo(image.format()).bytesPerPixel;
+      }
       write.descriptorType = kind == ResourceKind::SampledImage ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
                                                                 : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
       write.pImageInfo = &imageInfos_.back();
@@ -248,6 +266,7 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
                    "' is larger than this device binds (" + std::to_string(maxRange) + " bytes)");
       require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kCompute, access, writes);
       bufferInfos_.push_back({buffer.handle(), 0, VK_WHOLE_SIZE});
+      if (!uniform) traffic.bufferBytes += buffer.size();
       write.descriptorType =
           kind == ResourceKind::UniformBuffer ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       write.pBufferInfo = &bufferInfos_.back();
@@ -268,7 +287,7 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
                        pushConstants);
   const std::uint32_t* local = pass.localSize();
   vkCmdDispatch(cmd_, (width + local[0] - 1) / local[0], (height + local[1] - 1) / local[1], 1);
-  writeTimestamp(false, desc.name);
+  writeTimestamp(false, desc.name, traffic);
   if (context_.cmdEndDebugLabel) context_.cmdEndDebugLabel(cmd_);
 
   if (captures_) {

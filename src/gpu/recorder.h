@@ -85,10 +85,26 @@ struct CapturedStage {
 void completeCapture(CapturedStage& capture);
 
 // Where a Recorder writes its GPU timestamps (owned by the FrameLoop).
+// What a dispatch's binds cover, each once: the least it must move, its
+// traffic floor (docs/benchmarks.md, "Traffic floors"). Images count the
+// levels bound (a sampled image all of them) at their full size; storage
+// buffers count whole, which for buffers sized for the worst case (queues,
+// the radiance cache) is more than a pass touches, so they are apart.
+struct PassTraffic {
+  std::uint64_t imageBytes = 0;
+  std::uint64_t bufferBytes = 0;
+  PassTraffic& operator+=(const PassTraffic& other) {
+    imageBytes += other.imageBytes;
+    bufferBytes += other.bufferBytes;
+    return *this;
+  }
+};
+
 struct TimestampSink {
   VkQueryPool pool = VK_NULL_HANDLE;
-  std::uint32_t capacity = 0;       // queries in the pool (two per pass)
-  std::vector<std::string> passes;  // pass names in recorded order
+  std::uint32_t capacity = 0;        // queries in the pool (two per pass)
+  std::vector<std::string> passes;   // pass names in recorded order
+  std::vector<PassTraffic> traffic;  // each pass's binds, alike
 };
 
 class Recorder {
@@ -189,7 +205,7 @@ class Recorder {
   void require(SyncState& state, VkImage image, std::uint32_t mipLevels, VkImageLayout layout,
                VkPipelineStageFlags2 stage, VkAccessFlags2 access, bool writes);
   void flushBarriers();
-  void writeTimestamp(bool begin, const std::string& passName);
+  void writeTimestamp(bool begin, const std::string& passName, const PassTraffic& traffic = {});
 
   Context& context_;
   VkCommandBuffer cmd_;
@@ -204,6 +220,7 @@ class Recorder {
   VkMemoryBarrier2 memoryBarrier_{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
   bool memoryBarrierPending_ = false;
   std::vector<VkWriteDescriptorSet> writes_;
+  std::vector<std::pair<VkImage, std::uint32_t>> countedLevels_;  // image levels in this dispatch's traffic
   std::vector<VkDescriptorImageInfo> imageInfos_;
   std::vector<VkDescriptorBufferInfo> bufferInfos_;
   std::vector<const Bind*> ordered_;

@@ -5,6 +5,14 @@
 
 namespace bounce::gpu {
 
+void TimingStats::add(const std::string& pass, double milliseconds, std::uint64_t imageBytes,
+                      std::uint64_t bufferBytes) {
+  add(pass, milliseconds);
+  PassSamples& s = samples_.at(pass);
+  s.imageBytes = imageBytes;
+  s.bufferBytes = bufferBytes;
+}
+
 void TimingStats::add(const std::string& pass, double milliseconds) {
   auto [it, inserted] = samples_.try_emplace(pass);
   if (inserted) order_.push_back(pass);
@@ -29,7 +37,7 @@ std::vector<PassTiming> TimingStats::summary() const {
   std::vector<PassTiming> rows;
   for (const std::string& pass : order_) {
     const PassSamples& s = samples_.at(pass);
-    rows.push_back({pass, medianOf(s.kept), s.min, s.max, s.count});
+    rows.push_back({pass, medianOf(s.kept), s.min, s.max, s.count, s.imageBytes, s.bufferBytes});
   }
   return rows;
 }

@@ -9,12 +9,17 @@
 
 namespace bounce::gpu {
 
+// What a pass's binds covered in its last frame (gpu/recorder.h).
+struct PassTraffic;
+
 struct PassTiming {
   std::string pass;
   double medianMs = 0;
   double minMs = 0;
   double maxMs = 0;
   std::size_t samples = 0;
+  std::uint64_t imageBytes = 0;   // the images its binds covered, its last frame (PassTraffic)
+  std::uint64_t bufferBytes = 0;  // the storage buffers, whole
 };
 
 // A pass's latest time, for a live view: no sorting, cheap every frame.
@@ -36,6 +41,8 @@ class TimingStats {
   static constexpr std::size_t kMaxSamples = 4096;
 
   void add(const std::string& pass, double milliseconds);
+  // The same with the bytes its binds covered that frame.
+  void add(const std::string& pass, double milliseconds, std::uint64_t imageBytes, std::uint64_t bufferBytes);
   // One row per pass, in the order passes first ran.
   std::vector<PassTiming> summary() const;
   // Each pass's latest time, in the order passes first ran.
@@ -53,6 +60,7 @@ class TimingStats {
     double min = 0.0;
     double max = 0.0;
     double last = 0.0;
+    std::uint64_t imageBytes = 0, bufferBytes = 0;  // the last frame's
     std::uint64_t random = 0x9E3779B97F4A7C15ull;  // fixed seed: the same run keeps the same samples
   };
   std::vector<std::string> order_;
