@@ -168,6 +168,25 @@ TEST(Packing, NormalAndMaterialRoundTripWithinATenthOfADegree) {
   EXPECT_EQ(unpackMaterialOfNormalMaterial(packNormalMaterial(glm::vec3(0.0f, 0.0f, -1.0f), 200u)), 200u);
 }
 
+TEST(Packing, NormalAndRoughnessRoundTripWithinAFifthOfADegreeAndAThousandth) {
+  float roughness = 0.0f;
+  double worst = 0.0;
+  for (glm::vec3 n : randomUnitVectors(20000, 2468u)) {
+    roughness = std::fmod(roughness + 0.1234567f, 1.0f);
+    const uint packed = packNormalRoughness(n, roughness);
+    EXPECT_NEAR(unpackRoughnessOfNormalRoughness(packed), roughness, 0.5f / 1023.0f + 1e-6f);
+    glm::dvec3 a(unpackNormalOfNormalRoughness(packed)), b(n);
+    worst = std::max(worst, glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b))));
+  }
+  std::printf("11-bit octahedral normal: worst %.3f degrees\n", worst);
+  EXPECT_LT(worst, 0.2);
+  // Roughness is clamped to [0, 1] and keeps its ends exactly; it leaves the normal's bits alone.
+  const glm::vec3 n = glm::normalize(glm::vec3(-0.2f, 0.4f, -0.9f));
+  EXPECT_EQ(unpackRoughnessOfNormalRoughness(packNormalRoughness(n, 1.0f)), 1.0f);
+  EXPECT_EQ(unpackRoughnessOfNormalRoughness(packNormalRoughness(n, -3.0f)), 0.0f);
+  EXPECT_EQ(packNormalRoughness(n, 0.0f) & 0x3FFFFFu, packNormalRoughness(n, 1.0f) & 0x3FFFFFu);
+}
+
 TEST(Packing, PixelIndexAndUvRoundTrip) {
   const uint width = 37;
   for (uint i = 0; i < 37u * 23u; ++i) EXPECT_EQ(pixelToIndex(indexToPixel(i, width), width), i);

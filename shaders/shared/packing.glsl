@@ -51,6 +51,28 @@ vec3 unpackNormalOfNormalMaterial(uint packed) {
 
 uint unpackMaterialOfNormalMaterial(uint packed) { return packed >> 24u; }
 
+// A unit normal in 22 bits (11-bit unorm per octahedral axis: worst case
+// about 0.12 degrees, a tenth of the narrowest cone the denoiser's normal
+// weight grants) and a perceptual roughness in the top 10 bits (steps of
+// 1/1023): the second word of the denoiser's surface image
+// (gi.denoise.surface), so that a tap reads depth, normal and roughness in
+// one load.
+const float kOct11Scale = 2047.0f;
+const float kRoughness10Scale = 1023.0f;
+
+uint packNormalRoughness(vec3 n, float roughness) {
+  uvec2 q = uvec2(round(clamp(encodeOctahedral(n) * 0.5f + 0.5f, 0.0f, 1.0f) * kOct11Scale));
+  uint r = uint(round(clamp(roughness, 0.0f, 1.0f) * kRoughness10Scale));
+  return q.x | (q.y << 11u) | (r << 22u);
+}
+
+vec3 unpackNormalOfNormalRoughness(uint packed) {
+  vec2 q = vec2(float(packed & 0x7FFu), float((packed >> 11u) & 0x7FFu));
+  return decodeOctahedral(q * (2.0f / kOct11Scale) - 1.0f);
+}
+
+float unpackRoughnessOfNormalRoughness(uint packed) { return float(packed >> 22u) / kRoughness10Scale; }
+
 // Row-major linear index of a pixel, and back.
 uint pixelToIndex(uvec2 pixel, uint width) { return pixel.y * width + pixel.x; }
 uvec2 indexToPixel(uint index, uint width) { return uvec2(index % width, index / width); }

@@ -7,7 +7,6 @@
 // post_blur_radius_scale of that, and its output is next frame's history
 // for temporal accumulation and what temporal stabilisation reads.
 #include "gi/gi_common.glsl"
-#include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
 

@@ -6,9 +6,12 @@
 // signals; radiance in xyz, hit distance in world units in w, 0 where
 // unknown); REBLUR's hit-distance normalisation and the edge-stopping
 // weights of its spatial passes (shared/denoise_weights.glsl); which pixels
-// of a checkerboarded signal hold samples (shared/checkerboard.glsl). The
-// including shader includes gi/gi_common.glsl and gi/gbuffer.glsl first;
-// its own resources start at binding 4.
+// of a checkerboarded signal hold samples (shared/checkerboard.glsl); with
+// DENOISE_READS_TILES, the tiles and the packed surfaces the per-signal
+// passes read in place of the engine's G-buffer. The including shader
+// includes gi/gi_common.glsl first (and gi/gbuffer.glsl where it reads the
+// engine's G-buffer: the validation view); its own resources start at
+// binding 5 (4: the tiles, 15: the packed surfaces).
 #ifndef BOUNCE_GI_DENOISE_COMMON_GLSL
 #define BOUNCE_GI_DENOISE_COMMON_GLSL
 
@@ -51,6 +54,7 @@ const uint kSignalCheckerboard = 2u;  // an engine's signal with samples at ever
 #else
 #include "shared/checkerboard.glsl"
 #include "shared/denoise_weights.glsl"
+#include "shared/packing.glsl"
 
 layout(set = 0, binding = 3, std140) CONSTANT_BLOCK DenoiseBlock { DenoiseConstants denoise; } gIn_DenoiseConstants;
 
@@ -89,6 +93,27 @@ bool pixelHasSample(ivec2 pixel) {
 layout(set = 0, binding = 4, r16f) readonly uniform image2D gIn_Tiles;
 const int kDenoiseTile = 16;
 bool tileEmpty(ivec2 pixel) { return imageLoad(gIn_Tiles, pixel / kDenoiseTile).x == 0.0f; }
+
+// This frame's surfaces as gi.denoise.classify_tiles packed them: one load
+// a tap (the engine's G-buffer is two). viewZ 0 where the pixel has no
+// usable surface (and outside the image).
+layout(set = 0, binding = 15, rg32ui) readonly uniform uimage2D gIn_DenoiseSurface;
+
+Surface denoiseSurfaceRoughness(ivec2 pixel, out float roughness) {
+  uvec2 packed = imageLoad(gIn_DenoiseSurface, pixel).xy;
+  float viewZ = uintBitsToFloat(packed.x);
+  bool some = viewZ > 0.0f;
+  roughness = some ? unpackRoughnessOfNormalRoughness(packed.y) : 1.0f;
+  return surfaceAt(gIn_Frame.frame.view, pixel, some ? viewZ : 0.0f,
+                   some ? unpackNormalOfNormalRoughness(packed.y) : vec3(0.0f, 0.0f, 1.0f));
+}
+
+Surface denoiseSurface(ivec2 pixel) {
+  float roughness;
+  return denoiseSurfaceRoughness(pixel, roughness);
+}
+
+float denoiseDepth(ivec2 pixel) { return max(uintBitsToFloat(imageLoad(gIn_DenoiseSurface, pixel).x), 0.0f); }
 #endif
 
 #ifndef DENOISE_VIEW_PASS

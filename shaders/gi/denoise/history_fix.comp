@@ -14,7 +14,6 @@
 // resolve copies a pixel's sample into both, or theirs into it), and a
 // firefly copied beside itself would pass for the neighbourhood's light.
 #include "gi/gi_common.glsl"
-#include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
@@ -37,7 +36,7 @@ vec3 rebuiltFromNeighbours(ivec2 pixel, Surface x, float roughness, vec3 own, fl
       ivec2 tap = pixel + ivec2(round(vec2(i, j) * stride));
       if ((i == 0 && j == 0) || !insideFull(tap)) continue;
       float tapRoughness;
-      Surface y = gbufferSurfaceRoughness(tap, tapRoughness);
+      Surface y = denoiseSurfaceRoughness(tap, tapRoughness);
       vec4 value = imageLoad(gIn_Accumulated, tap);
       // A neighbour with a longer history is a better estimate of the surface's light.
       float w = neighbourWeight(x, roughness, frames, y, tapRoughness) * (1.0f + value.w);
@@ -55,7 +54,7 @@ vec3 withoutFirefly(ivec2 pixel, vec3 radiance) {
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
       ivec2 tap = pixel + ivec2(i, j);
-      if ((j == 0 && (i == 0 || sameRowShares)) || !insideFull(tap) || gbufferDepth(tap) <= 0.0f) continue;
+      if ((j == 0 && (i == 0 || sameRowShares)) || !insideFull(tap) || denoiseDepth(tap) <= 0.0f) continue;
       float l = luminance(imageLoad(gIn_Accumulated, tap).xyz);
       mean += l;
       meanSquare += l * l;
@@ -72,7 +71,7 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
   float roughness;
-  Surface x = gbufferSurfaceRoughness(pixel, roughness);
+  Surface x = denoiseSurfaceRoughness(pixel, roughness);
   if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
     imageStore(gOut_Fixed, pixel, vec4(0.0f));
     return;

@@ -28,7 +28,6 @@
 // left on even taps, to the right on odd ones, as REBLUR's), so a sample
 // is never counted again through a neighbour's reconstruction of it.
 #include "gi/gi_common.glsl"
-#include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
@@ -72,7 +71,7 @@ vec4 checkerboardResolve(ivec2 pixel, Surface x, float roughness) {
     onSurface[i] = false;
     if (!insideFull(tap)) continue;
     float tapRoughness;
-    Surface y = gbufferSurfaceRoughness(tap, tapRoughness);
+    Surface y = denoiseSurfaceRoughness(tap, tapRoughness);
     if (y.viewZ <= 0.0f) continue;
     onSurface[i] = true;
     samples[i] = signalAt(tap);
@@ -113,7 +112,7 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
   float roughness;
-  Surface x = gbufferSurfaceRoughness(pixel, roughness);
+  Surface x = denoiseSurfaceRoughness(pixel, roughness);
   if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
     imageStore(gOut_PrePassed, pixel, vec4(0.0f));
     return;
@@ -163,7 +162,7 @@ void main() {
     tap = tapWithSample(tap, i);
     if (!insideFull(tap) || tap == pixel) continue;
     float tapRoughness;
-    Surface y = gbufferSurfaceRoughness(tap, tapRoughness);
+    Surface y = denoiseSurfaceRoughness(tap, tapRoughness);
     float w = neighbourWeightWidened(x, roughness, kPrePassHistoryFrames, y, tapRoughness, kPrePassWidening);
     if (w <= 0.0f) continue;
     vec4 s = signalAt(tap);

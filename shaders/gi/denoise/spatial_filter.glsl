@@ -13,7 +13,7 @@
 // without a surface.
 vec4 spatialFilter(ivec2 pixel) {
   float roughness;
-  Surface x = gbufferSurfaceRoughness(pixel, roughness);
+  Surface x = denoiseSurfaceRoughness(pixel, roughness);
   if (tileEmpty(pixel) || x.viewZ <= 0.0f) return vec4(0.0f);
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
   vec4 center = imageLoad(gIn_Filtered, pixel);
@@ -27,7 +27,7 @@ vec4 spatialFilter(ivec2 pixel) {
     ivec2 tap = pixel + ivec2(round(diskTap(i, rotation) * radius));
     if (!insideFull(tap) || tap == pixel) continue;
     float tapRoughness;
-    Surface y = gbufferSurfaceRoughness(tap, tapRoughness);
+    Surface y = denoiseSurfaceRoughness(tap, tapRoughness);
     float w = neighbourWeight(x, roughness, center.w, y, tapRoughness);
     if (w <= 0.0f) continue;
     sum += imageLoad(gIn_Filtered, tap).xyz * w;

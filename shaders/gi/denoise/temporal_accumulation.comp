@@ -24,7 +24,6 @@
 // Output alpha: the history length; the moments are the next frame's.
 // Pixels without a surface (and empty tiles) store 0.
 #include "gi/gi_common.glsl"
-#include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
@@ -89,7 +88,7 @@ void loadNeighbourhood() {
     ivec2 tap = origin + local;
     vec4 value = vec4(0.0f, 0.0f, 0.0f, -1.0f);
     if (insideFull(tap)) {
-      Surface y = gbufferSurface(tap);
+      Surface y = denoiseSurface(tap);
       if (y.viewZ > 0.0f) value = vec4(y.position, luminance(sanitizeRadiance(imageLoad(gIn_Signal, tap).xyz)));
     }
     sNeighbourhood[local.y][local.x] = value;
@@ -150,7 +149,7 @@ float curvatureAlongMotion(Surface x, ivec2 pixel, vec2 motion) {
     float reach = attempt == 0 ? clamp(moved, 1.0f, kCurvatureReach) : 1.0f;
     ivec2 tap = pixel + ivec2(round(direction * reach));
     if (!insideFull(tap) || tap == pixel) continue;
-    Surface y = gbufferSurface(tap);
+    Surface y = denoiseSurface(tap);
     if (y.viewZ > 0.0f && abs(y.viewZ - x.viewZ) < kCurvatureDepthError * max(x.viewZ, y.viewZ))
       return surfaceCurvature(x.position, x.normal, y.position, y.normal);
   }
@@ -187,7 +186,7 @@ void main() {
   loadNeighbourhood();
   if (!insideFull(pixel)) return;
   float roughness;
-  Surface x = gbufferSurfaceRoughness(pixel, roughness);
+  Surface x = denoiseSurfaceRoughness(pixel, roughness);
   if (x.viewZ <= 0.0f) {
     imageStore(gOut_Accumulated, pixel, vec4(0.0f));
     imageStore(gOut_Moments, pixel, vec4(0.0f));

@@ -9,7 +9,6 @@
 // is the post-blur's). The output is the denoiser's result for the
 // composite and next frame's stabilisation history; alpha: its history length.
 #include "gi/gi_common.glsl"
-#include "gi/gbuffer.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
@@ -54,7 +53,7 @@ vec4 stabilizedHistory(Surface x) {
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  Surface x = gbufferSurface(pixel);
+  Surface x = denoiseSurface(pixel);
   if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
     imageStore(gOut_Stabilized, pixel, vec4(0.0f));
     return;
@@ -71,7 +70,7 @@ void main() {
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
       ivec2 tap = pixel + ivec2(i, j);
-      if (!insideFull(tap) || gbufferDepth(tap) <= 0.0f) continue;
+      if (!insideFull(tap) || denoiseDepth(tap) <= 0.0f) continue;
       float l = luminance(imageLoad(gIn_Filtered, tap).xyz);
       mean += l;
       meanSquare += l * l;

@@ -34,12 +34,18 @@ ResourceDecl tilesDecl() {
   return {"gIn_Tiles", Access::Read, kR16f, "1 where a 16x16 tile has a surface (gi.denoise.classify_tiles)"};
 }
 
-// A per-signal pass: the frame's surfaces, the denoiser's constants and the
-// tiles first, then its own resources; the signal in push constants.
+ResourceDecl surfaceDecl() {
+  return {"gIn_DenoiseSurface", Access::Read, kRg32ui,
+          "this frame's viewZ bits, octahedral normal and roughness (gi.denoise.classify_tiles)"};
+}
+
+// A per-signal pass: the frame's constants, the denoiser's constants, the
+// tiles and the denoiser's packed surfaces (in place of the engine's
+// G-buffer) first, then its own resources; the signal in push constants.
 gpu::PassDesc signalPass(const std::string& pass, const std::string& signal, const char* shader,
                          std::vector<ResourceDecl> own) {
-  own.insert(own.begin(), {denoiseConstants(), tilesDecl()});
-  gpu::PassDesc desc = framePass("gi.denoise." + signal + "." + pass, shader, GroupPart::Surfaces, own);
+  own.insert(own.begin(), {denoiseConstants(), tilesDecl(), surfaceDecl()});
+  gpu::PassDesc desc = framePass("gi.denoise." + signal + "." + pass, shader, GroupPart::Constants, own);
   desc.constants.push_back(denoiseConstantsLayout());
   desc.constants.push_back(BOUNCE_CONSTANTS_LAYOUT("", DenoiseSignalParams, slot, kind, flags, radiusScale));
   return desc;
@@ -60,8 +66,11 @@ gpu::PassDesc blur(const std::string& name, const std::string& signal, const cha
 }  // namespace
 
 gpu::PassDesc denoiseClassifyTilesPass() {
-  return framePass("gi.denoise.classify_tiles", "gi/denoise/classify_tiles", GroupPart::Depth,
-                   {{"gOut_Tiles", Access::Write, kR16f, "1 where a 16x16 tile has a surface"}});
+  return framePass("gi.denoise.classify_tiles", "gi/denoise/classify_tiles", GroupPart::Surfaces,
+                   {{"gOut_Tiles", Access::Write, kR16f, "1 where a 16x16 tile has a surface"},
+                    {"gOut_Surface", Access::Write, kRg32ui,
+                     "each pixel's viewZ bits and octahedral normal and roughness (packNormalRoughness), viewZ 0 "
+                     "without a usable surface: what the later passes' taps read"}});
 }
 
 gpu::PassDesc denoisePrePass(const std::string& signal) {

@@ -21,6 +21,8 @@ constexpr float kReferenceRows = 1080.0f;
 
 constexpr ImageSpec kSharedImages[] = {
     {"gi.denoise.tiles", Resolution::Tile, kR16f, false, Visualize::Raw, "1 where a 16x16 tile has a surface"},
+    {"gi.denoise.surface", Resolution::Full, kRg32ui, false, Visualize::Raw,
+     "this frame's viewZ bits, octahedral normal and roughness, one load a tap (viewZ 0: no usable surface)"},
     {"gi.denoise.pre_passed", Resolution::Full, kRgba16f, false, Visualize::Radiance,
      "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance (each signal in turn)"},
     {"gi.denoise.accumulated", Resolution::Full, kRgba32f, false, Visualize::Radiance,
@@ -159,9 +161,11 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DenoiseConstants", *constants_);
   gpu::Image& tiles = images_->current(kDenoiseTiles, f);
-  recorder.dispatch(passes_->classifyTiles, full.width, full.height, frame.group.binds(GroupPart::Depth),
-                    {{"gOut_Tiles", tiles}});
+  gpu::Image& surface = images_->current(kDenoiseSurface, f);
+  recorder.dispatch(passes_->classifyTiles, full.width, full.height, frame.group.binds(GroupPart::Surfaces),
+                    {{"gOut_Tiles", tiles}, {"gOut_Surface", surface}});
   const gpu::Bind tilesBind("gIn_Tiles", tiles);
+  const gpu::Bind surfaceBind("gIn_DenoiseSurface", surface);
   const gpu::Bind motion("gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler);
   gpu::Image& prePassed = images_->current(kDenoisePrePassed, f);
   gpu::Image& accumulated = images_->current(kDenoiseAccumulated, f);
@@ -190,12 +194,14 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
     const float prePassRadius = specular ? s.specularPrePassRadius : s.diffusePrePassRadius;
     const bool prePass = prePassRadius > 0.0f || in.checkerboarded;
     if (prePass)
-      recorder.dispatch(p.prePass, full.width, full.height, frame.group.binds(),
-                        {constants, tilesBind, {"gIn_Signal", *in.noisy}, {"gOut_PrePassed", prePassed}}, atFullRadius);
+      recorder.dispatch(p.prePass, full.width, full.height, frame.group.binds(GroupPart::Constants),
+                        {constants, tilesBind, surfaceBind, {"gIn_Signal", *in.noisy}, {"gOut_PrePassed", prePassed}},
+                        atFullRadius);
     const gpu::Bind input("gIn_Signal", prePass ? prePassed : *in.noisy);
-    recorder.dispatch(p.temporalAccumulation, full.width, full.height, frame.group.binds(),
+    recorder.dispatch(p.temporalAccumulation, full.width, full.height, frame.group.binds(GroupPart::Constants),
                       {constants,
                        tilesBind,
+                       surfaceBind,
                        motion,
                        input,
                        {"gPrev_Surface", frame.previousSurface},
@@ -205,17 +211,25 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
                        {"gOut_Moments", image(kDenoiseMoments)},
                        {"gIn_Surface", frame.currentSurface}},
                       atFullRadius);
-    recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(),
-                      {constants, tilesBind, {"gIn_Accumulated", accumulated}, {"gOut_Fixed", fixed}}, atFullRadius);
-    recorder.dispatch(p.blur, full.width, full.height, frame.group.binds(),
-                      {constants, tilesBind, input, {"gIn_Filtered", fixed}, {"gOut_Filtered", accumulated}},
+    recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(GroupPart::Constants),
+                      {constants, tilesBind, surfaceBind, {"gIn_Accumulated", accumulated}, {"gOut_Fixed", fixed}},
                       atFullRadius);
     recorder.dispatch(
-        p.postBlur, full.width, full.height, frame.group.binds(),
-        {constants, tilesBind, input, {"gIn_Filtered", accumulated}, {"gOut_Filtered", image(kDenoiseHistory)}}, post);
-    recorder.dispatch(p.temporalStabilization, full.width, full.height, frame.group.binds(),
+        p.blur, full.width, full.height, frame.group.binds(GroupPart::Constants),
+        {constants, tilesBind, surfaceBind, input, {"gIn_Filtered", fixed}, {"gOut_Filtered", accumulated}},
+        atFullRadius);
+    recorder.dispatch(p.postBlur, full.width, full.height, frame.group.binds(GroupPart::Constants),
                       {constants,
                        tilesBind,
+                       surfaceBind,
+                       input,
+                       {"gIn_Filtered", accumulated},
+                       {"gOut_Filtered", image(kDenoiseHistory)}},
+                      post);
+    recorder.dispatch(p.temporalStabilization, full.width, full.height, frame.group.binds(GroupPart::Constants),
+                      {constants,
+                       tilesBind,
+                       surfaceBind,
                        motion,
                        {"gIn_Filtered", image(kDenoiseHistory)},
                        {"gPrev_Surface", frame.previousSurface},

@@ -35,6 +35,7 @@ namespace bounce::gi {
 // signal the kDenoisePerSignal of DenoiseSignalImage.
 enum DenoiseImage : std::size_t {
   kDenoiseTiles,
+  kDenoiseSurface,      // this frame's surfaces packed for the taps (viewZ, normal, roughness)
   kDenoisePrePassed,    // a signal's pre-pass output (scratch, shared by the signals)
   kDenoiseAccumulated,  // temporal accumulation's output, then blur's (scratch)
   kDenoiseFixed,        // history fix's output (scratch)
