@@ -18,6 +18,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -313,6 +314,40 @@ TEST_F(GiEngineSignals, TheMemoryEstimateMatchesWhatAContextHolds) {
       // 320x180 before).
       EXPECT_LE(held, units + units / 8 + 8 * kMiB) << "the pool's blocks left room unused";
     }
+}
+
+// A branch whose signal the denoiser takes never runs its own temporal
+// filter, so it does not make the filter's images (269 MiB at 1080p for
+// the two): with the denoiser on they are neither listed nor held; a
+// disabled branch keeps its filter image, which its cleared result is.
+TEST_F(GiEngineSignals, BranchesWhoseSignalIsDenoisedMakeNoFilterImages) {
+  const auto names = [&](const Settings& settings) {
+    const GiContext gi(render::giDevice(context()), ContextDesc{.maxWidth = 64, .maxHeight = 48}, settings);
+    std::set<std::string> listed;
+    for (const LibraryImage& image : gi.images()) listed.insert(image.name);
+    return std::pair{listed, gi.memoryByUnit()};
+  };
+  Settings filters = denoised();
+  filters.denoise.enabled = false;
+  const auto [withFilters, filterMemory] = names(filters);
+  const auto [withDenoiser, denoiserMemory] = names(denoised());
+  for (const char* image : {"gi.diffuse.filtered", "gi.diffuse.moments", "gi.specular.filtered", "gi.specular.moments",
+                            "gi.specular.reprojection"}) {
+    EXPECT_TRUE(withFilters.contains(image)) << image;
+    EXPECT_FALSE(withDenoiser.contains(image)) << image << " is made, though the denoiser takes the signal";
+  }
+  // rgba32f filtered and moments, two of each (history): 64 bytes a pixel; specular also its rgba16f reprojection.
+  constexpr std::uint64_t kPixels = 64 * 48;
+  EXPECT_EQ(filterMemory[0].unit, "diffuse");
+  EXPECT_EQ(filterMemory[0].bytes - denoiserMemory[0].bytes, 64 * kPixels);
+  EXPECT_EQ(filterMemory[1].bytes - denoiserMemory[1].bytes, 72 * kPixels);
+
+  Settings noDiffuse = denoised();
+  noDiffuse.diffuse.enabled = false;
+  const auto [withoutDiffuse, unused] = names(noDiffuse);
+  EXPECT_TRUE(withoutDiffuse.contains("gi.diffuse.filtered"))
+      << "a disabled branch's result is its cleared filter image";
+  EXPECT_FALSE(withoutDiffuse.contains("gi.specular.filtered"));
 }
 
 TEST_F(GiEngineSignals, TheEnginesSignalsAreDenoisedInPlaceOfTheBranches) {

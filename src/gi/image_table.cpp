@@ -1,5 +1,6 @@
 #include "gi/image_table.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "bounce/gi.h"
@@ -44,13 +45,15 @@ void ImageTableBuilder::add(std::string name, ImageSpec spec, std::string purpos
   specs_.push_back(spec);
 }
 
-std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels) {
+std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels,
+                            std::span<const std::size_t> unused) {
   const auto bytes = [](const ImageSpec& spec, Extent size) {
     return std::uint64_t(size.width) * size.height * gpu::formatInfo(spec.format).bytesPerPixel;
   };
   std::uint64_t total = 0;
-  for (const ImageSpec& spec : table) {
-    if (spec.debug) continue;
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    const ImageSpec& spec = table[i];
+    if (spec.debug || std::find(unused.begin(), unused.end(), i) != unused.end()) continue;
     if (spec.resolution == Resolution::Pyramid)
       for (std::uint32_t level = 1; level <= pyramidLevels; ++level)
         total += bytes(spec, extentOf(spec.resolution, maxSize, level));
@@ -66,11 +69,17 @@ struct ImageSet::Entry {
 };
 
 ImageSet::ImageSet(gpu::Context& context, gpu::MemoryArena& arena, std::span<const ImageSpec> table, Extent maxSize,
-                   std::uint32_t pyramidLevels)
-    : context_(context), arena_(arena), table_(table), maxSize_(maxSize), pyramidLevels_(pyramidLevels) {
+                   std::uint32_t pyramidLevels, std::span<const std::size_t> unused)
+    : context_(context),
+      arena_(arena),
+      table_(table),
+      maxSize_(maxSize),
+      pyramidLevels_(pyramidLevels),
+      unused_(table.size(), false) {
+  for (const std::size_t index : unused) unused_.at(index) = true;
   entries_.resize(table.size());
   for (std::size_t i = 0; i < table.size(); ++i)
-    if (!table[i].debug) make(i);
+    if (!table[i].debug && !unused_[i]) make(i);
 }
 
 ImageSet::~ImageSet() = default;
@@ -100,16 +109,23 @@ void ImageSet::make(std::size_t index) {
 
 void ImageSet::makeDebugImages() {
   for (std::size_t i = 0; i < table_.size(); ++i)
-    if (!entries_[i]) make(i);
+    if (!entries_[i] && !unused_[i]) make(i);
+}
+
+ImageSet::Entry& ImageSet::entry(std::size_t index) {
+  if (!entries_.at(index))
+    throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' is " +
+                           (unused_[index] ? "not used with these settings" : "a debug image not made yet"));
+  return *entries_[index];
 }
 
 gpu::Image& ImageSet::current(std::size_t index, std::uint64_t frameIndex) {
-  Entry& entry = *entries_.at(index);
+  Entry& entry = this->entry(index);
   return entry.history ? entry.history->current(frameIndex) : *entry.images.at(0);
 }
 
 gpu::Image& ImageSet::previous(std::size_t index, std::uint64_t frameIndex) {
-  Entry& entry = *entries_.at(index);
+  Entry& entry = this->entry(index);
   if (!entry.history) throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' keeps no history");
   return entry.history->previous(frameIndex);
 }
@@ -128,7 +144,7 @@ void ImageSet::clearToZero(gpu::Recorder& recorder, std::initializer_list<std::s
 }
 
 gpu::Image& ImageSet::level(std::size_t index, std::uint32_t level) {
-  Entry& entry = *entries_.at(index);
+  Entry& entry = this->entry(index);
   if (level == 0 || level > entry.images.size())
     throw std::logic_error("gi: image '" + std::string(table_[index].name) + "' has no level " +
                            std::to_string(level));

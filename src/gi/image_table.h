@@ -68,16 +68,21 @@ struct Extent {
 Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level = 1);
 
 // The texel bytes an ImageSet of `table` holds at `maxSize`: every image
-// made up front (not the debug ones), both halves of a history, every
-// level of a pyramid. Alignment the driver adds is not counted.
-std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels = 0);
+// made up front (not the debug ones, nor the `unused` entries), both halves
+// of a history, every level of a pyramid. Alignment the driver adds is not
+// counted.
+std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels = 0,
+                            std::span<const std::size_t> unused = {});
 
 // The images of one table, made for the largest render size.
 class ImageSet {
  public:
-  // `pyramidLevels`: levels of each Pyramid entry (at least 1 if the table has one).
+  // `pyramidLevels`: levels of each Pyramid entry (at least 1 if the table
+  // has one). `unused`: entries the unit's settings never use (e.g. a
+  // branch's own temporal filter while the denoiser takes its signal),
+  // never made nor listed; asking for one is a logic error.
   ImageSet(gpu::Context& context, gpu::MemoryArena& arena, std::span<const ImageSpec> table, Extent maxSize,
-           std::uint32_t pyramidLevels = 0);
+           std::uint32_t pyramidLevels = 0, std::span<const std::size_t> unused = {});
   ~ImageSet();
   ImageSet(const ImageSet&) = delete;
   ImageSet& operator=(const ImageSet&) = delete;
@@ -110,12 +115,14 @@ class ImageSet {
  private:
   struct Entry;
   void make(std::size_t index);
+  Entry& entry(std::size_t index);  // throws for an entry not made
   gpu::Context& context_;
   gpu::MemoryArena& arena_;
   std::span<const ImageSpec> table_;
   Extent maxSize_;
   std::uint32_t pyramidLevels_;
   std::vector<std::unique_ptr<Entry>> entries_;
+  std::vector<bool> unused_;
 };
 
 }  // namespace bounce::gi

@@ -127,14 +127,20 @@ std::uint64_t DiffuseBranch::bufferBytes(Extent maxSize, const Settings& setting
          worldQueueBytes(maxSize, std::max(1u, slots));
 }
 
+std::span<const std::size_t> DiffuseBranch::unusedImages(bool ownFilter) {
+  static constexpr std::size_t kFilterImages[] = {kFiltered, kMoments};
+  return ownFilter ? std::span<const std::size_t>() : std::span<const std::size_t>(kFilterImages);
+}
+
 DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                             const SceneBridgeBinding& scene, const RadianceCache& cache)
+                             const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter)
     : context_(context),
       scene_(scene),
       cache_(cache),
       settings_(settings),
       plan_(planWorldRays(settings)),
-      images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels)),
+      images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels),
+              unusedImages(ownFilter)),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.diffuse.constants", sizeof(shared::DiffuseConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
@@ -308,12 +314,8 @@ void DiffuseBranch::record(const FrameState& frame) {
                                                     {"gIn_Reservoir1", *final1},
                                                     {"gIn_MarchDepth", frame.marchDepth},
                                                     {"gOut_Diffuse", resolved}})));
-  if (frame.denoised) {  // the denoiser takes the resolved signal
-    // The filter's images are never written then; cleared once, they hold
-    // zeros (in the layout every library image is in) for whoever lists them.
-    if (f == 0) images_.clearToZero(recorder, {kFiltered, kMoments}, f);
-    return;
-  }
+  // The denoiser takes the resolved signal: the filter's images were not made.
+  if (frame.denoised) return;
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
                     {constants,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},

@@ -51,9 +51,13 @@ std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels)
 
 class DiffuseBranch final : public Branch {
  public:
-  // `scene`: the bridge the gather, reuse and resolve trace through (it outlives the branch).
+  // `scene`: the bridge the gather, reuse and resolve trace through (it
+  // outlives the branch). `ownFilter`: the branch runs its own temporal
+  // filter on some frames (no denoiser takes its signal, or it is disabled
+  // and its result is the cleared filter image); without, the filter's
+  // images are not made (unusedImages).
   DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                const SceneBridgeBinding& scene, const RadianceCache& cache);
+                const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter);
   ~DiffuseBranch() override;
 
   std::string_view name() const override { return "diffuse"; }
@@ -70,6 +74,8 @@ class DiffuseBranch final : public Branch {
   // waiting for gi.diffuse.world_candidates and their queue, and spatial
   // reuse's visibility tests and theirs.
   static std::uint64_t bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces);
+  // The entries of diffuseImageTable() a branch without its own filter does not make.
+  static std::span<const std::size_t> unusedImages(bool ownFilter);
 
  private:
   struct Passes;

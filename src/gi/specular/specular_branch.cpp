@@ -66,13 +66,18 @@ std::uint64_t SpecularBranch::bufferBytes(Extent maxSize, bool bridgeTraces) {
   return bridgeTraces ? worldQueueBytes(maxSize) : 0;
 }
 
+std::span<const std::size_t> SpecularBranch::unusedImages(bool ownFilter) {
+  static constexpr std::size_t kFilterImages[] = {kSpecularFiltered, kSpecularMoments, kSpecularReprojection};
+  return ownFilter ? std::span<const std::size_t>() : std::span<const std::size_t>(kFilterImages);
+}
+
 SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                               const SceneBridgeBinding& scene, const RadianceCache& cache)
+                               const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter)
     : context_(context),
       scene_(scene),
       cache_(cache),
       settings_(settings),
-      images_(context, arena, kImages, maxSize),
+      images_(context, arena, kImages, maxSize, 0, unusedImages(ownFilter)),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.specular.constants", sizeof(shared::SpecularConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
@@ -190,12 +195,8 @@ void SpecularBranch::record(const FrameState& frame) {
                      {"gIn_Reservoir0", *final0},
                      {"gIn_Reservoir1", *final1},
                      {"gOut_Specular", resolved}});
-  if (frame.denoised) {  // the denoiser takes the resolved signal
-    // The filter's images are never written then; cleared once, they hold
-    // zeros (in the layout every library image is in) for whoever lists them.
-    if (f == 0) images_.clearToZero(recorder, {kSpecularFiltered, kSpecularMoments, kSpecularReprojection}, f);
-    return;
-  }
+  // The denoiser takes the resolved signal: the filter's images were not made.
+  if (frame.denoised) return;
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
                     {constants,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},

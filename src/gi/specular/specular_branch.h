@@ -43,8 +43,9 @@ std::span<const ImageSpec> specularImageTable();
 class SpecularBranch final : public Branch {
  public:
   // `scene`: the bridge rays continue through (it outlives the branch).
+  // `ownFilter`: as DiffuseBranch's.
   SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                 const SceneBridgeBinding& scene, const RadianceCache& cache);
+                 const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter);
   ~SpecularBranch() override;
 
   std::string_view name() const override { return "specular"; }
@@ -60,6 +61,8 @@ class SpecularBranch final : public Branch {
   // in GiContext::estimateMemoryBytes): the world-trace queue, with a
   // bridge that traces.
   static std::uint64_t bufferBytes(Extent maxSize, bool bridgeTraces);
+  // The entries of specularImageTable() a branch without its own filter does not make.
+  static std::span<const std::size_t> unusedImages(bool ownFilter);
 
  private:
   struct Passes;
