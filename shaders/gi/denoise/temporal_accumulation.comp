@@ -28,7 +28,10 @@
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+// 16x16 pixels a workgroup (one denoiser tile): the neighbourhood below is
+// read into shared memory once for them all.
+const int kGroupSize = 16;
+layout(local_size_x = kGroupSize, local_size_y = kGroupSize) in;
 
 #include "shared/sampling.glsl"
 layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
@@ -76,7 +79,6 @@ const float kCheckerboardResolveAccumSpeed = 0.88f;
 // The workgroup's pixels and the moments' reach around them, read once
 // into shared memory (each pixel is a tap of up to 25 others): world
 // position and luminance, luminance -1 where there is no surface.
-const int kGroupSize = 8;
 const int kMomentsReach = 2 * kMomentsStride;
 const int kTileSize = kGroupSize + 2 * kMomentsReach;
 shared vec4 sNeighbourhood[kTileSize][kTileSize];
