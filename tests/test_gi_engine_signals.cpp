@@ -834,6 +834,12 @@ TEST_F(GiEngineSignals, AnEnginesOwnThirdSignalIsDenoisedByTheSameDenoiser) {
                                                  .format = VK_FORMAT_R32G32B32A32_SFLOAT,
                                                  .storage = false});
   frame(run);  // the G-buffer the truth comes from
+  {
+    // Not given yet: its result is zero (and in the layout every library image is in).
+    run.loop->finish();
+    const io::ImageF before = gpuio::readbackImage(context(), run.gi->indirect(kOcclusion));
+    EXPECT_EQ(*std::max_element(before.pixels.begin(), before.pixels.end()), 0.0f);
+  }
   const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
   io::ImageF truth(int(kWidth), int(kHeight), {"R", "G", "B"});
   for (int y = 0; y < int(kHeight); ++y)

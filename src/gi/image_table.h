@@ -98,7 +98,10 @@ class ImageSet {
   // pair, to zero and leaves them in the layout every library image is in
   // between passes (GENERAL): for entries no pass will write that readers
   // (stage dumps, scans) still list.
-  void clearToZero(gpu::Recorder& recorder, std::initializer_list<std::size_t> entries, std::uint64_t frameIndex);
+  void clearToZero(gpu::Recorder& recorder, std::span<const std::size_t> entries, std::uint64_t frameIndex);
+  void clearToZero(gpu::Recorder& recorder, std::initializer_list<std::size_t> entries, std::uint64_t frameIndex) {
+    clearToZero(recorder, std::span<const std::size_t>(entries.begin(), entries.size()), frameIndex);
+  }
 
   // Makes the debug entries (those with ImageSpec::debug); later calls do nothing.
   void makeDebugImages();

@@ -159,6 +159,14 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
   c.diffusePrePassRadius = s.diffusePrePassRadius * pixelScale;
   c.specularPrePassRadius = s.specularPrePassRadius * pixelScale;
   recorder.updateBuffer(*constants_, &c, sizeof c);
+  // Every signal's result starts at zero: an engine may read indirect(id)
+  // of a signal it has not given yet.
+  if (f == 0) {
+    std::vector<std::size_t> results;
+    for (std::size_t signal = 0; signal < signals_.size(); ++signal)
+      results.push_back(imageOf(signal, kDenoiseStabilized));
+    images_->clearToZero(recorder, results, f);
+  }
   const gpu::Bind constants("gIn_DenoiseConstants", *constants_);
   gpu::Image& tiles = images_->current(kDenoiseTiles, f);
   gpu::Image& surface = images_->current(kDenoiseSurface, f);
