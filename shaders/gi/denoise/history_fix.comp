@@ -18,9 +18,13 @@
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+// 16x16 pixels a workgroup (one denoiser tile), sharing their neighbourhood.
+const int kGroupSize = 16;
+layout(local_size_x = kGroupSize, local_size_y = kGroupSize) in;
 
 layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_Accumulated;
+#define NEIGHBOURHOOD_IMAGE gIn_Accumulated
+#include "gi/denoise/neighbourhood_tile.glsl"
 layout(set = 0, binding = 6, rgba32f) writeonly uniform image2D gOut_Fixed;
 
 const float kAntiFireflySigmas = 2.0f;
@@ -53,9 +57,9 @@ vec3 withoutFirefly(ivec2 pixel, vec3 radiance) {
   float mean = 0.0f, meanSquare = 0.0f, count = 0.0f;
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
-      ivec2 tap = pixel + ivec2(i, j);
-      if ((j == 0 && (i == 0 || sameRowShares)) || !insideFull(tap) || denoiseDepth(tap) <= 0.0f) continue;
-      float l = luminance(imageLoad(gIn_Accumulated, tap).xyz);
+      vec2 texel = neighbourhoodTexel(ivec2(i, j));
+      if ((j == 0 && (i == 0 || sameRowShares)) || texel.y == 0.0f) continue;
+      float l = texel.x;
       mean += l;
       meanSquare += l * l;
       count += 1.0f;
@@ -69,10 +73,16 @@ vec3 withoutFirefly(ivec2 pixel, vec3 radiance) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // The group is one tile: it leaves whole, before the shared load.
+  if (tileEmpty(pixel)) {
+    if (insideFull(pixel)) imageStore(gOut_Fixed, pixel, vec4(0.0f));
+    return;
+  }
+  loadNeighbourhoodTile();
   if (!insideFull(pixel)) return;
   float roughness;
   Surface x = denoiseSurfaceRoughness(pixel, roughness);
-  if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
+  if (x.viewZ <= 0.0f) {
     imageStore(gOut_Fixed, pixel, vec4(0.0f));
     return;
   }

@@ -13,7 +13,9 @@
 #include "gi/denoise/denoise_common.glsl"
 #include "shared/color.glsl"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+// 16x16 pixels a workgroup (one denoiser tile), sharing their neighbourhood.
+const int kGroupSize = 16;
+layout(local_size_x = kGroupSize, local_size_y = kGroupSize) in;
 
 layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_Filtered;
@@ -23,6 +25,8 @@ layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Stabilized;
 layout(set = 0, binding = 10, rg32ui) readonly uniform uimage2D gIn_Surface;
 
 #include "gi/motion.glsl"
+#define NEIGHBOURHOOD_IMAGE gIn_Filtered
+#include "gi/denoise/neighbourhood_tile.glsl"
 #include "gi/history_taps.glsl"
 
 // Last frame's stabilised value where the pixel's surface was (bilinear
@@ -52,9 +56,15 @@ vec4 stabilizedHistory(Surface x) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // The group is one tile: it leaves whole, before the shared load.
+  if (tileEmpty(pixel)) {
+    if (insideFull(pixel)) imageStore(gOut_Stabilized, pixel, vec4(0.0f));
+    return;
+  }
+  loadNeighbourhoodTile();
   if (!insideFull(pixel)) return;
   Surface x = denoiseSurface(pixel);
-  if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
+  if (x.viewZ <= 0.0f) {
     imageStore(gOut_Stabilized, pixel, vec4(0.0f));
     return;
   }
@@ -69,9 +79,9 @@ void main() {
   float mean = 0.0f, meanSquare = 0.0f, count = 0.0f;
   for (int j = -1; j <= 1; ++j)
     for (int i = -1; i <= 1; ++i) {
-      ivec2 tap = pixel + ivec2(i, j);
-      if (!insideFull(tap) || denoiseDepth(tap) <= 0.0f) continue;
-      float l = luminance(imageLoad(gIn_Filtered, tap).xyz);
+      vec2 texel = neighbourhoodTexel(ivec2(i, j));
+      if (texel.y == 0.0f) continue;
+      float l = texel.x;
       mean += l;
       meanSquare += l * l;
       count += 1.0f;
