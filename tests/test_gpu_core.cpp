@@ -218,9 +218,9 @@ TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {
   // Each pass's traffic floor: the images its binds cover, each once
   // (rgba16f: 8 bytes a texel); the write binds one image, the read two.
   constexpr std::uint64_t kImageBytes = std::uint64_t(kSize) * kSize * 8;
-  EXPECT_EQ(rows[0].imageBytes, kImageBytes);
-  EXPECT_EQ(rows[1].imageBytes, 2 * kImageBytes);
-  EXPECT_EQ(rows[0].bufferBytes, 0u);
+  EXPECT_EQ(rows[0].traffic.imageBytes, kImageBytes);
+  EXPECT_EQ(rows[1].traffic.imageBytes, 2 * kImageBytes);
+  EXPECT_EQ(rows[0].traffic.bufferBytes, 0u);
 
   // Frame 3 was captured: each pass's output as it was right after that pass.
   std::vector<gpu::CapturedStage> captures = loop.takeCaptures();
@@ -257,8 +257,8 @@ TEST_F(GpuCore, APassTrafficFloorAddsItsDispatchesAndCountsTheLevelsBound) {
   ASSERT_EQ(rows.size(), 2u);
   constexpr std::uint64_t kImageBytes = std::uint64_t(kSize) * kSize * 8;
   EXPECT_EQ(rows[1].pass, "tests.barrier_probe_read");
-  EXPECT_EQ(rows[1].imageBytes, 5 * kImageBytes) << "two dispatches of two images each, one of one image twice";
-  EXPECT_EQ(rows[0].imageBytes, kImageBytes + kImageBytes / 16) << "level 2 is a 16th of level 0";
+  EXPECT_EQ(rows[1].traffic.imageBytes, 5 * kImageBytes) << "two dispatches of two images each, one of one image twice";
+  EXPECT_EQ(rows[0].traffic.imageBytes, kImageBytes + kImageBytes / 16) << "level 2 is a 16th of level 0";
 }
 
 TEST_F(GpuCore, UploadAndReadbackRoundTripEveryFormat) {

@@ -118,10 +118,10 @@ void printTrafficFloors(std::FILE* report, const std::vector<gpu::PassTiming>& t
   double ms = 0.0, floorMs = 0.0, imageMb = 0.0;
   for (const gpu::PassTiming& t : timings) {
     if (!t.pass.starts_with("gi.")) continue;
-    const double mb = double(t.imageBytes) / 1e6;
+    const double mb = double(t.traffic.imageBytes) / 1e6;
     const double floor = mb / bandwidthGbps;  // MB / (GB/s) = ms
     std::fprintf(report, "%-*s  %9.4f  %10.1f  %9.4f  %10.1f  %7.1f%%  %8.0f\n", int(width), t.pass.c_str(), t.medianMs,
-                 mb, floor, double(t.bufferBytes) / 1e6, t.medianMs > 0 ? 100.0 * floor / t.medianMs : 0.0,
+                 mb, floor, double(t.traffic.bufferBytes) / 1e6, t.medianMs > 0 ? 100.0 * floor / t.medianMs : 0.0,
                  t.medianMs > 0 ? mb / t.medianMs : 0.0);
     ms += t.medianMs;
     floorMs += floor;
@@ -340,8 +340,8 @@ int runBench(const BenchOptions& options) {
                         {"median_ms", t.medianMs},
                         {"min_ms", t.minMs},
                         {"max_ms", t.maxMs},
-                        {"image_bytes", t.imageBytes},
-                        {"buffer_bytes", t.bufferBytes}});
+                        {"image_bytes", t.traffic.imageBytes},
+                        {"buffer_bytes", t.traffic.bufferBytes}});
     const nlohmann::json results = {{"device", device.name},
                                     {"driver", device.driver},
                                     {"scene", scene.name},

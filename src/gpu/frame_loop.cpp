@@ -76,7 +76,7 @@ void FrameLoop::collect(Slot& slot) {
         same->traffic += slot.timestamps.traffic[i];
       }
     }
-    for (const Total& t : frameTotals) timings_.add(*t.pass, t.ms, t.traffic.imageBytes, t.traffic.bufferBytes);
+    for (const Total& t : frameTotals) timings_.add(*t.pass, t.ms, t.traffic);
   }
   slot.timestamps.passes.clear();
   slot.timestamps.traffic.clear();

@@ -26,10 +26,9 @@
 
 #include "gpu/pass.h"
 #include "gpu/resources.h"
+#include "gpu/timing.h"  // TimingStats, PassTraffic
 
 namespace bounce::gpu {
-
-class TimingStats;
 
 class Context;
 
@@ -85,20 +84,6 @@ struct CapturedStage {
 void completeCapture(CapturedStage& capture);
 
 // Where a Recorder writes its GPU timestamps (owned by the FrameLoop).
-// What a dispatch's binds cover, each once: the least it must move, its
-// traffic floor (docs/benchmarks.md, "Traffic floors"). Images count the
-// levels bound (a sampled image all of them) at their full size; storage
-// buffers count whole, which for buffers sized for the worst case (queues,
-// the radiance cache) is more than a pass touches, so they are apart.
-struct PassTraffic {
-  std::uint64_t imageBytes = 0;
-  std::uint64_t bufferBytes = 0;
-  PassTraffic& operator+=(const PassTraffic& other) {
-    imageBytes += other.imageBytes;
-    bufferBytes += other.bufferBytes;
-    return *this;
-  }
-};
 
 struct TimestampSink {
   VkQueryPool pool = VK_NULL_HANDLE;

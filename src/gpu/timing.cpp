@@ -5,15 +5,7 @@
 
 namespace bounce::gpu {
 
-void TimingStats::add(const std::string& pass, double milliseconds, std::uint64_t imageBytes,
-                      std::uint64_t bufferBytes) {
-  add(pass, milliseconds);
-  PassSamples& s = samples_.at(pass);
-  s.imageBytes = imageBytes;
-  s.bufferBytes = bufferBytes;
-}
-
-void TimingStats::add(const std::string& pass, double milliseconds) {
+void TimingStats::add(const std::string& pass, double milliseconds, const PassTraffic& traffic) {
   auto [it, inserted] = samples_.try_emplace(pass);
   if (inserted) order_.push_back(pass);
   PassSamples& s = it->second;
@@ -21,6 +13,7 @@ void TimingStats::add(const std::string& pass, double milliseconds) {
   s.max = s.count == 0 ? milliseconds : std::max(s.max, milliseconds);
   ++s.count;
   s.last = milliseconds;
+  s.traffic = traffic;
   if (s.kept.size() < kMaxSamples) {
     s.kept.push_back(milliseconds);
     return;
@@ -37,7 +30,7 @@ std::vector<PassTiming> TimingStats::summary() const {
   std::vector<PassTiming> rows;
   for (const std::string& pass : order_) {
     const PassSamples& s = samples_.at(pass);
-    rows.push_back({pass, medianOf(s.kept), s.min, s.max, s.count, s.imageBytes, s.bufferBytes});
+    rows.push_back({pass, medianOf(s.kept), s.min, s.max, s.count, s.traffic});
   }
   return rows;
 }

@@ -9,8 +9,20 @@
 
 namespace bounce::gpu {
 
-// What a pass's binds covered in its last frame (gpu/recorder.h).
-struct PassTraffic;
+// What a dispatch's binds cover, each once: the least it must move, its
+// traffic floor (docs/benchmarks.md, "Traffic floors"). Images count the
+// levels bound (a sampled image all of them) at their full size; storage
+// buffers count whole, which for buffers sized for the worst case (queues,
+// the radiance cache) is more than a pass touches, so they are apart.
+struct PassTraffic {
+  std::uint64_t imageBytes = 0;
+  std::uint64_t bufferBytes = 0;
+  PassTraffic& operator+=(const PassTraffic& other) {
+    imageBytes += other.imageBytes;
+    bufferBytes += other.bufferBytes;
+    return *this;
+  }
+};
 
 struct PassTiming {
   std::string pass;
@@ -18,8 +30,7 @@ struct PassTiming {
   double minMs = 0;
   double maxMs = 0;
   std::size_t samples = 0;
-  std::uint64_t imageBytes = 0;   // the images its binds covered, its last frame (PassTraffic)
-  std::uint64_t bufferBytes = 0;  // the storage buffers, whole
+  PassTraffic traffic;  // what its binds covered, its last frame
 };
 
 // A pass's latest time, for a live view: no sorting, cheap every frame.
@@ -40,9 +51,8 @@ class TimingStats {
  public:
   static constexpr std::size_t kMaxSamples = 4096;
 
-  void add(const std::string& pass, double milliseconds);
-  // The same with the bytes its binds covered that frame.
-  void add(const std::string& pass, double milliseconds, std::uint64_t imageBytes, std::uint64_t bufferBytes);
+  // `traffic`: what the pass's binds covered that frame.
+  void add(const std::string& pass, double milliseconds, const PassTraffic& traffic = {});
   // One row per pass, in the order passes first ran.
   std::vector<PassTiming> summary() const;
   // Each pass's latest time, in the order passes first ran.
@@ -60,7 +70,7 @@ class TimingStats {
     double min = 0.0;
     double max = 0.0;
     double last = 0.0;
-    std::uint64_t imageBytes = 0, bufferBytes = 0;  // the last frame's
+    PassTraffic traffic;                           // the last frame's
     std::uint64_t random = 0x9E3779B97F4A7C15ull;  // fixed seed: the same run keeps the same samples
   };
   std::vector<std::string> order_;

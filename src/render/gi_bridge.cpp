@@ -177,7 +177,7 @@ void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, st
     gi::FrameResults results = library_->collect(frame);
     if (timings)
       for (const gi::PassTiming& timing : results.timings)
-        timings->add(timing.pass, timing.milliseconds, timing.imageBytes, timing.bufferBytes);
+        timings->add(timing.pass, timing.milliseconds, {timing.imageBytes, timing.bufferBytes});
     for (const gi::WorldRayCount& count : results.worldRays) {
       ++worldRays_.frames;
       worldRays_.sum.frameIndex = count.frameIndex;
