@@ -636,10 +636,10 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
   std::string missing;
   // The denoiser's and the engine signals' tables follow the signals: the
   // library's two, as a context without ContextDesc::signals has them.
-  const DenoiseSignalDesc librarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
+  const SignalDesc librarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
   ImageTableBuilder denoiseTable, engineSignalTable;
   addDenoiseImages(denoiseTable, librarySignals);
-  for (const DenoiseSignalDesc& signal : librarySignals) addEngineSignalImage(engineSignalTable, signal.name);
+  for (const SignalDesc& signal : librarySignals) addEngineSignalImage(engineSignalTable, signal.name);
   for (const std::span<const ImageSpec> table :
        {frameImageTable(), diffuseImageTable(), specularImageTable(), denoiseTable.specs(), engineSignalTable.specs(),
         std::span<const ImageSpec>(&DepthPyramid::spec(), 1)})

@@ -537,6 +537,8 @@ TEST(Checkerboard, SamplesAlternateByRowAndFrameAndPackIntoHalfTheWidth) {
   EXPECT_EQ(checkerboardParity(uvec2(0, 0), 1), 1u);
   EXPECT_EQ(checkerboardParity(uvec2(6, 3), 0xFFFFFFFFu), 0u);
   EXPECT_NE(kCheckerboardDiffuseParity, kCheckerboardSpecularParity);
+  EXPECT_EQ(checkerboardParityOfKind(false), kCheckerboardDiffuseParity);
+  EXPECT_EQ(checkerboardParityOfKind(true), kCheckerboardSpecularParity);
   for (uint width : {1u, 2u, 7u, 64u, 65u}) {
     EXPECT_EQ(checkerboardPackedWidth(width), (width + 1) / 2);
     for (uint frame : {0u, 1u, 2u, 9u})

@@ -24,6 +24,12 @@ uint checkerboardParity(uvec2 pixel, uint frameIndex) { return ((pixel.x ^ pixel
 const uint kCheckerboardDiffuseParity = 1u;
 const uint kCheckerboardSpecularParity = 0u;
 
+// The parity of a signal by its kind (gi::SignalKind): diffuse-kind
+// signals take the diffuse parity, specular-kind the specular one.
+uint checkerboardParityOfKind(bool specularKind) {
+  return specularKind ? kCheckerboardSpecularParity : kCheckerboardDiffuseParity;
+}
+
 // Whether the engine's checkerboarded signal of parity `dataParity` holds a
 // sample of pixel (x, y) in frame `frameIndex`.
 bool checkerboardHasData(uvec2 pixel, uint frameIndex, uint dataParity) {

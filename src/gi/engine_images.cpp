@@ -113,7 +113,7 @@ void EngineImages::take(const FrameInputs& frame, std::span<const Noisy> noisy, 
   // Every input as one list of slots: the Inputs, then the noisy signals
   // (GiContext checks their size, which checkerboard mode halves).
   struct Slot {
-    std::string name;
+    std::string_view name;
     const ImageRef* ref;
     std::span<const VkFormat> formats;
     bool optional, renderSized, environment;
@@ -127,7 +127,7 @@ void EngineImages::take(const FrameInputs& frame, std::span<const Noisy> noisy, 
   // Every check first: a throw leaves nothing half-taken.
   for (const Slot& slot : slots) {
     const ImageRef& ref = *slot.ref;
-    const std::string input = "gi: frame input " + slot.name;
+    const std::string input = "gi: frame input " + std::string(slot.name);
     if (ref.image == VK_NULL_HANDLE && (slot.optional || (slot.environment && !needsEnvironment))) continue;
     if (ref.image == VK_NULL_HANDLE || ref.view == VK_NULL_HANDLE)
       throw Error(input + " is missing (its " + (ref.image == VK_NULL_HANDLE ? "image" : "view") +
@@ -136,7 +136,7 @@ void EngineImages::take(const FrameInputs& frame, std::span<const Noisy> noisy, 
                                       "the engine, FrameInputs::noisy, may leave it out)"
                                     : ""));
     if (std::find(slot.formats.begin(), slot.formats.end(), ref.format) == slot.formats.end())
-      throw Error(input + " has the format " + gpu::formatName(ref.format) + "; " + slot.name + " takes " +
+      throw Error(input + " has the format " + gpu::formatName(ref.format) + "; " + std::string(slot.name) + " takes " +
                   formatList(slot.formats));
     if (ref.width == 0 || ref.height == 0 || ref.mipLevels == 0)
       throw Error(input + " is " + size(ref.width, ref.height) + " with " + std::to_string(ref.mipLevels) +
@@ -156,7 +156,7 @@ void EngineImages::take(const FrameInputs& frame, std::span<const Noisy> noisy, 
       const ImageRef& rb = *slots[b].ref;
       if (ra.image == VK_NULL_HANDLE || ra.image != rb.image) continue;
       if (ra.view != rb.view || ra.layout != rb.layout || ra.stage != rb.stage || ra.access != rb.access)
-        throw Error("gi: frame inputs " + slots[b].name + " and " + slots[a].name +
+        throw Error("gi: frame inputs " + std::string(slots[b].name) + " and " + std::string(slots[a].name) +
                     " are the same VkImage but differ in view, layout, stage or access; one image is in one state");
     }
 
@@ -175,7 +175,7 @@ void EngineImages::take(const FrameInputs& frame, std::span<const Noisy> noisy, 
       wrapped_[i] = wrapped_[std::size_t(same - slots.begin())];
       continue;
     }
-    owned_[i] = std::make_unique<gpu::Image>(context_, engineImage(ref, "engine." + slots[i].name));
+    owned_[i] = std::make_unique<gpu::Image>(context_, engineImage(ref, "engine." + std::string(slots[i].name)));
     owned_[i]->setSampledLayout(state == InputState::LeaveGeneral ? VK_IMAGE_LAYOUT_GENERAL
                                 : sampleableInPlace(ref.layout)   ? ref.layout
                                                                   : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);

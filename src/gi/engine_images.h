@@ -13,6 +13,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bounce/gi.h"
@@ -54,8 +55,8 @@ class EngineImages {
   // engine used the older field). Its size GiContext checks (checkerboard
   // mode halves its width).
   struct Noisy {
-    std::string name;
-    ImageRef ref;  // image VK_NULL_HANDLE: not given
+    std::string_view name;  // outlives the frame (the context keeps its signals' names)
+    ImageRef ref;           // image VK_NULL_HANDLE: not given
   };
 
   // Checks every input of `frame` and the noisy signals, one per signal

@@ -49,17 +49,13 @@ static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per 
 
 // The library's own signals, SignalId kDiffuseSignal and kSpecularSignal:
 // what its branches make (or an engine gives in their place).
-const DenoiseSignalDesc kLibrarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
+const SignalDesc kLibrarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
 constexpr std::size_t kLibrarySignalCount = std::size(kLibrarySignals);
-// Which pixels of a checkerboarded signal of each kind hold samples (gi.denoise.checkerboard).
-std::uint32_t checkerboardParityOf(SignalKind kind) {
-  return kind == SignalKind::Specular ? shared::kCheckerboardSpecularParity : shared::kCheckerboardDiffuseParity;
-}
 
 // Every signal of a context: the library's two, then the engine's (ContextDesc::signals).
-std::vector<DenoiseSignalDesc> signalsOf(const ContextDesc& desc) {
-  std::vector<DenoiseSignalDesc> all(std::begin(kLibrarySignals), std::end(kLibrarySignals));
-  for (const SignalDesc& signal : desc.signals) all.push_back({signal.name, signal.kind});
+std::vector<SignalDesc> signalsOf(const ContextDesc& desc) {
+  std::vector<SignalDesc> all(std::begin(kLibrarySignals), std::end(kLibrarySignals));
+  all.insert(all.end(), desc.signals.begin(), desc.signals.end());
   return all;
 }
 
@@ -99,37 +95,48 @@ void checkSignals(const ContextDesc& desc, const Settings& settings) {
 // filter: it runs the filter (no denoiser), or it is disabled and its
 // result is that filter image, cleared. An enabled branch whose signal the
 // denoiser takes never reads them: 269 MiB at 1080p for the two.
+bool branchEnabled(const Settings& settings, SignalId signal) {
+  return signal == kDiffuseSignal ? settings.diffuse.enabled : settings.specular.enabled;
+}
+
 bool ownFilter(const Settings& settings, SignalId signal) {
-  const bool enabled = signal == kDiffuseSignal ? settings.diffuse.enabled : settings.specular.enabled;
-  return !settings.denoise.enabled || !enabled;
+  return !settings.denoise.enabled || !branchEnabled(settings, signal);
 }
 
 // Which signals the engine gives this frame, by SignalId.
 using SignalFlags = std::vector<bool>;
 
+// What errors call each signal's noisy input: "noisy[2] (ao)".
+std::vector<std::string> noisyInputNames(std::span<const SignalDesc> signals) {
+  std::vector<std::string> names;
+  for (std::size_t id = 0; id < signals.size(); ++id)
+    names.push_back("noisy[" + std::to_string(id) + "] (" + signals[id].name + ")");
+  return names;
+}
+
 // The engine's noisy signals of a frame, one per signal of the context
 // (FrameInputs::noisy, with the library's two also under their older names
-// noisyDiffuse and noisySpecular), named as errors call them.
-std::vector<EngineImages::Noisy> noisyInputsOf(const FrameInputs& frame, std::span<const DenoiseSignalDesc> signals) {
-  if (frame.noisy.size() > signals.size())
+// noisyDiffuse and noisySpecular), named as errors call them (`names`:
+// noisyInputNames of the context's signals).
+std::vector<EngineImages::Noisy> noisyInputsOf(const FrameInputs& frame, std::span<const std::string> names) {
+  if (frame.noisy.size() > names.size())
     throw Error("gi: frame input noisy has " + std::to_string(frame.noisy.size()) + " entries; the context denoises " +
-                std::to_string(signals.size()) + " signals (diffuse, specular and the " +
-                std::to_string(signals.size() - kLibrarySignalCount) + " of ContextDesc::signals)");
+                std::to_string(names.size()) + " signals (diffuse, specular and the " +
+                std::to_string(names.size() - kLibrarySignalCount) + " of ContextDesc::signals)");
   std::vector<EngineImages::Noisy> noisy;
-  for (std::size_t id = 0; id < signals.size(); ++id) {
-    EngineImages::Noisy input{"noisy[" + std::to_string(id) + "] (" + signals[id].name + ")", {}};
-    if (id < frame.noisy.size()) input.ref = frame.noisy[id];
+  for (std::size_t id = 0; id < names.size(); ++id) {
+    EngineImages::Noisy input{names[id], id < frame.noisy.size() ? frame.noisy[id] : ImageRef{}};
     if (id < kLibrarySignalCount) {
       const ImageRef& older = id == kDiffuseSignal ? frame.noisyDiffuse : frame.noisySpecular;
       const char* olderName = id == kDiffuseSignal ? "noisyDiffuse" : "noisySpecular";
       if (older.image != VK_NULL_HANDLE) {
         if (input.ref.image != VK_NULL_HANDLE && input.ref.image != older.image)
-          throw Error("gi: frame inputs " + input.name + " and " + olderName + " are both given, as different " +
-                      "images; " + olderName + " is the older name of " + input.name + ": give the signal once");
+          throw Error("gi: frame inputs " + names[id] + " and " + olderName + " are both given, as different " +
+                      "images; " + olderName + " is the older name of " + names[id] + ": give the signal once");
         input = {olderName, older};
       }
     }
-    noisy.push_back(std::move(input));
+    noisy.push_back(input);
   }
   return noisy;
 }
@@ -176,7 +183,8 @@ struct GiContext::Impl {
   RadianceCache cache;
   DepthPyramid depthPyramid;
   std::vector<std::unique_ptr<Branch>> branches;
-  std::vector<DenoiseSignalDesc> signals;  // by SignalId: the library's two, then ContextDesc::signals
+  std::vector<SignalDesc> signals;         // by SignalId: the library's two, then ContextDesc::signals
+  std::vector<std::string> noisyNames;     // noisyInputNames(signals)
   std::unique_ptr<Denoiser> denoiser;      // made only when gi.denoise.enabled: its images are large
   // The engine's own noisy signals as the denoiser reads them, and the
   // passes that take them in: made on the first frame that gives one, so
@@ -211,6 +219,7 @@ struct GiContext::Impl {
         compositor(*context, compositePass()),
         engine(*context),
         signals(signalsOf(d)),
+        noisyNames(noisyInputNames(signals)),
         lastEngineSignals(signals.size(), false) {
     const DiffuseSettings& diffuse = settings.diffuse;
     // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
@@ -235,9 +244,7 @@ struct GiContext::Impl {
   SpecularBranch& specular() { return static_cast<SpecularBranch&>(*branches[1]); }
   // The branch that makes a library signal (kDiffuseSignal, kSpecularSignal).
   Branch& branchOf(SignalId signal) { return *branches[signal]; }
-  bool branchEnabled(SignalId signal) const {
-    return signal == kDiffuseSignal ? settings.diffuse.enabled : settings.specular.enabled;
-  }
+  bool branchEnabled(SignalId signal) const { return gi::branchEnabled(settings, signal); }
   // Whether the library's branch of each library signal makes it this
   // frame: it is enabled and the engine does not give the signal itself.
   std::array<bool, kLibrarySignalCount> branchesRunning(const SignalFlags& given) const {
@@ -249,8 +256,9 @@ struct GiContext::Impl {
   // marches read gi.march_depth pixel by pixel).
   bool needsDepthPyramid() const { return settings.specular.enabled && settings.specular.traceSteps > 0; }
 
-  // Everything that can be refused, before anything is recorded.
-  void check(const FrameInputs& frame) {
+  // Everything that can be refused, before anything is recorded; returns
+  // the frame's noisy signals (noisyInputsOf), checked.
+  std::vector<EngineImages::Noisy> check(const FrameInputs& frame) {
     if (frame.width == 0 || frame.height == 0 || frame.width > desc.maxWidth || frame.height > desc.maxHeight)
       throw Error("gi: render size " + std::to_string(frame.width) + "x" + std::to_string(frame.height) +
                   " is outside 1x1.." + std::to_string(desc.maxWidth) + "x" + std::to_string(desc.maxHeight) +
@@ -263,10 +271,11 @@ struct GiContext::Impl {
     // The noisy signals' size depends on the mode (EngineImages checks the
     // rest of them): the render size, or in checkerboard mode half its
     // width, rounded up. As every input, an image may be larger.
-    for (const EngineImages::Noisy& noisy : noisyInputsOf(frame, signals)) {
-      const ImageRef& ref = noisy.ref;
+    std::vector<EngineImages::Noisy> noisy = noisyInputsOf(frame, noisyNames);
+    for (const EngineImages::Noisy& given : noisy) {
+      const ImageRef& ref = given.ref;
       if (ref.image == VK_NULL_HANDLE) continue;
-      const std::string input = "gi: frame input " + noisy.name;
+      const std::string input = "gi: frame input " + std::string(given.name);
       if (!denoiser)
         throw Error(input +
                     " is given, but the denoiser is off (Settings::denoise.enabled, gi.denoise.enabled): "
@@ -284,13 +293,14 @@ struct GiContext::Impl {
                     "width: it must cover " + sizeText(packedWidth, frame.height) + " (ceil(width / 2) x height of "
                     "the render size " + sizeText(frame.width, frame.height) + ")");
     }
+    return noisy;
   }
 
   // The passes and images that take the engine's signals in, made before
   // the first frame that gives one records anything.
   void makeEngineSignalUnit() {
     if (engineSignals) return;
-    for (const DenoiseSignalDesc& signal : signals) {
+    for (const SignalDesc& signal : signals) {
       addEngineSignalImage(engineSignalTable, signal.name);
       engineSignalPasses.push_back(std::make_unique<gpu::ComputePass>(*context, engineSignalPass(signal.name)));
     }
@@ -303,7 +313,7 @@ struct GiContext::Impl {
   gpu::Image& takeEngineSignal(const FrameState& state, std::size_t signal) {
     gpu::Image& taken = engineSignals->current(signal, state.frameIndex);
     const EngineSignalParams params{settings.denoise.checkerboard ? 1u : 0u,
-                                    checkerboardParityOf(signals[signal].kind)};
+                                    shared::checkerboardParityOfKind(signals[signal].kind == SignalKind::Specular)};
     state.recorder.dispatch(*engineSignalPasses[signal], state.renderSize.width, state.renderSize.height,
                             state.group.binds(GroupPart::Constants),
                             {{"gIn_Noisy", *state.engine.noisy(signal), state.nearestSampler}, {"gOut_Signal", taken}},
@@ -338,8 +348,7 @@ struct GiContext::Impl {
 
   void record(VkCommandBuffer commandBuffer, const FrameInputs& frame) {
     if (commandBuffer == VK_NULL_HANDLE) throw Error("gi: record() needs a command buffer in the recording state");
-    check(frame);
-    const std::vector<EngineImages::Noisy> noisy = noisyInputsOf(frame, signals);
+    const std::vector<EngineImages::Noisy> noisy = check(frame);
     SignalFlags given(signals.size());
     for (std::size_t id = 0; id < signals.size(); ++id) given[id] = noisy[id].ref.image != VK_NULL_HANDLE;
     const auto running = branchesRunning(given);
@@ -540,11 +549,7 @@ ImageRef GiContext::indirect(SignalId signal) const {
   return libraryRef(impl_->result(signal, impl_->current(), impl_->lastEngineSignals));
 }
 
-std::vector<SignalDesc> GiContext::signals() const {
-  std::vector<SignalDesc> all;
-  for (const DenoiseSignalDesc& signal : impl_->signals) all.push_back({signal.name, signal.kind});
-  return all;
-}
+std::vector<SignalDesc> GiContext::signals() const { return impl_->signals; }
 
 ImageRef GiContext::indirectDiffuse() const { return indirect(kDiffuseSignal); }
 

@@ -83,8 +83,7 @@ bool signalHasHistory() { return (gSignal.flags & kSignalHasHistory) != 0u; }
 bool signalCheckerboarded() { return (gSignal.flags & kSignalCheckerboard) != 0u; }
 bool pixelHasSample(ivec2 pixel) {
   if (!signalCheckerboarded()) return true;
-  uint parity = specularKind() ? kCheckerboardSpecularParity : kCheckerboardDiffuseParity;
-  return checkerboardHasData(uvec2(pixel), gIn_Frame.frame.frameIndex, parity);
+  return checkerboardHasData(uvec2(pixel), gIn_Frame.frame.frameIndex, checkerboardParityOfKind(specularKind()));
 }
 #endif
 

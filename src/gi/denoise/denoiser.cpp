@@ -57,14 +57,14 @@ static_assert(std::size(kSignalImages) == kDenoisePerSignal, "one table entry pe
 
 }  // namespace
 
-void addDenoiseImages(ImageTableBuilder& table, std::span<const DenoiseSignalDesc> signals) {
+void addDenoiseImages(ImageTableBuilder& table, std::span<const SignalDesc> signals) {
   for (const ImageSpec& spec : kSharedImages) table.add(std::string(spec.name), spec);
-  for (const DenoiseSignalDesc& signal : signals)
+  for (const SignalDesc& signal : signals)
     for (const SignalImage& image : kSignalImages)
       table.add("gi.denoise." + signal.name + "." + image.name, image.spec);
 }
 
-std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const DenoiseSignalDesc> signals) {
+std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const SignalDesc> signals) {
   ImageTableBuilder table;
   addDenoiseImages(table, signals);
   return imageSetBytes(table.specs(), maxSize) + sizeof(shared::DenoiseConstants);
@@ -84,14 +84,14 @@ struct Denoiser::Passes {
   gpu::ComputePass classifyTiles;
   std::vector<std::unique_ptr<Signal>> signals;
   std::unique_ptr<gpu::ComputePass> validation;  // made on the first captured frame
-  Passes(gpu::Context& context, std::span<const DenoiseSignalDesc> descs)
+  Passes(gpu::Context& context, std::span<const SignalDesc> descs)
       : classifyTiles(context, denoiseClassifyTilesPass()) {
-    for (const DenoiseSignalDesc& signal : descs) signals.push_back(std::make_unique<Signal>(context, signal.name));
+    for (const SignalDesc& signal : descs) signals.push_back(std::make_unique<Signal>(context, signal.name));
   }
 };
 
 Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
-                   std::vector<DenoiseSignalDesc> signals)
+                   std::vector<SignalDesc> signals)
     : context_(context), settings_(settings), signals_(std::move(signals)) {
   addDenoiseImages(table_, signals_);
   images_ = std::make_unique<ImageSet>(context, arena, table_.specs(), maxSize);
@@ -104,7 +104,7 @@ Denoiser::~Denoiser() = default;
 
 std::vector<gpu::PassDesc> Denoiser::passes() const {
   std::vector<gpu::PassDesc> all = {denoiseClassifyTilesPass()};
-  for (const DenoiseSignalDesc& signal : signals_)
+  for (const SignalDesc& signal : signals_)
     for (gpu::PassDesc desc : {denoisePrePass(signal.name), denoiseTemporalAccumulationPass(signal.name),
                                denoiseHistoryFixPass(signal.name), denoiseBlurPass(signal.name),
                                denoisePostBlurPass(signal.name), denoiseTemporalStabilizationPass(signal.name)})

@@ -49,27 +49,23 @@ enum DenoiseSignalImage : std::size_t {
   kDenoisePerSignal
 };
 
-// A signal as the denoiser knows it: name (its passes and images are
-// gi.denoise.NAME.*) and kind.
-struct DenoiseSignalDesc {
-  std::string name;
-  SignalKind kind = SignalKind::Diffuse;
-};
+// The denoiser knows a signal as the public API declares one (SignalDesc:
+// its name, which names its passes and images gi.denoise.NAME.*, and kind).
 
 // The denoiser's image table for these signals (names of the signals' own
 // images follow theirs).
-void addDenoiseImages(ImageTableBuilder& table, std::span<const DenoiseSignalDesc> signals);
+void addDenoiseImages(ImageTableBuilder& table, std::span<const SignalDesc> signals);
 // Its device memory at `maxSize` (images and constants).
-std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const DenoiseSignalDesc> signals);
+std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const SignalDesc> signals);
 
 class Denoiser {
  public:
   Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
-           std::vector<DenoiseSignalDesc> signals);
+           std::vector<SignalDesc> signals);
   ~Denoiser();
 
   ImageSet& images() { return *images_; }
-  std::span<const DenoiseSignalDesc> signals() const { return signals_; }
+  std::span<const SignalDesc> signals() const { return signals_; }
 
   // What a signal brings to a frame.
   struct SignalInput {
@@ -100,7 +96,7 @@ class Denoiser {
   void recordValidation(const FrameState& frame, std::span<const SignalInput> inputs);
   gpu::Context& context_;
   DenoiseSettings settings_;
-  std::vector<DenoiseSignalDesc> signals_;
+  std::vector<SignalDesc> signals_;
   ImageTableBuilder table_;
   std::unique_ptr<ImageSet> images_;
   std::unique_ptr<gpu::Buffer> constants_;
