@@ -140,8 +140,12 @@ class Vulkan {
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {image.width, image.height, 1};
     vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer.buffer, 1, &region);
+    // Back to GENERAL, the transition visible to every way the library's
+    // passes read and write their images (LibraryImage's contract).
     barrier(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image.layout, VK_PIPELINE_STAGE_2_COPY_BIT,
-            VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_NONE);
+            VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
+                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     submitAndWait(cmd);
     std::vector<std::uint16_t> values(count);
     std::memcpy(values.data(), buffer.mapped, count * 2);

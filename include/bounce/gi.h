@@ -350,7 +350,10 @@ enum class Visualization {
 // GENERAL, last written by a compute shader (stage COMPUTE_SHADER, access
 // SHADER_STORAGE_WRITE). The engine may read it (sample it, copy it) with a
 // barrier from there; if it moves it to another layout it must move it back
-// to GENERAL before the next record().
+// to GENERAL before the next record(), with a barrier whose destination is
+// stage COMPUTE_SHADER, access SHADER_STORAGE_READ | SHADER_STORAGE_WRITE |
+// SHADER_SAMPLED_READ (the library's passes read some of its images as
+// sampled images).
 struct LibraryImage {
   std::string name;  // e.g. "gi.diffuse.reservoirs0"
   ImageRef image;
@@ -453,10 +456,10 @@ class GiContext {
   // for a frame index never recorded.
   FrameResults collect(std::uint64_t completedFrameIndex);
 
-  // A signal after the temporal filter, demodulated; RGBA32F (it is the
-  // filter's history: half floats lose a little of every frame's increment,
-  // measured 5 % over 64 frames), alpha the history length in frames. With
-  // the denoiser on, its result; with FrameInputs::noisy[id] given, the
+  // A signal denoised, demodulated; alpha the history length in frames.
+  // With the denoiser on (the default), its result, RGBA16F; with it off,
+  // the branch's own temporal filter, RGBA32F (that filter's history does
+  // not round its half stores). With FrameInputs::noisy[id] given, the
   // engine's signal denoised. See LibraryImage for its state.
   //   kDiffuseSignal   indirect diffuse: light arriving through a white
   //                    Lambert lobe; multiply by base colour (1 - metallic)

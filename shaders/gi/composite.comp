@@ -20,8 +20,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 4) uniform sampler2D gIn_Direct;
 layout(set = 0, binding = 5) uniform sampler2D gIn_BaseColorMetallic;
 layout(set = 0, binding = 6) uniform sampler2D gIn_Emissive;
-layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_IndirectDiffuse;
-layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gIn_IndirectSpecular;
+layout(set = 0, binding = 7) uniform sampler2D gIn_IndirectDiffuse;
+layout(set = 0, binding = 8) uniform sampler2D gIn_IndirectSpecular;
 layout(set = 0, binding = 9, rgba16f) writeonly uniform image2D gOut_Composite;
 
 void main() {
@@ -32,7 +32,7 @@ void main() {
     vec4 baseColorMetallic = clamp(texelFetch(gIn_BaseColorMetallic, pixel, 0), vec4(0.0f), vec4(1.0f));
     vec3 baseColor = baseColorMetallic.xyz;
     float metallic = baseColorMetallic.w;
-    radiance += baseColor * (1.0f - metallic) * imageLoad(gIn_IndirectDiffuse, pixel).xyz;
+    radiance += baseColor * (1.0f - metallic) * texelFetch(gIn_IndirectDiffuse, pixel, 0).xyz;
     // A pixel without a usable normal has no indirect light (the branches wrote 0 there).
     float roughness;
     Surface x = gbufferSurfaceRoughness(pixel, roughness);
@@ -40,7 +40,7 @@ void main() {
       float nDotV = dot(x.normal, normalize(viewPosition(gIn_Frame.frame.view) - x.position));
       vec3 f0 = specularF0(baseColor, metallic);
       radiance += specularReflectance(f0, nDotV, roughness) *
-                  imageLoad(gIn_IndirectSpecular, pixel).xyz;
+                  texelFetch(gIn_IndirectSpecular, pixel, 0).xyz;
     }
     if (gIn_Frame.frame.hasEmissive != 0u) radiance += sanitizeRadiance(texelFetch(gIn_Emissive, pixel, 0).xyz);
   }

@@ -5,15 +5,17 @@
 // light and its blend with the surface's, and the clamp of that history to
 // the fast history. The including shader
 // includes gi/gi_common.glsl first and declares gPrev_Surface (rg32ui),
-// gPrev_Filtered (rgba32f: radiance, history length) and gPrev_Moments
-// (rgba32f: luminance mean and mean square over the history, mean of the
-// fast history).
+// gPrev_Filtered (radiance, history length) and gPrev_Moments (luminance
+// moments as shared/moments.glsl stores them: mean and deviation over the
+// history, mean of the fast history; decoded a tap at a time, so that
+// interpolation averages mean squares, as the moments it stands for).
 #ifndef BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 #define BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 
 #include "gi/history_taps.glsl"
 #include "shared/color.glsl"
 #include "shared/denoise_weights.glsl"
+#include "shared/moments.glsl"
 
 // The fast history averages about this many frames (REBLUR's fast history).
 const float kFastFrames = 6.0f;
@@ -48,7 +50,7 @@ History fetchHistory(vec2 previous, ExpectedSurface expected) {
     if (weights[i] <= 0.0f) continue;
     ivec2 tap = corner + ivec2(i & 1, i >> 1);
     accumulated += imageLoad(gPrev_Filtered, tap) * weights[i];
-    accumulatedMoments += imageLoad(gPrev_Moments, tap).xyz * weights[i];
+    accumulatedMoments += momentsFromStored(imageLoad(gPrev_Moments, tap)) * weights[i];
     weightSum += weights[i];
   }
   if (weightSum > kMinHistoryWeight) {
@@ -102,7 +104,8 @@ History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
   h.radiance = allShow ? max(sharp / sharpWeight, vec3(0.0f)) : bilinear.xyz / bilinearWeight;
   h.frames = bilinear.w / bilinearWeight;
   for (int i = 0; i < 4; ++i)
-    if (centreWeights[i] > 0.0f) h.moments += imageLoad(gPrev_Moments, origin + ivec2(i & 1, i >> 1)).xyz * centreWeights[i];
+    if (centreWeights[i] > 0.0f)
+      h.moments += momentsFromStored(imageLoad(gPrev_Moments, origin + ivec2(i & 1, i >> 1))) * centreWeights[i];
   h.moments /= bilinearWeight;
   return h;
 }

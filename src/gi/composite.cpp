@@ -16,10 +16,13 @@ gpu::PassDesc compositePass() {
        {"gIn_BaseColorMetallic", Access::Read, VK_FORMAT_UNDEFINED, "remodulation of indirect diffuse and specular",
         ResourceKind::SampledImage},
        {"gIn_Emissive", Access::Read, VK_FORMAT_UNDEFINED, "emission, when given apart", ResourceKind::SampledImage},
-       {"gIn_IndirectDiffuse", Access::Read, gpu::formats::kRgba32f, "the diffuse branch's result"},
-       {"gIn_IndirectSpecular", Access::Read, gpu::formats::kRgba32f, "the specular branch's result"},
-       {"gOut_Composite", Access::Write, gpu::formats::kRgba16f,
-        "the frame, linear HDR; next frame's light source"}});
+       // Sampled, so that any float format reads: the denoiser's results
+       // are rgba16f, the branches' own filters' rgba32f.
+       {"gIn_IndirectDiffuse", Access::Read, VK_FORMAT_UNDEFINED, "the diffuse signal's result",
+        ResourceKind::SampledImage},
+       {"gIn_IndirectSpecular", Access::Read, VK_FORMAT_UNDEFINED, "the specular signal's result",
+        ResourceKind::SampledImage},
+       {"gOut_Composite", Access::Write, gpu::formats::kRgba16f, "the frame, linear HDR; next frame's light source"}});
   return {.name = "gi.composite",
           .shader = "gi/composite",
           .shaders = shaders(),

@@ -447,8 +447,8 @@ struct GiContext::Impl {
                        {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
                        // Not read without an emissive image (the constants say so); bound only to fill the slot.
                        {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
-                       {"gIn_IndirectDiffuse", result(kDiffuseSignal, f, given)},
-                       {"gIn_IndirectSpecular", result(kSpecularSignal, f, given)},
+                       {"gIn_IndirectDiffuse", result(kDiffuseSignal, f, given), nearest},
+                       {"gIn_IndirectSpecular", result(kSpecularSignal, f, given), nearest},
                        {"gOut_Composite", frameImages.current(kComposite, f)}});
     log.end(recorder);
 
@@ -460,7 +460,7 @@ struct GiContext::Impl {
         for (const ImageSet::Listed& listed : set->list(f))
           if (listed.image->sync().layout != VK_IMAGE_LAYOUT_GENERAL)
             recorder.handOver(*listed.image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+                              kLibraryImageAccess);
       recorder.flush();
     }
 

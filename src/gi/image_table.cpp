@@ -133,8 +133,7 @@ gpu::Image& ImageSet::previous(std::size_t index, std::uint64_t frameIndex) {
 void ImageSet::clearToZero(gpu::Recorder& recorder, std::span<const std::size_t> entries, std::uint64_t frameIndex) {
   const auto clear = [&](gpu::Image& image) {
     recorder.clearImage(image, {});
-    recorder.handOver(image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    recorder.handOver(image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, kLibraryImageAccess);
   };
   for (const std::size_t index : entries) {
     clear(current(index, frameIndex));

@@ -13,7 +13,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define CACHE_FIRST_BINDING 4
 #include "gi/cache/radiance_cache.glsl"
 layout(set = 0, binding = 11, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 12, rgba32f) readonly uniform image2D gPrev_Diffuse;
+layout(set = 0, binding = 12) uniform sampler2D gPrev_Diffuse;
 
 const uint kSaltCacheInject = 0x696eu;
 
@@ -27,7 +27,7 @@ void main() {
   if (!insideFull(pixel)) return;
   Surface y = historySurfaceAt(pixel, imageLoad(gPrev_Surface, pixel).xy);
   if (y.viewZ <= 0.0f) return;
-  vec4 diffuse = imageLoad(gPrev_Diffuse, pixel);
+  vec4 diffuse = texelFetch(gPrev_Diffuse, pixel, 0);
   if (diffuse.w < 1.0f) return;  // no history behind it yet: too noisy to keep
   uint slot = cacheFindOrMake(cacheKey(y.position, y.normal), y.position, y.normal);
   if (slot == kCacheNoCell) return;

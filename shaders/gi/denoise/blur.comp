@@ -12,14 +12,14 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_Filtered;
+layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Filtered;
 layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_Signal;
-layout(set = 0, binding = 7, rgba32f) writeonly uniform image2D gOut_Filtered;
+layout(set = 0, binding = 7, rgba16f) writeonly uniform image2D gOut_Filtered;
 
 #include "gi/denoise/spatial_filter.glsl"
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  imageStore(gOut_Filtered, pixel, spatialFilter(pixel));
+  imageStore(gOut_Filtered, pixel, roundedToHalf(spatialFilter(pixel)));
 }

@@ -22,10 +22,10 @@
 const int kGroupSize = 16;
 layout(local_size_x = kGroupSize, local_size_y = kGroupSize) in;
 
-layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_Accumulated;
+layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Accumulated;
 #define NEIGHBOURHOOD_IMAGE gIn_Accumulated
 #include "gi/denoise/neighbourhood_tile.glsl"
-layout(set = 0, binding = 6, rgba32f) writeonly uniform image2D gOut_Fixed;
+layout(set = 0, binding = 6, rgba16f) writeonly uniform image2D gOut_Fixed;
 
 const float kAntiFireflySigmas = 2.0f;
 
@@ -91,5 +91,5 @@ void main() {
   vec3 radiance = center.xyz;
   if (center.w < d.historyFixFrames) radiance = rebuiltFromNeighbours(pixel, x, roughness, radiance, center.w);
   if (d.antiFirefly != 0u) radiance = withoutFirefly(pixel, radiance);
-  imageStore(gOut_Fixed, pixel, vec4(sanitizeRadiance(radiance), center.w));
+  imageStore(gOut_Fixed, pixel, roundedToHalf(vec4(sanitizeRadiance(radiance), center.w)));
 }

@@ -3,7 +3,7 @@
 // per workgroup into shared memory: each texel is a neighbour of up to
 // nine pixels, so a group of 16x16 pixels loads its 18x18 texels (1.27 a
 // pixel) instead of 9 a pixel. The including shader defines
-// NEIGHBOURHOOD_IMAGE (an rgba32f image of radiance), declares
+// NEIGHBOURHOOD_IMAGE (an rgba16f image of radiance), declares
 // kGroupSize (its workgroups are kGroupSize x kGroupSize pixels, one
 // denoiser tile, so that tileEmpty() is the same for the whole group and
 // a group leaves before loadNeighbourhoodTile() together or not at all),

@@ -2,7 +2,7 @@
 // post-blur, one kernel at two radii): 8 taps of a disk rotated per frame
 // (diskRotation), its radius set by the pixel's history length, roughness
 // and hit distance (blurRadius), each tap weighed by neighbourWeight
-// (plane, lobe, roughness). The including shader declares gIn_Filtered (rgba32f:
+// (plane, lobe, roughness). The including shader declares gIn_Filtered (rgba16f:
 // radiance, history length), gIn_Signal (the noisy input, for its hit
 // distance) and includes gi/denoise/denoise_common.glsl with
 // DENOISE_READS_TILES.

@@ -37,10 +37,10 @@ layout(local_size_x = kGroupSize, local_size_y = kGroupSize) in;
 layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_Signal;
 layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Filtered;
-layout(set = 0, binding = 9, rgba32f) readonly uniform image2D gPrev_Moments;
-layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Accumulated;
-layout(set = 0, binding = 11, rgba32f) writeonly uniform image2D gOut_Moments;
+layout(set = 0, binding = 8, rgba16f) readonly uniform image2D gPrev_Filtered;
+layout(set = 0, binding = 9, rgba16f) readonly uniform image2D gPrev_Moments;
+layout(set = 0, binding = 10, rgba16f) writeonly uniform image2D gOut_Accumulated;
+layout(set = 0, binding = 11, rgba16f) writeonly uniform image2D gOut_Moments;
 
 #include "gi/motion.glsl"
 #include "gi/temporal_history.glsl"
@@ -61,9 +61,8 @@ float maxFrames(float roughness) {
 // 7 % darker).
 const int kMomentsStride = 2;
 // The fast history averages about 6 frames of 25 taps; anti-lag acts past
-// this many standard errors of it. (3x3 taps raise the error by a fifth;
-// rgba16f history images cost 5-10 % more error, their 11-bit mantissa
-// losing 1 / 30 blends: measured, H100, 640x360 and 1080p.)
+// this many standard errors of it. (3x3 taps raise the error by a fifth:
+// measured, H100, 640x360 and 1080p.)
 const float kMomentsSamples = 150.0f;
 const float kAntiLagSigmas = 3.0f;
 
@@ -237,6 +236,6 @@ void main() {
     blend = 1.0f / frames;
     if (!pixelHasSample(pixel)) blend *= mix(1.0f - kCheckerboardResolveAccumSpeed, 1.0f, blend);
   }
-  imageStore(gOut_Accumulated, pixel, vec4(sanitizeRadiance(mix(previous, current, blend)), frames));
-  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), virtualShare));
+  imageStore(gOut_Accumulated, pixel, roundedToHalf(vec4(sanitizeRadiance(mix(previous, current, blend)), frames)));
+  imageStore(gOut_Moments, pixel, roundedToHalf(storedMoments(finiteOr(moments, vec3(0.0f)), virtualShare)));
 }

@@ -18,10 +18,10 @@ const int kGroupSize = 16;
 layout(local_size_x = kGroupSize, local_size_y = kGroupSize) in;
 
 layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
-layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_Filtered;
+layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_Filtered;
 layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Stabilized;
-layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Stabilized;
+layout(set = 0, binding = 8, rgba16f) readonly uniform image2D gPrev_Stabilized;
+layout(set = 0, binding = 9, rgba16f) writeonly uniform image2D gOut_Stabilized;
 layout(set = 0, binding = 10, rg32ui) readonly uniform uimage2D gIn_Surface;
 
 #include "gi/motion.glsl"
@@ -72,7 +72,7 @@ void main() {
   vec3 current = imageLoad(gIn_Filtered, pixel).xyz;
   vec4 history = d.stabilizationFrames > 0.0f ? stabilizedHistory(x) : vec4(0.0f);
   if (history.w <= 0.0f) {
-    imageStore(gOut_Stabilized, pixel, vec4(current, 1.0f));
+    imageStore(gOut_Stabilized, pixel, roundedToHalf(vec4(current, 1.0f)));
     return;
   }
   // The neighbourhood's luminance statistics bound the history (anti-lag).
@@ -93,5 +93,5 @@ void main() {
   float clamped = clamp(historyLuminance, max(mean - reach, 0.0f), mean + reach);
   vec3 previous = historyLuminance > 0.0f ? history.xyz * (clamped / historyLuminance) : vec3(clamped);
   float frames = min(history.w + 1.0f, d.stabilizationFrames);
-  imageStore(gOut_Stabilized, pixel, vec4(sanitizeRadiance(mix(previous, current, 1.0f / frames)), frames));
+  imageStore(gOut_Stabilized, pixel, roundedToHalf(vec4(sanitizeRadiance(mix(previous, current, 1.0f / frames)), frames)));
 }

@@ -20,11 +20,11 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 4) uniform sampler2D gIn_Motion;
-layout(set = 0, binding = 5, rgba32f) readonly uniform image2D gIn_DiffuseHistory;
-layout(set = 0, binding = 6, rgba32f) readonly uniform image2D gIn_SpecularHistory;
-layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gIn_SpecularMoments;
-layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gIn_Diffuse;
-layout(set = 0, binding = 9, rgba32f) readonly uniform image2D gIn_Specular;
+layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_DiffuseHistory;
+layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_SpecularHistory;
+layout(set = 0, binding = 7, rgba16f) readonly uniform image2D gIn_SpecularMoments;
+layout(set = 0, binding = 8, rgba16f) readonly uniform image2D gIn_Diffuse;
+layout(set = 0, binding = 9, rgba16f) readonly uniform image2D gIn_Specular;
 layout(set = 0, binding = 10, rgba16f) writeonly uniform image2D gOut_Validation;
 
 #include "gi/motion.glsl"

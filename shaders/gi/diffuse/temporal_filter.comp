@@ -72,5 +72,5 @@ void main() {
   }
   vec3 filtered = mix(previous, current, blend);
   imageStore(gOut_Filtered, pixel, vec4(sanitizeRadiance(filtered), frames));
-  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), 0.0f));
+  imageStore(gOut_Moments, pixel, storedMoments(finiteOr(moments, vec3(0.0f)), 0.0f));
 }

@@ -105,7 +105,7 @@ void main() {
   }
   vec3 filtered = mix(previous, current, blend);
   imageStore(gOut_Filtered, pixel, vec4(sanitizeRadiance(filtered), frames));
-  imageStore(gOut_Moments, pixel, vec4(finiteOr(moments, vec3(0.0f)), 0.0f));
+  imageStore(gOut_Moments, pixel, storedMoments(finiteOr(moments, vec3(0.0f)), 0.0f));
   // r: the surface history was used, g: the virtual one, b: history length / the longest.
   imageStore(gOut_Reprojection, pixel,
              vec4(surface.found ? 1.0f - virtualWeight : 0.0f, virtualWeight, frames / max(longest, 1.0f), 1.0f));

@@ -51,9 +51,11 @@ gpu::PassDesc cachePass(const char* name, const char* shader, GroupPart group, s
 }
 
 gpu::PassDesc injectPass() {
-  return cachePass("gi.cache.inject", "gi/cache/inject", GroupPart::Constants,
-                   {{"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"},
-                    {"gPrev_Diffuse", Access::Read, kRgba32f, "last frame's filtered indirect diffuse"}});
+  return cachePass(
+      "gi.cache.inject", "gi/cache/inject", GroupPart::Constants,
+      {{"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"},
+       {"gPrev_Diffuse", Access::Read, VK_FORMAT_UNDEFINED,
+        "last frame's filtered indirect diffuse (sampled: any float format)", gpu::ResourceKind::SampledImage}});
 }
 
 gpu::PassDesc updatePass(bool declareCache = true) {
@@ -174,7 +176,8 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
   if (!c.enabled || !frame.usableHistory) return;
   const std::uint32_t stride = settings_.injectStride;
   std::vector<gpu::Bind> binds = this->binds();
-  binds.insert(binds.end(), {{"gPrev_Surface", frame.previousSurface}, {"gPrev_Diffuse", previousDiffuse}});
+  binds.insert(binds.end(),
+               {{"gPrev_Surface", frame.previousSurface}, {"gPrev_Diffuse", previousDiffuse, frame.nearestSampler}});
   recorder.dispatch(passes_->inject, (frame.renderSize.width + stride - 1) / stride,
                     (frame.renderSize.height + stride - 1) / stride, frame.group.binds(GroupPart::Constants),
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->inject, binds)));

@@ -58,9 +58,9 @@ ResourceDecl noisyDecl() {
 
 gpu::PassDesc blur(const std::string& name, const std::string& signal, const char* output) {
   return signalPass(name, signal, "gi/denoise/blur",
-                    {{"gIn_Filtered", Access::Read, kRgba32f, "the signal to blur: radiance, history length"},
+                    {{"gIn_Filtered", Access::Read, kRgba16f, "the signal to blur: radiance, history length"},
                      noisyDecl(),
-                     {"gOut_Filtered", Access::Write, kRgba32f, output}});
+                     {"gOut_Filtered", Access::Write, kRgba16f, output}});
 }
 
 }  // namespace
@@ -88,17 +88,17 @@ gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal) {
                     {motionDecl(),
                      noisyDecl(),
                      previousSurfaceDecl(),
-                     {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's post-blurred signal, history length"},
-                     {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
-                     {"gOut_Accumulated", Access::Write, kRgba32f, "radiance, history length"},
-                     {"gOut_Moments", Access::Write, kRgba32f, "luminance moments: mean, mean square, fast mean"},
+                     {"gPrev_Filtered", Access::Read, kRgba16f, "last frame's post-blurred signal, history length"},
+                     {"gPrev_Moments", Access::Read, kRgba16f, "last frame's luminance moments"},
+                     {"gOut_Accumulated", Access::Write, kRgba16f, "radiance, history length"},
+                     {"gOut_Moments", Access::Write, kRgba16f, "luminance moments: mean, deviation, fast mean"},
                      currentSurfaceDecl()});
 }
 
 gpu::PassDesc denoiseHistoryFixPass(const std::string& signal) {
   return signalPass("history_fix", signal, "gi/denoise/history_fix",
-                    {{"gIn_Accumulated", Access::Read, kRgba32f, "temporal accumulation's output"},
-                     {"gOut_Fixed", Access::Write, kRgba32f, "short histories rebuilt, fireflies removed"}});
+                    {{"gIn_Accumulated", Access::Read, kRgba16f, "temporal accumulation's output"},
+                     {"gOut_Fixed", Access::Write, kRgba16f, "short histories rebuilt, fireflies removed"}});
 }
 
 gpu::PassDesc denoiseBlurPass(const std::string& signal) {
@@ -112,10 +112,10 @@ gpu::PassDesc denoisePostBlurPass(const std::string& signal) {
 gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal) {
   return signalPass("temporal_stabilization", signal, "gi/denoise/temporal_stabilization",
                     {motionDecl(),
-                     {"gIn_Filtered", Access::Read, kRgba32f, "post-blur's output"},
+                     {"gIn_Filtered", Access::Read, kRgba16f, "post-blur's output"},
                      previousSurfaceDecl(),
-                     {"gPrev_Stabilized", Access::Read, kRgba32f, "last frame's stabilised signal"},
-                     {"gOut_Stabilized", Access::Write, kRgba32f, "the denoised signal, history length"},
+                     {"gPrev_Stabilized", Access::Read, kRgba16f, "last frame's stabilised signal"},
+                     {"gOut_Stabilized", Access::Write, kRgba16f, "the denoised signal, history length"},
                      currentSurfaceDecl()});
 }
 
@@ -124,11 +124,11 @@ gpu::PassDesc denoiseValidationPass() {
       "gi.denoise.validation", "gi/denoise/validation", GroupPart::Surfaces,
       {denoiseConstants(),
        motionDecl(),
-       {"gIn_DiffuseHistory", Access::Read, kRgba32f, "the first diffuse-kind signal's history: its length"},
-       {"gIn_SpecularHistory", Access::Read, kRgba32f, "the first specular-kind signal's history: its length"},
-       {"gIn_SpecularMoments", Access::Read, kRgba32f, "its temporal accumulation: the virtual history's share"},
-       {"gIn_Diffuse", Access::Read, kRgba32f, "the denoised diffuse-kind light"},
-       {"gIn_Specular", Access::Read, kRgba32f, "the denoised specular-kind light"},
+       {"gIn_DiffuseHistory", Access::Read, kRgba16f, "the first diffuse-kind signal's history: its length"},
+       {"gIn_SpecularHistory", Access::Read, kRgba16f, "the first specular-kind signal's history: its length"},
+       {"gIn_SpecularMoments", Access::Read, kRgba16f, "its temporal accumulation: the virtual history's share"},
+       {"gIn_Diffuse", Access::Read, kRgba16f, "the denoised diffuse-kind light"},
+       {"gIn_Specular", Access::Read, kRgba16f, "the denoised specular-kind light"},
        {"gOut_Validation", Access::Write, kRgba16f,
         "4 x 2 panels: viewZ, normals, motion, virtual history; histories, denoised light with disocclusions"}});
   desc.constants.push_back(denoiseConstantsLayout());

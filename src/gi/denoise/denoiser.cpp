@@ -25,9 +25,9 @@ constexpr ImageSpec kSharedImages[] = {
      "this frame's viewZ bits, octahedral normal and roughness, one load a tap (viewZ 0: no usable surface)"},
     {"gi.denoise.pre_passed", Resolution::Full, kRgba16f, false, Visualize::Radiance,
      "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance (each signal in turn)"},
-    {"gi.denoise.accumulated", Resolution::Full, kRgba32f, false, Visualize::Radiance,
+    {"gi.denoise.accumulated", Resolution::Full, kRgba16f, false, Visualize::Radiance,
      "temporal accumulation's output, then blur's: radiance, history length (each signal in turn)"},
-    {"gi.denoise.fixed", Resolution::Full, kRgba32f, false, Visualize::Radiance,
+    {"gi.denoise.fixed", Resolution::Full, kRgba16f, false, Visualize::Radiance,
      "history fix's output: short histories rebuilt, fireflies removed (each signal in turn)"},
     {"gi.denoise.validation", Resolution::Full, kRgba16f, false, Visualize::Color,
      "the validation view: viewZ, normals, motion, specular virtual history; diffuse and specular history "
@@ -43,14 +43,14 @@ struct SignalImage {
 };
 constexpr SignalImage kSignalImages[] = {
     {"moments",
-     {"", Resolution::Full, kRgba32f, true, Visualize::Raw,
-      "luminance moments: mean and mean square over the history, mean of the fast history; specular kind: the "
+     {"", Resolution::Full, kRgba16f, true, Visualize::Raw,
+      "luminance moments: mean and deviation over the history, mean of the fast history; specular kind: the "
       "virtual history's share"}},
     {"history",
-     {"", Resolution::Full, kRgba32f, true, Visualize::Radiance,
+     {"", Resolution::Full, kRgba16f, true, Visualize::Radiance,
       "post-blur's output: next frame's history; alpha: history length"}},
     {"stabilized",
-     {"", Resolution::Full, kRgba32f, true, Visualize::Radiance,
+     {"", Resolution::Full, kRgba16f, true, Visualize::Radiance,
       "the denoised signal (temporal stabilisation's output); alpha: its history length"}},
 };
 static_assert(std::size(kSignalImages) == kDenoisePerSignal, "one table entry per DenoiseSignalImage");

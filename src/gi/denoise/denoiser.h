@@ -84,7 +84,7 @@ class Denoiser {
   };
   // Denoises each signal whose noisy image is given; `inputs`: one per signal.
   void record(const FrameState& frame, std::span<const SignalInput> inputs);
-  // A signal's denoised result of this frame (rgba32f: radiance, history
+  // A signal's denoised result of this frame (rgba16f: radiance, history
   // length), and last frame's.
   gpu::Image& result(std::size_t signal, std::uint64_t frameIndex);
   gpu::Image& previousResult(std::size_t signal, std::uint64_t frameIndex);

@@ -35,7 +35,7 @@ constexpr ImageSpec kImages[] = {
     {"gi.diffuse.filtered", Resolution::Full, kRgba32f, true, Visualize::Radiance,
      "indirect diffuse, filtered (the branch's result); alpha: history length"},
     {"gi.diffuse.moments", Resolution::Full, kRgba32f, true, Visualize::Raw,
-     "luminance moments: mean and mean square over the history, mean of the fast history"},
+     "luminance moments: mean and deviation over the history, mean of the fast history"},
     {"gi.diffuse.bright_level", Resolution::Pyramid, kRgba32f, false, Visualize::Raw,
      "the last frame's brightest pixel per 2^k x 2^k tile: brightness, x, y, valid"},
     {"gi.diffuse.reservoir_estimate", Resolution::Half, kRgba16f, false, Visualize::Radiance,

@@ -179,7 +179,8 @@ gpu::PassDesc temporalFilterPass() {
                {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's output (alpha: history length)"},
                {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
                {"gOut_Filtered", Access::Write, kRgba32f, "indirect diffuse, filtered; alpha: history length"},
-               {"gOut_Moments", Access::Write, kRgba32f, "luminance moments: mean and mean square over the history, mean of the fast history"}});
+               {"gOut_Moments", Access::Write, kRgba32f,
+                "luminance moments: mean and deviation over the history, mean of the fast history"}});
 }
 
 gpu::PassDesc reservoirViewPass(const std::string& after) {

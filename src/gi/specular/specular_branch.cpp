@@ -33,7 +33,7 @@ constexpr ImageSpec kImages[] = {
     {"gi.specular.filtered", Resolution::Full, kRgba32f, true, Visualize::Radiance,
      "indirect specular, filtered (the branch's result), demodulated; alpha: history length"},
     {"gi.specular.moments", Resolution::Full, kRgba32f, true, Visualize::Raw,
-     "luminance moments: mean and mean square over the history, mean of the fast history"},
+     "luminance moments: mean and deviation over the history, mean of the fast history"},
     {"gi.specular.reprojection", Resolution::Full, kRgba16f, false, Visualize::Color,
      "which history the filter used: red surface motion, green virtual (reflection) motion, blue history length"},
     {"gi.specular.reservoir_M", Resolution::Half, kR32f, false, Visualize::Heat,

@@ -121,7 +121,7 @@ gpu::PassDesc specularTemporalFilterPass() {
                {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
                {"gOut_Filtered", Access::Write, kRgba32f, "indirect specular, filtered; alpha: history length"},
                {"gOut_Moments", Access::Write, kRgba32f,
-                "luminance moments: mean and mean square over the history, mean of the fast history"},
+                "luminance moments: mean and deviation over the history, mean of the fast history"},
                {"gOut_Reprojection", Access::Write, kRgba16f,
                 "which history was used: surface weight, virtual weight, history length / the longest"}},
               false);
