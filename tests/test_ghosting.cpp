@@ -33,9 +33,12 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-Result run(const std::string& arguments) {
+// `arguments` split at spaces; `whole`: arguments passed as they are
+// (material names with spaces).
+Result run(const std::string& arguments, const std::vector<std::string>& whole = {}) {
   std::vector<std::string> argv = {BOUNCE_BINARY};
   for (std::string& word : bounce::testing::splitWords(arguments)) argv.push_back(std::move(word));
+  argv.insert(argv.end(), whole.begin(), whole.end());
   const bounce::testing::ProcessResult r = bounce::testing::runProcess(argv);
   return {r.exitCode, r.output};
 }
@@ -190,6 +193,80 @@ TEST(Ghosting, RatiosOverABlackReferenceAreUndefinedNotMissing) {
   fs::remove_all(dir);
 }
 
+nlohmann::json readJson(const fs::path& file) {
+  std::ifstream stream(file);
+  return nlohmann::json::parse(stream);
+}
+
+// The means of a convergence event's JSON, frame by frame: [after_event] -> mean.
+std::vector<double> means(const nlohmann::json& json, const char* signal) {
+  std::vector<double> values;
+  for (const nlohmann::json& frame : json["frames"]) values.push_back(frame[signal]["mean"].get<double>());
+  return values;
+}
+
+// --event light: cornell's lamp, off until the event frame, switched on
+// there (the viewer's material edit). The reference is of the lamp on, so
+// the frame before the event is far below it; from the event on the
+// indirect light climbs towards the settled frame. A lamp switched before
+// the event, or a reference of the old lighting, fails the first check; an
+// edit never made fails the second.
+TEST(Ghosting, ALampSwitchedOnIsFollowedFrameByFrameToItsSettledLight) {
+  const fs::path dir = freshDirectory("light");
+  const Result r =
+      run("ghosting cornell --event light --width 48 --height 32 --gi-warmup 2 --event-frame 3 "
+          "--after 4 --settle 8 --reference-spp 16 --seed 3 --validate --out " +
+              dir.string(),
+          {"--material", "cornell light:emission=0,0,0", "--light-change", "cornell light:emission=10,10,10"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const char* name : {"ghosting.json", "ghosting.png"}) EXPECT_TRUE(fs::exists(dir / name)) << name;
+  EXPECT_NE(r.output.find("indirect diffuse: the mean within 10 % of its settled value"), std::string::npos)
+      << r.output;
+  const nlohmann::json json = readJson(dir / "ghosting.json");
+  ASSERT_EQ(json["frames"].size(), 6u) << "the frame before the event, then +0 .. +4";
+  EXPECT_EQ(json["frames"][0]["after_event"], -1);
+  EXPECT_EQ(json["settled"]["frame"], 3 + 4 + 8);
+  const std::vector<double> diffuse = means(json, "indirect_diffuse");
+  const double reference = json["reference_mean"]["indirect_diffuse"],
+               settled = json["settled"]["indirect_diffuse"]["mean"];
+  std::printf("indirect diffuse mean: before %.4f, +0 %.4f, +4 %.4f, settled %.4f, reference %.4f\n", diffuse[0],
+              diffuse[1], diffuse[5], settled, reference);
+  EXPECT_LT(diffuse[0], 0.2 * reference) << "the lamp is off before the event; the reference has it on";
+  EXPECT_GT(diffuse[5], 2.0 * diffuse[1]) << "the light climbs after the event";
+  EXPECT_GT(settled, diffuse[5]);
+  for (const char* signal : {"indirect_diffuse", "indirect_specular"})
+    for (const char* tolerance : {"10_percent", "5_percent"})
+      for (const char* of : {"of_reference", "of_settled"}) {
+        const nlohmann::json& value = json["within"][signal][tolerance][of];
+        EXPECT_TRUE(value.is_null() || value.is_number_integer()) << signal << " " << tolerance << " " << of;
+      }
+  const bounce::io::ImageF plot = bounce::io::readImage(dir / "ghosting.png");
+  EXPECT_GT(plot.height, 2 * 200) << "a panel per indirect signal";
+  fs::remove_all(dir);
+}
+
+// --event cut: a still camera cuts in place. Every history restarts, so
+// the denoised diffuse at the cut is noisier than the frame before (a cut
+// not made would leave the two alike), and the JSON says when the mean is
+// back within 10 % and 5 % of its value before the cut.
+TEST(Ghosting, ACutInPlaceRestartsTheHistoriesAndIsFollowedBackToItsLevel) {
+  const fs::path dir = freshDirectory("cut");
+  const Result r =
+      run("ghosting cornell --event cut --width 48 --height 32 --gi-warmup 16 --event-frame 2 --after 3 "
+          "--settle 4 --reference-spp 16 --seed 3 --validate --out " +
+          dir.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json json = readJson(dir / "ghosting.json");
+  ASSERT_EQ(json["frames"].size(), 5u);
+  const double before = json["frames"][0]["indirect_diffuse"]["relmse"],
+               atCut = json["frames"][1]["indirect_diffuse"]["relmse"];
+  std::printf("indirect diffuse relMSE: before the cut %.4f, at it %.4f\n", before, atCut);
+  EXPECT_GT(atCut, 1.5 * before) << "the histories restarted at the cut";
+  EXPECT_TRUE(json["within"]["indirect_diffuse"]["10_percent"].contains("of_before_cut"));
+  EXPECT_NE(r.output.find("of the value before the cut"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
 TEST(Ghosting, BadArgumentsAreOneClearLine) {
   const fs::path dir = freshDirectory("bad");
   fs::create_directories(dir);
@@ -207,7 +284,14 @@ TEST(Ghosting, BadArgumentsAreOneClearLine) {
       {"ghosting --gi off" + out, "--gi off"},
       {"ghosting --within nan" + out, "--within"},
       {"ghosting --turn-degrees inf" + out, "--turn-degrees"},
-      {"ghosting --gi-settings " + settings.string() + out, "refusing to write --out over the input"}};
+      {"ghosting --gi-settings " + settings.string() + out, "refusing to write --out over the input"},
+      {"ghosting cornell --event light" + out, "--event light needs what changes"},
+      {"ghosting cornell --event cut --light-change lamp:emission=0,0,0" + out, "--light-change is for --event light"},
+      {"ghosting --light-change lamp:emission=0,0,0" + out, "--light-change is for --event light"},
+      {"ghosting cornell --event light --light-change lamp:emission=0,0,0" + out, "has no material 'lamp'"},
+      {"ghosting cornell --event light --light-change lamp:emission" + out, "--light-change lamp:emission"},
+      {"ghosting cornell --event cut --settle 0" + out, "--settle 0"},
+      {"ghosting cornell --event cut --events 2" + out, "--events is for --event object"}};
   for (const auto& [arguments, words] : cases) {
     const Result r = run(arguments);
     EXPECT_NE(r.exitCode, 0) << arguments;

@@ -18,6 +18,8 @@
 // Writes a table per part, ghosting.json, the plot ghosting.png and the
 // regions at the last event frame (regions.exr, a label image `bounce
 // compare --regions` takes, and regions.png). docs/metrics.md describes it.
+// The events that change the whole frame's light instead (--event light,
+// --event cut) are ghosting_convergence.cpp's.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -34,6 +36,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/ghosting_convergence.h"
 #include "app/option_checks.h"
 #include "app/output_files.h"
 #include "app/progress.h"
@@ -247,21 +250,6 @@ struct Recovery {
 const glm::vec3 kUncoveredColour(1.0f, 0.55f, 0.1f), kNearbyColour(0.35f, 0.85f, 0.75f), kRestColour(0.35f, 0.6f, 1.0f),
     kMarkColour(0.45f, 0.95f, 0.35f);
 
-void drawLine(plot::Canvas& canvas, glm::vec2 a, glm::vec2 b, glm::vec3 colour, float radius, float gap = 0.0f) {
-  const float length = glm::length(b - a);
-  const int steps = std::max(1, int(std::ceil(length / 0.5f)));
-  float sinceDot = gap;
-  for (int i = 0; i <= steps; ++i) {
-    const glm::vec2 p = a + (b - a) * (float(i) / float(steps));
-    if (gap > 0.0f) {
-      sinceDot += length / float(steps);
-      if (sinceDot < gap) continue;
-      sinceDot = 0.0f;
-    }
-    canvas.dot(p.x, p.y, radius, colour);
-  }
-}
-
 // "+3": frames after the event.
 std::string afterLabel(std::size_t frames) {
   char text[24];
@@ -320,14 +308,14 @@ io::ImageF errorPlot(const std::string& title, const std::vector<Panel>& panels,
   char withinText[48];
   std::snprintf(withinText, sizeof withinText, "%.3g x the rest", within);
   entry(withinText, [&](int sx, int sy) {
-    drawLine(canvas, {float(sx), float(sy + 5)}, {float(sx + 18), float(sy + 5)}, kRestColour, 1.0f, 4.0f);
+    plot::drawLine(canvas, {float(sx), float(sy + 5)}, {float(sx + 18), float(sy + 5)}, kRestColour, 1.0f, 4.0f);
   });
   x = 12, y += 16;
   entry("uncovered within it from here on",
         [&](int sx, int sy) { canvas.fillRect(sx + 7, sy - 1, 3, 11, kMarkColour); });
   if (settledFrame > 0)
     entry("uncovered, settled (frame " + std::to_string(settledFrame) + ")", [&](int sx, int sy) {
-      drawLine(canvas, {float(sx), float(sy + 5)}, {float(sx + 18), float(sy + 5)}, kUncoveredColour, 1.0f, 3.0f);
+      plot::drawLine(canvas, {float(sx), float(sy + 5)}, {float(sx + 18), float(sy + 5)}, kUncoveredColour, 1.0f, 3.0f);
     });
 
   for (std::size_t i = 0; i < panels.size(); ++i) {
@@ -381,8 +369,8 @@ io::ImageF errorPlot(const std::string& title, const std::vector<Panel>& panels,
       canvas.text(std::min(mx + 6, right - plot::Canvas::textWidth(mark, 1)), top + 4, mark, kMarkColour, 1);
     }
     if (std::isfinite(panel.settled) && panel.settled > 0.0)
-      drawLine(canvas, {float(left), yOf(panel.settled)}, {float(right), yOf(panel.settled)}, kUncoveredColour, 1.0f,
-               3.0f);
+      plot::drawLine(canvas, {float(left), yOf(panel.settled)}, {float(right), yOf(panel.settled)}, kUncoveredColour,
+                     1.0f, 3.0f);
     const auto series = [&](const std::vector<double>& values, double scale, glm::vec3 colour, bool dotted) {
       std::optional<glm::vec2> last;
       for (std::size_t k = 0; k < values.size(); ++k) {
@@ -392,7 +380,7 @@ io::ImageF errorPlot(const std::string& title, const std::vector<Panel>& panels,
           continue;
         }
         const glm::vec2 p(xOf(k), yOf(v));
-        if (last) drawLine(canvas, *last, p, colour, dotted ? 1.0f : 1.4f, dotted ? 5.0f : 0.0f);
+        if (last) plot::drawLine(canvas, *last, p, colour, dotted ? 1.0f : 1.4f, dotted ? 5.0f : 0.0f);
         if (!dotted) canvas.dot(p.x, p.y, 3.5f, colour);
         last = p;
       }
@@ -454,17 +442,6 @@ nlohmann::json partsJson(const std::array<std::optional<std::uint32_t>, kPartCou
   nlohmann::json json;
   for (int part = 0; part < kPartCount; ++part)
     json[kPartKeys[part]] = values[part] ? nlohmann::json(*values[part]) : nlohmann::json(nullptr);
-  return json;
-}
-
-// The settings that differ from the library's defaults.
-nlohmann::json changedSettings(const gi::Settings& settings) {
-  nlohmann::json json = nlohmann::json::object();
-  const gi::Settings defaults;
-  for (const gi::SettingInfo& info : gi::settingKeys()) {
-    const std::string value = gi::settingValue(settings, info.key);
-    if (value != gi::settingValue(defaults, info.key)) json[info.key] = value;
-  }
   return json;
 }
 
@@ -533,12 +510,37 @@ void printTables(const std::vector<AgeNumbers>& ages, const std::optional<AgeNum
 
 }  // namespace
 
+nlohmann::json ghostingRunJson(const GhostingOptions& options, const gi::Settings& settings, const std::string& device,
+                               double seconds) {
+  // The settings that differ from the library's defaults.
+  nlohmann::json changed = nlohmann::json::object();
+  const gi::Settings defaults;
+  for (const gi::SettingInfo& info : gi::settingKeys()) {
+    const std::string value = gi::settingValue(settings, info.key);
+    if (value != gi::settingValue(defaults, info.key)) changed[info.key] = value;
+  }
+  return {{"warmup", options.gi.warmup},
+          {"after", options.after},
+          {"settle", options.settle},
+          {"width", options.view.width},
+          {"height", options.view.height},
+          {"reference_spp", options.referenceSpp},
+          {"seed", options.seed},
+          {"max_bounces", options.maxBounces},
+          {"gi", options.gi.mode},
+          {"scene_bridge", options.gi.sceneBridge},
+          {"settings", changed},
+          {"device", device},
+          {"seconds", seconds}};
+}
+
 CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
   CLI::App* command = app.add_subcommand(
       "ghosting",
       "Measure ghosting: the GI's error on the pixels a fast camera turn or a moving object newly uncovers, against "
       "the rest of the frame, frame by frame after the event (each frame against a path-traced reference): tables, "
-      "ghosting.json, the plot ghosting.png and the regions (regions.exr, regions.png)");
+      "ghosting.json, the plot ghosting.png and the regions (regions.exr, regions.png); with --event light or cut, "
+      "how fast a still camera's indirect light settles after a light change or a cut");
   addGpuOptions(*command, options.gpu);
   addSceneOptions(*command, options.view);
   addGiOptions(*command, options.gi);
@@ -546,9 +548,17 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
       ->add_option("--event", options.event,
                    "turn: the camera holds, turns by --turn-degrees in one frame, and holds (default scene "
                    "sun-room; with --camera, that path's own motion at the event frame); object: a moving object "
-                   "uncovers what was behind it (an animated scene; default sun-room-animated, the scene's camera)")
-      ->check(CLI::IsMember({"turn", "object"}))
+                   "uncovers what was behind it (an animated scene; default sun-room-animated, the scene's camera); "
+                   "light: a still camera, and at the event frame the --light-change edits are made (a lamp switched "
+                   "on or off): the indirect means frame by frame against a reference of the new lighting, and the "
+                   "frames until they are within 10 % and 5 % of it and of their settled value; cut: a still camera "
+                   "cuts in place at the event frame (every history dropped): the same, and against the value before "
+                   "the cut")
+      ->check(CLI::IsMember({"turn", "object", "light", "cut"}))
       ->capture_default_str();
+  command->add_option("--light-change", options.lightChanges,
+                      "With --event light: a material edit made at the event frame, NAME:KEY=VALUE as --material "
+                      "(repeatable), e.g. 'light:emission=0,0,0' switches cornell's lamp off");
   command
       ->add_option("--event-frame", options.eventFrame,
                    "The (first) event frame; the frames before it, after --gi-warmup, lead up to it (at least "
@@ -601,12 +611,15 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
 }
 
 int runGhosting(const GhostingOptions& options) {
+  if (options.event == "light" || options.event == "cut") return runConvergence(options);
   const bool turn = options.event == "turn";
   if (!giEnabled(options.gi)) throw UsageError("--gi off: bounce ghosting measures the GI; nothing to measure");
   if (options.eventFrame < options.after + 1)
     throw UsageError("--event-frame " + std::to_string(options.eventFrame) + " is too early for --after " +
                      std::to_string(options.after) + ": the rest is followed from frame event - after - 1, " +
                      "so the event frame must be at least " + std::to_string(options.after + 1));
+  if (!options.lightChanges.empty())
+    throw UsageError("--light-change is for --event light, not --event " + options.event);
   if (options.turnDegrees && !turn)
     throw UsageError("--turn-degrees is for --event turn, not --event " + options.event);
   if (options.turnDegrees && !options.view.camera.empty())
@@ -890,36 +903,24 @@ int runGhosting(const GhostingOptions& options) {
   nlohmann::json eventsJson = nlohmann::json::array();
   for (std::uint32_t i = 0; i < events; ++i)
     eventsJson.push_back({{"frame", firstEvent + i}, {"uncovered_pixels", uncoveredAtEvent[i]}});
-  nlohmann::json meta = {{"scene", scene.name},
-                         {"event", options.event},
-                         {"camera", shot.camera.empty() ? (turn ? "built-in turn" : "default") : shot.camera},
-                         {"warmup", options.gi.warmup},
-                         {"event_frame", firstEvent},
-                         {"events", eventsJson},
-                         {"after", options.after},
-                         {"settle", options.settle},
-                         {"nearby_radius", nearbyRadius},
-                         {"rest_since_frame", firstFollowed},
-                         {"width", shot.width},
-                         {"height", shot.height},
-                         {"fps", shot.fps},
-                         {"reference_spp", options.referenceSpp},
-                         {"seed", options.seed},
-                         {"max_bounces", options.maxBounces},
-                         {"gi", options.gi.mode},
-                         {"scene_bridge", options.gi.sceneBridge},
-                         {"settings", changedSettings(settings)},
-                         {"device", context->deviceInfo().name},
-                         {"seconds", seconds},
-                         {"camera_before_event", poseJson(cameraFrames[firstEvent - 1].pose)},
-                         {"camera_at_event", poseJson(cameraFrames[firstEvent].pose)},
-                         {"within", options.within},
-                         {"recovered_after",
-                          {{"rest", partsJson(recovery.rest)},
-                           {"nearby", partsJson(recovery.nearby)},
-                           {"own_settled", settled ? partsJson(recovery.ownSettled) : nlohmann::json(nullptr)}}},
-                         {"ages", agesJson},
-                         {"settled", settled ? ageJson(*settled) : nlohmann::json(nullptr)}};
+  nlohmann::json meta = ghostingRunJson(options, settings, context->deviceInfo().name, seconds);
+  meta.update({{"scene", scene.name},
+               {"event", options.event},
+               {"camera", shot.camera.empty() ? (turn ? "built-in turn" : "default") : shot.camera},
+               {"event_frame", firstEvent},
+               {"events", eventsJson},
+               {"nearby_radius", nearbyRadius},
+               {"rest_since_frame", firstFollowed},
+               {"fps", shot.fps},
+               {"camera_before_event", poseJson(cameraFrames[firstEvent - 1].pose)},
+               {"camera_at_event", poseJson(cameraFrames[firstEvent].pose)},
+               {"within", options.within},
+               {"recovered_after",
+                {{"rest", partsJson(recovery.rest)},
+                 {"nearby", partsJson(recovery.nearby)},
+                 {"own_settled", settled ? partsJson(recovery.ownSettled) : nlohmann::json(nullptr)}}},
+               {"ages", agesJson},
+               {"settled", settled ? ageJson(*settled) : nlohmann::json(nullptr)}});
   if (turn && shot.camera.empty()) meta["turn_degrees"] = turnDegrees;
   writeTextFile(outDir / "ghosting.json", meta.dump(2) + "\n");
   std::printf("\nwrote %s, %s (error against frames since uncovered), %s and %s (the regions at frame %u) in %.1f s\n",

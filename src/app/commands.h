@@ -76,7 +76,8 @@ scene::Scene loadScene(const SceneOptions& options);
 // metallic in [0, 1]; base_color R,G,B in [0, 1]; emission R,G,B >= 0);
 // throws naming the argument and the problem (an unknown material lists the
 // scene's).
-void applyMaterialChange(scene::Scene& scene, const std::string& change);
+// `flag` names the option in messages.
+void applyMaterialChange(scene::Scene& scene, const std::string& change, const std::string& flag = "--material");
 // The camera path --camera names, or the scene's own (its first glTF
 // camera, else its suggested view) when none is given.
 std::unique_ptr<scene::CameraPath> cameraPathOf(const scene::Scene& scene, const SceneOptions& options);
@@ -214,7 +215,10 @@ struct GhostingOptions {
   GpuOptions gpu;
   SceneOptions view = {.width = 640, .height = 360};
   GiOptions gi = {.warmup = 32};
-  std::string event = "turn";           // turn (the camera turns in one frame) or object (a moving object uncovers)
+  // turn (the camera turns in one frame), object (a moving object uncovers),
+  // light (--light-changes at the event frame) or cut (a cut in place)
+  std::string event = "turn";
+  std::vector<std::string> lightChanges;  // --light-change NAME:KEY=VALUE, made at the event frame
   std::uint32_t eventFrame = 32;        // the (first) event frame; frames 0.. lead up to it, after gi.warmup
   std::optional<std::uint32_t> events;  // event frames from eventFrame on, pooled (default: turn 1, object 8)
   std::uint32_t after = 8;              // frames measured after the event

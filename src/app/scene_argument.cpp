@@ -56,8 +56,8 @@ std::vector<float> parseNumbers(const std::string& text, std::size_t count, floa
 
 }  // namespace
 
-void applyMaterialChange(scene::Scene& scene, const std::string& change) {
-  const std::string what = "--material " + change;
+void applyMaterialChange(scene::Scene& scene, const std::string& change, const std::string& flag) {
+  const std::string what = flag + " " + change;
   const std::size_t colon = change.rfind(':');
   const std::size_t equals = change.find('=', colon == std::string::npos ? 0 : colon);
   if (colon == std::string::npos || equals == std::string::npos || colon == 0)

@@ -81,4 +81,19 @@ void Canvas::text(int x, int y, std::string_view text, glm::vec3 colour, int sca
   }
 }
 
+void drawLine(Canvas& canvas, glm::vec2 a, glm::vec2 b, glm::vec3 colour, float radius, float gap) {
+  const float length = glm::length(b - a);
+  const int steps = std::max(1, int(std::ceil(length / 0.5f)));
+  float sinceDot = gap;
+  for (int i = 0; i <= steps; ++i) {
+    const glm::vec2 p = a + (b - a) * (float(i) / float(steps));
+    if (gap > 0.0f) {
+      sinceDot += length / float(steps);
+      if (sinceDot < gap) continue;
+      sinceDot = 0.0f;
+    }
+    canvas.dot(p.x, p.y, radius, colour);
+  }
+}
+
 }  // namespace bounce::plot

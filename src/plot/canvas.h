@@ -32,4 +32,8 @@ class Canvas {
   io::ImageF image_;
 };
 
+// A line of dots `radius` wide from a to b; with `gap` > 0, dotted: a dot
+// every `gap` pixels.
+void drawLine(Canvas& canvas, glm::vec2 a, glm::vec2 b, glm::vec3 colour, float radius, float gap = 0.0f);
+
 }  // namespace bounce::plot
