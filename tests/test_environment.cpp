@@ -761,6 +761,38 @@ TEST_F(EnvironmentGpu, OnlyTheFirstRecordRecordsWork) {
   EXPECT_TRUE(second.empty());
 }
 
+// setSun: the next record bakes the sky again for the moved sun (equal to
+// a sky made for it from the start); a sun out of range changes nothing.
+TEST_F(EnvironmentGpu, AMovedSunIsBakedAgainAtTheNextRecord) {
+  EnvironmentDesc desc;
+  desc.skyWidth = 32;
+  desc.sun.azimuthDegrees = 10.0f;
+  Environment environment(context(), desc);
+  record(environment);
+  const io::ImageF before = readLevel(environment.radiance(), 0);
+  scene::Sun moved = desc.sun;
+  moved.azimuthDegrees = 190.0f;
+  environment.setSun(moved);
+  record(environment);
+  const io::ImageF after = readLevel(environment.radiance(), 0);
+  EnvironmentDesc fresh = desc;
+  fresh.sun = moved;
+  Environment made(context(), fresh);
+  record(made);
+  const io::ImageF expected = readLevel(made.radiance(), 0);
+  double changed = 0.0, off = 0.0;
+  for (std::size_t i = 0; i < after.pixels.size(); ++i) {
+    changed += std::abs(after.pixels[i] - before.pixels[i]);
+    off = std::max(off, double(std::abs(after.pixels[i] - expected.pixels[i])));
+  }
+  EXPECT_GT(changed, 0.0) << "the sky did not move";
+  EXPECT_EQ(off, 0.0) << "the moved sky differs from one made for that sun";
+  scene::Sun bad = moved;
+  bad.azimuthDegrees = std::nanf("");
+  EXPECT_THROW(environment.setSun(bad), gpu::GpuError);
+  EXPECT_EQ(environment.desc().sun.azimuthDegrees, 190.0f) << "a refused sun changes nothing";
+}
+
 TEST_F(EnvironmentGpu, InvalidDescriptionsAreRejected) {
   EnvironmentDesc desc;
   desc.intensity = -1.0f;

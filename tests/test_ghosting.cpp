@@ -267,6 +267,30 @@ TEST(Ghosting, ACutInPlaceRestartsTheHistoriesAndIsFollowedBackToItsLevel) {
   fs::remove_all(dir);
 }
 
+// --event sun: sun-room's sun turned half round at the event frame, so it
+// no longer shines in through the window. The reference (of the lighting
+// after the event) holds much less indirect light than that of a cut in
+// place (the lighting before); a sun never moved, for the path tracer or
+// the renderer, leaves the two alike.
+TEST(Ghosting, ASunTurnedAwayFromTheWindowIsTracedAfterItsTurn) {
+  const std::string common =
+      " --width 48 --height 32 --gi-warmup 8 --event-frame 3 --after 2 --settle 2 "
+      "--reference-spp 16 --seed 3 --validate --out ";
+  const fs::path sunDir = freshDirectory("sun"), cutDir = freshDirectory("sun_cut");
+  const Result turned = run("ghosting sun-room --event sun --sun-jump 180" + common + sunDir.string());
+  ASSERT_EQ(turned.exitCode, 0) << turned.output;
+  const Result still = run("ghosting sun-room --event cut" + common + cutDir.string());
+  ASSERT_EQ(still.exitCode, 0) << still.output;
+  const nlohmann::json after = readJson(sunDir / "ghosting.json"), before = readJson(cutDir / "ghosting.json");
+  EXPECT_EQ(after["sun_jump_degrees"], 180.0);
+  const double moved = after["reference_mean"]["indirect_diffuse"], kept = before["reference_mean"]["indirect_diffuse"];
+  std::printf("sun-room's indirect diffuse, reference mean: %.4f with the sun turned, %.4f without\n", moved, kept);
+  EXPECT_LT(moved, 0.8 * kept);
+  EXPECT_NE(turned.output.find("sun turned by 180 degrees"), std::string::npos) << turned.output;
+  fs::remove_all(sunDir);
+  fs::remove_all(cutDir);
+}
+
 TEST(Ghosting, BadArgumentsAreOneClearLine) {
   const fs::path dir = freshDirectory("bad");
   fs::create_directories(dir);
@@ -291,7 +315,11 @@ TEST(Ghosting, BadArgumentsAreOneClearLine) {
       {"ghosting cornell --event light --light-change lamp:emission=0,0,0" + out, "has no material 'lamp'"},
       {"ghosting cornell --event light --light-change lamp:emission" + out, "--light-change lamp:emission"},
       {"ghosting cornell --event cut --settle 0" + out, "--settle 0"},
-      {"ghosting cornell --event cut --events 2" + out, "--events is for --event object"}};
+      {"ghosting cornell --event cut --events 2" + out, "--events is for --event object"},
+      {"ghosting cornell --event cut --sun-jump 10" + out, "--sun-jump is for --event sun"},
+      {"ghosting --sun-jump 10" + out, "--sun-jump is for --event sun"},
+      {"ghosting sun-room --event sun --sun-jump 0" + out, "--sun-jump 0"},
+      {"ghosting sun-room --event sun --no-sun" + out, "--event sun needs a sun"}};
   for (const auto& [arguments, words] : cases) {
     const Result r = run(arguments);
     EXPECT_NE(r.exitCode, 0) << arguments;

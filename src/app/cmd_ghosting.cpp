@@ -551,14 +551,19 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
                    "uncovers what was behind it (an animated scene; default sun-room-animated, the scene's camera); "
                    "light: a still camera, and at the event frame the --light-change edits are made (a lamp switched "
                    "on or off): the indirect means frame by frame against a reference of the new lighting, and the "
-                   "frames until they are within 10 % and 5 % of it and of their settled value; cut: a still camera "
+                   "frames until they are within 10 % and 5 % of it and of their settled value; sun: the same when "
+                   "the sun's azimuth turns by --sun-jump degrees at the event frame; cut: a still camera "
                    "cuts in place at the event frame (every history dropped): the same, and against the value before "
                    "the cut")
-      ->check(CLI::IsMember({"turn", "object", "light", "cut"}))
+      ->check(CLI::IsMember({"turn", "object", "light", "sun", "cut"}))
       ->capture_default_str();
   command->add_option("--light-change", options.lightChanges,
                       "With --event light: a material edit made at the event frame, NAME:KEY=VALUE as --material "
                       "(repeatable), e.g. 'light:emission=0,0,0' switches cornell's lamp off");
+  command
+      ->add_option("--sun-jump", options.sunJump,
+                   "With --event sun: degrees the sun's azimuth turns at the event frame (default 30)")
+      ->check(finiteRange(-180.0, 180.0));
   command
       ->add_option("--event-frame", options.eventFrame,
                    "The (first) event frame; the frames before it, after --gi-warmup, lead up to it (at least "
@@ -611,7 +616,7 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
 }
 
 int runGhosting(const GhostingOptions& options) {
-  if (options.event == "light" || options.event == "cut") return runConvergence(options);
+  if (options.event == "light" || options.event == "sun" || options.event == "cut") return runConvergence(options);
   const bool turn = options.event == "turn";
   if (!giEnabled(options.gi)) throw UsageError("--gi off: bounce ghosting measures the GI; nothing to measure");
   if (options.eventFrame < options.after + 1)
@@ -620,6 +625,7 @@ int runGhosting(const GhostingOptions& options) {
                      "so the event frame must be at least " + std::to_string(options.after + 1));
   if (!options.lightChanges.empty())
     throw UsageError("--light-change is for --event light, not --event " + options.event);
+  if (options.sunJump) throw UsageError("--sun-jump is for --event sun, not --event " + options.event);
   if (options.turnDegrees && !turn)
     throw UsageError("--turn-degrees is for --event turn, not --event " + options.event);
   if (options.turnDegrees && !options.view.camera.empty())

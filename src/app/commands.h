@@ -216,9 +216,11 @@ struct GhostingOptions {
   SceneOptions view = {.width = 640, .height = 360};
   GiOptions gi = {.warmup = 32};
   // turn (the camera turns in one frame), object (a moving object uncovers),
-  // light (--light-changes at the event frame) or cut (a cut in place)
+  // light (--light-changes at the event frame), sun (the sun turns by
+  // --sun-jump degrees) or cut (a cut in place)
   std::string event = "turn";
   std::vector<std::string> lightChanges;  // --light-change NAME:KEY=VALUE, made at the event frame
+  std::optional<float> sunJump;           // --event sun: degrees the sun's azimuth turns at the event frame
   std::uint32_t eventFrame = 32;        // the (first) event frame; frames 0.. lead up to it, after gi.warmup
   std::optional<std::uint32_t> events;  // event frames from eventFrame on, pooled (default: turn 1, object 8)
   std::uint32_t after = 8;              // frames measured after the event
@@ -234,6 +236,7 @@ struct GhostingOptions {
   bool overwrite = false;  // replace files in OUT that no Bounce run wrote
 };
 inline constexpr float kDefaultTurnDegrees = 20.0f;
+inline constexpr float kDefaultSunJumpDegrees = 30.0f;
 CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options);
 int runGhosting(const GhostingOptions& options);
 

@@ -1,6 +1,6 @@
-// bounce ghosting --event light and --event cut: how many frames the GI
-// takes to settle after the light changes or its histories are dropped,
-// seen from a still camera.
+// bounce ghosting --event light, --event sun and --event cut: how many
+// frames the GI takes to settle after the light changes or its histories
+// are dropped, seen from a still camera.
 //
 // light: at the event frame the --light-change material edits are made
 // (FrameRenderer::setMaterial, the edit the viewer's material editor
@@ -9,6 +9,9 @@
 // new lighting (the camera and scene stand still, so one reference serves
 // every frame): the indirect diffuse and specular means against the
 // reference's, and their relMSE.
+// sun: the same when the sun's azimuth turns by --sun-jump degrees at the
+// event frame (FrameRenderer::setSun: its direct light, and a procedural
+// sky baked again).
 // cut: at the event frame the camera cuts to where it stands (every
 // history is dropped; the radiance cache keeps what it knows); the means
 // are compared with the frame before the cut, the value the GI had
@@ -198,9 +201,12 @@ nlohmann::json measuredJson(const Measured& m, const std::array<double, kSignalC
 }  // namespace
 
 int runConvergence(const GhostingOptions& options) {
-  const bool light = options.event == "light";
+  const bool light = options.event == "light", sun = options.event == "sun";
   if (options.events) throw UsageError("--events is for --event object, not --event " + options.event);
   if (options.turnDegrees) throw UsageError("--turn-degrees is for --event turn, not --event " + options.event);
+  if (options.sunJump && !sun) throw UsageError("--sun-jump is for --event sun, not --event " + options.event);
+  const float sunJump = options.sunJump.value_or(kDefaultSunJumpDegrees);
+  if (sun && sunJump == 0.0f) throw UsageError("--sun-jump 0 does not move the sun: nothing changes");
   if (light && options.lightChanges.empty())
     throw UsageError(
         "--event light needs what changes at the event: --light-change NAME:emission=R,G,B (e.g. "
@@ -230,6 +236,18 @@ int runConvergence(const GhostingOptions& options) {
       changedMaterials.push_back(m);
   if (light && changedMaterials.empty())
     throw UsageError("--light-change: the changes leave every material as it was: nothing happens at the event");
+  // The sun after the event: the renderer's (the scene's, or as the flags
+  // set it) with its azimuth turned.
+  const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
+  scene::Sun movedSun = rendererOptions.environment.sun;
+  if (sun) {
+    if (!rendererOptions.environment.hasSun)
+      throw UsageError("--event sun needs a sun, and " + scene.name +
+                       " has none here (a scene without one, or "
+                       "--no-sun): give it one with --sun-elevation");
+    movedSun.azimuthDegrees += sunJump;
+  }
+
   OutputFolder(outDir, "--out", options.overwrite)
       .prepare({"ghosting.json", "ghosting.png"}, {}, inputFiles(scene, shot, &options.gi));
 
@@ -244,11 +262,14 @@ int runConvergence(const GhostingOptions& options) {
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
   render::requireFrameMemory(*context, shot.width, shot.height,
                              std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
-  render::FrameRenderer renderer(*context, scene, frameRendererOptions(scene, shot));
+  render::FrameRenderer renderer(*context, scene, rendererOptions);
   gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
   render::GiBridge gi(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
   checkDeviceMemoryFits(*context, shot.width, shot.height);
-  std::string what = light ? "light change (" : "camera cut in place";
+  char sunText[96];
+  std::snprintf(sunText, sizeof sunText, "sun turned by %g degrees (azimuth %g -> %g)", double(sunJump),
+                double(rendererOptions.environment.sun.azimuthDegrees), double(movedSun.azimuthDegrees));
+  std::string what = light ? "light change (" : sun ? sunText : "camera cut in place";
   if (light)
     for (std::size_t i = 0; i < options.lightChanges.size(); ++i)
       what += (i ? ", " : "") + options.lightChanges[i] + (i + 1 == options.lightChanges.size() ? ")" : "");
@@ -296,11 +317,12 @@ int runConvergence(const GhostingOptions& options) {
   std::uint64_t lastIndex = 0;
   ProgressBar progress("frames", settledFrame + 1);
   for (std::uint32_t frame = 0; frame <= settledFrame; ++frame) {
-    if (frame == eventFrame && light) {
-      loop.finish();  // setMaterial's upload overwrites what frames in flight read
+    if (frame == eventFrame && (light || sun)) {
+      loop.finish();  // the upload and the sky's bake overwrite what frames in flight read
       for (std::size_t m : changedMaterials) renderer.setMaterial(m, changed.materials[m]);
+      if (sun) renderer.setSun(movedSun);
     }
-    const bool cut = (frame == 0 && options.gi.warmup == 0) || (frame == eventFrame && !light);
+    const bool cut = (frame == 0 && options.gi.warmup == 0) || (frame == eventFrame && !light && !sun);
     lastIndex = record(cut);
     if (frame + 1 >= eventFrame && frame <= lastMeasured) {
       auto [m, made] = measure(frame);
@@ -373,13 +395,13 @@ int runConvergence(const GhostingOptions& options) {
       const std::optional<int> ofReference = settledWithin(frames, *settled, s, reference[s], tolerance);
       const std::optional<int> ofSettled = settledWithin(frames, *settled, s, convergedMean[s], tolerance);
       std::optional<int> ofBefore;
-      if (!light) ofBefore = settledWithin(frames, *settled, s, frames.front().mean[s], tolerance);
+      if (!light && !sun) ofBefore = settledWithin(frames, *settled, s, frames.front().mean[s], tolerance);
       const std::string key = std::to_string(int(std::lround(tolerance * 100.0))) + "_percent";
       const auto value = [](std::optional<int> v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
       signal[key] = {{"of_reference", value(ofReference)}, {"of_settled", value(ofSettled)}};
       std::printf(" %.0f %% of its settled value: %s (of the reference: %s", tolerance * 100.0,
                   afterText(ofSettled, last).c_str(), afterText(ofReference, last).c_str());
-      if (!light) {
+      if (!light && !sun) {
         signal[key]["of_before_cut"] = value(ofBefore);
         std::printf("; of the value before the cut: %s", afterText(ofBefore, last).c_str());
       }
@@ -388,7 +410,10 @@ int runConvergence(const GhostingOptions& options) {
     within[kSignalNames[s]] = signal;
   }
 
-  const std::string title = scene.name + ": " + (light ? "light change" : "camera cut in place") +
+  const std::string title = scene.name + ": " +
+                            (light ? "light change"
+                             : sun ? "sun turned"
+                                   : "camera cut in place") +
                             (settings.denoise.enabled ? "" : ", denoiser off");
   io::writePng(outDir / "ghosting.png",
                convergencePlot(title, frames, *settled, reference, convergedMean, convergedName),
@@ -401,6 +426,7 @@ int runConvergence(const GhostingOptions& options) {
   meta.update({{"scene", scene.name},
                {"event", options.event},
                {"light_changes", options.lightChanges},
+               {"sun_jump_degrees", sun ? nlohmann::json(sunJump) : nlohmann::json(nullptr)},
                {"event_frame", eventFrame},
                {"reference_mean", referenceJson},
                {"frames", framesJson},

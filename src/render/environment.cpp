@@ -417,6 +417,17 @@ Environment::~Environment() = default;
 
 VkSampler Environment::sampler() const { return prefilter_->sampler(); }
 
+void Environment::setSun(const scene::Sun& sun) {
+  EnvironmentDesc moved = desc_;
+  moved.sun = sun;
+  validate(moved);
+  desc_ = moved;
+  if (kind_ == Kind::Sky) {
+    sky_ = skyParams(desc_);
+    recorded_ = false;
+  }
+}
+
 void Environment::record(gpu::Recorder& recorder) {
   if (recorded_) return;
   recorded_ = true;

@@ -130,8 +130,16 @@ class Environment {
   Environment& operator=(const Environment&) = delete;
 
   // The first call records the bake (or the map's upload was done) and the
-  // library's prefilter; later calls record nothing, since the environment is static.
+  // library's prefilter; later calls record nothing until setSun changes
+  // the sky.
   void record(gpu::Recorder& recorder);
+
+  // Moves the sun (the sky is built for it): a procedural sky is baked and
+  // prefiltered again by the next record(); a map stays as it is. Throws
+  // gpu::GpuError, changing nothing, for a sun out of range (as the
+  // constructor). Precondition: no recorded frame that reads the
+  // environment is still running (the bake overwrites its images).
+  void setSun(const scene::Sun& sun);
 
   // rgba16f equirect, mipCount() levels of prefiltered radiance (the
   // library's image, wrapped); valid once the command buffer of the first

@@ -494,6 +494,12 @@ std::string materialProblem(const scene::Material& m) {
 
 }  // namespace
 
+void FrameRenderer::setSun(const scene::Sun& sun) {
+  if (!options_.environment.hasSun) throw std::logic_error("render: setSun on a renderer without a sun");
+  environment_->setSun(sun);
+  options_.environment.sun = sun;
+}
+
 void FrameRenderer::setMaterial(std::size_t index, const scene::Material& material) {
   if (index >= materials_.size())
     throw std::out_of_range("setMaterial: material index " + std::to_string(index) +

@@ -133,6 +133,12 @@ class FrameRenderer {
   // being recorded: the upload is blocking (submitAndWait) and overwrites
   // the table frames in flight would read.
   void setMaterial(std::size_t index, const scene::Material& material);
+  // Moves the sun: its direct light from the next recorded frame on, and a
+  // procedural sky baked and prefiltered again for it (a map stays).
+  // Throws gpu::GpuError, changing nothing, for a sun out of range; throws
+  // std::logic_error where the renderer has no sun (hasSun false).
+  // Precondition: the GPU is idle (FrameLoop::finish()).
+  void setSun(const scene::Sun& sun);
   // Goes up by one with every setMaterial, so whoever built something from
   // materials() (the reference's emissive-triangle list) sees it is stale.
   std::uint64_t materialRevision() const { return materialRevision_; }
