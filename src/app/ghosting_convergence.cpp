@@ -58,29 +58,6 @@ constexpr const char* kSignalLabels[kSignalCount] = {"indirect diffuse", "indire
 // The tolerances the issue asks about: within 10 % and within 5 %.
 constexpr std::array<double, 2> kTolerances = {0.10, 0.05};
 
-double meanLuminance(const io::ImageF& image) {
-  const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);
-  const std::size_t channels = image.channelCount();
-  double sum = 0.0;
-  for (std::size_t p = 0; p < pixels; ++p) {
-    const float* rgb = &image.pixels[p * channels];
-    sum += 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-  }
-  return pixels > 0 ? sum / double(pixels) : 0.0;
-}
-
-double relMse(const io::ImageF& reference, const io::ImageF& test) {
-  const std::size_t pixels = std::size_t(test.width) * std::size_t(test.height);
-  double sum = 0.0;
-  for (std::size_t p = 0; p < pixels; ++p)
-    for (std::size_t c = 0; c < 3; ++c) {
-      const double want = reference.pixels[p * reference.channelCount() + c];
-      const double got = test.pixels[p * test.channelCount() + c];
-      sum += (got - want) * (got - want) / (want * want + metrics::kRelMseEpsilon);
-    }
-  return pixels > 0 ? sum / double(3 * pixels) : 0.0;
-}
-
 struct Measured {
   std::uint32_t frame = 0;
   int after = 0;  // frames after the event (-1: the frame before it)
@@ -298,7 +275,7 @@ int runConvergence(const GhostingOptions& options) {
     m.after = int(frame) - int(eventFrame);
     const io::ImageF diffuse = gpuio::readbackImage(*context, gi.indirect(gi::kDiffuseSignal));
     const io::ImageF specular = gpuio::readbackImage(*context, gi.indirect(gi::kSpecularSignal));
-    m.mean = {meanLuminance(diffuse), meanLuminance(specular)};
+    m.mean = {metrics::meanLuminance(diffuse), metrics::meanLuminance(specular)};
     return std::pair(m, std::array<io::ImageF, kSignalCount>{diffuse, specular});
   };
 
@@ -356,11 +333,13 @@ int runConvergence(const GhostingOptions& options) {
   render::ReferenceImages traced = pathTracer.resolve(sampling, render::ReferenceHalf::Both);
   const std::array<io::ImageF, kSignalCount> referenceImages = {std::move(traced.indirectDiffuse),
                                                                 std::move(traced.indirectSpecular)};
-  const std::array<double, kSignalCount> reference = {meanLuminance(referenceImages[kDiffuse]),
-                                                      meanLuminance(referenceImages[kSpecular])};
+  const std::array<double, kSignalCount> reference = {metrics::meanLuminance(referenceImages[kDiffuse]),
+                                                      metrics::meanLuminance(referenceImages[kSpecular])};
   for (std::size_t i = 0; i < frames.size(); ++i)
-    for (int s = 0; s < kSignalCount; ++s) frames[i].relMse[s] = relMse(referenceImages[s], images[i][s]);
-  for (int s = 0; s < kSignalCount; ++s) settled->relMse[s] = relMse(referenceImages[s], settledImages[s]);
+    for (int s = 0; s < kSignalCount; ++s)
+      frames[i].relMse[s] = metrics::valueErrors(referenceImages[s], images[i][s]).relMse;
+  for (int s = 0; s < kSignalCount; ++s)
+    settled->relMse[s] = metrics::valueErrors(referenceImages[s], settledImages[s]).relMse;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   // What the GI converges to: its own settled frame; for a cut also the
