@@ -28,6 +28,7 @@
 #include "app/option_checks.h"
 #include "app/output_files.h"
 #include "app/progress.h"
+#include "app/reference_sampling.h"
 #include "gpu/frame_loop.h"
 #include "gpuio/gpu_images.h"
 #include "gpuio/stage_dump.h"
@@ -217,18 +218,7 @@ int runDenoise(const DenoiseOptions& options) {
   PartImages reference;
   {
     gpu::FrameLoop sampling(*context, render::FrameRenderer::kFramesInFlight);
-    ProgressBar progress("reference spp", options.referenceSpp);
-    while (pathTracer.samplesPerPixel() < options.referenceSpp) {
-      pathTracer.record(sampling.beginFrame(), std::uint32_t(options.referenceSpp - pathTracer.samplesPerPixel()));
-      sampling.endFrame();
-      progress.update(pathTracer.samplesPerPixel());
-    }
-    sampling.finish();
-    progress.finish();
-    render::ReferenceImages images = pathTracer.resolve(sampling, render::ReferenceHalf::Both);
-    if (images.droppedSamples > 0)
-      std::fprintf(stderr, "warning: %llu reference path samples were not finite and were left out\n",
-                   static_cast<unsigned long long>(images.droppedSamples));
+    render::ReferenceImages images = sampleReference(pathTracer, sampling, options.referenceSpp, "reference spp");
     reference = {std::move(images.indirectDiffuse), std::move(images.indirectSpecular), std::move(images.radiance)};
   }
 

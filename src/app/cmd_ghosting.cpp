@@ -40,6 +40,7 @@
 #include "app/option_checks.h"
 #include "app/output_files.h"
 #include "app/progress.h"
+#include "app/reference_sampling.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpuio/gpu_images.h"
@@ -813,14 +814,8 @@ int runGhosting(const GhostingOptions& options) {
         pathTracer->restart(sampling.beginFrame(), index, time);
         sampling.endFrame();
       }
-      while (pathTracer->samplesPerPixel() < options.referenceSpp) {
-        pathTracer->record(sampling.beginFrame(), std::uint32_t(options.referenceSpp - pathTracer->samplesPerPixel()));
-        sampling.endFrame();
-      }
-      render::ReferenceImages traced = pathTracer->resolve(sampling, render::ReferenceHalf::Both);
-      if (traced.droppedSamples > 0)
-        std::fprintf(stderr, "warning: frame %u: %llu reference path samples were not finite and were left out\n",
-                     frame, static_cast<unsigned long long>(traced.droppedSamples));
+      render::ReferenceImages traced =
+          sampleReference(*pathTracer, sampling, options.referenceSpp, "", "frame " + std::to_string(frame) + ": ");
       const std::array<io::ImageF, kPartCount> reference = {
           std::move(traced.radiance), std::move(traced.indirectDiffuse), std::move(traced.indirectSpecular)};
       const FrameErrors errors = frameErrors(reference, made, measuredParts);

@@ -36,6 +36,7 @@
 #include "app/option_checks.h"
 #include "app/output_files.h"
 #include "app/progress.h"
+#include "app/reference_sampling.h"
 #include "gpu/frame_loop.h"
 #include "gpuio/gpu_images.h"
 #include "io/image_io.h"
@@ -321,16 +322,7 @@ int runConvergence(const GhostingOptions& options) {
   tracing.maxBounces = options.maxBounces;
   gpu::FrameLoop sampling(*context, render::FrameRenderer::kFramesInFlight);
   render::ReferenceRenderer pathTracer(*context, renderer, scene, lastIndex, 0.0f, tracing);
-  {
-    ProgressBar tracingBar("reference", options.referenceSpp);
-    while (pathTracer.samplesPerPixel() < options.referenceSpp) {
-      pathTracer.record(sampling.beginFrame(), std::uint32_t(options.referenceSpp - pathTracer.samplesPerPixel()));
-      sampling.endFrame();
-      tracingBar.update(pathTracer.samplesPerPixel());
-    }
-    tracingBar.finish();
-  }
-  render::ReferenceImages traced = pathTracer.resolve(sampling, render::ReferenceHalf::Both);
+  render::ReferenceImages traced = sampleReference(pathTracer, sampling, options.referenceSpp, "reference spp");
   const std::array<io::ImageF, kSignalCount> referenceImages = {std::move(traced.indirectDiffuse),
                                                                 std::move(traced.indirectSpecular)};
   const std::array<double, kSignalCount> reference = {metrics::meanLuminance(referenceImages[kDiffuse]),
