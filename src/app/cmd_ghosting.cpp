@@ -535,6 +535,29 @@ nlohmann::json ghostingRunJson(const GhostingOptions& options, const gi::Setting
           {"seconds", seconds}};
 }
 
+GhostingRig::GhostingRig(const GhostingOptions& options, const scene::Scene& scene,
+                         const render::FrameRendererOptions& rendererOptions, const gi::Settings& settings) {
+  const SceneOptions& shot = options.view;
+  context = openContext(options.gpu);
+  std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
+  render::requireFrameMemory(*context, shot.width, shot.height,
+                             std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
+  renderer = std::make_unique<render::FrameRenderer>(*context, scene, rendererOptions);
+  loop = std::make_unique<gpu::FrameLoop>(*context, render::FrameRenderer::kFramesInFlight);
+  gi = std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
+  checkDeviceMemoryFits(*context, shot.width, shot.height);
+}
+
+std::uint64_t GhostingRig::record(const render::FrameView& view) {
+  gpu::Recorder& recorder = loop->beginFrame();
+  const std::uint64_t index = loop->frameIndex();
+  renderer->record(recorder, index, view);
+  gi->record(recorder, *renderer, index, view, previous);
+  loop->endFrame();
+  previous = view;
+  return index;
+}
+
 CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
   CLI::App* command = app.add_subcommand(
       "ghosting",
@@ -677,14 +700,11 @@ int runGhosting(const GhostingOptions& options) {
                                std::to_string(frameCount - 1) + "): a cut restarts every history, nothing is followed");
   const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, shot);
 
-  std::unique_ptr<gpu::Context> context = openContext(options.gpu);
-  std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
-  render::requireFrameMemory(*context, shot.width, shot.height,
-                             std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
-  render::FrameRenderer renderer(*context, scene, rendererOptions);
-  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
-  render::GiBridge gi(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
-  checkDeviceMemoryFits(*context, shot.width, shot.height);
+  GhostingRig rig(options, scene, rendererOptions, settings);
+  const std::unique_ptr<gpu::Context>& context = rig.context;
+  render::FrameRenderer& renderer = *rig.renderer;
+  gpu::FrameLoop& loop = *rig.loop;
+  render::GiBridge& gi = *rig.gi;
   const std::string eventName = turn ? (shot.camera.empty() ? "fast turn" : "camera path") : "moving object";
   const std::string eventFrames = events == 1
                                       ? "frame " + std::to_string(firstEvent)
@@ -704,21 +724,11 @@ int runGhosting(const GhostingOptions& options) {
   gpu::FrameLoop sampling(*context, render::FrameRenderer::kFramesInFlight);
 
   const auto start = std::chrono::steady_clock::now();
-  render::FrameView previous{};
-  const auto record = [&](const render::FrameView& view) {
-    gpu::Recorder& recorder = loop.beginFrame();
-    const std::uint64_t index = loop.frameIndex();
-    renderer.record(recorder, index, view);
-    gi.record(recorder, renderer, index, view, previous);
-    loop.endFrame();
-    previous = view;
-    return index;
-  };
   if (options.gi.warmup > 0) {
     // As bounce render does: light needs frames to bounce and histories to fill.
     ProgressBar warming("gi warm-up", options.gi.warmup);
     for (std::uint32_t i = 0; i < options.gi.warmup; ++i) {
-      record({cameraFrames[0].pose, 0.0f, i == 0});
+      rig.record({cameraFrames[0].pose, 0.0f, i == 0});
       warming.update(i + 1);
     }
     warming.finish();
@@ -738,7 +748,7 @@ int runGhosting(const GhostingOptions& options) {
     const scene::CameraFrame& camera = cameraFrames[frame];
     const float time = float(frame) / shot.fps;
     // The path's first frame is a cut, unless the warm-up already stood there.
-    const std::uint64_t index = record({camera.pose, time, camera.cut && !(frame == 0 && options.gi.warmup > 0)});
+    const std::uint64_t index = rig.record({camera.pose, time, camera.cut && !(frame == 0 && options.gi.warmup > 0)});
     if (frame < firstFollowed) {
       progress.update(frame + 1);
       continue;

@@ -236,14 +236,11 @@ int runConvergence(const GhostingOptions& options) {
   const std::uint32_t lastMeasured = eventFrame + options.after;
   const std::uint32_t settledFrame = lastMeasured + options.settle;
 
-  std::unique_ptr<gpu::Context> context = openContext(options.gpu);
-  std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
-  render::requireFrameMemory(*context, shot.width, shot.height,
-                             std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
-  render::FrameRenderer renderer(*context, scene, rendererOptions);
-  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
-  render::GiBridge gi(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
-  checkDeviceMemoryFits(*context, shot.width, shot.height);
+  GhostingRig rig(options, scene, rendererOptions, settings);
+  const std::unique_ptr<gpu::Context>& context = rig.context;
+  render::FrameRenderer& renderer = *rig.renderer;
+  gpu::FrameLoop& loop = *rig.loop;
+  render::GiBridge& gi = *rig.gi;
   char sunText[96];
   std::snprintf(sunText, sizeof sunText, "sun turned by %g degrees (azimuth %g -> %g)", double(sunJump),
                 double(rendererOptions.environment.sun.azimuthDegrees), double(movedSun.azimuthDegrees));
@@ -258,17 +255,8 @@ int runConvergence(const GhostingOptions& options) {
       options.gi.warmup, options.referenceSpp);
 
   const auto start = std::chrono::steady_clock::now();
-  render::FrameView previous{};
-  const auto record = [&](bool cut) {
-    gpu::Recorder& recorder = loop.beginFrame();
-    const std::uint64_t index = loop.frameIndex();
-    const render::FrameView view{pose, 0.0f, cut};
-    renderer.record(recorder, index, view);
-    gi.record(recorder, renderer, index, view, previous);
-    loop.endFrame();
-    previous = view;
-    return index;
-  };
+  const auto record = [&](bool cut) { return rig.record({pose, 0.0f, cut}); };
+
   const auto measure = [&](std::uint32_t frame) {
     loop.finish();
     Measured m;
