@@ -143,9 +143,7 @@ class Vulkan {
     // Back to GENERAL, the transition visible to every way the library's
     // passes read and write their images (LibraryImage's contract).
     barrier(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image.layout, VK_PIPELINE_STAGE_2_COPY_BIT,
-            VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
-                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+            VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, bounce::gi::kLibraryImageAccess);
     submitAndWait(cmd);
     std::vector<std::uint16_t> values(count);
     std::memcpy(values.data(), buffer.mapped, count * 2);

@@ -351,9 +351,11 @@ enum class Visualization {
 // SHADER_STORAGE_WRITE). The engine may read it (sample it, copy it) with a
 // barrier from there; if it moves it to another layout it must move it back
 // to GENERAL before the next record(), with a barrier whose destination is
-// stage COMPUTE_SHADER, access SHADER_STORAGE_READ | SHADER_STORAGE_WRITE |
-// SHADER_SAMPLED_READ (the library's passes read some of its images as
-// sampled images).
+// stage COMPUTE_SHADER, access kLibraryImageAccess (the library's passes
+// read some of its images as sampled images).
+inline constexpr VkAccessFlags2 kLibraryImageAccess =
+    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
+
 struct LibraryImage {
   std::string name;  // e.g. "gi.diffuse.reservoirs0"
   ImageRef image;

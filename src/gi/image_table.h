@@ -24,12 +24,6 @@
 
 namespace bounce::gi {
 
-// The accesses a library image is handed over for between frames and after
-// a clear: storage reads and writes, and sampled reads (a pass that must
-// read rgba16f and rgba32f alike, the composite, samples).
-constexpr VkAccessFlags2 kLibraryImageAccess =
-    VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
-
 // How large an image is for a render size (the context's largest when allocating).
 enum class Resolution {
   Full,     // the render size

@@ -119,8 +119,7 @@ void GiBridge::handBackWrappers(gpu::Recorder& recorder) {
   for (auto& [handle, wrapper] : wrappers_)
     if (!sameState(wrapper.image->sync(), wrapper.handedOut))
       recorder.handOver(*wrapper.image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
-                            VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+                        gi::kLibraryImageAccess);
   recorder.flush();
 }
 
