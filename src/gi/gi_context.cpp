@@ -215,11 +215,11 @@ struct GiContext::Impl {
                                                      gpu::BufferUsage::DeviceLocal, &arena)),
         cache(*context, arena, {d.maxWidth, d.maxHeight}, settings, scene),
         depthPyramid(*context, arena, {d.maxWidth, d.maxHeight}),
+        signals(signalsOf(d)),
+        noisyNames(noisyInputNames(signals)),
         storeHistory(*context, storeHistoryPass()),
         compositor(*context, compositePass()),
         engine(*context),
-        signals(signalsOf(d)),
-        noisyNames(noisyInputNames(signals)),
         lastEngineSignals(signals.size(), false) {
     const DiffuseSettings& diffuse = settings.diffuse;
     // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
