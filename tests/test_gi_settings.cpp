@@ -118,6 +118,7 @@ std::vector<ExpectedField> expectedFields() {
       {"cache.memory_mib", [](const Settings& s) { return double(s.cache.memoryMib); }},
       {"cache.cell_size", [](const Settings& s) { return double(s.cache.cellSize); }},
       {"cache.update_rays", [](const Settings& s) { return double(s.cache.updateRays); }},
+      {"cache.update_bounces", [](const Settings& s) { return double(s.cache.updateBounces); }},
       {"cache.history_samples", [](const Settings& s) { return double(s.cache.historySamples); }},
       {"cache.max_age", [](const Settings& s) { return double(s.cache.maxAge); }},
       {"cache.inject_stride", [](const Settings& s) { return double(s.cache.injectStride); }},

@@ -113,11 +113,11 @@ TEST(Viewer, AScriptedSessionMatchesOfflineRendersOfTheSameSettingsAndMaterial) 
   const fs::path unedited = offline("unedited", "16", {"--gi.diffuse.spatial_radius", "12"});
 
   // Before the edit the viewer's frames are the offline run's, frame index
-  // for frame index: it must match it as closely as a second offline run
-  // does (the radiance cache makes runs differ: FLIP 0.06-0.08 at frame 6
-  // here, docs/known-issues.md; the frame without GI is above 0.3).
-  const fs::path beforeRerun = offline("before-rerun", "6", {});
-  EXPECT_LT(flip(dir / "view" / "before.exr", before), 1.5 * flip(beforeRerun, before) + 0.03);
+  // for frame index, and a run gives the same bits every time: the two
+  // frames agree (the frame without GI is above 0.3 from it).
+  const double viewerBefore = flip(dir / "view" / "before.exr", before);
+  std::printf("viewer against the offline run before the edit: FLIP %.5f\n", viewerBefore);
+  EXPECT_LT(viewerBefore, 0.005);
   // After the restart the viewer's frame indices run on from 7, so its
   // noise is another; it must differ from the offline frame no more than
   // another seed's run does, and much less than the unedited material's.

@@ -23,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gi/cache/cache_types.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
 #include "util/edit_distance.h"
 #include "util/json_error.h"
@@ -337,7 +338,9 @@ constexpr std::array kEntries{
     Entry{"cache.cell_size", inCache(&CacheSettings::cellSize), closed(0.0005, 0.5),
           "radiance cache: a cell's edge as a fraction of its distance to the camera (rounded to a power of two)"},
     Entry{"cache.update_rays", inCache(&CacheSettings::updateRays), closed(0, 1 << 21),
-          "radiance cache: rays per frame from the cells world hits used, at most"},
+          "radiance cache: closest-hit rays per frame of its update paths, at most"},
+    Entry{"cache.update_bounces", inCache(&CacheSettings::updateBounces), closed(1, shared::kCacheMaxBounces),
+          "radiance cache: surfaces each update path bounces off at most (bounces of light carried in one frame)"},
     Entry{"cache.history_samples", inCache(&CacheSettings::historySamples), closed(1, 4096),
           "radiance cache: a cell's value averages at most this many samples (fewer: follows light changes faster)"},
     Entry{"cache.max_age", inCache(&CacheSettings::maxAge), closed(1, 1 << 20),

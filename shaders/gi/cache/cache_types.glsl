@@ -9,12 +9,16 @@
 namespace bounce::shared {
 #endif
 
+// The most surfaces an update path bounces off (gi.cache.update_bounces).
+const uint kCacheMaxBounces = 4u;
+
 struct CacheConstants {
   vec4 cameraPosition;   // xyz: where cell sizes are measured from
   uint capacity;         // cells; a power of two
   uint enabled;          // 0: queries answer nothing, nothing is written
   uint frame;            // counts frames since the cache was cleared (ages)
-  uint updateBudget;     // update rays per frame at most
+  uint updateStride;     // gi.cache.update starts a path at one pixel of every stride x stride block
+  uint updateBounces;    // surfaces each update path bounces off at most (1..kCacheMaxBounces)
   float cellSize;        // a cell's edge as a fraction of its distance to the camera
   float historyFrames;   // a cell's value averages at most this many frames of samples
   uint maxAge;           // cells untouched for more frames are evicted

@@ -4,8 +4,6 @@
 // already knows. One pixel of every stride x stride block of the last frame
 // (a different one each frame) adds its filtered indirect diffuse
 // (demodulated: exactly the cells' quantity) to the cell of its surface.
-// Cells filled here are marked used this frame without being listed for an
-// update ray: the screen keeps them current.
 #include "gi/gi_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -29,8 +27,7 @@ void main() {
   if (y.viewZ <= 0.0f) return;
   vec4 diffuse = texelFetch(gPrev_Diffuse, pixel, 0);
   if (diffuse.w < 1.0f) return;  // no history behind it yet: too noisy to keep
-  uint slot = cacheFindOrMake(cacheKey(y.position, y.normal), y.position, y.normal);
+  uint slot = cacheFindOrMake(cacheKey(y.position, y.normal));
   if (slot == kCacheNoCell) return;
-  atomicExchange(gCache_Touched.items[slot], c.frame);
   cacheAddSample(slot, diffuse.xyz);
 }

@@ -5,31 +5,35 @@
 // indirect paths (demodulated, like gi.diffuse's output): a world hit off
 // screen adds albedo * this to its direct light and emission, so no ray
 // ever recurses. With gi.cache.direct_light, a cell also holds the direct
-// light a white Lambert surface reflects at the point it was made (the
-// bridge's, shadow rays included, worked out by gi.cache.update each frame
-// the cell is used), and diffuse world hits take their direct light from
-// it instead of a shadow ray of their own. docs/gi.md, "The radiance
+// light a white Lambert surface in it reflects (the bridge's, shadow rays
+// included, averaged over the points gi.cache.update's paths reach in it),
+// and diffuse world hits take their direct light from it instead of a
+// shadow ray of their own. docs/gi.md, "The radiance
 // cache", has the whole design.
 //
-// Buffers (the including shader defines CACHE_FIRST_BINDING; seven bindings):
+// Buffers (the including shader defines CACHE_FIRST_BINDING; six bindings):
 //   + 0 gIn_CacheConstants   CacheConstants
 //   + 1 gCache_Keys          uint per cell: the key's checksum, 0 = empty
-//   + 2 gCache_Cells         uvec4 per cell: where it was made (position bits, octahedral normal)
-//   + 3 gCache_Accumulators  uvec4 per cell: this frame's samples, rgb in fixed point, count
-//   + 4 gCache_Radiance      vec4 per cell: rgb value, the frames of samples it averages;
-//                            then (from entry `capacity`) vec4 per cell: rgb direct light, w = 1 once known
-//   + 5 gCache_Touched       uint per cell: the last frame it was queried or filled
-//   + 6 gCache_Updates       uint: [0] cells listed this frame, [1] live cells, then the listed indices
+//   + 2 gCache_Accumulators  uvec4 per cell: this frame's samples, rgb in fixed point, count;
+//                            then (from entry `capacity`) the same for the direct light
+//   + 3 gCache_Radiance      vec4 per cell: rgb value, the samples it averages;
+//                            then (from entry `capacity`) the same for the direct light (w > 0 once known)
+//   + 4 gCache_Touched       uint per cell: the last frame it was queried or filled
+//   + 5 gCache_Counts        uint: [0] live cells (gi.cache.view's occupancy bar)
 // Cells are made by the first query or fill that needs one (atomic
 // compare-and-swap of the checksum into an empty slot, linear probing);
-// gi.cache.update traces rays from the cells listed this frame;
+// gi.cache.update's paths add samples to the cells they pass;
 // gi.cache.resolve folds each cell's samples into its value and evicts cells
-// nobody touched for gi.cache.max_age frames.
+// nobody touched for gi.cache.max_age frames. Samples are integers added
+// atomically, so the order threads add them in changes no bit; which slot a
+// cell takes can depend on it, but no lookup does (every probe is looked at
+// before a cell is made), only whether a key finds room when all its probes
+// are taken.
 #ifndef BOUNCE_GI_RADIANCE_CACHE_GLSL
 #define BOUNCE_GI_RADIANCE_CACHE_GLSL
 
 #ifndef CACHE_FIRST_BINDING
-#error "define CACHE_FIRST_BINDING (the first of the radiance cache's seven bindings) first"
+#error "define CACHE_FIRST_BINDING (the first of the radiance cache's six bindings) first"
 #endif
 #define RADIANCE_CACHE
 
@@ -38,12 +42,11 @@
 layout(set = 0, binding = CACHE_FIRST_BINDING + 0, std140) CONSTANT_BLOCK CacheBlock { CacheConstants cache; }
 gIn_CacheConstants;
 layout(set = 0, binding = CACHE_FIRST_BINDING + 1, std430) buffer CacheKeys { uint items[]; } gCache_Keys;
-layout(set = 0, binding = CACHE_FIRST_BINDING + 2, std430) buffer CacheCells { uvec4 items[]; } gCache_Cells;
-layout(set = 0, binding = CACHE_FIRST_BINDING + 3, std430) buffer CacheAccumulators { uvec4 items[]; }
+layout(set = 0, binding = CACHE_FIRST_BINDING + 2, std430) buffer CacheAccumulators { uvec4 items[]; }
 gCache_Accumulators;
-layout(set = 0, binding = CACHE_FIRST_BINDING + 4, std430) buffer CacheRadiance { vec4 items[]; } gCache_Radiance;
-layout(set = 0, binding = CACHE_FIRST_BINDING + 5, std430) buffer CacheTouched { uint items[]; } gCache_Touched;
-layout(set = 0, binding = CACHE_FIRST_BINDING + 6, std430) buffer CacheUpdates { uint items[]; } gCache_Updates;
+layout(set = 0, binding = CACHE_FIRST_BINDING + 3, std430) buffer CacheRadiance { vec4 items[]; } gCache_Radiance;
+layout(set = 0, binding = CACHE_FIRST_BINDING + 4, std430) buffer CacheTouched { uint items[]; } gCache_Touched;
+layout(set = 0, binding = CACHE_FIRST_BINDING + 5, std430) buffer CacheCounts { uint items[]; } gCache_Counts;
 
 const uint kCacheNoCell = 0xffffffffu;
 const uint kCacheProbes = 8u;
@@ -84,69 +87,66 @@ CacheKey cacheKey(vec3 position, vec3 normal) {
   return CacheKey(h, max(check, 1u));
 }
 
-// The cell of that key, made if there is none; kCacheNoCell when the probes
-// find neither it nor room.
-uint cacheFindOrMake(CacheKey key, vec3 position, vec3 normal) {
-  uint mask = gIn_CacheConstants.cache.capacity - 1u;
-  for (uint i = 0u; i < kCacheProbes; ++i) {
-    uint slot = (key.hash + i) & mask;
-    uint held = atomicCompSwap(gCache_Keys.items[slot], 0u, key.checksum);
-    if (held == 0u) {
-      gCache_Cells.items[slot] = uvec4(floatBitsToUint(position), packNormalOct32(normal));
-      return slot;
-    }
-    if (held == key.checksum) return slot;
-  }
-  return kCacheNoCell;
-}
-
-// The cell of that key if there is one (looks, makes nothing).
+// The cell of that key if there is one (looks, makes nothing). Every probe
+// is looked at: a cell evicted earlier in the probe sequence leaves a hole
+// before cells made after it.
 uint cacheFind(CacheKey key) {
   uint mask = gIn_CacheConstants.cache.capacity - 1u;
   for (uint i = 0u; i < kCacheProbes; ++i) {
     uint slot = (key.hash + i) & mask;
-    uint held = gCache_Keys.items[slot];
-    if (held == key.checksum) return slot;
-    if (held == 0u) break;
+    if (gCache_Keys.items[slot] == key.checksum) return slot;
   }
   return kCacheNoCell;
 }
 
-// Marks a cell used this frame; the first use lists it for an update ray.
-void cacheTouch(uint slot) {
-  CacheConstants c = gIn_CacheConstants.cache;
-  if (atomicExchange(gCache_Touched.items[slot], c.frame) == c.frame) return;
-  uint index = atomicAdd(gCache_Updates.items[0], 1u);
-  if (index < c.updateBudget) gCache_Updates.items[2u + index] = slot;
+// The cell of that key, made if there is none, and marked used this frame
+// (cells nobody uses for gi.cache.max_age frames are evicted);
+// kCacheNoCell when its probes find neither it nor room. Two threads making
+// the same cell try the same empty slots in the same order, so they agree.
+uint cacheFindOrMake(CacheKey key) {
+  uint mask = gIn_CacheConstants.cache.capacity - 1u;
+  uint slot = cacheFind(key);
+  for (uint i = 0u; i < kCacheProbes && slot == kCacheNoCell; ++i) {
+    uint candidate = (key.hash + i) & mask;
+    uint held = atomicCompSwap(gCache_Keys.items[candidate], 0u, key.checksum);
+    if (held == 0u || held == key.checksum) slot = candidate;
+  }
+  if (slot != kCacheNoCell) atomicMax(gCache_Touched.items[slot], gIn_CacheConstants.cache.frame);
+  return slot;
 }
 
-// Adds one sample of what a white Lambert surface at the cell reflects.
-void cacheAddSample(uint slot, vec3 value) {
+void cacheAccumulate(uint entry, vec3 value) {
   uvec3 fixedPoint = uvec3(clamp(sanitizeRadiance(value), vec3(0.0f), vec3(kCacheMaxSample)) * kCacheFixedScale + 0.5f);
-  atomicAdd(gCache_Accumulators.items[slot].x, fixedPoint.x);
-  atomicAdd(gCache_Accumulators.items[slot].y, fixedPoint.y);
-  atomicAdd(gCache_Accumulators.items[slot].z, fixedPoint.z);
-  atomicAdd(gCache_Accumulators.items[slot].w, 1u);
+  atomicAdd(gCache_Accumulators.items[entry].x, fixedPoint.x);
+  atomicAdd(gCache_Accumulators.items[entry].y, fixedPoint.y);
+  atomicAdd(gCache_Accumulators.items[entry].z, fixedPoint.z);
+  atomicAdd(gCache_Accumulators.items[entry].w, 1u);
 }
 
-// The direct light a white Lambert surface at the cell's point reflects,
-// w = 1 once gi.cache.update has worked it out (gi.cache.direct_light).
-vec4 cacheDirect(uint slot) { return gCache_Radiance.items[gIn_CacheConstants.cache.capacity + slot]; }
-void cacheSetDirect(uint slot, vec3 direct) {
-  gCache_Radiance.items[gIn_CacheConstants.cache.capacity + slot] = vec4(sanitizeRadiance(direct), 1.0f);
+// Adds one sample of what a white Lambert surface in the cell reflects of
+// indirect light.
+void cacheAddSample(uint slot, vec3 value) { cacheAccumulate(slot, value); }
+
+// Adds one sample of the direct light a white Lambert surface in the cell
+// reflects (gi.cache.direct_light).
+void cacheAddDirectSample(uint slot, vec3 direct) {
+  cacheAccumulate(gIn_CacheConstants.cache.capacity + slot, direct);
 }
+
+// The direct light a white Lambert surface in the cell reflects, averaged
+// over the points gi.cache.update's paths reached; w > 0 once known.
+vec4 cacheDirect(uint slot) { return gCache_Radiance.items[gIn_CacheConstants.cache.capacity + slot]; }
 
 // What a white Lambert surface at `position` facing `normal` reflects of
 // indirect light, as the cache knows it (0 for a cell with no samples yet),
 // and whether `direct` holds its direct light (gi.cache.direct_light, once
-// worked out); makes and touches the cell, so the next frames update it.
+// known); makes and touches the cell, so that it is kept.
 bool cacheQueryLight(vec3 position, vec3 normal, out vec3 indirect, out vec3 direct) {
   indirect = vec3(0.0f);
   direct = vec3(0.0f);
   if (gIn_CacheConstants.cache.enabled == 0u) return false;
-  uint slot = cacheFindOrMake(cacheKey(position, normal), position, normal);
+  uint slot = cacheFindOrMake(cacheKey(position, normal));
   if (slot == kCacheNoCell) return false;
-  cacheTouch(slot);
   indirect = gCache_Radiance.items[slot].xyz;
   if (gIn_CacheConstants.cache.directLight == 0u) return false;
   vec4 known = cacheDirect(slot);

@@ -1,20 +1,27 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.cache.update: one ray from each radiance-cache cell listed this frame
-// (the cells world hits used; at most gi.cache.update_rays), cosine
-// distributed about the cell's normal and traced through the scene bridge.
-// (It runs without a bridge too, for the bookkeeping, and traces nothing.)
-// Its hit is shaded with the bridge's direct light, its emission and the
-// cache's own value there (more bounces, no recursion); a miss sees the
-// environment. With cosine sampling the mean of those radiances is what a
-// white Lambert surface at the cell reflects. With gi.cache.direct_light,
-// the cell's own direct light is worked out here too (the bridge's, for a
-// white Lambert surface at the cell's point), for the hits that read it.
+// gi.cache.update: paths through the scene bridge that fill the radiance
+// cache with several bounces a frame (SHaRC's update). One path starts at
+// one pixel of every updateStride x updateStride block of the frame (a
+// different pixel each frame) and bounces off up to updateBounces surfaces,
+// cosine distributed about each one's normal. At each surface it reaches,
+// the bridge's direct light for a white Lambert surface there is worked out
+// (gi.cache.direct_light: added to the surface's cell, which the world hits
+// of the branches then read); the light the path carries back towards each
+// surface it left is added to that surface's cell as one sample of what a
+// white Lambert surface there reflects (cosine sampling: the mean of those
+// radiances). The last surface takes what follows from the cache's own value
+// there; a miss sees the environment. Light thus crosses updateBounces
+// bounces in one frame instead of one, and every sample is an integer added
+// to an integer (radiance_cache.glsl): which thread adds first changes no
+// bit. (Without a bridge that traces the pass only does the bookkeeping.)
 #include "gi/gi_common.glsl"
+#include "gi/gbuffer.glsl"
+#include "shared/brdf.glsl"
 #include "shared/equirect.glsl"
 #include "shared/sampling.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = 8, local_size_y = 8) in;
 
 #define CACHE_FIRST_BINDING 4
 #include "gi/cache/radiance_cache.glsl"
@@ -24,40 +31,103 @@ layout(set = 0, binding = 11) uniform sampler2D gIn_Environment;
 
 const uint kSaltCacheUpdate = 0x6375u;
 
+// What a path keeps of each surface it left: the cell that takes the
+// light arriving there along the ray it left by, that light so far, and
+// how much of the light found further along still reaches it.
+struct PathVertex {
+  uint slot;
+  vec3 arriving;
+  vec3 throughput;
+};
+
+// The bridge's direct light (shadow rays included) that a white Lambert
+// surface at the hit reflects.
+vec3 whiteDirectLight(SceneHit hit) {
+  SceneHit white = sceneMiss();
+  white.hit = true;
+  white.t = hit.t;
+  white.position = hit.position;
+  white.geometricNormal = hit.geometricNormal;
+  white.normal = hit.normal;
+  white.diffuseAlbedo = vec3(1.0f);
+  white.baseColor = vec3(1.0f);
+  return sanitizeRadiance(sceneDirectRadiance(white, hit.normal));
+}
+
+// With gi.cache.direct_light a path works the direct light out (shadow
+// rays) at one of its surfaces, a different one each frame, and adds it to
+// that surface's cell; at the others it takes the cell's, once known. The
+// bounces of a path run one after the other, so each shadow ray left out
+// shortens the pass (Breakfast Room at 1080p on the H100: 1.79 -> see
+// docs/benchmarks.md).
+bool cachedDirect(uint slot, bool fresh, out vec3 direct) {
+  direct = vec3(0.0f);
+  if (gIn_CacheConstants.cache.directLight == 0u || fresh || slot == kCacheNoCell) return false;
+  vec4 known = cacheDirect(slot);
+  direct = known.xyz;
+  return known.w > 0.0f;
+}
+
 void main() {
   CacheConstants c = gIn_CacheConstants.cache;
-  uint index = gl_GlobalInvocationID.x;
-  if (index == 0u) gCache_Updates.items[1] = 0u;  // gi.cache.resolve counts the live cells anew
-  if (!kSceneBridgeTraces) return;
-  if (index >= min(gCache_Updates.items[0], c.updateBudget)) return;
-  uint slot = gCache_Updates.items[2u + index];
-  // A slot listed but not yet written by the toucher (lists are appended
-  // while this pass reads them) may hold another cell: then this is still a
-  // sample of that cell, from that cell's own place.
-  if (slot >= c.capacity || gCache_Keys.items[slot] == 0u) return;
-  uvec4 cell = gCache_Cells.items[slot];
-  vec3 position = uintBitsToFloat(cell.xyz);
-  vec3 normal = unpackNormalOct32(cell.w);
-  if (!isFinite(position)) return;
-  uint rng = giSeed(uvec2(index, slot), kSaltCacheUpdate);
-  vec3 t, b;
-  buildOrthonormalBasis(normal, t, b);
-  vec3 local = sampleCosineHemisphere(vec2(rngUniform(rng), rngUniform(rng)));
-  vec3 direction = normalize(t * local.x + b * local.y + normal * local.z);
-  float distance = length(position - c.cameraPosition.xyz);
-  SceneHit hit = worldTraceClosest(rayOrigin(position, normal, distance), direction, kWorldRaysCacheUpdate);
-  vec3 radiance = hit.hit ? offscreenHitRadiance(hit, direction, true)
-                          : sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), c.environmentMip).xyz);
-  cacheAddSample(slot, radiance);
-  if (c.directLight != 0u) {
-    SceneHit at = sceneMiss();
-    at.hit = true;
-    at.t = distance;
-    at.position = position;
-    at.geometricNormal = normal;
-    at.normal = normal;
-    at.diffuseAlbedo = vec3(1.0f);
-    at.baseColor = vec3(1.0f);
-    cacheSetDirect(slot, sceneDirectRadiance(at, normal));
+  if (!kSceneBridgeTraces || c.enabled == 0u) return;
+  uvec2 block = gl_GlobalInvocationID.xy;
+  uint rng = giSeed(block, kSaltCacheUpdate);
+  ivec2 pixel = ivec2(block * c.updateStride) +
+                ivec2(min(uvec2(rngUniform(rng) * float(c.updateStride), rngUniform(rng) * float(c.updateStride)),
+                          uvec2(c.updateStride - 1u)));
+  if (!insideFull(pixel)) return;
+  Surface start = gbufferSurface(pixel);
+  if (start.viewZ <= 0.0f) return;
+
+  PathVertex path[kCacheMaxBounces];
+  uint freshBounce = min(uint(rngUniform(rng) * float(c.updateBounces)), c.updateBounces - 1u);
+  vec3 position = start.position;
+  vec3 normal = start.normal;
+  uint left = 0u;  // surfaces the path has left so far
+  bool open = false;  // the last ray missed: the environment ends the path
+  vec3 environment = vec3(0.0f);
+  for (uint bounce = 0u; bounce < c.updateBounces; ++bounce) {
+    float distance = length(position - c.cameraPosition.xyz);
+    vec3 t, b;
+    buildOrthonormalBasis(normal, t, b);
+    vec3 local = sampleCosineHemisphere(vec2(rngUniform(rng), rngUniform(rng)));
+    vec3 direction = normalize(t * local.x + b * local.y + normal * local.z);
+    path[left] = PathVertex(cacheFindOrMake(cacheKey(position, normal)), vec3(0.0f), vec3(1.0f));
+    ++left;
+    SceneHit hit = worldTraceClosest(rayOrigin(position, normal, distance), direction, kWorldRaysCacheUpdate);
+    if (!hit.hit) {
+      open = true;
+      environment = sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), c.environmentMip).xyz);
+      break;
+    }
+    // The light of this surface towards the one the ray left: its emission
+    // and its direct light (its diffuse and, for the direct light the cell
+    // keeps, its specular reflectance of light arriving evenly, as
+    // offscreenHitRadiance lights a world hit).
+    uint slot = cacheFindOrMake(cacheKey(hit.position, hit.normal));
+    vec3 direct;
+    if (!cachedDirect(slot, bounce == freshBounce, direct)) {
+      direct = whiteDirectLight(hit);
+      if (c.directLight != 0u && slot != kCacheNoCell) cacheAddDirectSample(slot, direct);
+    }
+    vec3 specular = specularReflectance(specularF0(hit.baseColor, hit.metallic), dot(hit.normal, -direction),
+                                        hit.roughness);
+    vec3 emitted = hit.emission + (hit.diffuseAlbedo + specular) * direct;
+    for (uint i = 0u; i < left; ++i) {
+      path[i].arriving += path[i].throughput * emitted;
+      path[i].throughput *= hit.diffuseAlbedo;
+    }
+    position = hit.position;
+    normal = hit.normal;
   }
+  // What lies beyond the last surface: the environment the last ray saw, or
+  // the cache's value at the surface it stopped on (more bounces).
+  vec3 beyond = environment;
+  if (!open) {
+    uint slot = cacheFindOrMake(cacheKey(position, normal));
+    if (slot != kCacheNoCell) beyond = gCache_Radiance.items[slot].xyz;
+  }
+  for (uint i = 0u; i < left; ++i)
+    if (path[i].slot != kCacheNoCell) cacheAddSample(path[i].slot, path[i].arriving + path[i].throughput * beyond);
 }

@@ -22,7 +22,7 @@ void main() {
   CacheConstants c = gIn_CacheConstants.cache;
   int barHeight = max(int(fullSize().y) / 64, 2);
   if (pixel.y < barHeight) {
-    float used = float(gCache_Updates.items[1]) / float(c.capacity);
+    float used = float(gCache_Counts.items[0]) / float(c.capacity);
     bool filled = (float(pixel.x) + 0.5f) / fullSize().x <= used;
     imageStore(gOut_CacheCells, pixel, filled ? vec4(1.0f) : vec4(0.3f, 0.3f, 0.3f, 1.0f));
     imageStore(gOut_CacheRadiance, pixel, vec4(0.0f));

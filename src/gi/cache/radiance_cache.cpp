@@ -1,6 +1,7 @@
 #include "gi/cache/radiance_cache.h"
 
 #include <bit>
+#include <cmath>
 
 #include <glm/glm.hpp>
 
@@ -59,7 +60,7 @@ gpu::PassDesc injectPass() {
 }
 
 gpu::PassDesc updatePass(bool declareCache = true) {
-  return cachePass("gi.cache.update", "gi/cache/update", GroupPart::Constants,
+  return cachePass("gi.cache.update", "gi/cache/update", GroupPart::Surfaces,
                    {{"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED, "what update rays that miss see",
                      ResourceKind::SampledImage}},
                    declareCache);
@@ -87,22 +88,28 @@ std::uint32_t cacheCapacity(std::uint32_t memoryMib) {
   return std::uint32_t(std::bit_floor(std::max<std::uint64_t>(cells, 1)));
 }
 
+std::uint32_t cacheUpdateStride(Extent renderSize, const CacheSettings& settings) {
+  const std::uint64_t paths = std::max<std::uint64_t>(settings.updateRays / std::max(settings.updateBounces, 1u), 1);
+  const double pixelsPerPath = double(renderSize.width) * double(renderSize.height) / double(paths);
+  return std::max(1u, std::uint32_t(std::ceil(std::sqrt(pixelsPerPath))));
+}
+
 std::vector<gpu::ResourceDecl> cacheResources() {
   return {
       {"gIn_CacheConstants", Access::Read, VK_FORMAT_UNDEFINED, "the radiance cache's settings this frame",
        ResourceKind::UniformBuffer},
       buffer("gCache_Keys", Access::ReadWrite, "radiance cache: each slot's key checksum (0: empty)"),
-      buffer("gCache_Cells", Access::ReadWrite, "radiance cache: where each cell was made"),
-      buffer("gCache_Accumulators", Access::ReadWrite, "radiance cache: this frame's samples per cell"),
+      buffer("gCache_Accumulators", Access::ReadWrite,
+             "radiance cache: this frame's samples per cell, then its direct light's"),
       buffer("gCache_Radiance", Access::ReadWrite, "radiance cache: each cell's value, then each cell's direct light"),
       buffer("gCache_Touched", Access::ReadWrite, "radiance cache: the last frame each cell was used"),
-      buffer("gCache_Updates", Access::ReadWrite, "radiance cache: cells to update this frame, live cells")};
+      buffer("gCache_Counts", Access::ReadWrite, "radiance cache: live cells")};
 }
 
 gpu::ConstantsDecl cacheConstantsLayout() {
   return BOUNCE_CONSTANTS_LAYOUT("gIn_CacheConstants", shared::CacheConstants, cameraPosition, capacity, enabled, frame,
-                                 updateBudget, cellSize, historyFrames, maxAge, injectStride, environmentMip,
-                                 directLight);
+                                 updateStride, updateBounces, cellSize, historyFrames, maxAge, injectStride,
+                                 environmentMip, directLight);
 }
 
 struct RadianceCache::Passes {
@@ -129,26 +136,24 @@ RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Ext
   };
   constants_ = make("gi.cache.constants", sizeof(shared::CacheConstants));
   keys_ = make("gi.cache.keys", std::uint64_t(capacity_) * 4);
-  cells_ = make("gi.cache.cells", std::uint64_t(capacity_) * 16);
-  accumulators_ = make("gi.cache.accumulators", std::uint64_t(capacity_) * 16);
-  radiance_ = make("gi.cache.radiance", std::uint64_t(capacity_) * 32);  // indirect, then direct light
+  accumulators_ = make("gi.cache.accumulators", std::uint64_t(capacity_) * 32);  // indirect, then direct light
+  radiance_ = make("gi.cache.radiance", std::uint64_t(capacity_) * 32);          // indirect, then direct light
   touched_ = make("gi.cache.touched", std::uint64_t(capacity_) * 4);
-  updates_ = make("gi.cache.updates", (2 + std::uint64_t(settings_.updateRays)) * 4);
+  counts_ = make("gi.cache.counts", kCountsBytes);
   passes_ = std::make_unique<Passes>(context, scene);
 }
 
 RadianceCache::~RadianceCache() = default;
 
 std::uint64_t RadianceCache::memoryBytes(Extent maxSize, const Settings& settings) {
-  // keys, cells, accumulators, radiance, touched (as the constructor makes them) and the update list.
+  // keys, accumulators, radiance, touched (as the constructor makes them) and the counts.
   return imageSetBytes(kImages, maxSize) + std::uint64_t(cacheCapacity(settings.cache.memoryMib)) * kCacheBytesPerCell +
-         (2 + std::uint64_t(settings.cache.updateRays)) * 4 + sizeof(shared::CacheConstants);
+         kCountsBytes + sizeof(shared::CacheConstants);
 }
 
 std::vector<gpu::Bind> RadianceCache::binds() const {
-  return {{"gIn_CacheConstants", *constants_}, {"gCache_Keys", *keys_},       {"gCache_Cells", *cells_},
-          {"gCache_Accumulators", *accumulators_}, {"gCache_Radiance", *radiance_}, {"gCache_Touched", *touched_},
-          {"gCache_Updates", *updates_}};
+  return {{"gIn_CacheConstants", *constants_}, {"gCache_Keys", *keys_},       {"gCache_Accumulators", *accumulators_},
+          {"gCache_Radiance", *radiance_},     {"gCache_Touched", *touched_}, {"gCache_Counts", *counts_}};
 }
 
 std::vector<gpu::PassDesc> RadianceCache::passes() const { return {injectPass(), updatePass(), resolvePass(), viewPass()}; }
@@ -156,8 +161,7 @@ std::vector<gpu::PassDesc> RadianceCache::passes() const { return {injectPass(),
 void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosition[3], gpu::Image& previousDiffuse) {
   gpu::Recorder& recorder = frame.recorder;
   if (frame_ == 0)
-    for (gpu::Buffer* b : {keys_.get(), cells_.get(), accumulators_.get(), radiance_.get(), touched_.get(),
-                           updates_.get()})
+    for (gpu::Buffer* b : {keys_.get(), accumulators_.get(), radiance_.get(), touched_.get()})
       recorder.fillBuffer(*b, 0u);
   ++frame_;
   shared::CacheConstants c{};
@@ -165,7 +169,8 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
   c.capacity = capacity_;
   c.enabled = settings_.enabled && scene_.traces() ? 1u : 0u;
   c.frame = frame_;
-  c.updateBudget = settings_.updateRays;
+  c.updateStride = cacheUpdateStride(frame.renderSize, settings_);
+  c.updateBounces = settings_.updateBounces;
   c.cellSize = settings_.cellSize;
   c.historyFrames = float(settings_.historySamples);
   c.maxAge = settings_.maxAge;
@@ -186,12 +191,17 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
 void RadianceCache::recordEnd(const FrameState& frame) {
   if (!settings_.enabled || !scene_.traces()) return;
   gpu::Recorder& recorder = frame.recorder;
-  std::vector<gpu::Bind> binds = this->binds();
-  binds.push_back({"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler});
-  const std::vector<gpu::Bind> bridged = scene_.binds(*passes_->update, {});
-  binds.insert(binds.end(), bridged.begin(), bridged.end());
-  recorder.dispatch(*passes_->update, std::max(settings_.updateRays, 1u), 1, frame.group.binds(GroupPart::Constants),
-                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->update, binds)));
+  if (settings_.updateRays > 0) {
+    std::vector<gpu::Bind> binds = this->binds();
+    binds.push_back({"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler});
+    const std::vector<gpu::Bind> bridged = scene_.binds(*passes_->update, {});
+    binds.insert(binds.end(), bridged.begin(), bridged.end());
+    const std::uint32_t stride = cacheUpdateStride(frame.renderSize, settings_);
+    recorder.dispatch(*passes_->update, (frame.renderSize.width + stride - 1) / stride,
+                      (frame.renderSize.height + stride - 1) / stride, frame.group.binds(),
+                      std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->update, binds)));
+  }
+  recorder.fillBuffer(*counts_, 0u);  // gi.cache.resolve counts the live cells anew
   recorder.dispatch(passes_->resolve, capacity_, 1,
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->resolve, this->binds())));
   if (frame.capturing) {

@@ -3,7 +3,7 @@
 // by the branches whose world rays it lights. Its passes, in frame order:
 //   gi.cache.inject    the last frame's filtered indirect diffuse into the cells of its surfaces
 //   (the branches query it: gi.diffuse.gather's world hits)
-//   gi.cache.update    a ray from every cell queried this frame (up to a budget)
+//   gi.cache.update    paths of several bounces from pixels of the frame, adding to every cell they pass
 //   gi.cache.resolve   samples into values, eviction of cells unused for max_age frames
 //   gi.cache.view      captured frames: each pixel's cell value and cell layout, occupancy
 #pragma once
@@ -21,10 +21,16 @@
 
 namespace bounce::gi {
 
-// Bytes a cell takes in the cache's buffers (key, cell, accumulator, indirect and direct value, last use).
-constexpr std::uint64_t kCacheBytesPerCell = 4 + 16 + 16 + 32 + 4;
+// Bytes a cell takes in the cache's buffers (key, indirect and direct accumulators and values, last use).
+constexpr std::uint64_t kCacheBytesPerCell = 4 + 32 + 32 + 4;
+// The counts buffer: live cells.
+constexpr std::uint64_t kCountsBytes = 4;
 // Cells the cache holds within `memoryMib`: the largest power of two that fits.
 std::uint32_t cacheCapacity(std::uint32_t memoryMib);
+// gi.cache.update starts a path at one pixel of every stride x stride block
+// of the frame: the smallest stride whose paths' rays (update_bounces each)
+// stay within update_rays.
+std::uint32_t cacheUpdateStride(Extent renderSize, const CacheSettings& settings);
 
 // The declarations a pass that queries the cache adds (it includes
 // gi/cache/radiance_cache.glsl), and the layout of gIn_CacheConstants.
@@ -60,7 +66,7 @@ class RadianceCache {
   float environmentMip_;  // what update rays that miss read: the level the diffuse branch's rays read
   std::uint32_t capacity_;
   ImageSet images_;
-  std::unique_ptr<gpu::Buffer> constants_, keys_, cells_, accumulators_, radiance_, touched_, updates_;
+  std::unique_ptr<gpu::Buffer> constants_, keys_, accumulators_, radiance_, touched_, counts_;
   std::unique_ptr<Passes> passes_;
   std::uint32_t frame_ = 0;  // frames since the cache was cleared
 };
