@@ -24,7 +24,12 @@ layout(set = 0, binding = 7, std430) readonly buffer WorldQueue { uint items[]; 
 #include "gi/world_queue.glsl"
 
 void main() {
-  if (!kSceneBridgeTraces || params.slotsPerPixel == 0u || gl_GlobalInvocationID.x >= uint(halfSize().x)) return;
+  // Only invocations inside the half-resolution size: the dispatch rounds
+  // up to whole workgroups, and an invocation below the last row would
+  // start on an entry the one a row of pixels above takes on its second
+  // round, and both would turn its verdict (two turns: none, and which one
+  // lands last differed from run to run on the H100).
+  if (!kSceneBridgeTraces || params.slotsPerPixel == 0u || !insideHalf(ivec2(gl_GlobalInvocationID.xy))) return;
   uint count = queuedCount();
   for (uint index = queueInvocation(); index < count; index += queueInvocations()) {
     uint slot = queuedEntry(index);
