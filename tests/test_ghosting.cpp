@@ -55,7 +55,13 @@ const std::string kSmall = " --validate --width 96 --height 64 --gi-warmup 2 --r
 // Labels of regions.exr.
 enum Label { kBackground = 0, kRest = 1, kUncovered = 2, kNeither = 3, kNearby = 4 };
 
+nlohmann::json readJson(const fs::path& file) {
+  std::ifstream stream(file);
+  return nlohmann::json::parse(stream);
+}
+
 // What every run writes, and the parts of its JSON every run must have.
+
 nlohmann::json checkOutputs(const fs::path& dir, const Result& r, std::size_t ages) {
   for (const char* name : {"ghosting.json", "ghosting.png", "regions.exr", "regions.png"})
     EXPECT_TRUE(fs::exists(dir / name)) << name << "\n" << r.output;
@@ -65,8 +71,7 @@ nlohmann::json checkOutputs(const fs::path& dir, const Result& r, std::size_t ag
   const bounce::io::ImageF plot = bounce::io::readImage(dir / "ghosting.png");
   EXPECT_GT(plot.width, 500);
   EXPECT_GT(plot.height, 3 * 200) << "a panel for the frame and one per indirect signal";
-  std::ifstream file(dir / "ghosting.json");
-  const nlohmann::json json = nlohmann::json::parse(file);
+  const nlohmann::json json = readJson(dir / "ghosting.json");
   EXPECT_EQ(json["ages"].size(), ages);
   for (const nlohmann::json& age : json["ages"])
     for (const char* region : {"uncovered", "nearby", "rest"}) {
@@ -185,17 +190,11 @@ TEST(Ghosting, RatiosOverABlackReferenceAreUndefinedNotMissing) {
   const std::string table = r.output.substr(r.output.find("\nframe relMSE"));
   const std::string firstRow = table.substr(table.find("\n  +0"), 80);
   EXPECT_NE(firstRow.find("  0          0          0  undefined  undefined"), std::string::npos) << table;
-  std::ifstream file(dir / "ghosting.json");
-  const nlohmann::json json = nlohmann::json::parse(file);
+  const nlohmann::json json = readJson(dir / "ghosting.json");
   const nlohmann::json& age = json["ages"][0];
   EXPECT_EQ(age["uncovered"]["relmse"]["frame"], 0.0);
   EXPECT_TRUE(age["ratio_to_rest"]["frame"].is_null());
   fs::remove_all(dir);
-}
-
-nlohmann::json readJson(const fs::path& file) {
-  std::ifstream stream(file);
-  return nlohmann::json::parse(stream);
 }
 
 // The means of a convergence event's JSON, frame by frame: [after_event] -> mean.

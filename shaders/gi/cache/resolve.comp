@@ -5,7 +5,7 @@
 // running mean over at most gi.cache.history_samples samples, so it
 // follows changes of light), clears the accumulators, and evicts cells
 // nobody touched for gi.cache.max_age frames. Also counts the live cells
-// into gCache_Counts[0] (gi.cache.update zeroed it; gi.cache.view's
+// into gCache_Counts[0] (the host zeroes it before this pass; gi.cache.view's
 // occupancy bar shows it).
 #include "gpu/constant_block.glsl"
 #include "shared/finite.glsl"

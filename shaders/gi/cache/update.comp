@@ -85,6 +85,7 @@ void main() {
   uint freshBounce = min(uint(rngUniform(rng) * float(c.updateBounces)), c.updateBounces - 1u);
   vec3 position = start.position;
   vec3 normal = start.normal;
+  uint here = cacheFindOrMake(cacheKey(position, normal));  // the cell of the surface the path is on
   uint left = 0u;  // surfaces the path has left so far
   bool open = false;  // the last ray missed: the environment ends the path
   vec3 environment = vec3(0.0f);
@@ -94,7 +95,7 @@ void main() {
     buildOrthonormalBasis(normal, t, b);
     vec3 local = sampleCosineHemisphere(vec2(rngUniform(rng), rngUniform(rng)));
     vec3 direction = normalize(t * local.x + b * local.y + normal * local.z);
-    path[left] = PathVertex(cacheFindOrMake(cacheKey(position, normal)), vec3(0.0f), vec3(1.0f));
+    path[left] = PathVertex(here, vec3(0.0f), vec3(1.0f));
     ++left;
     SceneHit hit = worldTraceClosest(rayOrigin(position, normal, distance), direction, kWorldRaysCacheUpdate);
     if (!hit.hit) {
@@ -106,11 +107,11 @@ void main() {
     // and its direct light (its diffuse and, for the direct light the cell
     // keeps, its specular reflectance of light arriving evenly, as
     // offscreenHitRadiance lights a world hit).
-    uint slot = cacheFindOrMake(cacheKey(hit.position, hit.normal));
+    here = cacheFindOrMake(cacheKey(hit.position, hit.normal));
     vec3 direct;
-    if (!cachedDirect(slot, bounce == freshBounce, direct)) {
+    if (!cachedDirect(here, bounce == freshBounce, direct)) {
       direct = whiteDirectLight(hit);
-      if (c.directLight != 0u && slot != kCacheNoCell) cacheAddDirectSample(slot, direct);
+      if (c.directLight != 0u && here != kCacheNoCell) cacheAddDirectSample(here, direct);
     }
     vec3 specular = specularReflectance(specularF0(hit.baseColor, hit.metallic), dot(hit.normal, -direction),
                                         hit.roughness);
@@ -125,10 +126,7 @@ void main() {
   // What lies beyond the last surface: the environment the last ray saw, or
   // the cache's value at the surface it stopped on (more bounces).
   vec3 beyond = environment;
-  if (!open) {
-    uint slot = cacheFindOrMake(cacheKey(position, normal));
-    if (slot != kCacheNoCell) beyond = gCache_Radiance.items[slot].xyz;
-  }
+  if (!open && here != kCacheNoCell) beyond = gCache_Radiance.items[here].xyz;
   for (uint i = 0u; i < left; ++i)
     if (path[i].slot != kCacheNoCell) cacheAddSample(path[i].slot, path[i].arriving + path[i].throughput * beyond);
 }
