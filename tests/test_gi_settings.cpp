@@ -20,9 +20,10 @@
 #include "gi/denoise/denoiser.h"
 #include "gi/depth_pyramid.h"
 #include "gi/diffuse/diffuse_branch.h"
-#include "gi/specular/specular_branch.h"
 #include "gi/frame_passes.h"
 #include "gi/image_table.h"
+#include "gi/screen_tiles.h"
+#include "gi/specular/specular_branch.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -67,8 +68,6 @@ std::vector<ExpectedField> expectedFields() {
       {"diffuse.sky_reuse_visibility", [](const Settings& s) { return double(s.diffuse.skyReuseVisibility); }},
       {"diffuse.sky_reuse_rays", [](const Settings& s) { return double(s.diffuse.skyReuseRays); }},
       {"diffuse.visibility_thickness", [](const Settings& s) { return double(s.diffuse.visibilityThickness); }},
-      {"diffuse.offscreen_environment_visibility",
-       [](const Settings& s) { return double(s.diffuse.offscreenEnvironmentVisibility); }},
       {"diffuse.variance_clipping_gamma", [](const Settings& s) { return double(s.diffuse.varianceClippingGamma); }},
       {"diffuse.temporal_filter_frames", [](const Settings& s) { return double(s.diffuse.temporalFilterFrames); }},
       {"specular.enabled", [](const Settings& s) { return double(s.specular.enabled); }},
@@ -361,7 +360,6 @@ TEST(GiSettings, RefusesOutOfRangeValues) {
   expectRefused("diffuse.resolve_reservoirs", "0", "[1, 4]");
   expectRefused("diffuse.visibility_steps", "257", "[0, 256]");
   expectRefused("diffuse.visibility_thickness", "1.01", "(0, 1]");
-  expectRefused("diffuse.offscreen_environment_visibility", "-0.1", "[0, 1]");
   expectRefused("diffuse.variance_clipping_gamma", "0", "(0, 100]");
   expectRefused("diffuse.temporal_filter_frames", "1025", "[1, 1024]");
 }
@@ -371,7 +369,6 @@ TEST(GiSettings, AcceptsRangeEnds) {
   applySetting(settings, "diffuse.resolve_reservoirs", "1");
   applySetting(settings, "diffuse.resolve_reservoirs", "4");
   applySetting(settings, "diffuse.visibility_thickness", "1");
-  applySetting(settings, "diffuse.offscreen_environment_visibility", "0");
   applySetting(settings, "diffuse.temporal_normal_tolerance_degrees", "179.9");
   EXPECT_NO_THROW(validate(settings));
 }
@@ -643,7 +640,7 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
   for (const SignalDesc& signal : librarySignals) addEngineSignalImage(engineSignalTable, signal.name);
   for (const std::span<const ImageSpec> table :
        {frameImageTable(), diffuseImageTable(), specularImageTable(), denoiseTable.specs(), engineSignalTable.specs(),
-        std::span<const ImageSpec>(&DepthPyramid::spec(), 1)})
+        std::span<const ImageSpec>(&DepthPyramid::spec(), 1), screenTilesImageTable()})
     for (const ImageSpec& spec : table) {
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
                               gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +

@@ -92,14 +92,7 @@ struct DiffuseSettings {
   // +7 % testing 2, +1 % testing all), so the default tests every one (a
   // pass merges at most 16).
   std::uint32_t skyReuseRays = 16;
-  float visibilityThickness = 0.03f;    // surfaces are this fraction of their viewZ thick
-  // Environment samples count as visible where their screen-space march
-  // meets the sky (a background pixel, or the screen's edge where it shows
-  // sky). Those that leave the screen through a surface, or end over one,
-  // are weighted by this: 0 assumes the unseen world beyond is closed (rooms
-  // do not leak the sky through walls off screen), 1 assumes it is open (the
-  // seed's choice, which lights a closed room with the sky).
-  float offscreenEnvironmentVisibility = 0.0f;
+  float visibilityThickness = 0.03f;  // surfaces are this fraction of their viewZ thick
 
   // --- temporal filter (full resolution)
   float varianceClippingGamma = 1.5f;       // history clamped to the fast history +- gamma * temporal sigma

@@ -17,6 +17,8 @@
 #ifndef BOUNCE_GI_SCREEN_TRACE_GLSL
 #define BOUNCE_GI_SCREEN_TRACE_GLSL
 
+#include "gi/screen_exit.glsl"
+
 float marchViewZ(ivec2 texel) { return imageLoad(gIn_MarchDepth, texel).x; }
 
 const float kVisible = 1.0f;
@@ -57,32 +59,60 @@ float screenVisibility(vec3 from, vec3 to, uint steps, float jitter, float thick
 // pixels), so the march goes far (points spaced more widely with distance)
 // and the sky counts as reached when the ray meets a background pixel, or
 // leaves the screen where the screen's edge shows sky. A ray that leaves
-// through a surface at the edge, or ends over one, most likely hits what is
-// beyond: it gets `offscreenVisibility` (gi.diffuse.offscreen_environment_visibility).
-// Without this, rooms leak the sky through their off-screen walls.
-float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float thickness,
-                            float offscreenVisibility, bool strict) {
+// through a surface at the edge, turns behind the camera, or ends over a
+// surface most likely hits what is beyond: it is undecided (kLeftScreen),
+// for a world ray or screen-only mode's policy (gi/screen_only_policy.glsl)
+// to settle, and `exit` is the pixel where its path on screen leaves it (or
+// where the march ended over a surface). Counted as open, rooms would leak
+// the sky through their off-screen walls.
+float environmentVisibilityExit(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float thickness,
+                                bool strict, out ivec2 exit, out bool towardsCamera) {
   const float kFarthest = 64.0f;  // in multiples of the pixel's viewZ
   ivec2 size = ivec2(fullSize());
   vec3 start = toViewSpace(gIn_Frame.frame.view, from);
   vec3 step = toViewSpace(gIn_Frame.frame.view, from + direction) - start;  // one unit along the ray
+  vec2 origin = projectViewPoint(gIn_Frame.frame.view, start, fullSize()).xy;
+  vec2 lastInside = origin;  // the last step on screen
+  exit = clamp(ivec2(floor(origin)), ivec2(0), size - 1);
+  towardsCamera = false;
   for (uint i = 0u; i < steps; ++i) {
     float t = (float(i) + jitter) / float(steps);
     float distance = viewZ * (0.02f + kFarthest * t * t);
     vec3 projected = projectViewPoint(gIn_Frame.frame.view, start + step * distance, fullSize());
     ivec2 texel = ivec2(floor(projected.xy));
-    if (projected.z <= 0.0f) return offscreenVisibility;
-    if (!insideFull(texel)) {
-      ivec2 edge = clamp(texel, ivec2(0), size - 1);
-      return marchViewZ(edge) <= 0.0f ? kVisible : offscreenVisibility;
+    if (projected.z <= 0.0f) {
+      // Towards the camera: the ray's path on screen is a line from the
+      // origin's pixel, which it follows out of the screen before it passes
+      // the camera plane.
+      vec2 ahead = projectViewPoint(gIn_Frame.frame.view, start + step * (1e-3f * viewZ), fullSize()).xy;
+      vec2 along = ahead - origin;
+      float length2 = dot(along, along);
+      if (length2 > 0.0f && isFinite(length2))
+        exit = screenExitPixel(origin, origin + along * inversesqrt(length2) * float(size.x + size.y) * 4.0f);
+      towardsCamera = true;
+      return kLeftScreen;
     }
+    if (!insideFull(texel)) {
+      exit = screenExitPixel(lastInside, projected.xy);
+      towardsCamera = projected.z < -start.z;  // nearer the camera than where it started
+      return marchViewZ(clamp(texel, ivec2(0), size - 1)) <= 0.0f ? kVisible : kLeftScreen;
+    }
+    lastInside = projected.xy;
+    exit = texel;
     float sceneViewZ = marchViewZ(texel);
     if (sceneViewZ <= 0.0f) return kVisible;
     bool occluded;
     if (behindEnds(projected.z - sceneViewZ, sceneViewZ, thickness, strict, occluded))
-      return occluded ? kOccluded : offscreenVisibility;
+      return occluded ? kOccluded : kLeftScreen;
   }
-  return offscreenVisibility;  // still over surfaces after the longest march
+  return kLeftScreen;  // still over surfaces after the longest march
+}
+
+float environmentVisibility(vec3 from, vec3 direction, float viewZ, uint steps, float jitter, float thickness,
+                            bool strict) {
+  ivec2 exit;
+  bool towardsCamera;
+  return environmentVisibilityExit(from, direction, viewZ, steps, jitter, thickness, strict, exit, towardsCamera);
 }
 
 // A gather ray through the depth buffer: what screen space can say about the

@@ -12,6 +12,7 @@
 #include "gi/engine_images.h"
 #include "gi/frame_constants.h"
 #include "gi/image_table.h"
+#include "gi/screen_tiles.h"
 #include "gpu/pass.h"
 #include "gpu/recorder.h"
 
@@ -35,6 +36,9 @@ struct FrameState {
   // This frame's min-max pyramid of marchDepth, for Hi-Z traces: built when
   // a branch that traces it is on (GiContext::Impl::needsDepthPyramid).
   const DepthPyramid& depthPyramid;
+  // Screen-only mode's tiles of last frame's composite (gi/screen_only_policy.glsl):
+  // built only where no bridge traces.
+  ScreenTiles& screenTiles;
   bool capturing;                 // this frame's stages are captured: debug passes run too
   // The denoiser takes the branches' resolved signals (resolved()): they
   // record no temporal filter of their own.

@@ -25,6 +25,7 @@
 #include "gi/library_device.h"
 #include "gi/pass_log.h"
 #include "gi/scene_bridge.h"
+#include "gi/screen_tiles.h"
 #include "gi/specular/specular_branch.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
@@ -182,6 +183,7 @@ struct GiContext::Impl {
   std::unique_ptr<gpu::Buffer> frameConstants;
   RadianceCache cache;
   DepthPyramid depthPyramid;
+  ScreenTiles screenTiles;
   std::vector<std::unique_ptr<Branch>> branches;
   std::vector<SignalDesc> signals;         // by SignalId: the library's two, then ContextDesc::signals
   std::vector<std::string> noisyNames;     // noisyInputNames(signals)
@@ -203,6 +205,7 @@ struct GiContext::Impl {
   Extent lastSize;
   SignalFlags lastEngineSignals;    // which signals the engine gave
   bool pyramidBuilt = false;        // the depth pyramid holds last frame's depth
+  bool tilesBuilt = false;          // the screen tiles hold this frame's (screen-only mode)
 
   Impl(const Device& device, const ContextDesc& d, const Settings& s)
       : desc(d),
@@ -215,6 +218,7 @@ struct GiContext::Impl {
                                                      gpu::BufferUsage::DeviceLocal, &arena)),
         cache(*context, arena, {d.maxWidth, d.maxHeight}, settings, scene),
         depthPyramid(*context, arena, {d.maxWidth, d.maxHeight}),
+        screenTiles(*context, arena, {d.maxWidth, d.maxHeight}),
         signals(signalsOf(d)),
         noisyNames(noisyInputNames(signals)),
         storeHistory(*context, storeHistoryPass()),
@@ -395,6 +399,10 @@ struct GiContext::Impl {
     // The specular trace is the pyramid's one reader.
     pyramidBuilt = needsDepthPyramid() && running[kSpecularSignal];
     if (pyramidBuilt) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
+    // Screen-only mode's answer for rays screen space cannot decide, from
+    // this frame's direct light (with a bridge that traces, world rays answer them).
+    tilesBuilt = anyBranch && !scene.traces();
+    if (tilesBuilt) screenTiles.record(recorder, group, engine[Input::Direct], context->nearestSampler(), size);
 
     const FrameState state{.recorder = recorder,
                            .group = group,
@@ -410,6 +418,7 @@ struct GiContext::Impl {
                            .currentSurface = frameImages.current(kHistorySurface, f),
                            .marchDepth = frameImages.current(kMarchDepth, f),
                            .depthPyramid = depthPyramid,
+                           .screenTiles = screenTiles,
                            .capturing = frame.captureStages,
                            .denoised = denoiser != nullptr};
     // The radiance cache serves the branches; with none running it rests.
@@ -473,6 +482,7 @@ struct GiContext::Impl {
 
   std::vector<ImageSet*> imageSets() {
     std::vector<ImageSet*> sets = {&frameImages, &cache.images()};
+    if (tilesBuilt) sets.push_back(&screenTiles.images());
     for (const std::unique_ptr<Branch>& branch : branches) sets.push_back(&branch->images());
     if (denoiser) sets.push_back(&denoiser->images());
     if (engineSignals) sets.push_back(engineSignals.get());
@@ -589,7 +599,7 @@ std::uint64_t GiContext::estimateMemoryBytes(const ContextDesc& desc, const Sett
   const Extent size{desc.maxWidth, desc.maxHeight};
   std::uint64_t bytes =
       imageSetBytes(frameImageTable(), size) + sizeof(shared::GiFrameConstants) +
-      RadianceCache::memoryBytes(size, settings) + DepthPyramid::memoryBytes(size) +
+      RadianceCache::memoryBytes(size, settings) + DepthPyramid::memoryBytes(size) + ScreenTiles::memoryBytes(size) +
       imageSetBytes(diffuseImageTable(), size, brightPyramidLevels(size, settings.diffuse.brightPixels),
                     DiffuseBranch::unusedImages(ownFilter(settings, kDiffuseSignal))) +
       DiffuseBranch::bufferBytes(size, settings, !desc.sceneBridge.shaders.empty()) +

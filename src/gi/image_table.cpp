@@ -18,6 +18,8 @@ const char* resolutionName(Resolution resolution) {
       return "pyramid";
     case Resolution::Tile:
       return "tile";
+    case Resolution::Single:
+      return "single";
   }
   return "?";
 }
@@ -35,6 +37,8 @@ Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level) {
       return {divide(renderSize.width, level), divide(renderSize.height, level)};
     case Resolution::Tile:
       return {divide(renderSize.width, 4), divide(renderSize.height, 4)};
+    case Resolution::Single:
+      return {1, 1};
   }
   return renderSize;
 }

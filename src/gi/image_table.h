@@ -30,8 +30,9 @@ enum class Resolution {
   Half,     // ceil(size / 2): one reservoir per 2x2 pixels
   Pyramid,  // levels 1..n of a 2x2 -> 1 reduction: level k is ceil(size / 2^k)
   Tile,     // ceil(size / 16): one texel per 16x16 tile (the denoiser's classification)
+  Single,   // one texel, whatever the size (a whole-screen reduction)
 };
-const char* resolutionName(Resolution resolution);  // "full", "half", "pyramid", "tile"
+const char* resolutionName(Resolution resolution);  // "full", "half", "pyramid", "tile", "single"
 
 struct ImageSpec {
   std::string_view name;  // "gi.diffuse.gathered0"; a pyramid's levels append 1..n

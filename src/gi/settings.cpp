@@ -229,10 +229,6 @@ constexpr std::array kEntries{
           "others count with the tested ones' share that saw it, which brightens sky light"},
     Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
           "resolve: surfaces are assumed this fraction of their viewZ thick"},
-    Entry{"diffuse.offscreen_environment_visibility", inDiffuse(&DiffuseSettings::offscreenEnvironmentVisibility),
-          closed(0, 1),
-          "weight of environment samples whose march leaves the screen through a surface, or ends over one (0: the "
-          "unseen world is closed, 1: open)"},
     Entry{"diffuse.variance_clipping_gamma", inDiffuse(&DiffuseSettings::varianceClippingGamma), aboveUpTo(0, 100),
           "temporal filter: history is clamped to the pixel's fast history +- gamma * its temporal sigma"},
     Entry{"diffuse.temporal_filter_frames", inDiffuse(&DiffuseSettings::temporalFilterFrames), closed(1, 1024),

@@ -27,7 +27,6 @@ struct DiffuseConstants {
   float environmentMip;              // prefiltered level environment candidates read
   float spatialCosNormalTolerance;
   float spatialPlaneTolerance;  // fraction of viewZ
-  float offscreenEnvironmentVisibility;
   float visibilityThickness;  // surfaces are this fraction of their viewZ thick
   float varianceClippingGamma;
   float temporalFilterFrames;  // the longest history the temporal filter accumulates

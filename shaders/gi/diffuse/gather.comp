@@ -6,8 +6,14 @@
 //                a surface that sent that radiance towards the camera, and
 //                (Lambert) towards us; the feedback that makes multiple bounces;
 //   bright       random picks among the brightest pixels of that frame;
-//   environment  uniform directions of the hemisphere, radiance from the
-//                prefiltered environment at mip gi.diffuse.environment_mip.
+//   environment  (without a scene bridge that traces) uniform directions
+//                of the hemisphere, seen as screen-only mode's policy says
+//                (gi/screen_only_policy.glsl): marched through the depth
+//                buffer, a direction that reaches the sky on screen reads the
+//                prefiltered environment at mip gi.diffuse.environment_mip,
+//                one that leaves the screen first what the screen shows
+//                where it leaves; one a surface on screen blocks is left
+//                to the screen candidates, which sample that surface.
 //   ray          (with a scene bridge that traces, in place of environment
 //                candidates) cosine-distributed directions, marched through
 //                the depth buffer; a hit on last frame's screen takes that
@@ -69,6 +75,8 @@ layout(set = 0, binding = WORLD_QUEUE_BINDING + 1, std430) buffer WorldQueue { u
 
 #define WORLD_QUEUE_APPEND
 #include "gi/world_queue.glsl"
+#define SCREEN_TILES_BINDING 13
+#include "gi/screen_only_policy.glsl"
 
 void main() {
   ivec2 halfPixel = ivec2(gl_GlobalInvocationID.xy);
@@ -157,10 +165,17 @@ void main() {
     float ux = rngUniform(rng);
     float uy = rngUniform(rng);
     float choice = rngUniform(rng);
+    float jitter = rngUniform(rng);
     vec3 local = sampleUniformHemisphere(vec2(ux, uy));
     vec3 direction = tangent * local.x + bitangent * local.y + x.normal * local.z;
-    vec3 radiance =
-        sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), d.environmentMip).xyz);
+    ivec2 exit;
+    bool towardsCamera;
+    float seen = d.visibilitySteps > 0u ? environmentVisibilityExit(x.position, direction, x.viewZ, d.visibilitySteps,
+                                                                    jitter, kSolidSurfaces, false, exit, towardsCamera)
+                                        : kVisible;
+    if (seen == kOccluded) continue;
+    vec3 environment = sanitizeRadiance(textureLod(gIn_Environment, equirectUv(direction), d.environmentMip).xyz);
+    vec3 radiance = seen == kVisible ? environment : beyondTheScreen(exit, environment, towardsCamera);
     float pHat = targetBrightness(radiance, target) * local.z;
     if (pHat <= 0.0f) continue;
     reservoirStream(r, direction, x.normal, radiance, kReservoirEnvironment, pHat / (environmentCount * pdfUniformHemisphere()),

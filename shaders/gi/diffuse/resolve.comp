@@ -58,12 +58,14 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
   if (reservoirIsEnvironment(r)) {
     // Screen space cannot prove the sky open (a sky pixel shows only that
     // the camera's ray there is free): with a bridge it only finds what blocks.
+    // Where the march cannot decide, the sample's radiance already says
+    // what is there: a world ray's (hybrid) or screen-only mode's policy
+    // (gi/screen_only_policy.glsl, applied by the gather).
     if (world) {
       scale = worldSeesSample(r, x, kWorldRaysResolveVisibility) ? 1.0f : 0.0f;
     } else if (steps > 0u) {
-      float screen = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, d.visibilityThickness,
-                                           hybrid ? kLeftScreen : d.offscreenEnvironmentVisibility, false);
-      scale = hybrid ? (screen == kOccluded ? 0.0f : 1.0f) : screen;
+      float screen = environmentVisibility(x.position, direction, x.viewZ, steps, jitter, d.visibilityThickness, false);
+      scale = screen == kOccluded ? 0.0f : 1.0f;
     }
   } else {
     scale = reuseJacobian(r, owner.position, x.position, kMaxResolveJacobian, d.jacobian != 0u && !owner.exact);

@@ -14,9 +14,12 @@
 // glossy surface looks different from, continues through the scene bridge
 // from the start, in gi.specular.world_trace: this pass queues it (its
 // direction and pdf in gOut_PendingRay, the pixel in gOut_WorldQueue) so
-// that the world rays of a frame are traced together. With
-// the bridge "none" such rays read the environment prefiltered at the
-// lobe's roughness, as seed 000 does. The sample goes into a fresh
+// that the world rays of a frame are traced together. With the bridge
+// "none" such rays follow screen-only mode's policy
+// (gi/screen_only_policy.glsl): one that met a background pixel sees the
+// environment prefiltered at the lobe's roughness, one that passed behind a
+// surface is blocked by it, one that left the screen sees what the screen's
+// edge shows where it left. The sample goes into a fresh
 // reservoir (M = 1) with the target of its sampling; its hit point keeps the
 // hit distance, which the resolve and the filter need.
 #include "gi/gi_common.glsl"
@@ -52,6 +55,21 @@ layout(set = 0, binding = WORLD_QUEUE_BINDING + 1, std430) buffer WorldQueue { u
 
 #define WORLD_QUEUE_APPEND
 #include "gi/world_queue.glsl"
+#define SCREEN_TILES_BINDING 13
+#include "gi/screen_only_policy.glsl"
+
+// Where an undecided ray that did not pass behind a surface on screen left
+// the screen: where the segment from its origin's pixel through the last
+// point the trace vouched for crosses the edge.
+ivec2 exitPixel(vec3 origin, HizRay ray, out bool towardsCamera) {
+  ScreenView view = gIn_Frame.frame.view;
+  vec3 start = projectViewPoint(view, toViewSpace(view, origin), fullSize());
+  vec2 from = start.xy;
+  vec3 last = projectViewPoint(view, toViewSpace(view, ray.lastFree), fullSize());
+  towardsCamera = last.z < start.z;
+  vec2 beyond = last.z > 0.0f && isFinite(last) ? last.xy + (last.xy - from) : from;
+  return screenExitPixel(from, beyond);
+}
 
 // Leaves this pixel's ray to gi.specular.world_trace: its direction and pdf,
 // and the pixel appended to the queue.
@@ -87,10 +105,17 @@ void main() {
   Reservoir candidate = emptyReservoir();
   candidate.flags = kReservoirHasSample;
   bool found = false;
-  bool screenHitUnseen = false;  // screen space hit a surface last frame did not show
+  bool seesSky = false;  // it met a background pixel
+  ivec2 exit = pixel;    // undecided: where it left the screen
+  bool towardsCamera = false;
   if (c.traceSteps > 0u) {
     HizRay ray = hizTrace(origin, direction, c.traceThickness, c.traceSteps);
-    if (ray.outcome == kHizHit) {
+    seesSky = ray.outcome == kHizSky;
+    // Where what it met is read if last frame did not show it: the tile of
+    // the surface it met or passed behind, else where it left the screen.
+    if (ray.outcome != kHizSky) exit = ray.texel.x >= 0 ? ray.texel : exitPixel(origin, ray, towardsCamera);
+    // Screen-only: a ray that passed behind a surface is blocked by it (gi/screen_only_policy.glsl).
+    if (ray.outcome == kHizHit || (!kSceneBridgeTraces && ray.outcome == kHizUndecided && ray.texel.x >= 0)) {
       float hitRoughness;
       Surface y = gbufferSurfaceRoughness(ray.texel, hitRoughness);
       if (y.viewZ > 0.0f) {
@@ -101,7 +126,6 @@ void main() {
         candidate.position = ray.lastFree;
         candidate.normal = y.normal;
         found = previousRadiance(y.position, y.normal, hitRoughness, direction, candidate.radiance);
-        screenHitUnseen = !found;
       }
     }
   }
@@ -112,13 +136,15 @@ void main() {
     store(halfPixel, r);
     return;
   }
-  if (!found && !screenHitUnseen) {
-    // No bridge: the environment, prefiltered at the lobe's roughness (seed 000).
+  if (!found) {
+    // No bridge: screen-only mode's policy. A direction, as environment
+    // samples are: what it sees is taken as far away.
     candidate.position = direction;
     candidate.normal = x.normal;
     candidate.flags |= kReservoirEnvironment;
-    candidate.radiance = sanitizeRadiance(
+    vec3 environment = sanitizeRadiance(
         environmentRadianceLod(gIn_Environment, direction, environmentLod(s.roughness, c.environmentLevels)));
+    candidate.radiance = seesSky ? environment : beyondTheScreen(exit, environment, towardsCamera);
     found = true;
   }
   storeCandidate(halfPixel, r, found, candidate, s, pdf);

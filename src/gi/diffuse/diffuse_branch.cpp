@@ -220,7 +220,6 @@ void DiffuseBranch::record(const FrameState& frame) {
   c.environmentMip = d.environmentMip;
   c.spatialCosNormalTolerance = std::cos(glm::radians(d.spatialNormalToleranceDegrees));
   c.spatialPlaneTolerance = d.spatialPlaneTolerance;
-  c.offscreenEnvironmentVisibility = d.offscreenEnvironmentVisibility;
   c.visibilityThickness = d.visibilityThickness;
   c.varianceClippingGamma = d.varianceClippingGamma;
   c.temporalFilterFrames = float(d.temporalFilterFrames);
@@ -270,6 +269,7 @@ void DiffuseBranch::record(const FrameState& frame) {
                      {"gOut_Reservoir1", gathered1}});
   const std::vector<gpu::Bind> cache = cache_.binds();
   gatherBinds.insert(gatherBinds.end(), cache.begin(), cache.end());
+  for (const gpu::Bind& bind : frame.screenTiles.binds()) gatherBinds.push_back(bind);
   if (worldQueue_) {
     recorder.fillBuffer(*worldQueue_, 0u);
     gatherBinds.emplace_back("gOut_PendingRays", *pendingRays_);

@@ -6,6 +6,7 @@
 #include "gi/frame_constants.h"
 #include "gi/gi_shaders.h"
 #include "gi/pass_decls.h"
+#include "gi/screen_tiles.h"
 #include "gpu/constants_layout.h"
 #include "gpu/format.h"
 
@@ -24,13 +25,12 @@ ResourceDecl diffuseConstants() {
           ResourceKind::UniformBuffer};
 }
 gpu::ConstantsDecl diffuseConstantsLayout() {
-  return BOUNCE_CONSTANTS_LAYOUT("gIn_DiffuseConstants", DiffuseConstants, brightLevelSize, brightLevel,
-                                 screenCandidates, brightCandidates, environmentCandidates, targetFunction,
-                                 resolveReservoirs, visibilitySteps, jacobian, temporalMaxM, temporalDepthTolerance,
-                                 temporalCosNormalTolerance, environmentMip, spatialCosNormalTolerance,
-                                 spatialPlaneTolerance, offscreenEnvironmentVisibility, visibilityThickness,
-                                 varianceClippingGamma, temporalFilterFrames, rayCandidates, rayScreenSteps,
-                                 visibilityMode, reuseVisibility, skyReuseVisibility, skyReuseRays);
+  return BOUNCE_CONSTANTS_LAYOUT(
+      "gIn_DiffuseConstants", DiffuseConstants, brightLevelSize, brightLevel, screenCandidates, brightCandidates,
+      environmentCandidates, targetFunction, resolveReservoirs, visibilitySteps, jacobian, temporalMaxM,
+      temporalDepthTolerance, temporalCosNormalTolerance, environmentMip, spatialCosNormalTolerance,
+      spatialPlaneTolerance, visibilityThickness, varianceClippingGamma, temporalFilterFrames, rayCandidates,
+      rayScreenSteps, visibilityMode, reuseVisibility, skyReuseVisibility, skyReuseRays);
 }
 // A pass of the branch: (part of) the frame group and the branch's
 // constants first, then its own resources.
@@ -82,6 +82,7 @@ std::vector<gpu::ResourceDecl> gatherRayResources() {
        "per reservoir and ray candidate, the direction of a ray left to the world trace", ResourceKind::StorageBuffer},
       {"gOut_WorldQueue", Access::ReadWrite, VK_FORMAT_UNDEFINED, "the pixels with such rays",
        ResourceKind::StorageBuffer}};
+  for (const ResourceDecl& d : screenTilesDecls()) resources.push_back(d);
   for (const ResourceDecl& d : cacheResources()) resources.push_back(d);
   return resources;
 }

@@ -150,6 +150,7 @@ void SpecularBranch::record(const FrameState& frame) {
                                                                     {"gOut_Reservoir1", traced1},
                                                                     {"gOut_PendingRay", pending}});
   if (worldQueue_) traceBinds.emplace_back("gOut_WorldQueue", *worldQueue_);
+  for (const gpu::Bind& bind : frame.screenTiles.binds()) traceBinds.push_back(bind);
   const std::vector<gpu::Bind> cache = cache_.binds();
   traceBinds.insert(traceBinds.end(), cache.begin(), cache.end());
   recorder.dispatch(passes_->trace, half.width, half.height, frame.group.binds(),

@@ -5,6 +5,7 @@
 #include "gi/cache/radiance_cache.h"
 #include "gi/depth_pyramid.h"
 #include "gi/pass_decls.h"
+#include "gi/screen_tiles.h"
 #include "gi/specular/specular_common.glsl"
 #include "gpu/constants_layout.h"
 #include "gpu/format.h"
@@ -67,11 +68,13 @@ gpu::PassDesc specularTracePass() {
 
 std::vector<gpu::ResourceDecl> specularTraceRayResources() {
   // With a bridge that traces, the rays screen space cannot finish wait in
-  // a queue for gi.specular.world_trace (without one the trace writes neither).
-  return joinDecls(cacheResources(),
-                   {{"gOut_PendingRay", Access::Write, kRgba32f, "each queued ray's direction and pdf"},
-                    {"gOut_WorldQueue", Access::ReadWrite, VK_FORMAT_UNDEFINED,
-                     "the pixels whose ray goes on through the bridge", ResourceKind::StorageBuffer}});
+  // a queue for gi.specular.world_trace (without one the trace writes
+  // neither, and reads screen-only mode's answers for them instead).
+  return joinDecls(
+      joinDecls(cacheResources(), {{"gOut_PendingRay", Access::Write, kRgba32f, "each queued ray's direction and pdf"},
+                                   {"gOut_WorldQueue", Access::ReadWrite, VK_FORMAT_UNDEFINED,
+                                    "the pixels whose ray goes on through the bridge", ResourceKind::StorageBuffer}}),
+      screenTilesDecls());
 }
 
 gpu::PassDesc specularWorldTracePass() {
