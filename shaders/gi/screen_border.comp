@@ -16,12 +16,20 @@ layout(set = 0, binding = 5, rgba32f) writeonly uniform image2D gOut_Border;
 
 const uint kInvocations = 256u;
 shared vec4 sums[kInvocations];
-shared float pixelSums[kInvocations];
+
+// The ring's pixels in the top and bottom rows (one row if the screen is
+// one pixel high).
+uint ringRowPixels(ivec2 size) { return uint(size.x) * (size.y > 1 ? 2u : 1u); }
+
+// How many pixels the ring has.
+uint ringPixels(ivec2 size) {
+  return ringRowPixels(size) + uint(max(size.y - 2, 0)) * (size.x > 1 ? 2u : 1u);
+}
 
 // Pixel i of the ring: the top and bottom rows, then the left and right
 // columns without their corners.
 ivec2 ringPixel(uint i, ivec2 size) {
-  uint rowPixels = uint(size.x) * (size.y > 1 ? 2u : 1u);
+  uint rowPixels = ringRowPixels(size);
   if (i < rowPixels) return ivec2(int(i) % size.x, i < uint(size.x) ? 0 : size.y - 1);
   uint j = i - rowPixels;
   int rows = max(size.y - 2, 1);
@@ -31,27 +39,21 @@ ivec2 ringPixel(uint i, ivec2 size) {
 void main() {
   uint lane = gl_LocalInvocationIndex;
   ivec2 size = ivec2(fullSize());
-  uint count = uint(size.x) * (size.y > 1 ? 2u : 1u) + uint(max(size.y - 2, 0)) * (size.x > 1 ? 2u : 1u);
+  uint count = ringPixels(size);
   vec4 own = vec4(0.0f);  // direct light summed over surface pixels, their count
-  float ownPixels = 0.0f;
   for (uint i = lane; i < count; i += kInvocations) {
     ivec2 pixel = ringPixel(i, size);
-    ownPixels += 1.0f;
     if (gbufferDepth(pixel) > 0.0f) own += vec4(sanitizeRadiance(texelFetch(gIn_Direct, pixel, 0).xyz), 1.0f);
   }
   sums[lane] = own;
-  pixelSums[lane] = ownPixels;
   barrier();
   for (uint width = kInvocations / 2u; width > 0u; width /= 2u) {
-    if (lane < width) {
-      sums[lane] += sums[lane + width];
-      pixelSums[lane] += pixelSums[lane + width];
-    }
+    if (lane < width) sums[lane] += sums[lane + width];
     barrier();
   }
   if (lane != 0u) return;
   vec4 total = sums[0];
   vec3 mean = total.a > 0.0f ? total.rgb / total.a : vec3(0.0f);
-  float skyShare = pixelSums[0] > 0.0f ? 1.0f - total.a / pixelSums[0] : 1.0f;
+  float skyShare = 1.0f - total.a / float(count);  // count >= 1: the render size is at least 1x1
   imageStore(gOut_Border, ivec2(0), vec4(mean, skyShare));
 }

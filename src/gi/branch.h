@@ -36,8 +36,8 @@ struct FrameState {
   // This frame's min-max pyramid of marchDepth, for Hi-Z traces: built when
   // a branch that traces it is on (GiContext::Impl::needsDepthPyramid).
   const DepthPyramid& depthPyramid;
-  // Screen-only mode's tiles of last frame's composite (gi/screen_only_policy.glsl):
-  // built only where no bridge traces.
+  // Screen-only mode's tiles and border of this frame's direct light
+  // (gi/screen_only_policy.glsl): built only where no bridge traces.
   ScreenTiles& screenTiles;
   bool capturing;                 // this frame's stages are captured: debug passes run too
   // The denoiser takes the branches' resolved signals (resolved()): they
