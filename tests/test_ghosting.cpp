@@ -209,7 +209,7 @@ std::vector<double> means(const nlohmann::json& json, const char* signal) {
 // the frame before the event is far below it; from the event on the
 // indirect light climbs towards the settled frame. A lamp switched before
 // the event, or a reference of the old lighting, fails the first check; an
-// edit never made fails the second.
+// edit never made fails the second (the light stays at its level before).
 TEST(Ghosting, ALampSwitchedOnIsFollowedFrameByFrameToItsSettledLight) {
   const fs::path dir = freshDirectory("light");
   const Result r =
@@ -231,7 +231,8 @@ TEST(Ghosting, ALampSwitchedOnIsFollowedFrameByFrameToItsSettledLight) {
   std::printf("indirect diffuse mean: before %.4f, +0 %.4f, +4 %.4f, settled %.4f, reference %.4f\n", diffuse[0],
               diffuse[1], diffuse[5], settled, reference);
   EXPECT_LT(diffuse[0], 0.2 * reference) << "the lamp is off before the event; the reference has it on";
-  EXPECT_GT(diffuse[5], 2.0 * diffuse[1]) << "the light climbs after the event";
+  EXPECT_GT(diffuse[5], 5.0 * diffuse[0]) << "the lamp's light arrives after the event";
+  EXPECT_GE(diffuse[5], diffuse[1]) << "and climbs";
   EXPECT_GT(settled, diffuse[5]);
   for (const char* signal : {"indirect_diffuse", "indirect_specular"})
     for (const char* tolerance : {"10_percent", "5_percent"})
@@ -241,6 +242,44 @@ TEST(Ghosting, ALampSwitchedOnIsFollowedFrameByFrameToItsSettledLight) {
       }
   const bounce::io::ImageF plot = bounce::io::readImage(dir / "ghosting.png");
   EXPECT_GT(plot.height, 2 * 200) << "a panel per indirect signal";
+  fs::remove_all(dir);
+}
+
+// The bar on lavapipe: cornell's lamp, off through the warm-up,
+// switched on; 10 frames later the indirect diffuse is within 10 % of the
+// reference of the lamp on. The library sees the change in the direct light
+// it is given (gi.light_change: the lamp's share of the frame's light) and
+// every temporal history restarts at the event and the frame after (when
+// the screen's samples first see the lamp), then regrows. Without that the
+// histories (reservoirs, the denoiser's, the radiance cache's) held the
+// dark room: 0.38 of the reference 10 frames after the lamp.
+TEST(Ghosting, ALampSwitchedOnIsWithinTenPercentOfTheNewLightTenFramesLater) {
+  const fs::path dir = freshDirectory("lamp_ten_frames");
+  const Result r =
+      run("ghosting cornell --event light --width 96 --height 64 --gi-warmup 16 --event-frame 20 "
+          "--after 10 --settle 1 --reference-spp 64 --seed 3 --out " +
+              dir.string(),
+          {"--material", "cornell light:emission=0,0,0", "--light-change", "cornell light:emission=10,10,10"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json json = readJson(dir / "ghosting.json");
+  ASSERT_EQ(json["frames"].size(), 12u) << "the frame before the event, then +0 .. +10";
+  const double reference = json["reference_mean"]["indirect_diffuse"];
+  const nlohmann::json& last = json["frames"][11];
+  ASSERT_EQ(last["after_event"], 10);
+  const double atTen = last["indirect_diffuse"]["mean"];
+  std::printf("indirect diffuse 10 frames after the lamp: %.4f, reference %.4f (%.3f of it)\n", atTen, reference,
+              atTen / reference);
+  EXPECT_NEAR(atTen / reference, 1.0, 0.10);
+  for (const nlohmann::json& frame : json["frames"]) {
+    const int after = frame["after_event"];
+    const double changed = frame["light_changed"], kept = frame["history_kept"];
+    if (after == 0) EXPECT_GT(changed, 0.5) << "the lamp is most of the frame's light";
+    if (after != 0) EXPECT_EQ(changed, 0.0) << "+" << after << ": nothing changed";
+    if (after == 0 || after == 1)
+      EXPECT_EQ(kept, 0.0) << "+" << after << ": every history restarts";
+    else
+      EXPECT_EQ(kept, 1.0) << "+" << after;
+  }
   fs::remove_all(dir);
 }
 

@@ -22,6 +22,7 @@
 #include "gi/diffuse/diffuse_branch.h"
 #include "gi/frame_passes.h"
 #include "gi/image_table.h"
+#include "gi/light_change.h"
 #include "gi/screen_tiles.h"
 #include "gi/specular/specular_branch.h"
 #include "gpu/format.h"
@@ -640,7 +641,7 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
   for (const SignalDesc& signal : librarySignals) addEngineSignalImage(engineSignalTable, signal.name);
   for (const std::span<const ImageSpec> table :
        {frameImageTable(), diffuseImageTable(), specularImageTable(), denoiseTable.specs(), engineSignalTable.specs(),
-        std::span<const ImageSpec>(&DepthPyramid::spec(), 1), screenTilesImageTable()})
+        std::span<const ImageSpec>(&DepthPyramid::spec(), 1), screenTilesImageTable(), lightChangeImageTable()})
     for (const ImageSpec& spec : table) {
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
                               gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +

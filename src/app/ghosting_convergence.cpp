@@ -64,6 +64,11 @@ struct Measured {
   int after = 0;  // frames after the event (-1: the frame before it)
   std::array<double, kSignalCount> mean{};
   std::array<double, kSignalCount> relMse{};
+  // The library's verdict that frame (gi.light_change): the share of the
+  // direct light that changed, and the share of its history every temporal
+  // history kept.
+  double lightChanged = 0.0;
+  double historyKept = 1.0;
 };
 
 // The first measured frame from which on every later one (the settled frame
@@ -167,7 +172,8 @@ io::ImageF convergencePlot(const std::string& title, const std::vector<Measured>
 
 nlohmann::json measuredJson(const Measured& m, const std::array<double, kSignalCount>& reference,
                             const std::array<double, kSignalCount>& converged) {
-  nlohmann::json json = {{"frame", m.frame}, {"after_event", m.after}};
+  nlohmann::json json = {
+      {"frame", m.frame}, {"after_event", m.after}, {"light_changed", m.lightChanged}, {"history_kept", m.historyKept}};
   for (int s = 0; s < kSignalCount; ++s)
     json[kSignalNames[s]] = {{"mean", m.mean[s]},
                              {"mean_over_reference", reference[s] > 0.0 ? m.mean[s] / reference[s] : 0.0},
@@ -265,6 +271,12 @@ int runConvergence(const GhostingOptions& options) {
     const io::ImageF diffuse = gpuio::readbackImage(*context, gi.indirect(gi::kDiffuseSignal));
     const io::ImageF specular = gpuio::readbackImage(*context, gi.indirect(gi::kSpecularSignal));
     m.mean = {metrics::meanLuminance(diffuse), metrics::meanLuminance(specular)};
+    for (const render::GiBridge::Named& image : gi.images())
+      if (image.name == "gi.light_change") {
+        const io::ImageF verdict = gpuio::readbackImage(*context, *image.image);
+        m.lightChanged = verdict.pixels.at(0);
+        m.historyKept = verdict.pixels.at(2);
+      }
     return std::pair(m, std::array<io::ImageF, kSignalCount>{diffuse, specular});
   };
 
@@ -328,12 +340,12 @@ int runConvergence(const GhostingOptions& options) {
   const std::string convergedName = "settled";
   std::printf("\n%s in %s at frame %u; reference of the lighting after it: %u spp; settled: frame %u\n", what.c_str(),
               scene.name.c_str(), eventFrame, options.referenceSpp, settledFrame);
-  std::printf("%4s %6s", "+k", "frame");
+  std::printf("%4s %6s %7s %5s", "+k", "frame", "changed", "kept");
   for (int s = 0; s < kSignalCount; ++s)
     std::printf(" | %-17s %9s %9s %9s", kSignalLabels[s], "/ ref", "/ settled", "relMSE");
   std::printf("\n");
   const auto row = [&](const Measured& m, const char* label) {
-    std::printf("%4s %6u", label, m.frame);
+    std::printf("%4s %6u %7.3f %5.2f", label, m.frame, m.lightChanged, m.historyKept);
     for (int s = 0; s < kSignalCount; ++s)
       std::printf(" | %17.5g %9.3f %9.3f %9.4g", m.mean[s], reference[s] > 0.0 ? m.mean[s] / reference[s] : 0.0,
                   convergedMean[s] > 0.0 ? m.mean[s] / convergedMean[s] : 0.0, m.relMse[s]);
@@ -341,7 +353,7 @@ int runConvergence(const GhostingOptions& options) {
   };
   for (const Measured& m : frames) row(m, m.after < 0 ? "-1" : ("+" + std::to_string(m.after)).c_str());
   row(*settled, "set.");
-  std::printf("%4s %6s", "ref.", "");
+  std::printf("%4s %6s %7s %5s", "ref.", "", "", "");
   for (int s = 0; s < kSignalCount; ++s) std::printf(" | %17.5g %9s %9s %9s", reference[s], "", "", "");
   std::printf("\n");
 

@@ -39,6 +39,9 @@ struct FrameState {
   // Screen-only mode's tiles and border of this frame's direct light
   // (gi/screen_only_policy.glsl): built only where no bridge traces.
   ScreenTiles& screenTiles;
+  // This frame's gi.light_change: the share of its history every temporal
+  // history keeps after a change of light (gi/light_change/light_change.glsl).
+  gpu::Image& lightChange;
   bool capturing;                 // this frame's stages are captured: debug passes run too
   // The denoiser takes the branches' resolved signals (resolved()): they
   // record no temporal filter of their own.

@@ -23,6 +23,7 @@
 #include "gi/frame_passes.h"
 #include "gi/image_table.h"
 #include "gi/library_device.h"
+#include "gi/light_change.h"
 #include "gi/pass_log.h"
 #include "gi/scene_bridge.h"
 #include "gi/screen_tiles.h"
@@ -184,6 +185,7 @@ struct GiContext::Impl {
   RadianceCache cache;
   DepthPyramid depthPyramid;
   ScreenTiles screenTiles;
+  LightChange lightChange;
   std::vector<std::unique_ptr<Branch>> branches;
   std::vector<SignalDesc> signals;         // by SignalId: the library's two, then ContextDesc::signals
   std::vector<std::string> noisyNames;     // noisyInputNames(signals)
@@ -206,6 +208,7 @@ struct GiContext::Impl {
   SignalFlags lastEngineSignals;    // which signals the engine gave
   bool pyramidBuilt = false;        // the depth pyramid holds last frame's depth
   bool tilesBuilt = false;          // the screen tiles hold this frame's (screen-only mode)
+  bool lightChangeBuilt = false;    // the light change was recorded this frame
 
   Impl(const Device& device, const ContextDesc& d, const Settings& s)
       : desc(d),
@@ -219,6 +222,7 @@ struct GiContext::Impl {
         cache(*context, arena, {d.maxWidth, d.maxHeight}, settings, scene),
         depthPyramid(*context, arena, {d.maxWidth, d.maxHeight}),
         screenTiles(*context, arena, {d.maxWidth, d.maxHeight}),
+        lightChange(*context, arena, {d.maxWidth, d.maxHeight}),
         signals(signalsOf(d)),
         noisyNames(noisyInputNames(signals)),
         storeHistory(*context, storeHistoryPass()),
@@ -403,6 +407,12 @@ struct GiContext::Impl {
     // this frame's direct light (with a bridge that traces, world rays answer them).
     tilesBuilt = anyBranch && !scene.traces();
     if (tilesBuilt) screenTiles.record(recorder, group, engine[Input::Direct], context->nearestSampler(), size);
+    // How much of the light changed, and so how much of their history the
+    // temporal histories keep: for every unit with one.
+    lightChangeBuilt = anyBranch || denoiser != nullptr;
+    if (lightChangeBuilt)
+      lightChange.record(recorder, group, engine, frameImages.previous(kHistorySurface, f),
+                         frameImages.current(kHistorySurface, f), context->nearestSampler(), f, size);
 
     const FrameState state{.recorder = recorder,
                            .group = group,
@@ -419,6 +429,7 @@ struct GiContext::Impl {
                            .marchDepth = frameImages.current(kMarchDepth, f),
                            .depthPyramid = depthPyramid,
                            .screenTiles = screenTiles,
+                           .lightChange = lightChange.verdict(f),
                            .capturing = frame.captureStages,
                            .denoised = denoiser != nullptr};
     // The radiance cache serves the branches; with none running it rests.
@@ -483,6 +494,7 @@ struct GiContext::Impl {
   std::vector<ImageSet*> imageSets() {
     std::vector<ImageSet*> sets = {&frameImages, &cache.images()};
     if (tilesBuilt) sets.push_back(&screenTiles.images());
+    if (lightChangeBuilt) sets.push_back(&lightChange.images());
     for (const std::unique_ptr<Branch>& branch : branches) sets.push_back(&branch->images());
     if (denoiser) sets.push_back(&denoiser->images());
     if (engineSignals) sets.push_back(engineSignals.get());
@@ -600,6 +612,7 @@ std::uint64_t GiContext::estimateMemoryBytes(const ContextDesc& desc, const Sett
   std::uint64_t bytes =
       imageSetBytes(frameImageTable(), size) + sizeof(shared::GiFrameConstants) +
       RadianceCache::memoryBytes(size, settings) + DepthPyramid::memoryBytes(size) + ScreenTiles::memoryBytes(size) +
+      LightChange::memoryBytes(size) +
       imageSetBytes(diffuseImageTable(), size, brightPyramidLevels(size, settings.diffuse.brightPixels),
                     DiffuseBranch::unusedImages(ownFilter(settings, kDiffuseSignal))) +
       DiffuseBranch::bufferBytes(size, settings, !desc.sceneBridge.shaders.empty()) +

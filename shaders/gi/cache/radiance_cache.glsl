@@ -19,7 +19,10 @@
 //   + 3 gCache_Radiance      vec4 per cell: rgb value, the samples it averages;
 //                            then (from entry `capacity`) the same for the direct light (w > 0 once known)
 //   + 4 gCache_Touched       uint per cell: the last frame it was queried or filled
-//   + 5 gCache_Counts        uint: [0] live cells (gi.cache.view's occupancy bar)
+//   + 5 gCache_Counts        uint: [0] live cells (gi.cache.view's occupancy bar); while the light
+//                            changes (gi.light_change), [1] and [2] the luminance of the direct
+//                            light the update's paths worked out anew and of what their cells
+//                            held before, summed in fixed point (kCacheLightSumScale)
 // Cells are made by the first query or fill that needs one (atomic
 // compare-and-swap of the checksum into an empty slot, linear probing);
 // gi.cache.update's paths add samples to the cells they pass;
@@ -54,6 +57,15 @@ const uint kCacheProbes = 8u;
 // clamped to kCacheMaxSample so thousands of them fit in a frame.
 const float kCacheFixedScale = 256.0f;
 const float kCacheMaxSample = 4096.0f;
+// The sums of gCache_Counts [1] and [2]: each luminance clamped to
+// kCacheLightSumMax, 1/kCacheLightSumScale resolution, from at most
+// kCacheLightSumPaths paths (evenly spread over the frame's): they fit 32 bits.
+const float kCacheLightSumScale = 256.0f;
+const float kCacheLightSumMax = 1000.0f;
+const uint kCacheLightSumPaths = 16384u;
+// The direct light now over before (their ratio) counts as at most this
+// (a lamp switched on in a dark room).
+const float kCacheLightRatioLimit = 16.0f;
 
 uint cacheHash(uint x) {  // a 32-bit integer hash (Wellons' lowbias32)
   x ^= x >> 16u;

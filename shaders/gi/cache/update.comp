@@ -19,6 +19,7 @@
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "shared/brdf.glsl"
+#include "shared/color.glsl"
 #include "shared/equirect.glsl"
 #include "shared/sampling.glsl"
 
@@ -27,6 +28,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define CACHE_FIRST_BINDING 4
 #include "gi/cache/radiance_cache.glsl"
 layout(set = 0, binding = 11) uniform sampler2D gIn_Environment;
+#define LIGHT_CHANGE_BINDING 12
+#include "gi/light_change/light_change.glsl"
 #include "gi/scene_bridge.glsl"
 #include "gi/world_rays.glsl"
 
@@ -69,6 +72,16 @@ bool cachedDirect(uint slot, bool fresh, out vec3 direct) {
   return known.w > 0.0f;
 }
 
+// While the light changes: this direct light, worked out anew, and what
+// the cell held before, added to the frame's sums (gCache_Counts [1] and
+// [2]), from which gi.cache.resolve scales every cell's indirect light.
+void sumLightChange(uint slot, vec3 direct) {
+  vec4 known = cacheDirect(slot);
+  if (known.w <= 0.0f) return;
+  atomicAdd(gCache_Counts.items[1], uint(min(luminance(direct), kCacheLightSumMax) * kCacheLightSumScale + 0.5f));
+  atomicAdd(gCache_Counts.items[2], uint(min(luminance(known.xyz), kCacheLightSumMax) * kCacheLightSumScale + 0.5f));
+}
+
 void main() {
   CacheConstants c = gIn_CacheConstants.cache;
   if (!kSceneBridgeTraces || c.enabled == 0u) return;
@@ -81,6 +94,10 @@ void main() {
   Surface start = gbufferSurface(pixel);
   if (start.viewZ <= 0.0f) return;
 
+  uvec2 paths = gl_NumWorkGroups.xy * gl_WorkGroupSize.xy;
+  uint pathIndex = block.y * paths.x + block.x;
+  uint summingEvery = (paths.x * paths.y + kCacheLightSumPaths - 1u) / kCacheLightSumPaths;
+  bool changing = historyKept() < 1.0f && pathIndex % summingEvery == 0u;
   PathVertex path[kCacheMaxBounces];
   uint freshBounce = min(uint(rngUniform(rng) * float(c.updateBounces)), c.updateBounces - 1u);
   vec3 position = start.position;
@@ -111,7 +128,10 @@ void main() {
     vec3 direct;
     if (!cachedDirect(here, bounce == freshBounce, direct)) {
       direct = whiteDirectLight(hit);
-      if (c.directLight != 0u && here != kCacheNoCell) cacheAddDirectSample(here, direct);
+      if (c.directLight != 0u && here != kCacheNoCell) {
+        if (changing) sumLightChange(here, direct);
+        cacheAddDirectSample(here, direct);
+      }
     }
     vec3 specular = specularReflectance(specularF0(hit.baseColor, hit.metallic), dot(hit.normal, -direction),
                                         hit.roughness);

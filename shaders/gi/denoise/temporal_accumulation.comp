@@ -18,6 +18,8 @@
 // clamped to the fast history (about 6 frames) +- clamp_sigma sigma, and
 // where the fast history has left the long one the history counts as fewer
 // frames (anti-lag), so lighting changes come through within a few frames.
+// A change of the frame's direct light (gi.light_change) shortens every
+// pixel's history at once, before the fast history could notice.
 // Checkerboard mode: a pixel without a sample of its own this frame (the
 // pre-pass filled it from its neighbours) trusts its history more, as
 // REBLUR's checkerboard resolve does (kCheckerboardResolveAccumSpeed).
@@ -45,6 +47,8 @@ layout(set = 0, binding = 11, rgba16f) writeonly uniform image2D gOut_Moments;
 #include "gi/motion.glsl"
 #include "gi/temporal_history.glsl"
 layout(set = 0, binding = 12, rg32ui) readonly uniform uimage2D gIn_Surface;
+#define LIGHT_CHANGE_BINDING 16
+#include "gi/light_change/light_change.glsl"
 
 // The longest history a specular lobe keeps: a mirror's reflection moves
 // with the view and keeps few frames, a rough lobe's barely does.
@@ -217,7 +221,7 @@ void main() {
       history = blendReflectionHistories(history, virtualHistory, roughness, neighbourhood.x, deviation, virtualShare);
     }
   }
-  float historyLength = history.found ? history.frames : 0.0f;
+  float historyLength = history.found ? historyAfterLightChange(history.frames) : 0.0f;
   float frames = min(historyLength + 1.0f, maxFrames(roughness));
   float blend = 1.0f / frames;
   vec3 moments = vec3(neighbourhood, neighbourhood.x);

@@ -23,6 +23,8 @@ layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
 layout(set = 0, binding = 8, rgba16f) readonly uniform image2D gPrev_Stabilized;
 layout(set = 0, binding = 9, rgba16f) writeonly uniform image2D gOut_Stabilized;
 layout(set = 0, binding = 10, rg32ui) readonly uniform uimage2D gIn_Surface;
+#define LIGHT_CHANGE_BINDING 16
+#include "gi/light_change/light_change.glsl"
 
 #include "gi/motion.glsl"
 #define NEIGHBOURHOOD_IMAGE gIn_Filtered
@@ -92,6 +94,6 @@ void main() {
   float historyLuminance = luminance(history.xyz);
   float clamped = clamp(historyLuminance, max(mean - reach, 0.0f), mean + reach);
   vec3 previous = historyLuminance > 0.0f ? history.xyz * (clamped / historyLuminance) : vec3(clamped);
-  float frames = min(history.w + 1.0f, d.stabilizationFrames);
+  float frames = min(historyAfterLightChange(history.w) + 1.0f, d.stabilizationFrames);
   imageStore(gOut_Stabilized, pixel, roundedToHalf(vec4(sanitizeRadiance(mix(previous, current, 1.0f / frames)), frames)));
 }

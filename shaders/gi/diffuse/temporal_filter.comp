@@ -33,6 +33,8 @@ layout(set = 0, binding = 7, rgba32f) readonly uniform image2D gPrev_Filtered;
 layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Moments;
 layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Filtered;
 layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Moments;
+#define LIGHT_CHANGE_BINDING 11
+#include "gi/light_change/light_change.glsl"
 
 #include "gi/motion.glsl"
 #include "gi/temporal_history.glsl"
@@ -60,7 +62,7 @@ void main() {
                              ExpectedSurface(x.position, x.normal, expectedViewZ, d.temporalDepthTolerance,
                                              d.temporalCosNormalTolerance, kAnyMaterial));
   }
-  float historyLength = history.found ? history.frames : 0.0f;
+  float historyLength = history.found ? historyAfterLightChange(history.frames) : 0.0f;
   float frames = min(historyLength + 1.0f, d.temporalFilterFrames);
   float blend = 1.0f / frames;
   vec3 moments = vec3(currentLuminance, currentLuminance * currentLuminance, currentLuminance);

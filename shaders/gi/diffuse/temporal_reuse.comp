@@ -11,7 +11,8 @@
 // the radiance it sends now (last frame's composite there), as ReSTIR DI
 // evaluates its lights anew: a stored radiance would hold back every
 // change of light, and every bounce the feedback adds, for as long as the
-// sample lives.
+// sample lives. After a change of light (gi.light_change) the history's M
+// shrinks further: samples drawn for the old light cannot find the new.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
@@ -29,6 +30,8 @@ layout(set = 0, binding = 9, rgba32ui) readonly uniform uimage2D gPrev_Reservoir
 layout(set = 0, binding = 10, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 11, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 layout(set = 0, binding = 12, rgba16f) readonly uniform image2D gPrev_Composite;
+#define LIGHT_CHANGE_BINDING 13
+#include "gi/light_change/light_change.glsl"
 
 #include "gi/motion.glsl"
 #include "gi/diffuse/previous_screen.glsl"
@@ -56,7 +59,7 @@ void main() {
         uint rng = giSeed(uvec2(halfPixel), kSaltSpatial + 1u);
         Reservoir fresh = unpackReservoir(first, second);
         Reservoir history = unpackReservoir(imageLoad(gPrev_Reservoir0, previousHalf), imageLoad(gPrev_Reservoir1, previousHalf));
-        history.M = min(history.M, d.temporalMaxM);
+        history.M = uint(historyAfterLightChange(float(min(history.M, d.temporalMaxM))));
         if (reservoirHasSample(history) && !reservoirIsEnvironment(history)) {
           ivec2 shown = previousPixelOf(history.position, history.normal);
           if (shown.x >= 0) history.radiance = sanitizeRadiance(imageLoad(gPrev_Composite, shown).xyz);

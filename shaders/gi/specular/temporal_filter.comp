@@ -35,6 +35,8 @@ layout(set = 0, binding = 8, rgba32f) readonly uniform image2D gPrev_Moments;
 layout(set = 0, binding = 9, rgba32f) writeonly uniform image2D gOut_Filtered;
 layout(set = 0, binding = 10, rgba32f) writeonly uniform image2D gOut_Moments;
 layout(set = 0, binding = 11, rgba16f) writeonly uniform image2D gOut_Reprojection;
+#define LIGHT_CHANGE_BINDING 12
+#include "gi/light_change/light_change.glsl"
 
 #include "gi/motion.glsl"
 #include "gi/temporal_history.glsl"
@@ -93,7 +95,7 @@ void main() {
   History history = blendReflectionHistories(surface, virtualHistory, roughness, mean, deviation, virtualWeight);
 
   float longest = c.temporalFilterFrames * mix(0.25f, 1.0f, smoothstep(0.0f, 0.5f, roughness));
-  float historyLength = history.found ? history.frames : 0.0f;
+  float historyLength = history.found ? historyAfterLightChange(history.frames) : 0.0f;
   float frames = min(historyLength + 1.0f, max(longest, 1.0f));
   float blend = 1.0f / frames;
   vec3 moments = vec3(currentLuminance, currentLuminance * currentLuminance, currentLuminance);

@@ -31,6 +31,8 @@ layout(set = 0, binding = 10, rgba32ui) readonly uniform uimage2D gPrev_Reservoi
 layout(set = 0, binding = 11, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 12, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 layout(set = 0, binding = 13, rgba16f) readonly uniform image2D gPrev_Composite;
+#define LIGHT_CHANGE_BINDING 14
+#include "gi/light_change/light_change.glsl"
 
 #include "gi/motion.glsl"
 #include "gi/previous_screen.glsl"
@@ -61,7 +63,7 @@ void main() {
         Reservoir fresh = unpackReservoir(first, second);
         Reservoir history =
             unpackReservoir(imageLoad(gPrev_Reservoir0, previousHalf), imageLoad(gPrev_Reservoir1, previousHalf));
-        history.M = min(history.M, c.temporalMaxM);
+        history.M = uint(historyAfterLightChange(float(min(history.M, c.temporalMaxM))));
         if (reservoirHasSample(history) && !reservoirIsEnvironment(history)) {
           ivec2 shown = previousPixelShowing(history.position, history.normal);
           if (shown.x >= 0) history.radiance = sanitizeRadiance(imageLoad(gPrev_Composite, shown).xyz);

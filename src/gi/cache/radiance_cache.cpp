@@ -8,6 +8,7 @@
 #include "gi/cache/cache_types.glsl"
 #include "gi/frame_constants.h"
 #include "gi/gi_shaders.h"
+#include "gi/light_change.h"
 #include "gpu/constants_layout.h"
 #include "gpu/format.h"
 #include "gpu/recorder.h"
@@ -56,13 +57,15 @@ gpu::PassDesc injectPass() {
       "gi.cache.inject", "gi/cache/inject", GroupPart::Constants,
       {{"gPrev_Surface", Access::Read, kRg32ui, "last frame's viewZ and octahedral normal"},
        {"gPrev_Diffuse", Access::Read, VK_FORMAT_UNDEFINED,
-        "last frame's filtered indirect diffuse (sampled: any float format)", gpu::ResourceKind::SampledImage}});
+        "last frame's filtered indirect diffuse (sampled: any float format)", gpu::ResourceKind::SampledImage},
+       lightChangeDecl()});
 }
 
 gpu::PassDesc updatePass(bool declareCache = true) {
   return cachePass("gi.cache.update", "gi/cache/update", GroupPart::Surfaces,
                    {{"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED, "what update rays that miss see",
-                     ResourceKind::SampledImage}},
+                     ResourceKind::SampledImage},
+                    lightChangeDecl()},
                    declareCache);
 }
 
@@ -70,6 +73,7 @@ gpu::PassDesc resolvePass() {
   gpu::PassDesc desc{.name = "gi.cache.resolve",
                      .shader = "gi/cache/resolve",
                      .shaders = shaders(),
+                     .resources = {lightChangeDecl()},
                      .constants = {cacheConstantsLayout()}};
   gpu::declareUsed(desc, cacheResources(), false);
   return desc;
@@ -103,7 +107,8 @@ std::vector<gpu::ResourceDecl> cacheResources() {
              "radiance cache: this frame's samples per cell, then its direct light's"),
       buffer("gCache_Radiance", Access::ReadWrite, "radiance cache: each cell's value, then each cell's direct light"),
       buffer("gCache_Touched", Access::ReadWrite, "radiance cache: the last frame each cell was used"),
-      buffer("gCache_Counts", Access::ReadWrite, "radiance cache: live cells")};
+      buffer("gCache_Counts", Access::ReadWrite,
+             "radiance cache: live cells; while the light changes, the direct light its paths find and held before")};
 }
 
 gpu::ConstantsDecl cacheConstantsLayout() {
@@ -181,8 +186,9 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
   if (!c.enabled || !frame.usableHistory) return;
   const std::uint32_t stride = settings_.injectStride;
   std::vector<gpu::Bind> binds = this->binds();
-  binds.insert(binds.end(),
-               {{"gPrev_Surface", frame.previousSurface}, {"gPrev_Diffuse", previousDiffuse, frame.nearestSampler}});
+  binds.insert(binds.end(), {{"gPrev_Surface", frame.previousSurface},
+                             {"gPrev_Diffuse", previousDiffuse, frame.nearestSampler},
+                             {"gIn_LightChange", frame.lightChange}});
   recorder.dispatch(passes_->inject, (frame.renderSize.width + stride - 1) / stride,
                     (frame.renderSize.height + stride - 1) / stride, frame.group.binds(GroupPart::Constants),
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->inject, binds)));
@@ -191,9 +197,12 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
 void RadianceCache::recordEnd(const FrameState& frame) {
   if (!settings_.enabled || !scene_.traces()) return;
   gpu::Recorder& recorder = frame.recorder;
+  // gi.cache.update sums the change of light into them, gi.cache.resolve counts the live cells anew.
+  recorder.fillBuffer(*counts_, 0u);
   if (settings_.updateRays > 0) {
     std::vector<gpu::Bind> binds = this->binds();
     binds.push_back({"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler});
+    binds.push_back({"gIn_LightChange", frame.lightChange});
     const std::vector<gpu::Bind> bridged = scene_.binds(*passes_->update, {});
     binds.insert(binds.end(), bridged.begin(), bridged.end());
     const std::uint32_t stride = cacheUpdateStride(frame.renderSize, settings_);
@@ -201,9 +210,10 @@ void RadianceCache::recordEnd(const FrameState& frame) {
                       (frame.renderSize.height + stride - 1) / stride, frame.group.binds(),
                       std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->update, binds)));
   }
-  recorder.fillBuffer(*counts_, 0u);  // gi.cache.resolve counts the live cells anew
+  std::vector<gpu::Bind> resolveBinds = this->binds();
+  resolveBinds.push_back({"gIn_LightChange", frame.lightChange});
   recorder.dispatch(passes_->resolve, capacity_, 1,
-                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->resolve, this->binds())));
+                    std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->resolve, resolveBinds)));
   if (frame.capturing) {
     if (!passes_->view) {
       passes_->view = std::make_unique<gpu::ComputePass>(context_, viewPass());

@@ -23,8 +23,8 @@ namespace bounce::gi {
 
 // Bytes a cell takes in the cache's buffers (key, indirect and direct accumulators and values, last use).
 constexpr std::uint64_t kCacheBytesPerCell = 4 + 32 + 32 + 4;
-// The counts buffer: live cells.
-constexpr std::uint64_t kCountsBytes = 4;
+// The counts buffer: live cells, and while the light changes the direct light found and held before.
+constexpr std::uint64_t kCountsBytes = 12;
 // Cells the cache holds within `memoryMib`: the largest power of two that fits.
 std::uint32_t cacheCapacity(std::uint32_t memoryMib);
 // gi.cache.update starts a path at one pixel of every stride x stride block

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "gi/denoise/denoise_common.glsl"
+#include "gi/light_change.h"
 #include "gi/pass_decls.h"
 #include "gpu/constants_layout.h"
 #include "gpu/format.h"
@@ -92,7 +93,8 @@ gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal) {
                      {"gPrev_Moments", Access::Read, kRgba16f, "last frame's luminance moments"},
                      {"gOut_Accumulated", Access::Write, kRgba16f, "radiance, history length"},
                      {"gOut_Moments", Access::Write, kRgba16f, "luminance moments: mean, deviation, fast mean"},
-                     currentSurfaceDecl()});
+                     currentSurfaceDecl(),
+                     lightChangeDecl()});
 }
 
 gpu::PassDesc denoiseHistoryFixPass(const std::string& signal) {
@@ -116,7 +118,8 @@ gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal) {
                      previousSurfaceDecl(),
                      {"gPrev_Stabilized", Access::Read, kRgba16f, "last frame's stabilised signal"},
                      {"gOut_Stabilized", Access::Write, kRgba16f, "the denoised signal, history length"},
-                     currentSurfaceDecl()});
+                     currentSurfaceDecl(),
+                     lightChangeDecl()});
 }
 
 gpu::PassDesc denoiseValidationPass() {

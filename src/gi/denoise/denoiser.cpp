@@ -217,7 +217,8 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
                        {"gPrev_Moments", previous(kDenoiseMoments)},
                        {"gOut_Accumulated", accumulated},
                        {"gOut_Moments", image(kDenoiseMoments)},
-                       {"gIn_Surface", frame.currentSurface}},
+                       {"gIn_Surface", frame.currentSurface},
+                       {"gIn_LightChange", frame.lightChange}},
                       atFullRadius);
     recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(GroupPart::Constants),
                       {constants, tilesBind, surfaceBind, {"gIn_Accumulated", accumulated}, {"gOut_Fixed", fixed}},
@@ -243,7 +244,8 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
                        {"gPrev_Surface", frame.previousSurface},
                        {"gPrev_Stabilized", previous(kDenoiseStabilized)},
                        {"gOut_Stabilized", image(kDenoiseStabilized)},
-                       {"gIn_Surface", frame.currentSurface}},
+                       {"gIn_Surface", frame.currentSurface},
+                       {"gIn_LightChange", frame.lightChange}},
                       atFullRadius);
   }
   if (frame.capturing) recordValidation(frame, inputs);

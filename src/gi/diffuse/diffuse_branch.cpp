@@ -324,7 +324,8 @@ void DiffuseBranch::record(const FrameState& frame) {
                      {"gPrev_Filtered", images_.previous(kFiltered, f)},
                      {"gPrev_Moments", images_.previous(kMoments, f)},
                      {"gOut_Filtered", images_.current(kFiltered, f)},
-                     {"gOut_Moments", images_.current(kMoments, f)}});
+                     {"gOut_Moments", images_.current(kMoments, f)},
+                     {"gIn_LightChange", frame.lightChange}});
 }
 
 // Temporal reuse, then two spatial passes (one shader, other parameters).
@@ -342,16 +343,18 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
   gpu::Image& spatialOut0 = feedback ? images_.current(kReservoirs0, f) : images_.current(kTransient0, f);
   gpu::Image& spatialOut1 = feedback ? images_.current(kReservoirs1, f) : images_.current(kTransient1, f);
   recorder.dispatch(passes_->temporalReuse, half.width, half.height, frame.group.binds(),
-                    std::span<const gpu::Bind>(scene_.binds(passes_->temporalReuse, {constants,
-                     {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
-                     {"gPrev_Surface", frame.previousSurface},
-                     {"gIn_Reservoir0", *final0},
-                     {"gIn_Reservoir1", *final1},
-                     {"gPrev_Reservoir0", images_.previous(kReservoirs0, f)},
-                     {"gPrev_Reservoir1", images_.previous(kReservoirs1, f)},
-                     {"gOut_Reservoir0", temporalOut0},
-                     {"gOut_Reservoir1", temporalOut1},
-                     {"gPrev_Composite", frame.previousComposite}})));
+                    std::span<const gpu::Bind>(scene_.binds(
+                        passes_->temporalReuse, {constants,
+                                                 {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
+                                                 {"gPrev_Surface", frame.previousSurface},
+                                                 {"gIn_Reservoir0", *final0},
+                                                 {"gIn_Reservoir1", *final1},
+                                                 {"gPrev_Reservoir0", images_.previous(kReservoirs0, f)},
+                                                 {"gPrev_Reservoir1", images_.previous(kReservoirs1, f)},
+                                                 {"gOut_Reservoir0", temporalOut0},
+                                                 {"gOut_Reservoir1", temporalOut1},
+                                                 {"gPrev_Composite", frame.previousComposite},
+                                                 {"gIn_LightChange", frame.lightChange}})));
   if (frame.capturing) viewReservoirs(frame, 1, temporalOut0, temporalOut1);
   // A spatial pass merges; with a bridge that traces, the visibility tests
   // it queued are traced apart and counted in after it.

@@ -5,6 +5,7 @@
 #include "gi/cache/radiance_cache.h"
 #include "gi/frame_constants.h"
 #include "gi/gi_shaders.h"
+#include "gi/light_change.h"
 #include "gi/pass_decls.h"
 #include "gi/screen_tiles.h"
 #include "gpu/constants_layout.h"
@@ -104,12 +105,15 @@ gpu::PassDesc worldCandidatesPass() {
 }
 
 gpu::PassDesc temporalReusePass() {
-  return pass("gi.diffuse.temporal_reuse", "gi/diffuse/temporal_reuse", GroupPart::Surfaces,
-              joinDecls(joinDecls({motionDecl(), previousSurfaceDecl()}, reservoirDecls("gIn", Access::Read, "fresh reservoirs")),
-                   joinDecls(reservoirDecls("gPrev", Access::Read, "last frame's final reservoirs"),
-                        joinDecls(reservoirDecls("gOut", Access::Write, "merged reservoirs"),
-                             {{"gPrev_Composite", Access::Read, kRgba16f,
-                               "last frame's composited radiance: what reused samples on its screen send now"}}))));
+  return pass(
+      "gi.diffuse.temporal_reuse", "gi/diffuse/temporal_reuse", GroupPart::Surfaces,
+      joinDecls(
+          joinDecls({motionDecl(), previousSurfaceDecl()}, reservoirDecls("gIn", Access::Read, "fresh reservoirs")),
+          joinDecls(reservoirDecls("gPrev", Access::Read, "last frame's final reservoirs"),
+                    joinDecls(reservoirDecls("gOut", Access::Write, "merged reservoirs"),
+                              {{"gPrev_Composite", Access::Read, kRgba16f,
+                                "last frame's composited radiance: what reused samples on its screen send now"},
+                               lightChangeDecl()}))));
 }
 
 gpu::ConstantsDecl spatialReuseParamsLayout() {
@@ -180,6 +184,7 @@ gpu::PassDesc temporalFilterPass() {
                {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's output (alpha: history length)"},
                {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
                {"gOut_Filtered", Access::Write, kRgba32f, "indirect diffuse, filtered; alpha: history length"},
+               lightChangeDecl(),
                {"gOut_Moments", Access::Write, kRgba32f,
                 "luminance moments: mean and deviation over the history, mean of the fast history"}});
 }

@@ -207,7 +207,8 @@ void SpecularBranch::record(const FrameState& frame) {
                      {"gPrev_Moments", images_.previous(kSpecularMoments, f)},
                      {"gOut_Filtered", images_.current(kSpecularFiltered, f)},
                      {"gOut_Moments", images_.current(kSpecularMoments, f)},
-                     {"gOut_Reprojection", images_.current(kSpecularReprojection, f)}});
+                     {"gOut_Reprojection", images_.current(kSpecularReprojection, f)},
+                     {"gIn_LightChange", frame.lightChange}});
 }
 
 // Temporal reuse (its output is the next frame's history), then spatial reuse.
@@ -231,7 +232,8 @@ void SpecularBranch::recordReuse(const FrameState& frame, gpu::Image& traced0, g
                      {"gPrev_Reservoir1", images_.previous(kSpecularReservoirs1, f)},
                      {"gOut_Reservoir0", history0},
                      {"gOut_Reservoir1", history1},
-                     {"gPrev_Composite", frame.previousComposite}});
+                     {"gPrev_Composite", frame.previousComposite},
+                     {"gIn_LightChange", frame.lightChange}});
   gpu::Image& spatial0 = images_.current(kSpecularSpatial0, f);
   gpu::Image& spatial1 = images_.current(kSpecularSpatial1, f);
   recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),

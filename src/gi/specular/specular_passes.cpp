@@ -4,6 +4,7 @@
 
 #include "gi/cache/radiance_cache.h"
 #include "gi/depth_pyramid.h"
+#include "gi/light_change.h"
 #include "gi/pass_decls.h"
 #include "gi/screen_tiles.h"
 #include "gi/specular/specular_common.glsl"
@@ -93,13 +94,15 @@ gpu::PassDesc specularWorldTracePass() {
 }
 
 gpu::PassDesc specularTemporalReusePass() {
-  return pass("gi.specular.temporal_reuse", "gi/specular/temporal_reuse",
-              joinDecls(joinDecls({motionDecl(), previousSurfaceDecl()},
-                                  reservoirDecls("gIn", Access::Read, "fresh reservoirs")),
-                        joinDecls(reservoirDecls("gPrev", Access::Read, "last frame's temporal reservoirs"),
-                                  joinDecls(reservoirDecls("gOut", Access::Write, "merged reservoirs, next frame's history"),
-                                            {{"gPrev_Composite", Access::Read, kRgba16f,
-                                              "last frame's composite: what reused samples on its screen send now"}}))));
+  return pass(
+      "gi.specular.temporal_reuse", "gi/specular/temporal_reuse",
+      joinDecls(
+          joinDecls({motionDecl(), previousSurfaceDecl()}, reservoirDecls("gIn", Access::Read, "fresh reservoirs")),
+          joinDecls(reservoirDecls("gPrev", Access::Read, "last frame's temporal reservoirs"),
+                    joinDecls(reservoirDecls("gOut", Access::Write, "merged reservoirs, next frame's history"),
+                              {{"gPrev_Composite", Access::Read, kRgba16f,
+                                "last frame's composite: what reused samples on its screen send now"},
+                               lightChangeDecl()}))));
 }
 
 gpu::PassDesc specularSpatialReusePass() {
@@ -123,6 +126,7 @@ gpu::PassDesc specularTemporalFilterPass() {
                {"gPrev_Filtered", Access::Read, kRgba32f, "last frame's output (alpha: history length)"},
                {"gPrev_Moments", Access::Read, kRgba32f, "last frame's luminance moments"},
                {"gOut_Filtered", Access::Write, kRgba32f, "indirect specular, filtered; alpha: history length"},
+               lightChangeDecl(),
                {"gOut_Moments", Access::Write, kRgba32f,
                 "luminance moments: mean and deviation over the history, mean of the fast history"},
                {"gOut_Reprojection", Access::Write, kRgba16f,
