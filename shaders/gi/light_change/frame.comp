@@ -3,13 +3,13 @@
 // gi.light_change.frame: the share of the frame's direct light that
 // changed since last frame (the tiles' summed block changes over their
 // summed light), and from the larger of this frame's and last frame's
-// share the
-// share of their history every temporal history keeps this frame
-// (gi/light_change/light_change.glsl). Last frame's counts too: the
+// share the share of their history every temporal history keeps this
+// frame (gi/light_change/light_change.glsl). Last frame's counts too: the
 // screen's samples see a change one frame late, through last frame's
 // composite. And the most frames a screen history may hold: where a
-// change restarted them, it grows back kHistoryRegrowth a frame. One workgroup; each invocation sums a fixed set of tiles,
-// then a tree: the same bits every run.
+// change restarted them, it grows back kHistoryRegrowth a frame. One
+// workgroup; each invocation sums a fixed set of tiles, then a tree: the
+// same bits every run.
 #include "gi/gi_common.glsl"
 #include "gi/light_change/light_change.glsl"
 
@@ -27,7 +27,8 @@ void main() {
   ivec2 tiles = (ivec2(fullSize()) + 15) / 16;
   uint count = uint(tiles.x * tiles.y);
   vec4 own = vec4(0.0f);
-  for (uint i = lane; i < count; i += kInvocations) own += imageLoad(gIn_Tiles, ivec2(int(i) % tiles.x, int(i) / tiles.x));
+  for (uint i = lane; i < count; i += kInvocations)
+    own += imageLoad(gIn_Tiles, ivec2(int(i) % tiles.x, int(i) / tiles.x));
   sums[lane] = own;
   barrier();
   for (uint width = kInvocations / 2u; width > 0u; width /= 2u) {

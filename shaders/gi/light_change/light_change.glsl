@@ -22,7 +22,6 @@ const float kHistoryRegrowth = 0.5f;
 // The hold on a history that nothing restarted: longer than any.
 const float kHistoryUnheld = 65536.0f;
 
-
 // The share of history kept for a change of `change` of the light.
 float historyShareKept(float change) {
   return clamp(1.0f - (change - kLightChangeNoise) / (kLightChangeRestart - kLightChangeNoise), 0.0f, 1.0f);
