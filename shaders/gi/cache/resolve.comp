@@ -9,9 +9,8 @@
 // outweighs what was, and while the light that bounces more than once
 // still arrives a cell holds no more frames of samples than the screen's
 // histories do (the hold, counted in this frame's samples of the cell).
-// Also counts the live cells
-// into gCache_Counts[0] (the host zeroes the counts before gi.cache.update;
-// gi.cache.view's occupancy bar shows it).
+// Also counts the live cells into gCache_Counts[0] (the host zeroes the
+// counts before gi.cache.update; gi.cache.view's occupancy bar shows it).
 #include "gpu/constant_block.glsl"
 #include "shared/finite.glsl"
 #include "shared/packing.glsl"

@@ -55,33 +55,25 @@ float directLuminance(ivec2 pixel) {
 // bilinearly at where the surface was, over the taps that showed it, of
 // the same material (a nearest tap, or one of a neighbouring material,
 // would read a neighbour's shading, or a lamp's edge, as a change wherever
-// the camera moves): a pixel with less than kLeastTapWeight of such taps
-// is not compared.
+// the camera moves; history_taps.glsl's weights): a pixel with less than
+// kLeastTapWeight of such taps is not compared.
 const float kLeastTapWeight = 0.5f;
 
-vec4 pixelChange(ivec2 pixel, float now) {
+vec4 pixelChange(ivec2 pixel, Surface x, float now) {
   if (!historyUsable()) return vec4(0.0f);
   vec2 motion = motionAt(pixel);
   if (!usableMotion(motion)) return vec4(0.0f);
-  Surface x = gbufferSurface(pixel);
   float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
   if (expectedViewZ <= 0.0f) return vec4(0.0f);
   ExpectedSurface expected = ExpectedSurface(x.position, x.normal, expectedViewZ, kDepthTolerance,
                                              kCosNormalTolerance, materialOf(imageLoad(gIn_Surface, pixel).xy));
-  vec2 position = vec2(pixel) + motion;  // where the pixel's centre was, minus half a texel
-  ivec2 origin = ivec2(floor(position));
-  vec2 fraction = position - vec2(origin);
-  float light = 0.0f, weight = 0.0f;
-  for (int j = 0; j <= 1; ++j)
-    for (int i = 0; i <= 1; ++i) {
-      ivec2 tap = origin + ivec2(i, j);
-      if (!insideFull(tap)) continue;
-      if (!tapShows(expected, tap, imageLoad(gPrev_Surface, tap).xy)) continue;
-      float w = (i == 0 ? 1.0f - fraction.x : fraction.x) * (j == 0 ? 1.0f - fraction.y : fraction.y);
-      light += w * imageLoad(gPrev_Direct, tap).x;
-      weight += w;
-    }
+  ivec2 corner;
+  vec4 weights = historyTapWeights(vec2(pixel) + motion, expected, corner);
+  float weight = dot(weights, vec4(1.0f));
   if (weight < kLeastTapWeight) return vec4(0.0f);
+  float light = 0.0f;
+  for (int i = 0; i < 4; ++i)
+    if (weights[i] > 0.0f) light += weights[i] * imageLoad(gPrev_Direct, corner + ivec2(i & 1, i >> 1)).x;
   float before = light / weight;
   return vec4(now - before, max(now, before), 1.0f, 0.0f);
 }
@@ -90,10 +82,10 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   vec4 own = vec4(0.0f);
   if (insideFull(pixel)) {
-    bool surface = gbufferSurface(pixel).viewZ > 0.0f;
-    float now = surface ? finiteOr(directLuminance(pixel), 0.0f) : 0.0f;
+    Surface x = gbufferSurface(pixel);
+    float now = x.viewZ > 0.0f ? finiteOr(directLuminance(pixel), 0.0f) : 0.0f;
     imageStore(gOut_Direct, pixel, vec4(now));
-    if (surface) own = pixelChange(pixel, now);
+    if (x.viewZ > 0.0f) own = pixelChange(pixel, x, now);
   }
   // Lanes of one 4x4 block sit together: block b holds lanes 16b..16b+15.
   uvec2 local = gl_LocalInvocationID.xy;
