@@ -5,7 +5,7 @@
 // the screen's outermost ring, the mean direct light of those that show a
 // surface (rgb) and the share that show the sky (a). One workgroup for the
 // whole ring; every invocation sums a fixed set of pixels in a fixed order,
-// then a tree in shared memory: the same bits every run.
+// then the workgroup sums them (gi/workgroup_sum.glsl): the same bits every run.
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 
@@ -15,7 +15,8 @@ layout(set = 0, binding = 4) uniform sampler2D gIn_Direct;
 layout(set = 0, binding = 5, rgba32f) writeonly uniform image2D gOut_Border;
 
 const uint kInvocations = 256u;
-shared vec4 sums[kInvocations];
+#define WORKGROUP_SUM_LANES kInvocations
+#include "gi/workgroup_sum.glsl"
 
 // The ring's pixels in the top and bottom rows (one row if the screen is
 // one pixel high).
@@ -45,14 +46,8 @@ void main() {
     ivec2 pixel = ringPixel(i, size);
     if (gbufferDepth(pixel) > 0.0f) own += vec4(sanitizeRadiance(texelFetch(gIn_Direct, pixel, 0).xyz), 1.0f);
   }
-  sums[lane] = own;
-  barrier();
-  for (uint width = kInvocations / 2u; width > 0u; width /= 2u) {
-    if (lane < width) sums[lane] += sums[lane + width];
-    barrier();
-  }
+  vec4 total = workgroupSum(own);
   if (lane != 0u) return;
-  vec4 total = sums[0];
   vec3 mean = total.a > 0.0f ? total.rgb / total.a : vec3(0.0f);
   float skyShare = 1.0f - total.a / float(count);  // count >= 1: the render size is at least 1x1
   imageStore(gOut_Border, ivec2(0), vec4(mean, skyShare));

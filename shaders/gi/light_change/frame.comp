@@ -8,8 +8,8 @@
 // screen's samples see a change one frame late, through last frame's
 // composite. And the most frames a screen history may hold: where a
 // change restarted them, it grows back kHistoryRegrowth a frame. One
-// workgroup; each invocation sums a fixed set of tiles, then a tree: the
-// same bits every run.
+// workgroup; each invocation sums a fixed set of tiles, then the workgroup
+// sums them (gi/workgroup_sum.glsl): the same bits every run.
 #include "gi/gi_common.glsl"
 #include "gi/light_change/light_change.glsl"
 
@@ -20,7 +20,8 @@ layout(set = 0, binding = 2, rgba32f) readonly uniform image2D gPrev_LightChange
 layout(set = 0, binding = 3, rgba32f) writeonly uniform image2D gOut_LightChange;
 
 const uint kInvocations = 256u;
-shared vec4 sums[kInvocations];
+#define WORKGROUP_SUM_LANES kInvocations
+#include "gi/workgroup_sum.glsl"
 
 void main() {
   uint lane = gl_LocalInvocationIndex;
@@ -29,14 +30,8 @@ void main() {
   vec4 own = vec4(0.0f);
   for (uint i = lane; i < count; i += kInvocations)
     own += imageLoad(gIn_Tiles, ivec2(int(i) % tiles.x, int(i) / tiles.x));
-  sums[lane] = own;
-  barrier();
-  for (uint width = kInvocations / 2u; width > 0u; width /= 2u) {
-    if (lane < width) sums[lane] += sums[lane + width];
-    barrier();
-  }
+  vec4 total = workgroupSum(own);
   if (lane != 0u) return;
-  vec4 total = sums[0];
   float change = total.y > 0.0f ? clamp(total.x / total.y, 0.0f, 1.0f) : 0.0f;
   vec4 last = historyUsable() ? imageLoad(gPrev_LightChange, ivec2(0)) : vec4(0.0f, 0.0f, 1.0f, kHistoryUnheld);
   float kept = historyShareKept(max(change, last.x));
