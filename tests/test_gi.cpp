@@ -934,8 +934,12 @@ TEST_F(GiTest, TheDenoiserLowersTheErrorOfASettledFrame) {
 // most of the way to the reference. Paths of one bounce add only to the
 // cells of surfaces on screen, so the cells world hits find off screen
 // stay dark. Measured at 64x40 after 128 frames: 0.31 of the reference
-// with one, 0.72 with three (still rising: light settles slowly,
-// docs/known-issues.md; the H100 at 640x360, frame 96: 0.33 and 0.83).
+// with one, 0.78 with three (still rising: light settles slowly,
+// docs/known-issues.md). The paths and world hits carry light on by a
+// surface's specular reflectance as well as its diffuse albedo
+// (world_rays.glsl's hitReflectance): by the diffuse albedo alone, as
+// before, the gold pillars passed on none of the light that reached them
+// by bounces, and three bounces gave 0.72.
 TEST_F(GiTest, UpdatePathsOfSeveralBouncesBringTheLightOffScreen) {
   const scene::Scene hall = scene::makeBuiltinScene("pillars");
   const scene::CameraPose camera = *hall.suggestedCamera;
@@ -951,7 +955,7 @@ TEST_F(GiTest, UpdatePathsOfSeveralBouncesBringTheLightOffScreen) {
     return share;
   };
   const double one = settledShare(1), three = settledShare(3);
-  EXPECT_GT(three, 0.6);
+  EXPECT_GT(three, 0.75);
   EXPECT_LT(three, 1.1);
   EXPECT_LT(one, 0.6 * three);
 }

@@ -52,6 +52,17 @@ SceneHit worldTraceClosest(vec3 origin, vec3 direction, uint purpose) {
   return sceneTraceClosest(origin, direction, 3.0e38f);
 }
 
+// What a world hit reflects towards the ray's origin of light arriving
+// evenly: its diffuse albedo and its specular reflectance. At most 1: the
+// model's white dielectric reflects a few per cent more (its Lambert lobe
+// is not reduced by the Fresnel term), and a loop of light through the
+// radiance cache must not gain.
+vec3 hitReflectance(SceneHit hit, vec3 direction) {
+  vec3 specular = specularReflectance(specularF0(hit.baseColor, hit.metallic), dot(hit.normal, -direction),
+                                      hit.roughness);
+  return min(hit.diffuseAlbedo + specular, vec3(1.0f));
+}
+
 // The radiance a world hit sends back along the ray, off screen: its
 // emission, the direct light the bridge computes, and the light arriving
 // by more bounces from the radiance cache (none without it). With
@@ -62,18 +73,25 @@ SceneHit worldTraceClosest(vec3 origin, vec3 direction, uint purpose) {
 // diffuse albedo of that and, for its specular lobe, which depends on the
 // light's direction the cell does not keep, its specular reflectance
 // towards the ray's origin (shared/brdf.glsl: what it reflects of light
-// arriving evenly): without it metals would reflect no direct light at
-// all (pillars' gold: 4 % less indirect diffuse).
+// arriving evenly). That holds for the cell's direct and indirect light
+// alike: without it metals would reflect no direct light at all (pillars'
+// gold: 4 % less indirect diffuse), and the light that reaches a diffuse
+// surface over a glossy one would be missing (the reference with diffuse
+// paths only has 17 % less on pillars, 14 % on the Breakfast Room).
 vec3 offscreenHitRadiance(SceneHit hit, vec3 direction, bool directFromCache) {
   vec3 radiance = hit.emission;
 #ifdef RADIANCE_CACHE
+  // The reflectance is worked out after the bridge's shadow ray, not
+  // before: held across the trace, its registers slowed
+  // gi.diffuse.world_candidates by 13 % (the Breakfast Room at 1080p on the
+  // H200, docs/benchmarks.md).
   vec3 indirect, direct;
-  if (cacheQueryLight(hit.position, hit.normal, indirect, direct) && directFromCache) {
-    vec3 specular = specularReflectance(specularF0(hit.baseColor, hit.metallic), dot(hit.normal, -direction),
-                                        hit.roughness);
-    radiance += hit.diffuseAlbedo * indirect + (hit.diffuseAlbedo + specular) * direct;
-  } else
-    radiance += sceneDirectRadiance(hit, -direction) + hit.diffuseAlbedo * indirect;
+  if (cacheQueryLight(hit.position, hit.normal, indirect, direct) && directFromCache)
+    radiance += hitReflectance(hit, direction) * (indirect + direct);
+  else {
+    radiance += sceneDirectRadiance(hit, -direction);
+    radiance += hitReflectance(hit, direction) * indirect;
+  }
 #else
   radiance += sceneDirectRadiance(hit, -direction);
 #endif

@@ -121,9 +121,10 @@ void main() {
       break;
     }
     // The light of this surface towards the one the ray left: its emission
-    // and its direct light (its diffuse and, for the direct light the cell
-    // keeps, its specular reflectance of light arriving evenly, as
-    // offscreenHitRadiance lights a world hit).
+    // and its direct light, and what it reflects of the light found further
+    // along (its diffuse and its specular reflectance of light arriving
+    // evenly, as offscreenHitRadiance lights a world hit: light that
+    // crosses a glossy surface on its way counts too).
     here = cacheFindOrMake(cacheKey(hit.position, hit.normal));
     vec3 direct;
     if (!cachedDirect(here, bounce == freshBounce, direct)) {
@@ -133,12 +134,11 @@ void main() {
         cacheAddDirectSample(here, direct);
       }
     }
-    vec3 specular = specularReflectance(specularF0(hit.baseColor, hit.metallic), dot(hit.normal, -direction),
-                                        hit.roughness);
-    vec3 emitted = hit.emission + (hit.diffuseAlbedo + specular) * direct;
+    vec3 reflectance = hitReflectance(hit, direction);
+    vec3 emitted = hit.emission + reflectance * direct;
     for (uint i = 0u; i < left; ++i) {
       path[i].arriving += path[i].throughput * emitted;
-      path[i].throughput *= hit.diffuseAlbedo;
+      path[i].throughput *= reflectance;
     }
     position = hit.position;
     normal = hit.normal;
