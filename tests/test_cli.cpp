@@ -121,6 +121,32 @@ TEST(Cli, UnknownDeviceIndexListsTheDevices) {
   EXPECT_NE(r.output.find("0: "), std::string::npos) << "the listing names device 0: " << r.output;
 }
 
+// The README's first command, `bounce render --out out`, on a machine
+// without a GPU: lavapipe (the tests' device, a CPU one) gets a smaller
+// size and fewer warm-up frames, said on the console, for what the
+// command line left unset; what it set is kept.
+TEST(Cli, RenderOnACpuDeviceChoosesASmallerSizeAndWarmUpForWhatIsUnset) {
+  const fs::path out = freshDirectory("render_quick_start");
+  Result r = run("render --gi off --out " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("(CPU)"), std::string::npos) << "the tests run on lavapipe: " << r.output;
+  EXPECT_NE(r.output.find("on a CPU device: 480x270 instead of 960x540"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("warm-up frames"), std::string::npos) << "no GI, no warm-up: " << r.output;
+  const bounce::io::ImageF image = bounce::io::readImage(out / "render.png");
+  EXPECT_EQ(image.width, 480);
+  EXPECT_EQ(image.height, 270);
+
+  r = run("render cornell --width 32 --height 18 --out " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("on a CPU device: 8 GI warm-up frames instead of 16"), std::string::npos) << r.output;
+  EXPECT_EQ(bounce::io::readImage(out / "render.png").width, 32) << "a size given is kept";
+
+  r = run("render cornell --width 32 --height 18 --gi-warmup 2 --out " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(r.output.find("on a CPU device"), std::string::npos) << "everything given: " << r.output;
+  fs::remove_all(out);
+}
+
 TEST(Cli, RenderWritesImagesStagesAndTimingsWithoutValidationMessages) {
   const fs::path out = freshDirectory("render");
   Result r =

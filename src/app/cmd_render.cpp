@@ -101,7 +101,8 @@ int runRender(const RenderOptions& options) {
   const bool gi = giEnabled(options.gi);
   const gi::Settings settings = gi ? giSettings(options.gi) : gi::Settings{};
 
-  const SceneOptions& shot = options.view;
+  SceneOptions shot = options.view;
+  GiOptions giOptions = options.gi;
   const scene::Scene scene = loadScene(shot);
   const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, shot);
   const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, 0, options.frames, shot);
@@ -109,8 +110,6 @@ int runRender(const RenderOptions& options) {
   rendererOptions.jitter = options.jitter;
 
   const bool everyFrame = options.frames > 1 || options.hdr;
-  const bool animate =
-      options.frames > 1 && double(shot.width) * double(shot.height) * options.frames <= kMaxAnimationPixels;
   // Every file this render writes, known before it starts: none may replace
   // an input, or a file in OUT that no Bounce run wrote. What an earlier
   // render left here and this one does not write again is removed, so the
@@ -130,16 +129,42 @@ int runRender(const RenderOptions& options) {
   if (options.dumpStages) filledFolders.push_back("stages");
   if (!options.aovs.empty()) filledFolders.push_back("aov");
   OutputFolder folder(outDir, "--out", options.overwrite);
-  const std::size_t removed = folder.prepare(outputs, filledFolders, inputFiles(scene, shot, &options.gi));
+  const std::size_t removed = folder.prepare(outputs, filledFolders, inputFiles(scene, shot, &giOptions));
   if (removed > 0)
     std::printf("removed %zu file%s an earlier render wrote in %s\n", removed, removed == 1 ? "" : "s", outDir.c_str());
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
+  // On a CPU device what the command line left unset is chosen smaller
+  // (kCpuQuickStart). Everything checked before the device opened holds
+  // for that size too: the camera's checks and the output files do not
+  // depend on it, and the aspect stays 16:9.
+  if (context->deviceInfo().type == "CPU" && (!options.sizeGiven || (gi && !options.warmupGiven))) {
+    std::string chosen, instead;
+    const auto add = [](std::string& list, const std::string& item) { list += (list.empty() ? "" : " and ") + item; };
+    if (!options.sizeGiven) {
+      add(instead, std::to_string(shot.width) + "x" + std::to_string(shot.height));
+      shot.width = kCpuQuickStart.width;
+      shot.height = kCpuQuickStart.height;
+      add(chosen, std::to_string(shot.width) + "x" + std::to_string(shot.height));
+    }
+    if (gi && !options.warmupGiven) {
+      add(instead, std::to_string(giOptions.warmup));
+      giOptions.warmup = kCpuQuickStart.warmup;
+      add(chosen, std::to_string(giOptions.warmup) + " GI warm-up frames");
+    }
+    rendererOptions.width = shot.width;
+    rendererOptions.height = shot.height;
+    std::printf(
+        "on a CPU device: %s instead of %s, to finish within a minute (--width, --height and --gi-warmup "
+        "choose)\n",
+        chosen.c_str(), instead.c_str());
+  }
+  const bool animate =
+      options.frames > 1 && double(shot.width) * double(shot.height) * options.frames <= kMaxAnimationPixels;
   render::requireFrameMemory(
       *context, shot.width, shot.height,
-      gi ? std::optional(std::pair(giContextDesc(shot.width, shot.height, options.gi), settings)) : std::nullopt,
-      false);
+      gi ? std::optional(std::pair(giContextDesc(shot.width, shot.height, giOptions), settings)) : std::nullopt, false);
   render::FrameRenderer renderer(*context, scene, rendererOptions);
   std::printf("scene: %s, %zu triangles, %zu textures\n", scene.name.c_str(), renderer.triangleCount(),
               scene.textures.size());
@@ -157,8 +182,8 @@ int runRender(const RenderOptions& options) {
   // The GI library on this device, through its public interface (render/gi_bridge.h).
   std::unique_ptr<render::GiBridge> giBridge;
   if (gi) {
-    giBridge = std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi),
-                                                  settings);
+    giBridge =
+        std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, giOptions), settings);
   }
   checkDeviceMemoryFits(*context, shot.width, shot.height);
   // What the frame is: the GI library's composite, or direct light alone.
@@ -172,12 +197,12 @@ int runRender(const RenderOptions& options) {
                        {.jitter = options.jitter, .captureStages = capture});
     previous = view;
   };
-  const bool warmUp = gi && options.gi.warmup > 0;
+  const bool warmUp = gi && giOptions.warmup > 0;
   if (warmUp) {
     // Light needs frames to bounce (each frame gathers the last one) and the
     // histories to fill: render them at the first camera, unseen.
-    ProgressBar warming("gi warm-up", options.gi.warmup);
-    for (std::uint32_t i = 0; i < options.gi.warmup; ++i) {
+    ProgressBar warming("gi warm-up", giOptions.warmup);
+    for (std::uint32_t i = 0; i < giOptions.warmup; ++i) {
       recordFrame(loop.beginFrame(), {cameraFrames[0].pose, 0.0f, i == 0}, false);
       loop.endFrame();
       warming.update(i + 1);

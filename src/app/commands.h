@@ -153,7 +153,20 @@ struct RenderOptions {
   std::vector<std::uint32_t> dumpFrames;  // empty = the last frame
   std::vector<std::uint32_t> cutFrames;   // frames flagged as camera cuts besides the path's own
   bool overwrite = false;                 // replace files in OUT that no Bounce run wrote
+  // Whether the command line set the size (--width or --height) and
+  // --gi-warmup: on a CPU device, what it left unset is chosen smaller
+  // (quickStartOnCpu).
+  bool sizeGiven = false;
+  bool warmupGiven = false;
 };
+// On a CPU device (lavapipe) a frame at the default size takes seconds: a
+// render that names neither size nor warm-up gets kCpuQuickStart's instead,
+// so that the README's first command shows a GI image within a minute on a
+// 2-core machine without a GPU.
+struct QuickStart {
+  std::uint32_t width, height, warmup;
+};
+constexpr QuickStart kCpuQuickStart{480, 270, 8};
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options);
 int runRender(const RenderOptions& options);
 

@@ -134,7 +134,11 @@ int main(int argc, char** argv) {
 
   try {
     if (infoCommand->parsed()) return runInfo(info);
-    if (renderCommand->parsed()) return runRender(render);
+    if (renderCommand->parsed()) {
+      render.sizeGiven = renderCommand->count("--width") + renderCommand->count("--height") > 0;
+      render.warmupGiven = renderCommand->count("--gi-warmup") > 0;
+      return runRender(render);
+    }
     if (benchCommand->parsed()) return runBench(bench);
     if (brdfVizCommand->parsed()) return runBrdfViz(brdfViz);
     if (compareCommand->parsed()) return runCompare(compare);
