@@ -939,12 +939,14 @@ TEST_F(GiTest, TheDenoiserLowersTheErrorOfASettledFrame) {
 // surface's specular reflectance as well as its diffuse albedo
 // (world_rays.glsl's hitReflectance): by the diffuse albedo alone, as
 // before, the gold pillars passed on none of the light that reached them
-// by bounces, and three bounces gave 0.72.
-TEST_F(GiTest, UpdatePathsOfSeveralBouncesBringTheLightOffScreen) {
-  const scene::Scene hall = scene::makeBuiltinScene("pillars");
-  const scene::CameraPose camera = *hall.suggestedCamera;
-  const double truth = meanLuminance(pillarsReference(context()));
-  const auto settledShare = [&](std::uint32_t bounces) {
+// by bounces, and three bounces gave 0.72. Two tests, one run each, so
+// that neither comes near a quarter of its timeout on a busy CI machine.
+class GiPillarsCache : public GiTest {
+ protected:
+  double settledShare(std::uint32_t bounces) {
+    const scene::Scene hall = scene::makeBuiltinScene("pillars");
+    const scene::CameraPose camera = *hall.suggestedCamera;
+    const double truth = meanLuminance(pillarsReference(context()));
     Settings settings;
     settings.cache.updateBounces = bounces;
     Run run = start(hall, settings, kPillarsWidth, kPillarsHeight, false, render::bvhSceneBridge());
@@ -953,11 +955,18 @@ TEST_F(GiTest, UpdatePathsOfSeveralBouncesBringTheLightOffScreen) {
     std::printf("pillars %ux%u, %u bounces a path: settled indirect diffuse %.3f of the reference\n", kPillarsWidth,
                 kPillarsHeight, bounces, share);
     return share;
-  };
-  const double one = settledShare(1), three = settledShare(3);
+  }
+};
+
+TEST_F(GiPillarsCache, UpdatePathsOfThreeBouncesBringTheLightOffScreen) {
+  const double three = settledShare(3);
   EXPECT_GT(three, 0.75);
   EXPECT_LT(three, 1.1);
-  EXPECT_LT(one, 0.6 * three);
+}
+
+TEST_F(GiPillarsCache, UpdatePathsOfOneBounceLeaveTheCellsOffScreenDark) {
+  // Below 0.6 of what three bounces reach (0.78 measured).
+  EXPECT_LT(settledShare(1), 0.45);
 }
 
 // Screen-only mode's policy (gi/screen_only_policy.glsl) gives the rays
