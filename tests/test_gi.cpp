@@ -965,7 +965,8 @@ TEST_F(GiPillarsCache, UpdatePathsOfThreeBouncesBringTheLightOffScreen) {
 }
 
 TEST_F(GiPillarsCache, UpdatePathsOfOneBounceLeaveTheCellsOffScreenDark) {
-  // Below 0.6 of what three bounces reach (0.78 measured).
+  // Below 0.6 of the least the other test lets three bounces reach (0.75;
+  // 0.78 measured).
   EXPECT_LT(settledShare(1), 0.45);
 }
 

@@ -49,6 +49,33 @@ void encodeVideo(const fs::path& framesDir, const fs::path& video, float fps) {
     std::printf("ffmpeg failed; frames stay as numbered PNGs in %s\n", framesDir.c_str());
 }
 
+// On a CPU device what the command line left unset (the size, the GI
+// warm-up) is chosen smaller, kCpuQuickStart's, and said on the console.
+// Whether anything changed.
+bool applyCpuQuickStart(const gpu::DeviceInfo& device, const RenderOptions& options, bool gi, SceneOptions& shot,
+                        GiOptions& giOptions) {
+  const bool size = !options.sizeGiven, warmup = gi && !options.warmupGiven;
+  if (device.type != "CPU" || (!size && !warmup)) return false;
+  std::string chosen, instead;
+  const auto add = [](std::string& list, const std::string& item) { list += (list.empty() ? "" : " and ") + item; };
+  if (size) {
+    add(instead, std::to_string(shot.width) + "x" + std::to_string(shot.height));
+    shot.width = kCpuQuickStart.width;
+    shot.height = kCpuQuickStart.height;
+    add(chosen, std::to_string(shot.width) + "x" + std::to_string(shot.height));
+  }
+  if (warmup) {
+    add(instead, std::to_string(giOptions.warmup));
+    giOptions.warmup = kCpuQuickStart.warmup;
+    add(chosen, std::to_string(giOptions.warmup) + " GI warm-up frames");
+  }
+  std::printf(
+      "on a CPU device: %s instead of %s, to finish within a minute (--width, --height and --gi-warmup "
+      "choose)\n",
+      chosen.c_str(), instead.c_str());
+  return true;
+}
+
 }  // namespace
 
 CLI::App* addRenderCommand(CLI::App& app, RenderOptions& options) {
@@ -135,30 +162,12 @@ int runRender(const RenderOptions& options) {
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
-  // On a CPU device what the command line left unset is chosen smaller
-  // (kCpuQuickStart). Everything checked before the device opened holds
-  // for that size too: the camera's checks and the output files do not
-  // depend on it, and the aspect stays 16:9.
-  if (context->deviceInfo().type == "CPU" && (!options.sizeGiven || (gi && !options.warmupGiven))) {
-    std::string chosen, instead;
-    const auto add = [](std::string& list, const std::string& item) { list += (list.empty() ? "" : " and ") + item; };
-    if (!options.sizeGiven) {
-      add(instead, std::to_string(shot.width) + "x" + std::to_string(shot.height));
-      shot.width = kCpuQuickStart.width;
-      shot.height = kCpuQuickStart.height;
-      add(chosen, std::to_string(shot.width) + "x" + std::to_string(shot.height));
-    }
-    if (gi && !options.warmupGiven) {
-      add(instead, std::to_string(giOptions.warmup));
-      giOptions.warmup = kCpuQuickStart.warmup;
-      add(chosen, std::to_string(giOptions.warmup) + " GI warm-up frames");
-    }
+  // Everything checked before the device opened holds for a quick-start
+  // size too: the camera's checks and the output files do not depend on
+  // it, and the aspect stays 16:9.
+  if (applyCpuQuickStart(context->deviceInfo(), options, gi, shot, giOptions)) {
     rendererOptions.width = shot.width;
     rendererOptions.height = shot.height;
-    std::printf(
-        "on a CPU device: %s instead of %s, to finish within a minute (--width, --height and --gi-warmup "
-        "choose)\n",
-        chosen.c_str(), instead.c_str());
   }
   const bool animate =
       options.frames > 1 && double(shot.width) * double(shot.height) * options.frames <= kMaxAnimationPixels;

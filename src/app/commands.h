@@ -155,7 +155,7 @@ struct RenderOptions {
   bool overwrite = false;                 // replace files in OUT that no Bounce run wrote
   // Whether the command line set the size (--width or --height) and
   // --gi-warmup: on a CPU device, what it left unset is chosen smaller
-  // (quickStartOnCpu).
+  // (kCpuQuickStart, below).
   bool sizeGiven = false;
   bool warmupGiven = false;
 };
