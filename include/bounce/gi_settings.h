@@ -216,7 +216,7 @@ struct InputSettings {
 struct CacheSettings {
   bool enabled = true;
   std::uint32_t memoryMib = 72;  // device memory for the cells at most (capacity: a power of two)
-  float cellSize = 0.02f;        // a cell's edge as a fraction of its distance to the camera (rounded to 2^k)
+  float cellSize = 0.04f;        // a cell's edge as a fraction of its distance to the camera (rounded to 2^k)
   std::uint32_t updateRays = 65536;   // closest-hit rays per frame of the update paths, at most
   std::uint32_t updateBounces = 3;    // surfaces each update path bounces off at most (1..4)
   std::uint32_t historySamples = 64;  // a cell's value averages at most this many samples
