@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -17,14 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "gi/denoise/denoiser.h"
-#include "gi/depth_pyramid.h"
-#include "gi/diffuse/diffuse_branch.h"
-#include "gi/frame_passes.h"
 #include "gi/image_table.h"
-#include "gi/light_change.h"
-#include "gi/screen_tiles.h"
-#include "gi/specular/specular_branch.h"
+#include "gi/unit_catalog.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -624,30 +619,106 @@ TEST(GiLayering, EachLayerIncludesOnlyWhatIsBelowIt) {
 
 namespace bounce::gi {
 
-// docs/passes.md lists every image of the library as the tables in the code
-// declare it (the tables make the images; the docs must not drift from them).
-TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
+namespace {
+
+// The table rows of docs/passes.md whose first cell names a library pass or
+// image ("| `gi.", as both tables write them): by the name in the first
+// cell's backticks, the whole line.
+std::multimap<std::string, std::string> libraryRows() {
   std::ifstream docs(std::string(BOUNCE_SOURCE_DIR) + "/docs/passes.md");
-  ASSERT_TRUE(docs) << "docs/passes.md is missing";
-  std::set<std::string> rows;
+  EXPECT_TRUE(docs) << "docs/passes.md is missing";
+  std::multimap<std::string, std::string> rows;
   for (std::string line; std::getline(docs, line);)
-    if (line.rfind("| `gi.", 0) == 0) rows.insert(line);
+    if (line.rfind("| `gi.", 0) == 0) rows.emplace(line.substr(3, line.find('`', 3) - 3), line);
+  return rows;
+}
+
+// Whether a name of docs/passes.md stands for a pass: the same, or a
+// family of passes written with an upper-case placeholder for one
+// dot-separated part (gi.denoise.SIGNAL.blur, gi.diffuse.reservoir_view.STAGE).
+bool namesPass(const std::string& documented, const std::string& pass) {
+  const auto parts = [](const std::string& name) {
+    std::vector<std::string> split(1);
+    for (char c : name) {
+      if (c == '.')
+        split.emplace_back();
+      else
+        split.back().push_back(c);
+    }
+    return split;
+  };
+  const std::vector<std::string> a = parts(documented), b = parts(pass);
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const bool placeholder =
+        !a[i].empty() && std::all_of(a[i].begin(), a[i].end(), [](char c) { return c >= 'A' && c <= 'Z'; });
+    if (!placeholder && a[i] != b[i]) return false;
+  }
+  return true;
+}
+
+// The second cell of a passes-table row: "`gi/diffuse/gather.comp`", perhaps with words after.
+std::string secondCell(const std::string& row) {
+  const std::size_t first = row.find(" | ");
+  const std::size_t second = row.find(" | ", first + 3);
+  return first == std::string::npos || second == std::string::npos ? "" : row.substr(first + 3, second - first - 3);
+}
+
+}  // namespace
+
+// docs/passes.md lists every pass every unit declares (gi/unit_catalog.h:
+// the environment, the frame, the pyramid, screen tiles, the light change,
+// the cache, both branches, the engine's signals, the denoiser) with the
+// shader it runs, and no pass that does not exist.
+TEST(GiDocs, PassesMdListsEveryPassOfEveryUnitWithItsShader) {
+  const std::multimap<std::string, std::string> rows = libraryRows();
+  // Image rows name images, not passes: only rows with a shader cell are passes.
+  std::map<std::string, std::string> passRows;
+  for (const auto& [name, row] : rows)
+    if (secondCell(row).find(".comp`") != std::string::npos) passRows.emplace(name, row);
+  std::set<std::string> documentedAndDeclared;
+  std::string problems;
+  std::size_t declared = 0;
+  for (const DeclaredUnit& unit : declaredUnits())
+    for (const gpu::PassDesc& pass : unit.passes) {
+      ++declared;
+      const auto row = std::find_if(passRows.begin(), passRows.end(),
+                                    [&](const auto& entry) { return namesPass(entry.first, pass.name); });
+      if (row == passRows.end()) {
+        problems += "no row for pass " + pass.name + " (unit " + unit.name + ")\n";
+        continue;
+      }
+      documentedAndDeclared.insert(row->first);
+      const std::string shader = "`" + pass.shader + ".comp`";
+      if (secondCell(row->second).rfind(shader, 0) != 0)
+        problems += "the row of " + row->first + " names another shader than " + shader + " (pass " + pass.name + ")\n";
+    }
+  EXPECT_GT(declared, 40u);
+  for (const auto& [name, row] : passRows)
+    if (!documentedAndDeclared.contains(name)) problems += "a row for " + name + ", which no unit declares\n";
+  EXPECT_TRUE(problems.empty()) << "docs/passes.md and the units' pass declarations differ:\n" << problems;
+}
+
+// docs/passes.md lists every image of the library as the tables in the code
+// declare it (the tables make the images; the docs must not drift from
+// them), the cache's debug views included, and no image that is not made.
+TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
+  const std::multimap<std::string, std::string> rows = libraryRows();
+  std::set<std::string> declared;
   std::string missing;
-  // The denoiser's and the engine signals' tables follow the signals: the
-  // library's two, as a context without ContextDesc::signals has them.
-  const SignalDesc librarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
-  ImageTableBuilder denoiseTable, engineSignalTable;
-  addDenoiseImages(denoiseTable, librarySignals);
-  for (const SignalDesc& signal : librarySignals) addEngineSignalImage(engineSignalTable, signal.name);
-  for (const std::span<const ImageSpec> table :
-       {frameImageTable(), diffuseImageTable(), specularImageTable(), denoiseTable.specs(), engineSignalTable.specs(),
-        std::span<const ImageSpec>(&DepthPyramid::spec(), 1), screenTilesImageTable(), lightChangeImageTable()})
-    for (const ImageSpec& spec : table) {
+  for (const DeclaredUnit& unit : declaredUnits())
+    for (const ImageSpec& spec : unit.images) {
+      declared.insert(std::string(spec.name));
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
                               gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +
                               (spec.debug ? "debug views only; " : "") + std::string(spec.purpose) + " |";
-      if (!rows.contains(row)) missing += row + "\n";
+      bool found = false;
+      for (auto [at, end] = rows.equal_range(std::string(spec.name)); at != end; ++at) found |= at->second == row;
+      if (!found) missing += row + "\n";
     }
+  for (const auto& [name, row] : rows)
+    if (row.find("| VK_FORMAT_") != std::string::npos && !declared.contains(name))
+      missing += "(a row for " + name + ", which no table declares)\n";
   EXPECT_TRUE(missing.empty()) << "docs/passes.md lacks these rows (or has them otherwise):\n" << missing;
 }
 

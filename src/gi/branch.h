@@ -61,8 +61,6 @@ class Branch {
   // (rgba16f: demodulated radiance, hit distance or 0): what the denoiser
   // takes; with the denoiser on, the branch records no temporal filter.
   virtual gpu::Image& resolved(std::uint64_t frameIndex) = 0;
-  // Every pass the branch may record, debug views included (for docs and tests).
-  virtual std::vector<gpu::PassDesc> passes() const = 0;
 };
 
 }  // namespace bounce::gi

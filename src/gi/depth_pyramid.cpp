@@ -110,6 +110,6 @@ ImageSet::Listed DepthPyramid::listed() { return {std::string(kPyramidSpec.name)
 
 const ImageSpec& DepthPyramid::spec() { return kPyramidSpec; }
 
-std::vector<gpu::PassDesc> DepthPyramid::passes() const { return {depthPyramidPass(), depthPyramidReducePass()}; }
+std::vector<gpu::PassDesc> DepthPyramid::passes() { return {depthPyramidPass(), depthPyramidReducePass()}; }
 
 }  // namespace bounce::gi

@@ -63,7 +63,8 @@ class DepthPyramid {
   ImageSet::Listed listed();
   static const ImageSpec& spec();
   // Every pass record() may record (for docs and tests).
-  std::vector<gpu::PassDesc> passes() const;
+  // Every pass the unit may record, debug views included (gi/unit_catalog.h).
+  static std::vector<gpu::PassDesc> passes();
 
  private:
   gpu::Context& context_;

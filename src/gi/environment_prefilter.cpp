@@ -75,6 +75,8 @@ constexpr VkFormat kEquirectFormats[] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMA
 
 }  // namespace
 
+std::vector<gpu::PassDesc> environmentPrefilterPasses() { return {downsampleDesc(), prefilterDesc()}; }
+
 std::uint32_t prefilteredMipCount(std::uint32_t height, std::uint32_t maxMipCount) {
   std::uint32_t levels = 1;
   while ((height >> levels) >= 8 && levels < maxMipCount) ++levels;

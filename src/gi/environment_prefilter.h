@@ -3,6 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
+
+#include "gpu/pass.h"
 
 namespace bounce::gi {
 
@@ -10,5 +13,8 @@ namespace bounce::gi {
 // down to a level 8 texels tall (so even roughness 1 keeps some shape), at
 // most maxMipCount, at least 1.
 std::uint32_t prefilteredMipCount(std::uint32_t height, std::uint32_t maxMipCount);
+
+// Both passes of the prefilter (gi/unit_catalog.h).
+std::vector<gpu::PassDesc> environmentPrefilterPasses();
 
 }  // namespace bounce::gi

@@ -83,6 +83,6 @@ void LightChange::record(gpu::Recorder& recorder, const FrameGroup& group, Engin
 
 gpu::Image& LightChange::verdict(std::uint64_t frameIndex) { return images_.current(kVerdict, frameIndex); }
 
-std::vector<gpu::PassDesc> LightChange::passes() const { return {lightChangeTilesPass(), lightChangeFramePass()}; }
+std::vector<gpu::PassDesc> LightChange::passes() { return {lightChangeTilesPass(), lightChangeFramePass()}; }
 
 }  // namespace bounce::gi

@@ -47,7 +47,8 @@ class LightChange {
   // This frame's verdict (gi.light_change), which passes bind as gIn_LightChange.
   gpu::Image& verdict(std::uint64_t frameIndex);
   ImageSet& images() { return images_; }
-  std::vector<gpu::PassDesc> passes() const;
+  // Every pass the unit may record, debug views included (gi/unit_catalog.h).
+  static std::vector<gpu::PassDesc> passes();
 
  private:
   ImageSet images_;

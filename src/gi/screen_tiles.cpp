@@ -75,6 +75,6 @@ std::vector<gpu::Bind> ScreenTiles::binds() {
   return {{"gIn_ScreenTiles", images_.current(kTiles, 0)}, {"gIn_ScreenBorder", images_.current(kBorder, 0)}};
 }
 
-std::vector<gpu::PassDesc> ScreenTiles::passes() const { return {screenTilesPass(), screenBorderPass()}; }
+std::vector<gpu::PassDesc> ScreenTiles::passes() { return {screenTilesPass(), screenBorderPass()}; }
 
 }  // namespace bounce::gi

@@ -44,7 +44,8 @@ class ScreenTiles {
   std::vector<gpu::Bind> binds();
   ImageSet& images() { return images_; }
   // Every pass record() records (for docs and tests).
-  std::vector<gpu::PassDesc> passes() const;
+  // Every pass the unit may record, debug views included (gi/unit_catalog.h).
+  static std::vector<gpu::PassDesc> passes();
 
  private:
   ImageSet images_;

@@ -161,7 +161,9 @@ std::vector<gpu::Bind> RadianceCache::binds() const {
           {"gCache_Radiance", *radiance_},     {"gCache_Touched", *touched_}, {"gCache_Counts", *counts_}};
 }
 
-std::vector<gpu::PassDesc> RadianceCache::passes() const { return {injectPass(), updatePass(), resolvePass(), viewPass()}; }
+std::span<const ImageSpec> cacheImageTable() { return kImages; }
+
+std::vector<gpu::PassDesc> RadianceCache::passes() { return {injectPass(), updatePass(), resolvePass(), viewPass()}; }
 
 void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosition[3], gpu::Image& previousDiffuse) {
   gpu::Recorder& recorder = frame.recorder;

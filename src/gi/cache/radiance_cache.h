@@ -37,6 +37,9 @@ std::uint32_t cacheUpdateStride(Extent renderSize, const CacheSettings& settings
 std::vector<gpu::ResourceDecl> cacheResources();
 gpu::ConstantsDecl cacheConstantsLayout();
 
+// The cache's debug views (captured frames only).
+std::span<const ImageSpec> cacheImageTable();
+
 class RadianceCache {
  public:
   RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
@@ -56,7 +59,8 @@ class RadianceCache {
   void recordEnd(const FrameState& frame);
   // The binds of cacheResources() for a pass that queries the cache.
   std::vector<gpu::Bind> binds() const;
-  std::vector<gpu::PassDesc> passes() const;
+  // Every pass the unit may record, debug views included (gi/unit_catalog.h).
+  static std::vector<gpu::PassDesc> passes();
 
  private:
   struct Passes;

@@ -102,9 +102,9 @@ Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSiz
 
 Denoiser::~Denoiser() = default;
 
-std::vector<gpu::PassDesc> Denoiser::passes() const {
+std::vector<gpu::PassDesc> Denoiser::passes(std::span<const SignalDesc> signals) {
   std::vector<gpu::PassDesc> all = {denoiseClassifyTilesPass()};
-  for (const SignalDesc& signal : signals_)
+  for (const SignalDesc& signal : signals)
     for (gpu::PassDesc desc : {denoisePrePass(signal.name), denoiseTemporalAccumulationPass(signal.name),
                                denoiseHistoryFixPass(signal.name), denoiseBlurPass(signal.name),
                                denoisePostBlurPass(signal.name), denoiseTemporalStabilizationPass(signal.name)})

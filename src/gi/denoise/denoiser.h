@@ -88,7 +88,8 @@ class Denoiser {
   // length), and last frame's.
   gpu::Image& result(std::size_t signal, std::uint64_t frameIndex);
   gpu::Image& previousResult(std::size_t signal, std::uint64_t frameIndex);
-  std::vector<gpu::PassDesc> passes() const;
+  // Every pass a denoiser of `signals` may record (gi/unit_catalog.h).
+  static std::vector<gpu::PassDesc> passes(std::span<const SignalDesc> signals);
 
  private:
   struct Passes;

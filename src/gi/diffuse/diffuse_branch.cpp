@@ -158,7 +158,7 @@ DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Ext
 
 DiffuseBranch::~DiffuseBranch() = default;
 
-std::vector<gpu::PassDesc> DiffuseBranch::passes() const {
+std::vector<gpu::PassDesc> DiffuseBranch::passes() {
   std::vector<gpu::PassDesc> list = {brightPixelsPass(),
                                      brightPixelsReducePass(),
                                      gatherPass(),

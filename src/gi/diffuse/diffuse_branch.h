@@ -67,7 +67,8 @@ class DiffuseBranch final : public Branch {
   // Last frame's result (what the radiance cache is filled from).
   gpu::Image& resolved(std::uint64_t frameIndex) override { return images_.current(kResolved, frameIndex); }
   gpu::Image& previousResult(std::uint64_t frameIndex) { return images_.previous(kFiltered, frameIndex); }
-  std::vector<gpu::PassDesc> passes() const override;
+  // Every pass the unit may record, debug views included (gi/unit_catalog.h).
+  static std::vector<gpu::PassDesc> passes();
 
   // Device memory of what the branch holds besides its images (counted in
   // GiContext::estimateMemoryBytes): with a bridge that traces, the rays

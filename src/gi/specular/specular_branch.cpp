@@ -87,7 +87,7 @@ SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, E
 
 SpecularBranch::~SpecularBranch() = default;
 
-std::vector<gpu::PassDesc> SpecularBranch::passes() const {
+std::vector<gpu::PassDesc> SpecularBranch::passes() {
   return {specularTracePass(),   specularWorldTracePass(),     specularTemporalReusePass(), specularSpatialReusePass(),
           specularResolvePass(), specularTemporalFilterPass(), specularValidationPass()};
 }

@@ -55,7 +55,8 @@ class SpecularBranch final : public Branch {
   gpu::Image& resolved(std::uint64_t frameIndex) override {
     return images_.current(kSpecularResolved, frameIndex);
   }
-  std::vector<gpu::PassDesc> passes() const override;
+  // Every pass the unit may record, debug views included (gi/unit_catalog.h).
+  static std::vector<gpu::PassDesc> passes();
 
   // Device memory of what the branch holds besides its images (counted
   // in GiContext::estimateMemoryBytes): the world-trace queue, with a
