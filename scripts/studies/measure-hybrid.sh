@@ -3,7 +3,7 @@
 # reference path tracer: the numbers of docs/quality.md, "Seeing beyond the
 # screen". Needs a GPU (hours on lavapipe).
 #
-#   scripts/measure-hybrid.sh OUT_DIR [SCENES_DIR]
+#   scripts/studies/measure-hybrid.sh OUT_DIR [SCENES_DIR]
 #
 # For cornell, pillars, sun-room and (when SCENES_DIR has them) Sponza and
 # the Breakfast Room at 640x360, at the default view and at frame 32 of the
@@ -13,10 +13,10 @@
 # each compared: indirect-diffuse mean / reference and relMSE, whole-frame
 # relMSE and HDR-FLIP. Writes OUT_DIR/summary.md.
 set -euo pipefail
-out=${1:?usage: scripts/measure-hybrid.sh OUT_DIR [SCENES_DIR]}
+out=${1:?usage: scripts/studies/measure-hybrid.sh OUT_DIR [SCENES_DIR]}
 scenes_dir=${2:-}
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 echo "| scene | view | indirect mean / ref: none, hybrid, unbiased | indirect relMSE: none, hybrid, hybrid no reuse, unbiased | frame relMSE: none, hybrid | frame FLIP: none, hybrid |" >> "$summary"
 echo "|---|---|---|---|---|---|" >> "$summary"

@@ -2,7 +2,7 @@
 # The specular branch against the reference path tracer: the numbers of
 # docs/quality.md, "Indirect specular". Needs a GPU (hours on lavapipe).
 #
-#   scripts/measure-specular.sh OUT_DIR [SCENES_DIR]
+#   scripts/studies/measure-specular.sh OUT_DIR [SCENES_DIR]
 #
 # For cornell, pillars, sun-room and (when SCENES_DIR has them) Sponza and
 # the Breakfast Room at 640x360, default view, frame 32: the reference
@@ -12,10 +12,10 @@
 # specular mean / reference and relMSE, whole-frame relMSE and HDR-FLIP with
 # and without the specular branch. Writes OUT_DIR/summary.md.
 set -euo pipefail
-out=${1:?usage: scripts/measure-specular.sh OUT_DIR [SCENES_DIR]}
+out=${1:?usage: scripts/studies/measure-specular.sh OUT_DIR [SCENES_DIR]}
 scenes_dir=${2:-}
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 echo "| scene | specular mean / ref: hybrid, no reuse, uniform, screen-only | specular relMSE: hybrid, no reuse, uniform, screen-only | frame relMSE: diffuse only, both | frame FLIP: diffuse only, both |" >> "$summary"
 echo "|---|---|---|---|---|" >> "$summary"

@@ -3,7 +3,7 @@
 # device memory against resolution and triangle count, hybrid and
 # screen-only. Needs a GPU.
 #
-#   scripts/measure-cost-curves.sh OUT_DIR [SCENES_DIR]
+#   scripts/studies/measure-cost-curves.sh OUT_DIR [SCENES_DIR]
 #
 # For every scene of measure-common.sh, `bounce bench` (--warmup 30 --frames
 # 150, defaults) at 1280x720, 1920x1080, 2560x1440 and 3840x2160 with the
@@ -12,10 +12,10 @@
 #   scripts/plot_cost_curves.py resolution docs/images/cost-resolution.svg OUT_DIR/*.json
 #   scripts/plot_cost_curves.py triangles docs/images/cost-triangles.svg OUT_DIR/*.json
 set -euo pipefail
-out=${1:?usage: scripts/measure-cost-curves.sh OUT_DIR [SCENES_DIR]}
+out=${1:?usage: scripts/studies/measure-cost-curves.sh OUT_DIR [SCENES_DIR]}
 scenes_dir=${2:-}
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 for entry in "${entries[@]}"; do
   IFS='|' read -r name scene lighting <<< "$entry"

@@ -2,7 +2,7 @@
 # Settings side by side against the reference path tracer: for choosing a
 # default by measurement. Needs a GPU.
 #
-#   scripts/measure-variants.sh OUT_DIR SCENES_DIR 'label|flags' ['label|flags' ...]
+#   scripts/studies/measure-variants.sh OUT_DIR SCENES_DIR 'label|flags' ['label|flags' ...]
 #
 # For every scene of measure-common.sh (SCENES_DIR may be ''), the
 # reference once, then `bounce render` (640x360, frame WARMUP: 32 unless the
@@ -11,12 +11,12 @@
 # diffuse mean / reference and relMSE, and the whole frame's HDR-FLIP.
 # Writes OUT_DIR/summary.md.
 set -euo pipefail
-out=${1:?usage: scripts/measure-variants.sh OUT_DIR SCENES_DIR 'label|flags' ...}
-scenes_dir=${2?usage: scripts/measure-variants.sh OUT_DIR SCENES_DIR 'label|flags' ...}
+out=${1:?usage: scripts/studies/measure-variants.sh OUT_DIR SCENES_DIR 'label|flags' ...}
+scenes_dir=${2?usage: scripts/studies/measure-variants.sh OUT_DIR SCENES_DIR 'label|flags' ...}
 shift 2
 [ $# -gt 0 ] || { echo "measure-variants.sh: no variants given ('label|flags')" >&2; exit 2; }
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 echo "| scene | variant | specular mean / ref | specular relMSE | diffuse mean / ref | diffuse relMSE | frame FLIP |" >> "$summary"
 echo "|---|---|---|---|---|---|---|" >> "$summary"

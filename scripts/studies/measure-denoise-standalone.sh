@@ -6,7 +6,7 @@
 # denoised to at most 1/10 of its input's relMSE after 32 frames. Needs a
 # GPU (an hour or more on lavapipe).
 #
-#   scripts/measure-denoise-standalone.sh OUT_DIR [SCENES_DIR]
+#   scripts/studies/measure-denoise-standalone.sh OUT_DIR [SCENES_DIR]
 #
 # For cornell, pillars, sun-room and (when SCENES_DIR has them) Sponza and
 # the Breakfast Room at 640x360 (WIDTH, HEIGHT), FRAMES frames (default 32)
@@ -18,13 +18,13 @@
 # OUT_DIR/summary.md (and each run's images and denoise.json in
 # OUT_DIR/SCENE/CAMERA/).
 set -euo pipefail
-out=${1:?usage: scripts/measure-denoise-standalone.sh OUT_DIR [SCENES_DIR]}
+out=${1:?usage: scripts/studies/measure-denoise-standalone.sh OUT_DIR [SCENES_DIR]}
 scenes_dir=${2:-}
 : "${REFERENCE_SPP:=512}"
 frames=${FRAMES:-32}
 frame_spp=${SPP:-1}
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 # "noisy denoised ratio" of one row (indirect diffuse, indirect specular,
 # frame) of the table bounce denoise prints.

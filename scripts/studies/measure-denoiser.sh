@@ -9,14 +9,14 @@
 # the filters' output and of the denoised output, and the ratio denoised /
 # undenoised (the bar: at most 1/3). Needs a GPU.
 #
-#   scripts/measure-denoiser.sh OUT_DIR SCENES_DIR
+#   scripts/studies/measure-denoiser.sh OUT_DIR SCENES_DIR
 #
 # Writes OUT_DIR/summary.md.
 set -euo pipefail
-out=${1:?usage: scripts/measure-denoiser.sh OUT_DIR SCENES_DIR}
-scenes_dir=${2?usage: scripts/measure-denoiser.sh OUT_DIR SCENES_DIR}
+out=${1:?usage: scripts/studies/measure-denoiser.sh OUT_DIR SCENES_DIR}
+scenes_dir=${2?usage: scripts/studies/measure-denoiser.sh OUT_DIR SCENES_DIR}
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 frame=$(printf 'frame%04d' 0)
 {

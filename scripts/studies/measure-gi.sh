@@ -3,7 +3,7 @@
 # the numbers of docs/quality.md and docs/benchmarks.md. Needs a GPU to
 # finish in minutes (a few hours on lavapipe).
 #
-#   scripts/measure-gi.sh OUT_DIR [SPONZA.gltf]
+#   scripts/studies/measure-gi.sh OUT_DIR [SPONZA.gltf]
 #
 # For cornell, sun-room and (when given) Sponza at 640x360:
 #   - references of the default view and of frame 32 of the dolly path;
@@ -17,7 +17,7 @@
 # BOUNCE overrides the binary, REFERENCE_SPP the references' samples, WIDTH
 # and HEIGHT the comparison size, BENCH=0 skips the timings.
 set -euo pipefail
-out=${1:?usage: scripts/measure-gi.sh OUT_DIR [SPONZA.gltf]}
+out=${1:?usage: scripts/studies/measure-gi.sh OUT_DIR [SPONZA.gltf]}
 sponza=${2:-}
 bounce=${BOUNCE:-./build/bounce}
 spp=${REFERENCE_SPP:-2048}

@@ -3,7 +3,7 @@
 # settings: the numbers of docs/benchmarks.md, "World rays" (issue 29).
 # Needs a GPU.
 #
-#   scripts/measure-world-rays.sh OUT_DIR SCENES_DIR 'label|flags' ['label|flags' ...]
+#   scripts/studies/measure-world-rays.sh OUT_DIR SCENES_DIR 'label|flags' ['label|flags' ...]
 #
 # For every scene of measure-common.sh (SCENES_DIR may be ''), per variant
 # (its flags added to the defaults):
@@ -17,12 +17,12 @@
 #            QUALITY=0 skips it; WARMUP changes the 64
 # Writes OUT_DIR/summary.md; each bench's JSON and log stay in OUT_DIR/NAME/.
 set -euo pipefail
-out=${1:?usage: scripts/measure-world-rays.sh OUT_DIR SCENES_DIR 'label|flags' ...}
-scenes_dir=${2?usage: scripts/measure-world-rays.sh OUT_DIR SCENES_DIR 'label|flags' ...}
+out=${1:?usage: scripts/studies/measure-world-rays.sh OUT_DIR SCENES_DIR 'label|flags' ...}
+scenes_dir=${2?usage: scripts/studies/measure-world-rays.sh OUT_DIR SCENES_DIR 'label|flags' ...}
 shift 2
 [ $# -gt 0 ] || { echo "measure-world-rays.sh: no variants given ('label|flags')" >&2; exit 2; }
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 echo "| scene | variant | whole GI ms (1080p) | world rays / pixel | frame FLIP | frame mean / ref | diffuse mean / ref | specular mean / ref |" >> "$summary"
 echo "|---|---|---:|---:|---:|---:|---:|---:|" >> "$summary"

@@ -2,7 +2,7 @@
 # The specular branch's studies of docs/quality.md ("Indirect specular:
 # rings, sampling, moving camera"). Needs a GPU (hours on lavapipe).
 #
-#   scripts/measure-specular-study.sh OUT_DIR rings|sampling|dolly
+#   scripts/studies/measure-specular-study.sh OUT_DIR rings|sampling|dolly
 #
 #   rings     pillars, default view: each gold ring's (roughness 0.2 to 1.0)
 #             indirect specular mean / reference and relMSE, at frame 1 and
@@ -20,11 +20,11 @@
 # REFERENCE_SPP (default 512), WIDTH x HEIGHT (640x360). Writes
 # OUT_DIR/summary.md.
 set -euo pipefail
-out=${1:?usage: scripts/measure-specular-study.sh OUT_DIR rings|sampling|dolly}
-study=${2:?usage: scripts/measure-specular-study.sh OUT_DIR rings|sampling|dolly}
+out=${1:?usage: scripts/studies/measure-specular-study.sh OUT_DIR rings|sampling|dolly}
+study=${2:?usage: scripts/studies/measure-specular-study.sh OUT_DIR rings|sampling|dolly}
 scenes_dir=
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 spp=${REFERENCE_SPP:-512}
 
 # "roughness ratio relMSE" per gold ring of pillars (objects 3 to 7, roughness 0.2 to 1.0).

@@ -9,18 +9,18 @@
 # uncovers at frames 32-39), each frame against a REFERENCE_SPP (default
 # 256) reference. Needs a GPU (hours on lavapipe).
 #
-#   scripts/measure-ghosting.sh OUT_DIR
+#   scripts/studies/measure-ghosting.sh OUT_DIR
 #
 # Extra `bounce ghosting` flags go in GHOSTING_FLAGS. Writes OUT_DIR/summary.md
 # (the verdicts, then every table) and each run's ghosting.json, ghosting.png
 # (error against frames since uncovered) and regions.png in
 # OUT_DIR/EVENT-SETTINGS/.
 set -euo pipefail
-out=${1:?usage: scripts/measure-ghosting.sh OUT_DIR}
+out=${1:?usage: scripts/studies/measure-ghosting.sh OUT_DIR}
 scenes_dir=""
 : "${REFERENCE_SPP:=256}"
 # shellcheck source=scripts/measure-common.sh
-source "$(dirname "$0")/measure-common.sh"
+source "$(dirname "$0")/../measure-common.sh"
 
 {
   echo "bounce ghosting: ${size[*]}, references $spp spp, seed 7 ${GHOSTING_FLAGS:-}"
