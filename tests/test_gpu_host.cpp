@@ -1,11 +1,14 @@
 // gpu/ logic that needs no device: shader reflection and timing statistics.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <stdexcept>
+#include <string>
 
 #include <spirv/unified1/spirv.hpp>
 
 #include "gi/gi_shaders.h"
+#include "gpu/constants_layout.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/error.h"
 #include "gpu/spirv_reflect.h"
@@ -19,6 +22,67 @@ const gpu::ReflectedBinding& bindingNamed(const gpu::ShaderReflection& r, const 
   for (const gpu::ReflectedBinding& b : r.bindings)
     if (b.name == name) return b;
   throw std::runtime_error("no binding " + name);
+}
+
+// A block of 40 members (the old macro's ceiling was 32; blocks of 24 and
+// more exist): every member listed, in order, with the compiler's offsets.
+struct FortyMembers {
+  float m0;
+  std::uint32_t m1;
+  float m2;
+  std::int32_t m3;
+  float m4;
+  std::uint32_t m5;
+  float m6;
+  std::int32_t m7;
+  float m8;
+  std::uint32_t m9;
+  float m10;
+  std::int32_t m11;
+  float m12;
+  std::uint32_t m13;
+  float m14;
+  std::int32_t m15;
+  float m16;
+  std::uint32_t m17;
+  float m18;
+  std::int32_t m19;
+  float m20;
+  std::uint32_t m21;
+  float m22;
+  std::int32_t m23;
+  float m24;
+  std::uint32_t m25;
+  float m26;
+  std::int32_t m27;
+  float m28;
+  std::uint32_t m29;
+  float m30;
+  std::int32_t m31;
+  float m32;
+  std::uint32_t m33;
+  float m34;
+  std::int32_t m35;
+  float m36;
+  std::uint32_t m37;
+  float m38;
+  std::int32_t m39;
+};
+
+TEST(ConstantsLayout, ListsEveryMemberOfALongBlockInOrder) {
+  const gpu::ConstantsDecl decl = BOUNCE_CONSTANTS_LAYOUT(
+      "gIn_Long", FortyMembers, m0, m1, m2, m3, m4, m5, m6, m7, m8, m9, m10, m11, m12, m13, m14, m15, m16, m17, m18,
+      m19, m20, m21, m22, m23, m24, m25, m26, m27, m28, m29, m30, m31, m32, m33, m34, m35, m36, m37, m38, m39);
+  EXPECT_EQ(decl.binding, "gIn_Long");
+  EXPECT_EQ(decl.type, "FortyMembers");
+  EXPECT_EQ(decl.size, sizeof(FortyMembers));
+  ASSERT_EQ(decl.members.size(), 40u);
+  for (std::size_t i = 0; i < decl.members.size(); ++i) {
+    const std::string expected = std::string("m").append(std::to_string(i));
+    EXPECT_EQ(decl.members[i].name, expected);
+    EXPECT_EQ(decl.members[i].offset, 4 * i);
+    EXPECT_EQ(decl.members[i].size, 4u);
+  }
 }
 
 TEST(Reflection, ReadsNamesBindingsKindsFormatsAccessAndSizes) {
