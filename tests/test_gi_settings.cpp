@@ -617,6 +617,30 @@ TEST(GiLayering, EachLayerIncludesOnlyWhatIsBelowIt) {
   EXPECT_GT(scanned, 40);
 }
 
+// The orchestrator talks to its units through their interface: no cast to
+// a concrete unit anywhere in the library (a new branch must not need one).
+TEST(GiLayering, NoCastToAConcreteUnitInTheLibrary) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(BOUNCE_SOURCE_DIR) / "src/gi";
+  std::string found;
+  int scanned = 0;
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file()) continue;
+    ++scanned;
+    std::ifstream file(entry.path());
+    std::string line;
+    for (int number = 1; std::getline(file, line); ++number)
+      for (const char* unit : {"DiffuseBranch", "SpecularBranch", "RadianceCache", "Denoiser", "Branch"})
+        for (const char* cast : {"static_cast<", "dynamic_cast<", "reinterpret_cast<"})
+          if (line.find(std::string(cast) + unit + "&") != std::string::npos ||
+              line.find(std::string(cast) + unit + "*") != std::string::npos ||
+              line.find(std::string(cast) + "const " + unit) != std::string::npos)
+            found += entry.path().string() + ":" + std::to_string(number) + ": " + line + "\n";
+  }
+  EXPECT_GT(scanned, 40);
+  EXPECT_TRUE(found.empty()) << "casts to a concrete unit:\n" << found;
+}
+
 namespace bounce::gi {
 
 namespace {

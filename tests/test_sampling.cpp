@@ -442,7 +442,7 @@ TEST(GgxVisibleNormals, ReflectionsMatchPdfGgxReflection) {
 // Tolerances on f cos / pdf allow for it (the tests print what they meet).
 float ggxDRoundingTolerance(float alpha) { return alpha < 0.04f ? 0.25f : 1e-3f; }
 
-// seed 000's estimator: f cos / pdf of a VNDF reflection is F G2 / G1.
+// the Jitter gi pass's specular estimator: f cos / pdf of a VNDF reflection is F G2 / G1.
 TEST(GgxVisibleNormals, ReflectionWeightIsBrdfCosineOverPdf) {
   uint state = 5u;
   const glm::vec3 n(0, 0, 1);

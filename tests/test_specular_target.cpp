@@ -1,9 +1,9 @@
 // CPU tests of shaders/shared/specular_target.glsl: the specular branch's
-// sampling and target functions. A VNDF sample's f cos / pdf is seed 000's
+// sampling and target functions. A VNDF sample's f cos / pdf is the Jitter gi pass's
 // F G2 / G1; its estimator integrates the lobe (white furnace against an
 // independent uniform-hemisphere estimate); the uniform-cone target ignores
 // the view inside the cone and rejects outside it; the resolve's geometric
-// coverage test agrees with the target being positive; seed 003's two-level
+// coverage test agrees with the target being positive; Zyanide's two-level
 // resampling (view-independent reservoirs, then a disposable one with the
 // BRDF target) converges to the lobe integral over the cone; the resolve's
 // sample count and the reuse footprint behave at the ends.

@@ -63,7 +63,7 @@ struct DiffuseSettings {
   bool jacobian = true;                 // ReSTIR GI's reconnection Jacobian for reused samples
   // Which reservoirs the next frame's temporal reuse starts from: false,
   // those after temporal reuse (as the ReSTIR GI paper does); true, those
-  // after the second spatial pass (seed 001's feedback point). Measured on a
+  // after the second spatial pass (the Jitter gi pass's feedback point). Measured on a
   // floor lit by a wall, the spatial feedback darkens indirect diffuse by a
   // quarter at M cap 20 (docs/gi.md), so it is off by default.
   bool spatialFeedback = false;
@@ -101,11 +101,11 @@ struct DiffuseSettings {
 
 // How the specular branch draws its one ray per pixel and frame.
 enum class SpecularSampling : std::uint32_t {
-  // GGX visible normals around the pixel's normal and view (seed 000); the
+  // GGX visible normals around the pixel's normal and view (the Jitter gi pass's specular ReSTIR); the
   // target function is the real BRDF times cos times the radiance.
   Vndf = 0,
   // Uniform over a cone around the lobe's dominant direction, with the
-  // view-independent target p-hat = radiance (seed 003): the stored
+  // view-independent target p-hat = radiance (Zyanide's uniform-lobe reservoirs): the stored
   // reservoirs survive a change of view; the resolve resamples them with the
   // real BRDF (the disposable reservoir). Samples that leave the lobe of the
   // surface reusing them are rejected.
@@ -119,7 +119,8 @@ enum class SpecularReprojection : std::uint32_t {
   Dual = 2,     // both, blended by roughness and by how well each agrees with this frame
 };
 
-// The specular branch (seeds 000 and 003; docs/gi.md, "Indirect specular").
+// The specular branch (the Jitter gi pass's specular ReSTIR and Zyanide's uniform-lobe reservoirs; docs/gi.md,
+// "Indirect specular").
 struct SpecularSettings {
   bool enabled = true;
 
@@ -127,7 +128,7 @@ struct SpecularSettings {
   SpecularSampling sampling = SpecularSampling::Vndf;
   // Uniform sampling: the cone holds this fraction of the lobe's microfacet normals.
   float lobeFraction = 0.9f;
-  // Below this perceptual roughness no reservoir is reused (seed 003): a
+  // Below this perceptual roughness no reservoir is reused (Zyanide's uniform-lobe reservoirs): a
   // near-mirror's lobe is too narrow for another pixel's or frame's sample
   // to land in it; each pixel keeps its own ray.
   float reuseMinRoughness = 0.25f;
@@ -135,7 +136,7 @@ struct SpecularSettings {
   float traceThickness = 0.03f;      // depth-buffer surfaces are this fraction of their viewZ thick
 
   // --- temporal reuse (half resolution), fed back before spatial reuse
-  std::uint32_t temporalMaxM = 4;  // seed 000: reflections must react fast
+  std::uint32_t temporalMaxM = 4;  // the Jitter gi pass: reflections must react fast
   float temporalDepthTolerance = 0.05f;
   float temporalNormalToleranceDegrees = 25.0f;
 

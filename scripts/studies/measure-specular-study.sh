@@ -8,7 +8,7 @@
 #             indirect specular mean / reference and relMSE, at frame 1 and
 #             frame 32, with reuse and without (--gi.restir off).
 #   sampling  pillars along the orbit path, 32 frames from a cold start:
-#             VNDF reservoirs against seed 003's uniform reservoirs with a
+#             VNDF reservoirs against Zyanide's uniform-lobe reservoirs with a
 #             disposable BRDF-target one, per ring, at frame 32 (the view
 #             changed every frame).
 #   dolly     sun-room along the dolly path (--fps 8: 16 frames move the

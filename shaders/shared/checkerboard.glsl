@@ -1,5 +1,5 @@
 // The denoiser's checkerboard input (gi.denoise.checkerboard; NRD REBLUR's
-// checkerboard mode, seed 004 §3.2.2): an engine traces every other pixel
+// checkerboard mode, the REBLUR analysis, §3.2.2): an engine traces every other pixel
 // of each row, alternating from row to row and from frame to frame, and
 // hands the samples packed into an image half as wide. Which pixel holds a
 // sample, and where it is stored, are decided here once for the library's

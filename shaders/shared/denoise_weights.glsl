@@ -109,7 +109,7 @@ vec3 virtualPoint(vec3 x, vec3 viewDirection, float cosView, float hitDistance, 
   return x + viewDirection * thinLensImageDistance(cosView, hitDistance, curvature) * dominantFactor;
 }
 
-// Reflection (virtual) motion against surface motion (seed 000's
+// Reflection (virtual) motion against surface motion (the Jitter gi pass's
 // dual-source reprojection): the prior for the virtual history, 1 on a
 // mirror (its reflection swims over the surface with the view), 0 on rough
 // surfaces (their reflection sticks to the surface).

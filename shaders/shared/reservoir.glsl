@@ -78,7 +78,7 @@ bool reservoirStream(INOUT(Reservoir) r, vec3 position, vec3 normal, vec3 radian
 }
 
 // The scalar brightness the target function weighs: luminance, or the
-// length of the colour vector (seed 001) for targetFunction 1.
+// length of the colour vector (the Jitter gi pass's diffuse ReSTIR) for targetFunction 1.
 float targetBrightness(vec3 radiance, uint targetFunction) {
   return targetFunction == 1u ? length(radiance) : luminance(radiance);
 }

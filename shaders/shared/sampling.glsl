@@ -41,7 +41,7 @@
 //   sampleSpecularLobeUniform(axis, halfAngle, u)          world space direction
 //   pdfSpecularLobeUniform(halfAngle)   1 / (2 pi (1 - cos halfAngle)) inside the cone
 //   isInSpecularLobe(axis, halfAngle, direction)           the membership test a reused sample must pass
-// GGX dominant direction (Lagarde and de Rousiers 2014, seed 004's appendix):
+// GGX dominant direction (Lagarde and de Rousiers 2014, the REBLUR analysis, appendix):
 //   ggxDominantFactor(alpha)            lerp factor from n (rough) to the mirror direction (smooth)
 //   ggxDominantDirection(n, v, alpha)   normalize(mix(n, reflect(-v, n), factor))
 // Sample sequences, each returning a point of [0, 1)^2:
@@ -168,7 +168,7 @@ float pdfGgxReflection(vec3 viewLocal, vec3 lightLocal, float alpha) {
 
 // f cos / pdf of a VNDF-sampled reflection: D and the 4 v.n cancel, leaving
 // Fresnel times the share of the visible microfacets that also see the light.
-// At most 1, with no pdf to divide by: seed 000's weight for reservoir samples.
+// At most 1, with no pdf to divide by: the Jitter gi pass's weight for reservoir samples.
 vec3 ggxReflectionWeight(vec3 f0, float vDotH, float nDotL, float nDotV, float alpha) {
   if (nDotL <= 0.0f || nDotV <= 0.0f) return vec3(0.0f);
   return fresnelSchlick(f0, vDotH) * (smithG2(nDotL, nDotV, alpha) / smithG1(nDotV, alpha));
@@ -298,7 +298,7 @@ bool isInSpecularLobe(vec3 axis, float halfAngle, vec3 direction) {
 // --- GGX dominant direction
 
 // Lagarde and de Rousiers, "Moving Frostbite to PBR" (2014), the reference
-// seed 004 gives for REBLUR's dominant direction (REBLUR also has fits that
+// the REBLUR analysis gives for REBLUR's dominant direction (REBLUR also has fits that
 // depend on n.v; this one depends on alpha alone): the peak of the GGX BRDF
 // times cos moves from the mirror direction towards the normal as the
 // surface gets rougher.

@@ -1,4 +1,4 @@
-// The specular branch's reservoirs (seeds 000 and 003): the same 32-byte
+// The specular branch's reservoirs (the Jitter gi pass's specular ReSTIR and Zyanide's uniform-lobe reservoirs): the same 32-byte
 // Reservoir as the diffuse branch (shared/reservoir.glsl: the hit point, its
 // normal and radiance, or a direction into the environment), weighed by
 // target functions of the glossy surface that shades them. One source for
@@ -129,7 +129,7 @@ bool sampleSpecularDirection(GlossySurface s, uint sampling, float lobeFraction,
 
 // How many reservoirs the resolve evaluates at this roughness: one for a
 // mirror (its lobe holds no other pixel's sample), rising linearly to
-// maxSamples at fullRoughness (seed 000's wish: rough lobes need more).
+// maxSamples at fullRoughness (the Jitter gi pass's wish: rough lobes need more).
 uint resolveSampleCount(float perceptualRoughness, uint maxSamples, float fullRoughness) {
   float t = clamp(perceptualRoughness / max(fullRoughness, 1e-4f), 0.0f, 1.0f);
   return clamp(uint(floor(1.0f + t * float(maxSamples - 1u) + 0.5f)), 1u, maxSamples);

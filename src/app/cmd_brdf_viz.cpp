@@ -1,5 +1,5 @@
-// bounce brdf-viz: animated plots of the material model (seed 002's
-// pictures): how reflectance, the sampling pdf and the samples themselves
+// bounce brdf-viz: animated plots of the material model (the pictures of the
+// microfacet write-up "A new shiny specular BRDF"): how reflectance, the sampling pdf and the samples themselves
 // spread over the hemisphere as roughness sweeps 0..1 at a fixed view, and
 // as the view sweeps to grazing at fixed roughness. Each frame is labelled
 // with its parameters; the animations are written as APNG. The plots

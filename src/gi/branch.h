@@ -57,6 +57,12 @@ class Branch {
   // This frame's result, which the composite reads (demodulated radiance)
   // when the denoiser is off.
   virtual gpu::Image& result(std::uint64_t frameIndex) = 0;
+  // Last frame's result (what the radiance cache is filled from when no
+  // denoiser takes the signal).
+  virtual gpu::Image& previousResult(std::uint64_t frameIndex) = 0;
+  // Whether this frame's passes march the depth pyramid (Hi-Z traces):
+  // GiContext builds it only for a branch that does.
+  virtual bool marchesDepthPyramid() const { return false; }
   // This frame's resolved signal before the branch's own temporal filter
   // (rgba16f: demodulated radiance, hit distance or 0): what the denoiser
   // takes; with the denoiser on, the branch records no temporal filter.

@@ -248,8 +248,6 @@ struct GiContext::Impl {
       logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps, scene.traces()));
   }
 
-  DiffuseBranch& diffuse() { return static_cast<DiffuseBranch&>(*branches[0]); }
-  SpecularBranch& specular() { return static_cast<SpecularBranch&>(*branches[1]); }
   // The branch that makes a library signal (kDiffuseSignal, kSpecularSignal).
   Branch& branchOf(SignalId signal) { return *branches[signal]; }
   bool branchEnabled(SignalId signal) const { return gi::branchEnabled(settings, signal); }
@@ -260,9 +258,14 @@ struct GiContext::Impl {
             branchEnabled(kSpecularSignal) && !given[kSpecularSignal]};
   }
   std::uint64_t current() const { return recorded == 0 ? 0 : recorded - 1; }
-  // Only the specular trace marches the pyramid (the diffuse visibility
-  // marches read gi.march_depth pixel by pixel).
-  bool needsDepthPyramid() const { return settings.specular.enabled && settings.specular.traceSteps > 0; }
+  // The pyramid is built when a running branch marches it (today the
+  // specular trace; the diffuse visibility marches read gi.march_depth pixel
+  // by pixel).
+  bool needsDepthPyramid(const std::array<bool, kLibrarySignalCount>& running) const {
+    for (const SignalId signal : {kDiffuseSignal, kSpecularSignal})
+      if (running[signal] && branches[signal]->marchesDepthPyramid()) return true;
+    return false;
+  }
 
   // Everything that can be refused, before anything is recorded; returns
   // the frame's noisy signals (noisyInputsOf), checked.
@@ -400,8 +403,7 @@ struct GiContext::Impl {
                         engine.has(Input::MaterialId) ? engine[Input::MaterialId]
                                                       : frameImages.previous(kHistorySurface, f),
                         context->nearestSampler()}});
-    // The specular trace is the pyramid's one reader.
-    pyramidBuilt = needsDepthPyramid() && running[kSpecularSignal];
+    pyramidBuilt = needsDepthPyramid(running);
     if (pyramidBuilt) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
     // Screen-only mode's answer for rays screen space cannot decide, from
     // this frame's direct light (with a bridge that traces, world rays answer them).
@@ -437,7 +439,7 @@ struct GiContext::Impl {
       const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
       cache.recordBegin(state, glm::value_ptr(cameraPosition),
                         denoiser && settings.diffuse.enabled ? denoiser->previousResult(kDiffuseSignal, f)
-                                                             : diffuse().previousResult(f));
+                                                             : branchOf(kDiffuseSignal).previousResult(f));
     }
     // A branch whose signal the engine gives records nothing; one that is
     // disabled records the clearing of its result (what the composite reads).

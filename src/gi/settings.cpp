@@ -209,8 +209,8 @@ constexpr std::array kEntries{
     Entry{"diffuse.jacobian", inDiffuse(&DiffuseSettings::jacobian), kNoBounds,
           "apply ReSTIR GI's reconnection Jacobian to reused samples"},
     Entry{"diffuse.spatial_feedback", inDiffuse(&DiffuseSettings::spatialFeedback), kNoBounds,
-          "the next frame's temporal reuse starts from the spatially reused reservoirs (seed 001) instead of the "
-          "temporal ones"},
+          "the next frame's temporal reuse starts from the spatially reused reservoirs (the Jitter gi pass's "
+          "diffuse ReSTIR) instead of the temporal ones"},
     Entry{"diffuse.resolve_reservoirs", inDiffuse(&DiffuseSettings::resolveReservoirs), closed(1, 4),
           "resolve: neighbouring half-resolution reservoirs each full-resolution pixel evaluates"},
     Entry{"diffuse.visibility_steps", inDiffuse(&DiffuseSettings::visibilitySteps), closed(0, 256),
@@ -238,7 +238,7 @@ constexpr std::array kEntries{
     Entry{"specular.sampling", inSpecular(&SpecularSettings::sampling), kNoBounds,
           "how each pixel's ray is drawn: vndf (GGX visible normals, target BRDF * cos * radiance) or uniform (a cone "
           "around the lobe's dominant direction, view-independent target = radiance, resampled with the BRDF at the "
-          "resolve; seed 003)"},
+          "resolve; Zyanide's uniform-lobe reservoirs)"},
     Entry{"specular.lobe_fraction", inSpecular(&SpecularSettings::lobeFraction), open(0, 1),
           "uniform sampling: the cone holds this fraction of the lobe's microfacet normals"},
     Entry{"specular.reuse_min_roughness", inSpecular(&SpecularSettings::reuseMinRoughness), closed(0, 1),

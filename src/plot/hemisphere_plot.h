@@ -1,4 +1,5 @@
-// Hemisphere plots of the material model (seed 002's pictures): the upper
+// Hemisphere plots of the material model (the pictures of the
+// microfacet write-up "A new shiny specular BRDF"): the upper
 // hemisphere of light directions drawn as a disk on a Canvas, coloured by a
 // value the shared material functions give for each direction (f cos, the
 // sampling pdf) or marked where samples land. The values come from the same

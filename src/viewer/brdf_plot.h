@@ -1,7 +1,7 @@
 // The material editor's BRDF plots: brdf-viz's three hemisphere plots of one
 // material (plot/hemisphere_plot.h) as one RGBA8 image that the viewer draws
-// beside the editor and refines a little every frame, as seed 002's
-// raydiance re-renders its material preview progressively.
+// beside the editor and refines a little every frame, as the microfacet write-up
+// "A new shiny specular BRDF" says raydiance re-renders its material preview progressively.
 //
 // Panels, left to right: "f cos" (luminance of f cos over light directions)
 // and "pdf" (sampleMaterial's pdf), both evaluated per pixel, and "samples":

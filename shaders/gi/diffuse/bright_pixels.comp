@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // gi.diffuse.bright_pixels: the first step of the bright-pixel pyramid
-// (seed 001): each 2x2 tile of the previous composited frame keeps its
+// (the Jitter gi pass's diffuse ReSTIR): each 2x2 tile of the previous composited frame keeps its
 // brightest pixel, as (brightness, pixel x, pixel y, 1), or 0 when the tile
 // is all background. gi.diffuse.bright_pixels_reduce repeats the step until
 // a handful of the frame's brightest pixels remain.

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // gi.diffuse.gather: one reservoir per half-resolution pixel, from three
-// kinds of candidates (seed 001, "Sample gathering" and "Sample weighting"):
+// kinds of candidates (the Jitter gi pass's diffuse ReSTIR, "Sample gathering" and "Sample weighting"):
 //   screen       uniformly random pixels of the previous composited frame:
 //                a surface that sent that radiance towards the camera, and
 //                (Lambert) towards us; the feedback that makes multiple bounces;

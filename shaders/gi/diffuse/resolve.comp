@@ -4,7 +4,7 @@
 // evaluates the samples of up to four neighbouring half-resolution
 // reservoirs at its own surface: radiance * cos / pi * W, times the
 // reconnection Jacobian from the reservoir's surface to this one, times the
-// sample's visibility (the deferred visibility test of seed 001) as
+// sample's visibility (the deferred visibility test of the Jitter gi pass) as
 // gi.diffuse.visibility says: a short screen-space march (screen), an
 // any-hit ray through the scene bridge (world), or the march, trusting
 // gi.diffuse.sample_visibility's ray from the reservoir's own surface where

@@ -6,7 +6,7 @@
 // (depth and normal). Its luminance is clamped to the pixel's fast history
 // (an average of about kFastFrames frames) +- gamma * sigma, sigma the
 // pixel's temporal deviation over the long history (luminance moments kept
-// with the history, as SVGF does; gamma is seed 001's
+// with the history, as SVGF does; gamma is the Jitter gi pass's
 // variance_clipping_gamma_DIF): where light changes, the fast history
 // moves within a few frames and drags the long one along. The clamp is
 // centred on the fast history, not on the current 3x3 neighbourhood

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.specular.resolve: indirect specular at full resolution (seed 000,
+// gi.specular.resolve: indirect specular at full resolution (the Jitter gi pass's specular ReSTIR,
 // "ReSTIR resolve"). A pixel evaluates a roughness-dependent number of
 // reservoirs (shared/specular_target.glsl, resolveSampleCount: one for a
 // mirror, up to gi.specular.resolve_max_samples for rough surfaces): its own
@@ -15,8 +15,8 @@
 //     the reservoirs could have produced it), as the diffuse resolve does.
 //   - Uniform sampling: the reservoirs (view-independent targets) are
 //     resampled into one disposable reservoir with this pixel's real BRDF
-//     target p-hat' = luminance(f cos L) (seed 003), which shades it.
-// No occlusion test (seed 000). The output is demodulated, divided by the
+//     target p-hat' = luminance(f cos L) (Zyanide's uniform-lobe reservoirs), which shades it.
+// No occlusion test (the Jitter gi pass's specular ReSTIR). The output is demodulated, divided by the
 // specular reflectance specularReflectance() gives (the composite
 // multiplies it back, the reference divides by the same function); alpha is
 // the hit distance (the contributions' luminance-weighted mean), which the

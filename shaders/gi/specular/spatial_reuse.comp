@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // gi.specular.spatial_reuse: merges each pixel's reservoir with a few
-// neighbours' (seed 000) taken in a disk of the surface's tangent plane
+// neighbours' (the Jitter gi pass's specular ReSTIR) taken in a disk of the surface's tangent plane
 // whose radius is the lobe's footprint: the hit distance times the tangent
 // of the cone holding most of the lobe (nothing for a mirror, wide for a
 // rough surface far from what it reflects), at most

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // gi.specular.temporal_filter: blends this frame's indirect specular with
-// its history, fetched twice (seed 000's dual-source reprojection):
+// its history, fetched twice (the Jitter gi pass's dual-source reprojection):
 //   surface  through the motion vectors, where the surface itself was: right
 //            for rough surfaces, whose reflection sticks to the surface;
 //   virtual  where the reflected image was: the hit seen in the mirror lies

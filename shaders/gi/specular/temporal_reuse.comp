@@ -11,7 +11,7 @@
 // the target ignores the view, and a sample that left this frame's cone is
 // rejected). A reused sample that last frame's screen shows takes the
 // radiance it sends now. Surfaces smoother than
-// gi.specular.reuse_min_roughness keep their fresh reservoir alone (seed 003).
+// gi.specular.reuse_min_roughness keep their fresh reservoir alone (Zyanide's uniform-lobe reservoirs).
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 

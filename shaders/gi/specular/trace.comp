@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.specular.trace: one ray per half-resolution pixel and frame (seed 000,
+// gi.specular.trace: one ray per half-resolution pixel and frame (the Jitter gi pass's specular ReSTIR,
 // "Sample gathering"), its direction drawn from the specular lobe
 // (gi.specular.sampling: GGX visible normals, or uniformly in a cone; seed
 // 003) with the pixel's own cycle through the first 64 Halton (2, 3) points

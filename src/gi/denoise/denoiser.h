@@ -1,5 +1,5 @@
-// The denoiser (docs/gi.md, "The denoiser"): NVIDIA's REBLUR as seed 004
-// walks through it, for any number of noisy signals of a frame, each of a
+// The denoiser (docs/gi.md, "The denoiser"): NVIDIA's REBLUR as an analysis of its
+// source walks through it, for any number of noisy signals of a frame, each of a
 // kind its producer declares (gi::SignalKind: diffuse-like, or specular-like
 // with roughness, hit distance and reflection motion). It sees the frame's
 // surfaces (viewZ, normal, roughness), the motion vectors and last frame's

@@ -1,4 +1,4 @@
-// The diffuse branch (seed 001): screen-space ReSTIR GI at half resolution,
+// The diffuse branch (the Jitter gi pass's diffuse ReSTIR): screen-space ReSTIR GI at half resolution,
 // resolved at full resolution with screen-space visibility, then a
 // temporal filter. Its passes, in order:
 //   gi.diffuse.bright_pixels(_reduce)  the last frame's brightest pixels, 2x2 -> 1 per level
@@ -66,7 +66,7 @@ class DiffuseBranch final : public Branch {
   gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kFiltered, frameIndex); }
   // Last frame's result (what the radiance cache is filled from).
   gpu::Image& resolved(std::uint64_t frameIndex) override { return images_.current(kResolved, frameIndex); }
-  gpu::Image& previousResult(std::uint64_t frameIndex) { return images_.previous(kFiltered, frameIndex); }
+  gpu::Image& previousResult(std::uint64_t frameIndex) override { return images_.previous(kFiltered, frameIndex); }
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).
   static std::vector<gpu::PassDesc> passes();
 

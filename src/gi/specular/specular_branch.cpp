@@ -23,7 +23,8 @@ constexpr ImageSpec kImages[] = {
     {"gi.specular.pending_rays", Resolution::Half, kRgba32f, false, Visualize::Signed,
      "rays screen space could not finish, left to the world trace: direction (xyz) and its pdf (w; 0: none)"},
     {"gi.specular.reservoirs0", Resolution::Half, kRgba32ui, true, Visualize::Raw,
-     "temporal reuse's reservoirs: the next frame's history (seed 000's feedback point, before spatial reuse)"},
+     "temporal reuse's reservoirs: the next frame's history (the Jitter gi pass's feedback point, before spatial "
+     "reuse)"},
     {"gi.specular.reservoirs1", Resolution::Half, kRgba32ui, true, Visualize::Raw, "(second half of the pair)"},
     {"gi.specular.spatial0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
      "spatial reuse's reservoirs: what the resolve evaluates"},

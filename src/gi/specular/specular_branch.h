@@ -1,7 +1,6 @@
-// The specular branch (seed 000, with seed 003's options): screen-space
-// ReSTIR for indirect specular at half resolution, resolved at full
-// resolution, then a temporal filter with dual-source reprojection. Its
-// passes, in order:
+// The specular branch (the Jitter gi pass's specular ReSTIR, with Zyanide's uniform-lobe reservoirs as options):
+// screen-space ReSTIR for indirect specular at half resolution, resolved at full resolution, then a temporal filter
+// with dual-source reprojection. Its passes, in order:
 //   gi.specular.trace            half res: one lobe-sampled ray per pixel (depth-buffer march, then the bridge)
 //   gi.specular.temporal_reuse   half res: merge with last frame's reservoir (M <= 4); next frame's history
 //   gi.specular.spatial_reuse    half res: merge with neighbours in the lobe's footprint
@@ -52,6 +51,11 @@ class SpecularBranch final : public Branch {
   ImageSet& images() override { return images_; }
   void record(const FrameState& frame) override;
   gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kSpecularFiltered, frameIndex); }
+  gpu::Image& previousResult(std::uint64_t frameIndex) override {
+    return images_.previous(kSpecularFiltered, frameIndex);
+  }
+  // The trace marches the pyramid unless its march is off (trace_steps 0).
+  bool marchesDepthPyramid() const override { return settings_.specular.enabled && settings_.specular.traceSteps > 0; }
   gpu::Image& resolved(std::uint64_t frameIndex) override {
     return images_.current(kSpecularResolved, frameIndex);
   }
