@@ -90,7 +90,7 @@ TEST(Cli, EveryMistakeOnTheCommandLineExitsTwoAndABadInputFileOne) {
   EXPECT_EQ(tiny.exitCode, 0) << tiny.output;
   // A file that is wrong is bad input: 1, also when the same value on the
   // command line would be 2.
-  for (const std::string arguments : {"render cornell --gi-settings " + (dir / "deep.json").string(),
+  for (const std::string& arguments : {"render cornell --gi-settings " + (dir / "deep.json").string(),
                                       "render cornell --gi-settings " + (dir / "range.json").string(),
                                       "render " + (dir / "missing.gltf").string()}) {
     const Result r = run(arguments + out);
@@ -889,6 +889,11 @@ TEST(CliHardening, SheetLaysImagesOutInLabelledRows) {
   const auto tooManyLabels = runArgs({"sheet", arguments[1], "--label", "a", "--label", "b", "--out", out.string()});
   EXPECT_EQ(tooManyLabels.exitCode, 2);
   EXPECT_NE(tooManyLabels.output.find("2 labels for 1 columns"), std::string::npos) << tooManyLabels.output;
+  // A label takes one value: the images after it stay images.
+  const auto labelsFirst =
+      runArgs({"sheet", "--label", "a", "--label", "b", arguments[1], arguments[2], "--out", out.string()});
+  EXPECT_EQ(labelsFirst.exitCode, 0) << labelsFirst.output;
+  EXPECT_EQ(bounce::io::readImage(out).width, 16);
   fs::remove_all(dir);
 }
 

@@ -73,6 +73,8 @@ CLI::App* addSheetCommand(CLI::App& app, SheetOptions& options) {
       ->add_option("--label", options.labels,
                    "A label for the next cell of the first row (repeat it; letters, shown lower-case, digits, "
                    "space and . , : = ( ) - / + %)")
+      // One value each: `--label a img1 img2` must not take the images for labels.
+      ->allow_extra_args(false)
       ->check(drawableLabel());
   command->add_option("--shrink", options.shrink, "Shrink every image this many times (box filter; default 1)")
       ->check(CLI::Range(1, kMaxShrink));
