@@ -152,7 +152,9 @@ TEST(Finite, RoundedToHalfIsTheNearestHalfAndStoresExactly) {
     const float place = std::exp2(std::floor(std::log2(below)) - 10.0f);
     const float nearest = std::abs(x) - below <= below + place - std::abs(x) ? below : below + place;
     ASSERT_LE(std::abs(std::abs(rounded) - std::abs(x)), 0.5f * place * (1.0f + 1e-6f)) << x;
-    if (std::abs(x) - below != 0.5f * place) ASSERT_EQ(std::abs(rounded), nearest) << x;
+    if (std::abs(x) - below != 0.5f * place) {
+      ASSERT_EQ(std::abs(rounded), nearest) << x;
+    }
   }
   EXPECT_EQ(roundedToHalf(1.0f + 1.5f / 1024.0f), 1.0f + 2.0f / 1024.0f) << "a tie goes to the even place";
   EXPECT_EQ(roundedToHalf(1.0f + 0.5f / 1024.0f), 1.0f) << "a tie goes to the even place";
