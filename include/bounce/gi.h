@@ -117,7 +117,8 @@ struct BufferRef {
 // The library's shaders that trace rays call a few functions
 // (shaders/gi/scene_bridge.glsl lists them: closest hit, any hit, the direct
 // light leaving a hit) that the engine implements in GLSL, in a file its
-// build compiles the library's shaders with (CMake: bounce_scene_bridge()).
+// build compiles the library's shaders with (CMake:
+// bounce_embed_shaders(... SCENE_BRIDGE), cmake/EmbedShaders.cmake).
 // The bridge "none" (the default) traces nothing: pure screen space.
 // docs/integration.md, "A scene bridge", walks through writing one.
 // Bridge data is read from storage buffers (constants too: a std140 block
@@ -132,7 +133,7 @@ struct SceneResourceDecl {
 };
 
 // One of the library's shaders compiled with the bridge (the table
-// bounce_scene_bridge() generates holds them): SPIR-V words, by the
+// bounce_embed_shaders(... SCENE_BRIDGE) generates holds them): SPIR-V words, by the
 // library's name for the shader ("gi/diffuse/gather") and by how its
 // constant blocks are declared (the library picks the variant it runs).
 struct ShaderCode {

@@ -158,8 +158,8 @@ struct SpecularSettings {
   std::uint32_t temporalFilterFrames = 32;  // the longest history (rough surfaces; smooth ones less)
 };
 
-// The denoiser (docs/gi.md, "The denoiser"; after NVIDIA's REBLUR, seed
-// 004): temporal accumulation, history fix, blur, post-blur and temporal
+// The denoiser (docs/gi.md, "The denoiser"; after NVIDIA's REBLUR, as the
+// REBLUR analysis reads it): temporal accumulation, history fix, blur, post-blur and temporal
 // stabilisation of each branch's resolved signal, in place of the
 // branches' own temporal filters.
 struct DenoiseSettings {

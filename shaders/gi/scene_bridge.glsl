@@ -2,7 +2,7 @@
 // never see (the pattern of RTXDI's application bridge). The engine writes
 // the answers in GLSL, in a file named scene_bridge_impl.glsl that its build
 // puts first on the include path when it compiles the library's shaders
-// (CMake: bounce_scene_bridge(); the library's own build uses
+// (CMake: bounce_embed_shaders(... SCENE_BRIDGE); the library's own build uses
 // shaders/gi/bridge_none/, which traces nothing). docs/integration.md, "A
 // scene bridge", walks through writing one; shaders/render/scene_bridge/ is
 // the renderer's, over its BVH.

@@ -329,7 +329,7 @@ float radicalInverseBase3(uint index) {
   return min(result, 0.99999994f);
 }
 
-// Seed 000 cycles through the first 64 Halton points: few enough that a pixel
+// The Jitter gi pass's specular ReSTIR cycles through the first 64 Halton points: few enough that a pixel
 // covers its whole set within a short history, many enough to stratify a lobe.
 const uint kHaltonCycleLength = 64u;
 

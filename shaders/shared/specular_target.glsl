@@ -7,10 +7,10 @@
 // Two ways to draw the sample (gi::SpecularSampling):
 //   VNDF     GGX visible normals reflected about the view: pdf
 //            pdfGgxReflection, target p-hat = luminance(f cos L). One
-//            candidate has W = 1 / pdf, and f cos L W = F G2 / G1 L (seed
-//            000's weight, ggxReflectionWeight).
-//   Uniform  uniform in a cone around the lobe's dominant direction (seed
-//            003): the pdf is the same for every view, and the target
+//            candidate has W = 1 / pdf, and f cos L W = F G2 / G1 L (the Jitter
+//            gi pass's weight, ggxReflectionWeight).
+//   Uniform  uniform in a cone around the lobe's dominant direction (Zyanide's
+//            uniform-lobe reservoirs): the pdf is the same for every view, and the target
 //            p-hat = luminance(L) inside the cone (0 outside) ignores the
 //            view too, so a stored reservoir stays valid when the camera
 //            moves. Shading then resamples such reservoirs with the real
@@ -80,7 +80,7 @@ float specularTargetPdf(Reservoir r, GlossySurface s, uint sampling, float lobeF
   if (sampling != kSpecularSamplingUniform) return specularShadingTarget(r, s);
   vec3 direction = sampleDirection(r, s.position);
   if (!specularSampleReaches(r, s, direction)) return 0.0f;
-  // Seed 003: a sample outside this surface's cone could never have been
+  // Zyanide's uniform-lobe reservoirs: a sample outside this surface's cone could never have been
   // drawn here; rejecting it is what keeps the uniform pdf valid.
   if (!isInSpecularLobe(specularLobeAxis(s), specularLobeCone(s, lobeFraction), direction)) return 0.0f;
   return luminance(r.radiance);

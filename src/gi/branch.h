@@ -1,4 +1,4 @@
-// A GI branch: indirect diffuse now, specular and the denoiser next. Each is
+// A GI branch: indirect diffuse or indirect specular. Each is
 // a unit with its own image table (an ImageSet), its own constants and its
 // own passes; GiContext records the frame's history, then each branch, then
 // the composite, and knows nothing of what a branch does inside.

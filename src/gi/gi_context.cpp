@@ -1,6 +1,8 @@
 // GiContext: the library on the engine's device. It owns the frame's
-// images and the branches, records store_history -> branches -> composite
-// into the engine's command buffer, and keeps per-frame-in-flight query
+// images and its units, records store_history, the depth pyramid, screen
+// tiles, the light change, the cache's inject, the branches, the cache's
+// update and resolve, the denoiser and the composite (in that order;
+// docs/architecture.md) into the engine's command buffer, and keeps per-frame-in-flight query
 // pools and stage copies until collect(). What each branch does is its own
 // business (src/gi/diffuse/); docs/gi.md explains the algorithm.
 #include <algorithm>

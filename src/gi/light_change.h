@@ -1,8 +1,9 @@
 // The light change: how much of the light the engine hands over changed
 // since last frame, and so how much of its history every temporal history
 // keeps this frame (shaders/gi/light_change/light_change.glsl; docs/gi.md
-// "When the light changes"). Recorded first in every frame that runs a
-// branch or the denoiser, from the engine's direct light and emission.
+// "When the light changes"). Recorded before the cache and the branches
+// in every frame that runs a branch or the denoiser, from the engine's
+// direct light and emission.
 //
 // Images (an ImageSet of its own):
 //   gi.light_change.direct  full, history: each surface pixel's direct light (luminance), for the next frame

@@ -44,7 +44,8 @@ SceneBridgeBinding::SceneBridgeBinding(gpu::Context& context, const SceneBridge&
       throw Error(where(name_) + ": resource '" + resource.name + "' has the name of one of the library's bindings");
   }
   if (!resources_.empty() && shaders_.empty())
-    throw Error(where(name_) + ": declares resources but no shaders; bounce_scene_bridge() makes the shader table");
+    throw Error(where(name_) +
+                ": declares resources but no shaders; bounce_embed_shaders(... SCENE_BRIDGE) makes the shader table");
 }
 
 SceneBridgeBinding::~SceneBridgeBinding() = default;

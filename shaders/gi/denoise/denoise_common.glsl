@@ -1,5 +1,5 @@
-// What every pass of the denoiser (gi/denoise, after NVIDIA's REBLUR, seed
-// 004) shares: its constants (binding 3, gIn_DenoiseConstants), filled from
+// What every pass of the denoiser (gi/denoise, after NVIDIA's REBLUR, as the
+// REBLUR analysis reads it) shares: its constants (binding 3, gIn_DenoiseConstants), filled from
 // gi::DenoiseSettings by src/gi/denoise/denoiser.cpp and laid out alike in
 // GLSL (std140) and C++; the signal a pass runs for (push constants: its
 // kind, which sets the weights, radii and motion, and its slot among the

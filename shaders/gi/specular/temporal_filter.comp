@@ -9,7 +9,7 @@
 //            point behind a flat reflector), and last frame's camera saw
 //            that point at another pixel of the same reflector. Right for
 //            mirrors, whose reflections swim over the surface as the camera moves.
-// Seed 000 blends the two by local statistics alone and reports mixed results
+// The Jitter gi pass blends the two by local statistics alone and reports mixed results
 // at medium roughness. Here each source's weight is a prior from roughness
 // (virtual for smooth, surface for rough; NRD's virtual-history amount)
 // times its agreement with this frame: a Gaussian in how many local standard

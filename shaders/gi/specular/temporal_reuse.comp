@@ -3,8 +3,8 @@
 // gi.specular.temporal_reuse: merges each pixel's fresh reservoir with the
 // one its surface had last frame, found through the motion vector and
 // accepted only on the same surface (depth and normal). Unlike the diffuse
-// branch the history is this pass's own output, before spatial reuse (seed
-// 000's feedback point), and short: M is capped at gi.specular.temporal_max_m
+// branch the history is this pass's own output, before spatial reuse (the
+// Jitter gi pass's feedback point), and short: M is capped at gi.specular.temporal_max_m
 // (4), so a reflection follows a moving camera within a few frames. The
 // history's sample is re-weighed by its target at this frame's surface and
 // view (VNDF sampling: the BRDF changes with the view; uniform sampling:

@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // gi.specular.trace: one ray per half-resolution pixel and frame (the Jitter gi pass's specular ReSTIR,
 // "Sample gathering"), its direction drawn from the specular lobe
-// (gi.specular.sampling: GGX visible normals, or uniformly in a cone; seed
-// 003) with the pixel's own cycle through the first 64 Halton (2, 3) points
+// (gi.specular.sampling: GGX visible normals, or uniformly in a cone: Zyanide's
+// uniform-lobe reservoirs) with the pixel's own cycle through the first 64 Halton (2, 3) points
 // (its own start and rotation). The ray is traced through this frame's
 // min-max depth pyramid first (Hi-Z, gi/hiz_trace.glsl, at most
 // gi.specular.trace_steps cells): a surface it hits that last frame's screen showed
