@@ -67,10 +67,10 @@ device=$("$bounce" info | awk -F': ' '/^selected:/ { print $NF }')
 [ -n "$device" ] || { echo "scripts/measure.sh: '$bounce info' names no device" >&2; exit 1; }
 when=$(date -u +%Y-%m-%d)
 
-# Whole GI of one bench run: the gi.* medians summed, from the per-pass
-# table (it ends at the line "total").
+# Whole GI of one bench run, as bench adds it up ("whole GI (every gi.*
+# pass, medians added): X ms"); none printed (no GI pass ran) fails.
 whole_gi() {
-  awk '/^total/ { exit } $1 ~ /^gi\./ { sum += $2; n++ } END { if (n == 0) exit 1; printf "%.3f", sum }' "$1"
+  awk '/^whole GI/ { print $(NF - 1); found = 1 } END { exit !found }' "$1"
 }
 
 measure_timing() {
