@@ -10,10 +10,16 @@
 #include <span>
 #include <string>
 
+#include "bounce/gi.h"
 #include "gi/image_table.h"
 #include "gpu/pass.h"
 
 namespace bounce::gi {
+
+// The library's own signals, SignalId kDiffuseSignal and kSpecularSignal:
+// what its branches make (or an engine gives in their place), before any of
+// ContextDesc::signals.
+inline const SignalDesc kLibrarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
 
 gpu::PassDesc storeHistoryPass();
 gpu::PassDesc compositePass();

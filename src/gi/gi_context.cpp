@@ -51,9 +51,6 @@ constexpr ImageSpec kFrameImages[] = {
 };
 static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per FrameImage");
 
-// The library's own signals, SignalId kDiffuseSignal and kSpecularSignal:
-// what its branches make (or an engine gives in their place).
-const SignalDesc kLibrarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
 constexpr std::size_t kLibrarySignalCount = std::size(kLibrarySignals);
 
 // Every signal of a context: the library's two, then the engine's (ContextDesc::signals).

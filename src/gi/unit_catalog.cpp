@@ -20,13 +20,12 @@ namespace {
 std::vector<ImageSpec> listOf(std::span<const ImageSpec> table) { return {table.begin(), table.end()}; }
 
 std::vector<DeclaredUnit> makeUnits() {
-  static const SignalDesc librarySignals[] = {{"diffuse", SignalKind::Diffuse}, {"specular", SignalKind::Specular}};
   // The run-time tables own the names their specs point to: kept for the
   // life of the catalog.
   static ImageTableBuilder denoiseTable, engineSignalTable;
-  addDenoiseImages(denoiseTable, librarySignals);
+  addDenoiseImages(denoiseTable, kLibrarySignals);
   std::vector<gpu::PassDesc> engineSignalPasses;
-  for (const SignalDesc& signal : librarySignals) {
+  for (const SignalDesc& signal : kLibrarySignals) {
     addEngineSignalImage(engineSignalTable, signal.name);
     engineSignalPasses.push_back(engineSignalPass(signal.name));
   }
@@ -40,7 +39,7 @@ std::vector<DeclaredUnit> makeUnits() {
       {"diffuse", DiffuseBranch::passes(), listOf(diffuseImageTable())},
       {"specular", SpecularBranch::passes(), listOf(specularImageTable())},
       {"engine_signal", std::move(engineSignalPasses), listOf(engineSignalTable.specs())},
-      {"denoise", Denoiser::passes(librarySignals), listOf(denoiseTable.specs())},
+      {"denoise", Denoiser::passes(kLibrarySignals), listOf(denoiseTable.specs())},
   };
 }
 
