@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Times two builds of bounce against each other on one GPU, in one session:
-# for each scene, `bounce bench` at 1920x1080 (GI diffuse, default
-# settings, 300 timed frames after 30 of warm-up), the builds alternating
+# for each scene, `bounce bench` at 1920x1080 (default settings, the
+# measuring protocol's 150 timed frames after 30 of warm-up), the builds alternating
 # and each run twice, so drift of clocks shows as a difference between runs
 # of one build. Prints each pass's median per frame and the GI library's
 # per-frame total (store_history to composite), each build's two runs side by side.
@@ -29,7 +29,7 @@ for entry in "${scenes[@]}"; do
       binary=$old
       [ "$build" = new ] && binary=$new
       # shellcheck disable=SC2086  # extra holds several flags
-      "$binary" bench "$scene" --gi diffuse --width 1920 --height 1080 --warmup 30 --frames 300 --rays 0 \
+      "$binary" bench "$scene" --width 1920 --height 1080 --warmup 30 --frames 150 --rays 0 \
         --copy-mb 0 $extra --json "$out/$name.$build.$run.json" > "$out/$name.$build.$run.txt" 2>&1
     done
   done

@@ -26,13 +26,14 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
-#include "image_statistics.h"
 #include "gpuio/gpu_images.h"
+#include "image_statistics.h"
 #include "metrics/image_metrics.h"
+#include "render/frame_pipeline.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
-#include "render/scene_bridge.h"
 #include "render/reference_renderer.h"
+#include "render/scene_bridge.h"
 #include "scene/builtin_scenes.h"
 #include "shared/brdf.glsl"
 #include "shared/color.glsl"
@@ -185,12 +186,12 @@ class GiTest : public testing::GpuTest {
 
   struct Run {
     std::unique_ptr<scene::Scene> scene;  // the renderer keeps a reference to it
-    std::unique_ptr<render::FrameRenderer> renderer;
-    std::unique_ptr<render::GiBridge> gi;
-    std::unique_ptr<gpu::FrameLoop> loop;
-    render::FrameView previous{};
+    std::unique_ptr<render::FramePipeline> pipeline;
+    // The pipeline's parts.
+    render::FrameRenderer* renderer = nullptr;
+    render::GiBridge* gi = nullptr;
+    gpu::FrameLoop* loop = nullptr;
     std::uint64_t frames = 0;
-    bool jitter = false;
   };
 
   Run start(const scene::Scene& s, const Settings& settings, std::uint32_t width, std::uint32_t height,
@@ -199,23 +200,22 @@ class GiTest : public testing::GpuTest {
     options.jitter = jitter;
     Run run;
     run.scene = std::make_unique<scene::Scene>(s);
-    run.renderer = std::make_unique<render::FrameRenderer>(context(), *run.scene, options);
-    run.gi = std::make_unique<render::GiBridge>(
-        context(), ContextDesc{.maxWidth = width, .maxHeight = height, .sceneBridge = std::move(bridge)}, settings);
-    run.loop = std::make_unique<gpu::FrameLoop>(context(), render::FrameRenderer::kFramesInFlight);
-    run.jitter = jitter;
+    run.pipeline = std::make_unique<render::FramePipeline>(
+        context(), *run.scene,
+        render::FramePipelineDesc{
+            .renderer = options,
+            .gi = std::pair(ContextDesc{.maxWidth = width, .maxHeight = height, .sceneBridge = std::move(bridge)},
+                            settings),
+            .giFrame = {.jitter = jitter}});
+    run.renderer = &run.pipeline->renderer();
+    run.gi = run.pipeline->gi();
+    run.loop = &run.pipeline->loop();
     return run;
   }
 
   // Renders one frame of `camera` (a cut when asked, and always the first).
   void advance(Run& run, const scene::CameraPose& camera, bool cut = false) {
-    gpu::Recorder& recorder = run.loop->beginFrame();
-    const std::uint64_t index = run.loop->frameIndex();
-    const render::FrameView view{camera, 0.0f, cut || run.frames == 0};
-    run.renderer->record(recorder, index, view);
-    run.gi->record(recorder, *run.renderer, index, view, run.previous, {.jitter = run.jitter});
-    run.loop->endFrame();
-    run.previous = view;
+    run.pipeline->frame({camera, 0.0f, cut || run.frames == 0});
     ++run.frames;
   }
   void advance(Run& run, const scene::CameraPose& camera, std::uint32_t frames) {

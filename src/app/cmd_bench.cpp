@@ -19,6 +19,7 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "render/frame_memory.h"
+#include "render/frame_pipeline.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "render/gpu_bvh.h"
@@ -204,11 +205,13 @@ int runBench(const BenchOptions& options) {
       settings ? std::optional(std::pair(giContextDesc(options.width, options.height, options.gi), *settings))
                : std::nullopt,
       false);
-  render::FrameRenderer renderer(*context, scene, rendererOptions);
-  std::unique_ptr<render::GiBridge> gi;
-  if (settings)
-    gi = std::make_unique<render::GiBridge>(*context, giContextDesc(options.width, options.height, options.gi),
-                                            *settings);
+  render::FramePipeline pipeline(
+      *context, scene,
+      {.renderer = rendererOptions,
+       .gi = settings ? std::optional(std::pair(giContextDesc(options.width, options.height, options.gi), *settings))
+                      : std::nullopt});
+  render::FrameRenderer& renderer = pipeline.renderer();
+  render::GiBridge* gi = pipeline.gi();
   checkDeviceMemoryFits(*context, options.width, options.height);
   std::fprintf(report, "scene: %s, %zu triangles\n", scene.name.c_str(), renderer.triangleCount());
   const render::SceneBvh& bvh = renderer.bvh();
@@ -251,31 +254,25 @@ int runBench(const BenchOptions& options) {
     anyTracer = std::make_unique<render::BvhRayTracer>(
         *context, render::bvhTraceRaysPassDesc("render.bvh_trace_rays_any", "render/bvh_trace_rays"));
 
-  std::uint64_t frameCounter = 0;
-  const auto recordFrame = [&](gpu::FrameLoop& loop) {
-    gpu::Recorder& recorder = loop.beginFrame();
-    const std::uint64_t index = frameCounter++;
-    const render::FrameView view{camera, 0.0f, index == 0};
-    renderer.record(recorder, index, view);
-    if (gi) gi->record(recorder, renderer, index, view, view);
+  // One still camera: after the first frame each reprojects the one before.
+  const auto recordFrame = [&] {
+    gpu::Recorder& recorder = pipeline.begin({camera, 0.0f, pipeline.framesRecorded() == 0});
     if (tracer) {
       tracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Closest);
       anyTracer->record(recorder, renderer.gpuBvh(), *rays, *results, options.rays, render::BvhTraceMode::Any);
     }
     if (copy) copy->record(recorder);
-    loop.endFrame();
+    pipeline.end();
   };
-  // Warm-up frames go to a loop whose timings are thrown away.
-  {
-    gpu::FrameLoop warmup(*context, render::FrameRenderer::kFramesInFlight);
-    for (std::uint32_t i = 0; i < options.warmup; ++i) recordFrame(warmup);
-    warmup.finish();
-  }
+  gpu::FrameLoop& loop = pipeline.loop();
+  for (std::uint32_t i = 0; i < options.warmup; ++i) recordFrame();
+  // The warm-up frames' timings and rays are thrown away.
+  loop.finish();
+  loop.timings() = gpu::TimingStats{};
   if (gi) gi->resetWorldRays();
-  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
   ProgressBar progress("bench", options.frames);
   for (std::uint32_t i = 0; i < options.frames; ++i) {
-    recordFrame(loop);
+    recordFrame();
     progress.update(i + 1);
   }
   loop.finish();

@@ -35,6 +35,7 @@
 #include "io/image_io.h"
 #include "metrics/image_metrics.h"
 #include "render/frame_memory.h"
+#include "render/frame_pipeline.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
@@ -187,9 +188,11 @@ int runDenoise(const DenoiseOptions& options) {
   const gi::ContextDesc giDesc{
       .maxWidth = shot.width, .maxHeight = shot.height, .framesInFlight = render::FrameRenderer::kFramesInFlight};
   render::requireFrameMemory(*context, shot.width, shot.height, std::pair(giDesc, settings), true);
-  render::FrameRenderer renderer(*context, scene, rendererOptions);
-  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
-  render::GiBridge gi(*context, giDesc, settings);
+  // The library is handed signals made here (below), not the renderer's frame alone.
+  render::FramePipeline pipeline(*context, scene, {.renderer = rendererOptions, .gi = std::pair(giDesc, settings)});
+  render::FrameRenderer& renderer = pipeline.renderer();
+  gpu::FrameLoop& loop = pipeline.loop();
+  render::GiBridge& gi = *pipeline.gi();
   const auto start = std::chrono::steady_clock::now();
 
   // The reference comes first: of the last frame's view, so that every
@@ -198,8 +201,7 @@ int runDenoise(const DenoiseOptions& options) {
   const std::uint32_t last = options.frames - 1;
   const float lastTime = float(last) / shot.fps;
   const scene::CameraPose& lastPose = cameraFrames[last].pose;
-  renderer.record(loop.beginFrame(), loop.frameIndex(), {lastPose, lastTime, true});
-  loop.endFrame();
+  pipeline.frame({lastPose, lastTime, true}, {.gi = false});
   loop.finish();
   render::ReferenceOptions tracing;
   tracing.seed = options.seed;
@@ -233,7 +235,6 @@ int runDenoise(const DenoiseOptions& options) {
   PartImages noisy, denoised;
   std::vector<gpu::CapturedStage> captures;
   std::uint64_t firstIndex = 0;
-  render::FrameView previous{};
   ProgressBar progress("denoise", options.frames);
   for (std::uint32_t frame = 0; frame < options.frames; ++frame) {
     const scene::CameraFrame& camera = cameraFrames[frame];
@@ -242,16 +243,15 @@ int runDenoise(const DenoiseOptions& options) {
     // the frames that traced the old ones must be done.
     if (scene::isAnimated(scene)) loop.finish();
     const bool dump = options.dumpStages && frame == last;
-    gpu::Recorder& recorder = loop.beginFrame(dump);
+    gpu::Recorder& recorder = pipeline.begin(view, {.captureStages = dump, .gi = false});
     const std::uint64_t index = loop.frameIndex();
     if (frame == 0) firstIndex = index;
-    renderer.record(recorder, index, view);
     pathTracer.restart(recorder, index, view.time);
     while (pathTracer.samplesPerPixel() < options.spp)
       pathTracer.record(recorder, std::uint32_t(options.spp - pathTracer.samplesPerPixel()));
     pathTracer.recordResolve(recorder);
     render::RendererInputs made =
-        render::rendererInputs(renderer, index, view, previous, {.captureStages = dump});
+        render::rendererInputs(renderer, index, view, pipeline.previousView(), {.captureStages = dump});
     gpu::Image* given[2] = {&pathTracer.indirectDiffuseImage(), &pathTracer.indirectSpecularImage()};
     if (packer)
       for (std::size_t signal = 0; signal < CheckerboardPacker::kSignals; ++signal) {
@@ -262,8 +262,7 @@ int runDenoise(const DenoiseOptions& options) {
     made.images.push_back(given[0]);
     made.images.push_back(given[1]);
     gi.record(recorder, made.inputs, made.images);
-    loop.endFrame();
-    previous = view;
+    pipeline.end();
 
     const bool showsReference =
         frame == last || (sameView(camera.pose, lastPose) && !scene::isAnimated(scene));

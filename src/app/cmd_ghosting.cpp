@@ -542,21 +542,17 @@ GhostingRig::GhostingRig(const GhostingOptions& options, const scene::Scene& sce
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
   render::requireFrameMemory(*context, shot.width, shot.height,
                              std::pair(giContextDesc(shot.width, shot.height, options.gi), settings), true);
-  renderer = std::make_unique<render::FrameRenderer>(*context, scene, rendererOptions);
-  loop = std::make_unique<gpu::FrameLoop>(*context, render::FrameRenderer::kFramesInFlight);
-  gi = std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, options.gi), settings);
+  pipeline = std::make_unique<render::FramePipeline>(
+      *context, scene,
+      render::FramePipelineDesc{.renderer = rendererOptions,
+                                .gi = std::pair(giContextDesc(shot.width, shot.height, options.gi), settings)});
+  renderer = &pipeline->renderer();
+  loop = &pipeline->loop();
+  gi = pipeline->gi();
   checkDeviceMemoryFits(*context, shot.width, shot.height);
 }
 
-std::uint64_t GhostingRig::record(const render::FrameView& view) {
-  gpu::Recorder& recorder = loop->beginFrame();
-  const std::uint64_t index = loop->frameIndex();
-  renderer->record(recorder, index, view);
-  gi->record(recorder, *renderer, index, view, previous);
-  loop->endFrame();
-  previous = view;
-  return index;
-}
+std::uint64_t GhostingRig::record(const render::FrameView& view) { return pipeline->frame(view); }
 
 CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
   CLI::App* command = app.add_subcommand(

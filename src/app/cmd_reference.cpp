@@ -126,15 +126,16 @@ int runReference(const ReferenceCommandOptions& options) {
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());
   render::requireFrameMemory(*context, view.width, view.height, std::nullopt, true);
-  render::FrameRenderer renderer(*context, scene, rendererOptions);
-  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
+  // The renderer alone: the path tracer starts from its G-buffer.
+  render::FramePipeline pipeline(*context, scene, {.renderer = rendererOptions});
+  render::FrameRenderer& renderer = pipeline.renderer();
+  gpu::FrameLoop& loop = pipeline.loop();
 
   std::vector<gpu::CapturedStage> captures;
   for (std::uint32_t frame = first; frame <= options.frame; ++frame) {
-    gpu::Recorder& recorder = loop.beginFrame(options.dumpStages && frame == options.frame);
     const scene::CameraFrame& camera = cameraFrames[frame - first];
-    renderer.record(recorder, loop.frameIndex(), {camera.pose, float(frame) / view.fps, camera.cut});
-    loop.endFrame();
+    pipeline.frame({camera.pose, float(frame) / view.fps, camera.cut},
+                   {.captureStages = options.dumpStages && frame == options.frame});
   }
   loop.finish();
   const std::uint64_t frameIndex = loop.frameIndex();

@@ -20,6 +20,7 @@
 #include "gpuio/stage_dump.h"
 #include "io/image_io.h"
 #include "render/frame_memory.h"
+#include "render/frame_pipeline.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "scene/builtin_scenes.h"
@@ -174,10 +175,17 @@ int runRender(const RenderOptions& options) {
   render::requireFrameMemory(
       *context, shot.width, shot.height,
       gi ? std::optional(std::pair(giContextDesc(shot.width, shot.height, giOptions), settings)) : std::nullopt, false);
-  render::FrameRenderer renderer(*context, scene, rendererOptions);
+  // The renderer and the GI library on this device, through its public interface (render/frame_pipeline.h).
+  render::FramePipeline pipeline(
+      *context, scene,
+      {.renderer = rendererOptions,
+       .gi = gi ? std::optional(std::pair(giContextDesc(shot.width, shot.height, giOptions), settings)) : std::nullopt,
+       .giFrame = {.jitter = options.jitter}});
+  render::FrameRenderer& renderer = pipeline.renderer();
+  render::GiBridge* giBridge = pipeline.gi();
+  gpu::FrameLoop& loop = pipeline.loop();
   std::printf("scene: %s, %zu triangles, %zu textures\n", scene.name.c_str(), renderer.triangleCount(),
               scene.textures.size());
-  gpu::FrameLoop loop(*context, render::FrameRenderer::kFramesInFlight);
 
   auto isDumpFrame = [&](std::uint32_t frame) {
     if (!options.dumpStages) return false;
@@ -188,32 +196,14 @@ int runRender(const RenderOptions& options) {
   const fs::path framesDir = outDir / "frames";
   if (everyFrame) fs::create_directories(framesDir);
   std::vector<gpu::CapturedStage> captures;
-  // The GI library on this device, through its public interface (render/gi_bridge.h).
-  std::unique_ptr<render::GiBridge> giBridge;
-  if (gi) {
-    giBridge =
-        std::make_unique<render::GiBridge>(*context, giContextDesc(shot.width, shot.height, giOptions), settings);
-  }
   checkDeviceMemoryFits(*context, shot.width, shot.height);
-  // What the frame is: the GI library's composite, or direct light alone.
-  const auto frameImage = [&]() -> gpu::Image& { return gi ? giBridge->composite() : renderer.direct(); };
-  render::FrameView previous{};
-  const auto recordFrame = [&](gpu::Recorder& recorder, const render::FrameView& view, bool capture) {
-    const std::uint64_t index = loop.frameIndex();
-    renderer.record(recorder, index, view);
-    if (gi)
-      giBridge->record(recorder, renderer, index, view, previous,
-                       {.jitter = options.jitter, .captureStages = capture});
-    previous = view;
-  };
   const bool warmUp = gi && giOptions.warmup > 0;
   if (warmUp) {
     // Light needs frames to bounce (each frame gathers the last one) and the
     // histories to fill: render them at the first camera, unseen.
     ProgressBar warming("gi warm-up", giOptions.warmup);
     for (std::uint32_t i = 0; i < giOptions.warmup; ++i) {
-      recordFrame(loop.beginFrame(), {cameraFrames[0].pose, 0.0f, i == 0}, false);
-      loop.endFrame();
+      pipeline.frame({cameraFrames[0].pose, 0.0f, i == 0});
       warming.update(i + 1);
     }
     warming.finish();
@@ -229,18 +219,16 @@ int runRender(const RenderOptions& options) {
   ProgressBar progress("render", options.frames);
   for (std::uint32_t frame = 0; frame < options.frames; ++frame) {
     const bool dump = isDumpFrame(frame);
-    gpu::Recorder& recorder = loop.beginFrame(dump);
     const scene::CameraFrame& camera = cameraFrames[frame];
     // The path's first frame is a cut, unless the warm-up already stood there.
     const bool asked = std::find(options.cutFrames.begin(), options.cutFrames.end(), frame) != options.cutFrames.end();
     const bool cut = asked || (camera.cut && !(frame == 0 && warmUp));
-    recordFrame(recorder, {camera.pose, float(frame) / shot.fps, cut}, dump);
-    loop.endFrame();
+    pipeline.frame({camera.pose, float(frame) / shot.fps, cut}, {.captureStages = dump});
     takeCaptures();
     if (everyFrame) {
       // Each frame's image is read back before the next reuses it.
       loop.finish();
-      const io::ImageF image = gpuio::readbackImage(*context, frameImage());
+      const io::ImageF image = gpuio::readbackImage(*context, pipeline.frameImage());
       char name[32];
       std::snprintf(name, sizeof name, "frame%04u", frame);
       if (options.frames > 1) {
@@ -264,7 +252,7 @@ int runRender(const RenderOptions& options) {
   progress.finish();
   takeCaptures();
 
-  const io::ImageF final = gpuio::readbackImage(*context, frameImage());
+  const io::ImageF final = gpuio::readbackImage(*context, pipeline.frameImage());
   const gpuio::VisualizedImage view = gpuio::visualize(final, gpu::Visualize::Radiance);
   io::writePng(outDir / "render.png", view.image, view.encoding, options.exposure);
   io::writeExr(outDir / "render.exr", final);

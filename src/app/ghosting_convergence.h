@@ -13,6 +13,7 @@
 #include "app/commands.h"
 #include "bounce/gi_settings.h"
 #include "gpu/frame_loop.h"
+#include "render/frame_pipeline.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 
@@ -28,10 +29,11 @@ struct GhostingRig {
   std::uint64_t record(const render::FrameView& view);
 
   std::unique_ptr<gpu::Context> context;
-  std::unique_ptr<render::FrameRenderer> renderer;
-  std::unique_ptr<gpu::FrameLoop> loop;
-  std::unique_ptr<render::GiBridge> gi;
-  render::FrameView previous{};
+  std::unique_ptr<render::FramePipeline> pipeline;
+  // The pipeline's parts.
+  render::FrameRenderer* renderer = nullptr;
+  gpu::FrameLoop* loop = nullptr;
+  render::GiBridge* gi = nullptr;
 };
 
 // Runs `bounce ghosting --event light|sun|cut`; returns the exit code.
