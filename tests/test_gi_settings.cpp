@@ -20,6 +20,7 @@
 
 #include "gi/image_table.h"
 #include "gi/unit_catalog.h"
+#include "gi/units.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -694,6 +695,18 @@ std::string secondCell(const std::string& row) {
 // the environment, the frame, the pyramid, screen tiles, the light change,
 // the cache, both branches, the engine's signals, the denoiser) with the
 // shader it runs, and no pass that does not exist.
+// The catalog the docs are checked against holds every unit a context is
+// made of, in recording order: a unit registered without a catalog entry
+// would escape the checks below.
+TEST(GiDocs, TheCatalogHoldsEveryRegisteredUnitInOrder) {
+  std::vector<std::string> catalog;
+  for (const DeclaredUnit& unit : declaredUnits())
+    if (unit.name != "environment") catalog.push_back(unit.name);
+  std::vector<std::string> registered;
+  for (const UnitRegistration& unit : registeredUnits()) registered.push_back(unit.name);
+  EXPECT_EQ(catalog, registered);
+}
+
 TEST(GiDocs, PassesMdListsEveryPassOfEveryUnitWithItsShader) {
   const std::multimap<std::string, std::string> rows = libraryRows();
   // Image rows name images, not passes: only rows with a shader cell are passes.

@@ -1,6 +1,7 @@
 #include "gi/frame_constants.h"
 #include "gi/frame_passes.h"
 #include "gi/gi_shaders.h"
+#include "gi/units.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -28,6 +29,59 @@ gpu::PassDesc compositePass() {
           .shaders = shaders(),
           .resources = std::move(resources),
           .constants = {frameConstantsLayout()}};
+}
+
+namespace {
+
+// gi.composite, last of every frame: the engine's direct light and the
+// library's two signals, remodulated, into the frame (the next frame's light).
+class CompositeUnit final : public Unit {
+ public:
+  CompositeUnit(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize)
+      : images_(context, arena, compositeImageTable(), maxSize), pass_(context, compositePass()) {}
+  std::string_view name() const override { return "composite"; }
+  Plan plan(const FramePlan&) const override {
+    return {.records = true, .takes = {kLibrarySignals[0].name, kLibrarySignals[1].name}};
+  }
+  void putHistory(Products& products, std::uint64_t frameIndex) override {
+    products.put(product::kPreviousComposite, images_.previous(0, frameIndex));
+  }
+  void record(const FrameState& frame) override {
+    EngineImages& engine = frame.engine;
+    gpu::Image& direct = engine[Input::Direct];
+    const VkSampler nearest = frame.nearestSampler;
+    gpu::Image& composite = images_.current(0, frame.frameIndex);
+    frame.recorder.dispatch(pass_, frame.renderSize.width, frame.renderSize.height,
+                            frame.group.binds(GroupPart::Surfaces),
+                            {{"gIn_Direct", direct, nearest},
+                             {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
+                             // Not read without an emissive image (the constants say so); bound only to fill the slot.
+                             {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
+                             {"gIn_IndirectDiffuse", frame.products.image(kLibrarySignals[0].name), nearest},
+                             {"gIn_IndirectSpecular", frame.products.image(kLibrarySignals[1].name), nearest},
+                             {"gOut_Composite", composite}});
+    frame.products.put(product::kComposite, composite);
+  }
+  std::vector<ImageSet*> imageSets() override { return {&images_}; }
+
+ private:
+  ImageSet images_;
+  gpu::ComputePass pass_;
+};
+
+}  // namespace
+
+UnitRegistration compositeUnit() {
+  return {
+      .name = "composite",
+      .produces =
+          [](const UnitSetup&) {
+            return std::vector<std::string>{std::string(product::kComposite), std::string(product::kPreviousComposite)};
+          },
+      .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
+        return std::make_unique<CompositeUnit>(resources.context, resources.arena, setup.maxSize);
+      },
+      .memoryBytes = [](const UnitSetup& setup) { return imageSetBytes(compositeImageTable(), setup.maxSize); }};
 }
 
 }  // namespace bounce::gi

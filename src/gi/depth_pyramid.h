@@ -73,4 +73,9 @@ class DepthPyramid {
   gpu::ComputePass reduce_;
 };
 
+struct UnitRegistration;
+// The pyramid as a unit (gi/units.h): product "depth_pyramid", built on
+// the frames a later unit takes it.
+UnitRegistration depthPyramidUnit();
+
 }  // namespace bounce::gi

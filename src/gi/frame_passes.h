@@ -24,9 +24,19 @@ inline const SignalDesc kLibrarySignals[] = {{"diffuse", SignalKind::Diffuse}, {
 gpu::PassDesc storeHistoryPass();
 gpu::PassDesc compositePass();
 
-// The frame's own images, in the order of frameImageTable().
-enum FrameImage : std::size_t { kHistorySurface, kMarchDepth, kComposite, kFrameImageCount };
+// The frame's own images: the history unit's (gi.history_surface,
+// gi.march_depth), then the composite's (gi.composite).
 std::span<const ImageSpec> frameImageTable();
+std::span<const ImageSpec> historyImageTable();
+std::span<const ImageSpec> compositeImageTable();
+
+struct UnitRegistration;
+// The units of these passes (gi/units.h): gi.store_history, first of a
+// frame; gi.engine_signal.SIGNAL for the signals the engine gives, before
+// the denoiser; gi.composite, last.
+UnitRegistration historyUnit();
+UnitRegistration engineSignalUnit();
+UnitRegistration compositeUnit();
 
 // `signal` ("diffuse", "specular", an engine's): gi.engine_signal.SIGNAL,
 // the engine's noisy signal (FrameInputs::noisy) into the

@@ -1,14 +1,16 @@
-// GiContext: the library on the engine's device. It owns the frame's
-// images and its units, records store_history, the depth pyramid, screen
-// tiles, the light change, the cache's inject, the branches, the cache's
-// update and resolve, the denoiser and the composite (in that order;
-// docs/architecture.md) into the engine's command buffer, and keeps per-frame-in-flight query
-// pools and stage copies until collect(). What each branch does is its own
-// business (src/gi/diffuse/); docs/gi.md explains the algorithm.
+// GiContext: the library on the engine's device. It makes the units
+// registered in gi/units.cpp (each with its own settings), asks them each
+// frame whether they record and what they take, records them in order into
+// the engine's command buffer and routes their products by name
+// (gi/unit.h); it keeps per-frame-in-flight query pools and stage copies
+// until collect(). What a unit does is its own business (src/gi/diffuse/,
+// ...); docs/architecture.md lists the units and products, docs/gi.md
+// explains the algorithm.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -16,20 +18,14 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "bounce/gi.h"
-#include "gi/cache/radiance_cache.h"
-#include "gi/denoise/denoiser.h"
-#include "gi/depth_pyramid.h"
-#include "gi/diffuse/diffuse_branch.h"
 #include "gi/engine_images.h"
 #include "gi/frame_constants.h"
 #include "gi/frame_passes.h"
 #include "gi/image_table.h"
 #include "gi/library_device.h"
-#include "gi/light_change.h"
 #include "gi/pass_log.h"
 #include "gi/scene_bridge.h"
-#include "gi/screen_tiles.h"
-#include "gi/specular/specular_branch.h"
+#include "gi/units.h"
 #include "gpu/error.h"
 #include "gpu/format.h"
 #include "gpu/recorder.h"
@@ -38,18 +34,6 @@
 
 namespace bounce::gi {
 namespace {
-
-using namespace gpu::formats;
-
-constexpr ImageSpec kFrameImages[] = {
-    {"gi.history_surface", Resolution::Full, kRg32ui, true, gpu::Visualize::Raw,
-     "viewZ bits, octahedral normal and material id of every pixel, for the next frame (and this frame's id)"},
-    {"gi.march_depth", Resolution::Full, kR32f, false, gpu::Visualize::Range,
-     "this frame's viewZ (0 where unusable) in the library's own storage image: what visibility marches read"},
-    {"gi.composite", Resolution::Full, kRgba16f, true, gpu::Visualize::Radiance,
-     "the frame, linear HDR: direct light + remodulated indirect light; next frame's light source"},
-};
-static_assert(std::size(kFrameImages) == kFrameImageCount, "one table entry per FrameImage");
 
 constexpr std::size_t kLibrarySignalCount = std::size(kLibrarySignals);
 
@@ -71,7 +55,8 @@ void checkSignals(const ContextDesc& desc, const Settings& settings) {
   if (kLibrarySignalCount + desc.signals.size() > kMaxSignals)
     throw Error("gi: ContextDesc::signals declares " + std::to_string(desc.signals.size()) + " signals; at most " +
                 std::to_string(kMaxSignals - kLibrarySignalCount) + " besides the library's diffuse and specular");
-  std::vector<std::string> seen = {"diffuse", "specular"};
+  std::vector<std::string> seen;
+  for (const SignalDesc& signal : kLibrarySignals) seen.push_back(signal.name);
   for (std::size_t i = 0; i < desc.signals.size(); ++i) {
     const SignalDesc& signal = desc.signals[i];
     const std::string where = "gi: ContextDesc::signals[" + std::to_string(i) + "] ('" + signal.name + "')";
@@ -82,9 +67,11 @@ void checkSignals(const ContextDesc& desc, const Settings& settings) {
     if (!wellFormed)
       throw Error(where + ": a signal's name is 1-32 of a-z, 0-9 and '_' (its passes are gi.denoise.NAME.*)");
     if (std::find(seen.begin(), seen.end(), signal.name) != seen.end())
-      throw Error(
-          where + ": the name is taken by " +
-          (signal.name == "diffuse" || signal.name == "specular" ? "the library's own signal" : "an earlier signal"));
+      throw Error(where + ": the name is taken by " +
+                  (std::find(seen.begin(), seen.begin() + kLibrarySignalCount, signal.name) !=
+                           seen.begin() + kLibrarySignalCount
+                       ? "the library's own signal"
+                       : "an earlier signal"));
     if (signal.kind != SignalKind::Diffuse && signal.kind != SignalKind::Specular)
       throw Error(where + ": kind " + std::to_string(std::uint32_t(signal.kind)) +
                   " is neither SignalKind::Diffuse nor Specular");
@@ -92,16 +79,26 @@ void checkSignals(const ContextDesc& desc, const Settings& settings) {
   }
 }
 
-// Whether a library signal's branch makes the images of its own temporal
-// filter: it runs the filter (no denoiser), or it is disabled and its
-// result is that filter image, cleared. An enabled branch whose signal the
-// denoiser takes never reads them: 269 MiB at 1080p for the two.
-bool branchEnabled(const Settings& settings, SignalId signal) {
-  return signal == kDiffuseSignal ? settings.diffuse.enabled : settings.specular.enabled;
-}
-
-bool ownFilter(const Settings& settings, SignalId signal) {
-  return !settings.denoise.enabled || !branchEnabled(settings, signal);
+// Calls `visit(registration, setup, products)` for every registered unit
+// in recording order, with the setup it is made for: `products` what it
+// makes, and the setup's madeLater what the units after it make.
+template <typename Visit>
+void forEachUnit(const ContextDesc& desc, const Settings& settings, std::span<const SignalDesc> signals,
+                 bool bridgeTraces, Visit visit) {
+  const std::vector<UnitRegistration> registered = registeredUnits();
+  const Extent maxSize{desc.maxWidth, desc.maxHeight};
+  const UnitSetup base{maxSize, settings, signals, bridgeTraces, [](std::string_view) { return false; }};
+  std::vector<std::vector<std::string>> made;
+  for (const UnitRegistration& registration : registered) made.push_back(registration.produces(base));
+  for (std::size_t i = 0; i < registered.size(); ++i) {
+    const UnitSetup setup{maxSize, settings, signals, bridgeTraces, [&made, i](std::string_view product) {
+                            for (std::size_t later = i + 1; later < made.size(); ++later)
+                              if (std::find(made[later].begin(), made[later].end(), product) != made[later].end())
+                                return true;
+                            return false;
+                          }};
+    visit(registered[i], setup, made[i]);
+  }
 }
 
 // Which signals the engine gives this frame, by SignalId.
@@ -148,8 +145,6 @@ std::string sizeText(std::uint32_t width, std::uint32_t height) {
 
 }  // namespace
 
-std::span<const ImageSpec> frameImageTable() { return kFrameImages; }
-
 Camera cameraFromBasis(const float position[3], const float right[3], const float up[3], const float forward[3],
                        float fovY, float aspect, const float jitter[2]) {
   const glm::vec3 p = glm::make_vec3(position), r = glm::make_vec3(right), u = glm::make_vec3(up),
@@ -179,23 +174,12 @@ struct GiContext::Impl {
   std::unique_ptr<gpu::Context> context;
   SceneBridgeBinding scene;
   gpu::MemoryArena arena;
-  ImageSet frameImages;
   std::unique_ptr<gpu::Buffer> frameConstants;
-  RadianceCache cache;
-  DepthPyramid depthPyramid;
-  ScreenTiles screenTiles;
-  LightChange lightChange;
-  std::vector<std::unique_ptr<Branch>> branches;
-  std::vector<SignalDesc> signals;         // by SignalId: the library's two, then ContextDesc::signals
-  std::vector<std::string> noisyNames;     // noisyInputNames(signals)
-  std::unique_ptr<Denoiser> denoiser;      // made only when gi.denoise.enabled: its images are large
-  // The engine's own noisy signals as the denoiser reads them, and the
-  // passes that take them in: made on the first frame that gives one, so
-  // a context whose engine never does holds no memory for them.
-  ImageTableBuilder engineSignalTable;
-  std::unique_ptr<ImageSet> engineSignals;
-  std::vector<std::unique_ptr<gpu::ComputePass>> engineSignalPasses;
-  gpu::ComputePass storeHistory, compositor;
+  std::vector<SignalDesc> signals;      // by SignalId: the library's two, then ContextDesc::signals
+  std::vector<std::string> noisyNames;  // noisyInputNames(signals)
+  // The units in recording order (gi/units.h), and the products each makes.
+  std::vector<std::unique_ptr<Unit>> units;
+  std::vector<std::vector<std::string>> unitProducts;
   EngineImages engine;
   std::vector<std::unique_ptr<PassLog>> logs;  // one per frame in flight, used in turn
 
@@ -204,10 +188,8 @@ struct GiContext::Impl {
   std::optional<std::uint64_t> lastFrameIndex;
   Camera lastCamera;
   Extent lastSize;
-  SignalFlags lastEngineSignals;    // which signals the engine gave
-  bool pyramidBuilt = false;        // the depth pyramid holds last frame's depth
-  bool tilesBuilt = false;          // the screen tiles hold this frame's (screen-only mode)
-  bool lightChangeBuilt = false;    // the light change was recorded this frame
+  SignalFlags lastEngineSignals;  // which signals the engine gave
+  Products lastProducts;          // the last frame's products (what indirect() and composite() hand out)
 
   Impl(const Device& device, const ContextDesc& d, const Settings& s)
       : desc(d),
@@ -215,56 +197,25 @@ struct GiContext::Impl {
         context(openLibraryContext(device)),
         scene(*context, d.sceneBridge),
         arena(*context, VkDeviceSize(128) << 20, GiContext::estimateMemoryBytes(d, s)),
-        frameImages(*context, arena, kFrameImages, {d.maxWidth, d.maxHeight}),
         frameConstants(std::make_unique<gpu::Buffer>(*context, "gi.frame_constants", sizeof(shared::GiFrameConstants),
                                                      gpu::BufferUsage::DeviceLocal, &arena)),
-        cache(*context, arena, {d.maxWidth, d.maxHeight}, settings, scene),
-        depthPyramid(*context, arena, {d.maxWidth, d.maxHeight}),
-        screenTiles(*context, arena, {d.maxWidth, d.maxHeight}),
-        lightChange(*context, arena, {d.maxWidth, d.maxHeight}),
         signals(signalsOf(d)),
         noisyNames(noisyInputNames(signals)),
-        storeHistory(*context, storeHistoryPass()),
-        compositor(*context, compositePass()),
         engine(*context),
         lastEngineSignals(signals.size(), false) {
-    const DiffuseSettings& diffuse = settings.diffuse;
-    // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
-    if (diffuse.enabled && scene.traces() &&
-        diffuse.screenCandidates + diffuse.brightCandidates + planWorldRays(settings).diffuseCandidates == 0)
-      throw Error(
-          "gi: gi.diffuse.screen_candidates and bright_candidates are 0 and no ray candidate is left (gi.diffuse."
-          "ray_candidates, or gi.world_ray_budget too small for one) with the scene bridge '" +
-          scene.name() + "': every reservoir would stay empty");
-    branches.push_back(std::make_unique<DiffuseBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings,
-                                                       scene, cache, ownFilter(settings, kDiffuseSignal)));
-    branches.push_back(std::make_unique<SpecularBranch>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings,
-                                                        scene, cache, ownFilter(settings, kSpecularSignal)));
-    if (settings.denoise.enabled)
-      denoiser =
-          std::make_unique<Denoiser>(*context, arena, Extent{d.maxWidth, d.maxHeight}, settings.denoise, signals);
+    const UnitResources resources{*context, arena, scene};
+    forEachUnit(desc, settings, signals, scene.traces(),
+                [&](const UnitRegistration& registration, const UnitSetup& setup, std::vector<std::string> made) {
+                  std::unique_ptr<Unit> unit = registration.make(setup, resources);
+                  if (!unit) return;
+                  units.push_back(std::move(unit));
+                  unitProducts.push_back(std::move(made));
+                });
     for (std::uint32_t i = 0; i < desc.framesInFlight; ++i)
       logs.push_back(std::make_unique<PassLog>(*context, desc.timestamps, scene.traces()));
   }
 
-  // The branch that makes a library signal (kDiffuseSignal, kSpecularSignal).
-  Branch& branchOf(SignalId signal) { return *branches[signal]; }
-  bool branchEnabled(SignalId signal) const { return gi::branchEnabled(settings, signal); }
-  // Whether the library's branch of each library signal makes it this
-  // frame: it is enabled and the engine does not give the signal itself.
-  std::array<bool, kLibrarySignalCount> branchesRunning(const SignalFlags& given) const {
-    return {branchEnabled(kDiffuseSignal) && !given[kDiffuseSignal],
-            branchEnabled(kSpecularSignal) && !given[kSpecularSignal]};
-  }
   std::uint64_t current() const { return recorded == 0 ? 0 : recorded - 1; }
-  // The pyramid is built when a running branch marches it (today the
-  // specular trace; the diffuse visibility marches read gi.march_depth pixel
-  // by pixel).
-  bool needsDepthPyramid(const std::array<bool, kLibrarySignalCount>& running) const {
-    for (const SignalId signal : {kDiffuseSignal, kSpecularSignal})
-      if (running[signal] && branches[signal]->marchesDepthPyramid()) return true;
-    return false;
-  }
 
   // Everything that can be refused, before anything is recorded; returns
   // the frame's noisy signals (noisyInputsOf), checked.
@@ -286,7 +237,7 @@ struct GiContext::Impl {
       const ImageRef& ref = given.ref;
       if (ref.image == VK_NULL_HANDLE) continue;
       const std::string input = "gi: frame input " + std::string(given.name);
-      if (!denoiser)
+      if (!settings.denoise.enabled)
         throw Error(input +
                     " is given, but the denoiser is off (Settings::denoise.enabled, gi.denoise.enabled): "
                     "the library takes an engine's signal only to denoise it");
@@ -304,31 +255,6 @@ struct GiContext::Impl {
                     "the render size " + sizeText(frame.width, frame.height) + ")");
     }
     return noisy;
-  }
-
-  // The passes and images that take the engine's signals in, made before
-  // the first frame that gives one records anything.
-  void makeEngineSignalUnit() {
-    if (engineSignals) return;
-    for (const SignalDesc& signal : signals) {
-      addEngineSignalImage(engineSignalTable, signal.name);
-      engineSignalPasses.push_back(std::make_unique<gpu::ComputePass>(*context, engineSignalPass(signal.name)));
-    }
-    engineSignals =
-        std::make_unique<ImageSet>(*context, arena, engineSignalTable.specs(), Extent{desc.maxWidth, desc.maxHeight});
-  }
-
-  // gi.engine_signal.SIGNAL: the engine's signal into the library's image
-  // of it (in checkerboard mode, unpacked to full width).
-  gpu::Image& takeEngineSignal(const FrameState& state, std::size_t signal) {
-    gpu::Image& taken = engineSignals->current(signal, state.frameIndex);
-    const EngineSignalParams params{settings.denoise.checkerboard ? 1u : 0u,
-                                    shared::checkerboardParityOfKind(signals[signal].kind == SignalKind::Specular)};
-    state.recorder.dispatch(*engineSignalPasses[signal], state.renderSize.width, state.renderSize.height,
-                            state.group.binds(GroupPart::Constants),
-                            {{"gIn_Noisy", *state.engine.noisy(signal), state.nearestSampler}, {"gOut_Signal", taken}},
-                            params);
-    return taken;
   }
 
   shared::GiFrameConstants frameConstantsOf(const FrameInputs& frame, bool hasHistory, bool usableHistory) const {
@@ -356,17 +282,56 @@ struct GiContext::Impl {
     return c;
   }
 
+  // Which units record this frame and what they take: asked last to first,
+  // each told what the units after it take (so a unit whose products
+  // nobody takes this frame, the depth pyramid without a Hi-Z trace, rests).
+  std::vector<Unit::Plan> planFrame(const SignalFlags& given, std::set<std::string, std::less<>>& wanted) const {
+    std::vector<Unit::Plan> plans(units.size());
+    for (std::size_t i = units.size(); i-- > 0;) {
+      plans[i] = units[i]->plan({.signals = signals, .given = given, .wanted = wanted});
+      if (!plans[i].records) continue;
+      for (const std::string& taken : plans[i].takes) {
+        const bool made = taken == product::kEnvironment ||
+                          std::any_of(unitProducts.begin(), unitProducts.end(), [&](const auto& products) {
+                            return std::find(products.begin(), products.end(), taken) != products.end();
+                          });
+        if (!made)
+          throw Error("gi: unit '" + std::string(units[i]->name()) + "' takes the product '" + taken +
+                      "', which no unit of the context makes");
+        wanted.insert(taken);
+      }
+    }
+    return plans;
+  }
+
+  // For each unit, the last unit recording this frame that takes one of its
+  // products (its recordAfterConsumers follows that unit's record), or itself.
+  std::vector<std::size_t> lastConsumers(const std::vector<Unit::Plan>& plans) const {
+    std::vector<std::size_t> last(units.size());
+    for (std::size_t producer = 0; producer < units.size(); ++producer) {
+      last[producer] = producer;
+      const std::vector<std::string>& made = unitProducts[producer];
+      for (std::size_t consumer = producer + 1; consumer < units.size(); ++consumer)
+        if (plans[consumer].records &&
+            std::any_of(plans[consumer].takes.begin(), plans[consumer].takes.end(), [&](const std::string& taken) {
+              return std::find(made.begin(), made.end(), taken) != made.end();
+            }))
+          last[producer] = consumer;
+    }
+    return last;
+  }
+
   void record(VkCommandBuffer commandBuffer, const FrameInputs& frame) {
     if (commandBuffer == VK_NULL_HANDLE) throw Error("gi: record() needs a command buffer in the recording state");
     const std::vector<EngineImages::Noisy> noisy = check(frame);
     SignalFlags given(signals.size());
     for (std::size_t id = 0; id < signals.size(); ++id) given[id] = noisy[id].ref.image != VK_NULL_HANDLE;
-    const auto running = branchesRunning(given);
-    const bool anyBranch = running[kDiffuseSignal] || running[kSpecularSignal];
+    std::set<std::string, std::less<>> wanted;
+    const std::vector<Unit::Plan> plans = planFrame(given, wanted);
+    const std::vector<std::size_t> after = lastConsumers(plans);
     scene.take(frame);
-    // Only the branches read the environment: without them it may be left out.
-    engine.take(frame, noisy, desc.inputState, anyBranch);
-    if (std::find(given.begin(), given.end(), true) != given.end()) makeEngineSignalUnit();
+    // Only units that take the environment (the branches) read it: without them it may be left out.
+    engine.take(frame, noisy, desc.inputState, wanted.contains(product::kEnvironment));
 
     const Extent size{frame.width, frame.height};
     // A new render size makes last frame's images another picture: nothing of them is reused.
@@ -376,9 +341,10 @@ struct GiContext::Impl {
     // branch's reservoirs and filters, the denoiser's history of that
     // signal. All restart, as on a cut; engines switch rarely (a debug
     // toggle). (An engine's own signal given again restarts only its own
-    // history: below.)
-    const bool sameSources = recorded == 0 || (given[kDiffuseSignal] == lastEngineSignals[kDiffuseSignal] &&
-                                               given[kSpecularSignal] == lastEngineSignals[kSpecularSignal]);
+    // history: the denoiser's SignalInput::historyKept.)
+    bool sameSources = true;
+    for (std::size_t id = 0; id < kLibrarySignalCount; ++id)
+      sameSources = sameSources && (recorded == 0 || given[id] == lastEngineSignals[id]);
     const bool usableHistory = hasHistory && !frame.cameraCut && sameSources;
     const shared::GiFrameConstants constants = frameConstantsOf(frame, hasHistory, usableHistory);
     const std::uint64_t f = recorded;  // the history images' index
@@ -393,28 +359,9 @@ struct GiContext::Impl {
     recorder.updateBuffer(*frameConstants, &constants, sizeof constants);
     const FrameGroup group(*frameConstants, engine[Input::ViewZ], engine[Input::NormalRoughness],
                            context->nearestSampler());
-    recorder.dispatch(storeHistory, size.width, size.height, group.binds(),
-                      {{"gOut_Surface", frameImages.current(kHistorySurface, f)},
-                       {"gOut_MarchDepth", frameImages.current(kMarchDepth, f)},
-                       // Not read without material ids (the constants say so): last frame's
-                       // surfaces, an unsigned-integer image, only fill the slot.
-                       {"gIn_MaterialId",
-                        engine.has(Input::MaterialId) ? engine[Input::MaterialId]
-                                                      : frameImages.previous(kHistorySurface, f),
-                        context->nearestSampler()}});
-    pyramidBuilt = needsDepthPyramid(running);
-    if (pyramidBuilt) depthPyramid.record(recorder, frameImages.current(kMarchDepth, f), size);
-    // Screen-only mode's answer for rays screen space cannot decide, from
-    // this frame's direct light (with a bridge that traces, world rays answer them).
-    tilesBuilt = anyBranch && !scene.traces();
-    if (tilesBuilt) screenTiles.record(recorder, group, engine[Input::Direct], context->nearestSampler(), size);
-    // How much of the light changed, and so how much of their history the
-    // temporal histories keep: for every unit with one.
-    lightChangeBuilt = anyBranch || denoiser != nullptr;
-    if (lightChangeBuilt)
-      lightChange.record(recorder, group, engine, frameImages.previous(kHistorySurface, f),
-                         frameImages.current(kHistorySurface, f), context->nearestSampler(), f, size);
-
+    Products products;
+    for (const std::unique_ptr<Unit>& unit : units) unit->putHistory(products, f);
+    const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
     const FrameState state{.recorder = recorder,
                            .group = group,
                            .engine = engine,
@@ -424,64 +371,30 @@ struct GiContext::Impl {
                            .renderSize = size,
                            .hasHistory = hasHistory,
                            .usableHistory = usableHistory,
-                           .previousComposite = frameImages.previous(kComposite, f),
-                           .previousSurface = frameImages.previous(kHistorySurface, f),
-                           .currentSurface = frameImages.current(kHistorySurface, f),
-                           .marchDepth = frameImages.current(kMarchDepth, f),
-                           .depthPyramid = depthPyramid,
-                           .screenTiles = screenTiles,
-                           .lightChange = lightChange.verdict(f),
                            .capturing = frame.captureStages,
-                           .denoised = denoiser != nullptr};
-    // The radiance cache serves the branches; with none running it rests.
-    if (anyBranch) {
-      const glm::vec3 cameraPosition = glm::inverse(glm::make_mat4(frame.camera.worldToView))[3];
-      cache.recordBegin(state, glm::value_ptr(cameraPosition),
-                        denoiser && settings.diffuse.enabled ? denoiser->previousResult(kDiffuseSignal, f)
-                                                             : branchOf(kDiffuseSignal).previousResult(f));
+                           .cameraPosition = {cameraPosition.x, cameraPosition.y, cameraPosition.z},
+                           .signals = signals,
+                           .given = given,
+                           .givenLastFrame = lastEngineSignals,
+                           .products = products,
+                           .previous = lastProducts};
+    for (std::size_t i = 0; i < units.size(); ++i) {
+      if (plans[i].records) units[i]->record(state);
+      for (std::size_t producer = 0; producer <= i; ++producer)
+        if (plans[producer].records && after[producer] == i) units[producer]->recordAfterConsumers(state);
     }
-    // A branch whose signal the engine gives records nothing; one that is
-    // disabled records the clearing of its result (what the composite reads).
-    for (const SignalId signal : {kDiffuseSignal, kSpecularSignal})
-      if (!given[signal]) branchOf(signal).record(state);
-    if (anyBranch) cache.recordEnd(state);
-    if (denoiser) {
-      std::vector<Denoiser::SignalInput> inputs(signals.size());
-      for (std::size_t id = 0; id < signals.size(); ++id) {
-        Denoiser::SignalInput& in = inputs[id];
-        const bool library = id < kLibrarySignalCount;
-        in.noisy = given[id]                ? &takeEngineSignal(state, id)
-                   : library && running[id] ? &branchOf(SignalId(id)).resolved(f)
-                                            : nullptr;
-        // Checkerboard mode is the engine's: the branches' signals are full.
-        in.checkerboarded = given[id] && settings.denoise.checkerboard;
-        // An engine's own signal not given last frame has no history of last frame's.
-        in.historyKept = library || lastEngineSignals[id];
-      }
-      denoiser->record(state, inputs);
-    }
-
-    gpu::Image& direct = engine[Input::Direct];
-    const VkSampler nearest = context->nearestSampler();
-    recorder.dispatch(compositor, size.width, size.height, group.binds(GroupPart::Surfaces),
-                      {{"gIn_Direct", direct, nearest},
-                       {"gIn_BaseColorMetallic", engine[Input::BaseColorMetallic], nearest},
-                       // Not read without an emissive image (the constants say so); bound only to fill the slot.
-                       {"gIn_Emissive", engine.has(Input::Emissive) ? engine[Input::Emissive] : direct, nearest},
-                       {"gIn_IndirectDiffuse", result(kDiffuseSignal, f, given), nearest},
-                       {"gIn_IndirectSpecular", result(kSpecularSignal, f, given), nearest},
-                       {"gOut_Composite", frameImages.current(kComposite, f)}});
     log.end(recorder);
 
     engine.handBack(recorder);
     // Stage copies moved some images to transfer layouts: every library
     // image is left as LibraryImage says.
     if (frame.captureStages) {
-      for (ImageSet* set : imageSets())
-        for (const ImageSet::Listed& listed : set->list(f))
-          if (listed.image->sync().layout != VK_IMAGE_LAYOUT_GENERAL)
-            recorder.handOver(*listed.image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                              kLibraryImageAccess);
+      for (const std::unique_ptr<Unit>& unit : units)
+        for (ImageSet* set : unit->imageSets())
+          for (const ImageSet::Listed& listed : set->list(f))
+            if (listed.image->sync().layout != VK_IMAGE_LAYOUT_GENERAL)
+              recorder.handOver(*listed.image, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                kLibraryImageAccess);
       recorder.flush();
     }
 
@@ -490,27 +403,13 @@ struct GiContext::Impl {
     lastCamera = frame.camera;
     lastSize = size;
     lastEngineSignals = given;
+    lastProducts = std::move(products);
   }
 
-  std::vector<ImageSet*> imageSets() {
-    std::vector<ImageSet*> sets = {&frameImages, &cache.images()};
-    if (tilesBuilt) sets.push_back(&screenTiles.images());
-    if (lightChangeBuilt) sets.push_back(&lightChange.images());
-    for (const std::unique_ptr<Branch>& branch : branches) sets.push_back(&branch->images());
-    if (denoiser) sets.push_back(&denoiser->images());
-    if (engineSignals) sets.push_back(engineSignals.get());
-    return sets;
-  }
-
-  // What the composite reads for a library signal: the denoised one (the
-  // branch's or the engine's), or the branch's own filtered one (denoiser
-  // off, or the branch off: then it is the branch's cleared result); an
-  // engine's own signal: the denoised one. `given`: the engine gave the
-  // signal that frame.
-  gpu::Image& result(SignalId signal, std::uint64_t f, const SignalFlags& given) {
-    if (signal >= kLibrarySignalCount) return denoiser->result(signal, f);
-    const bool denoised = branchEnabled(signal) || given[signal];
-    return denoiser && denoised ? denoiser->result(signal, f) : branchOf(signal).result(f);
+  // An image product of the last frame, for the engine; `what` names the call.
+  gpu::Image& lastProduct(std::string_view name, const std::string& what) const {
+    if (recorded == 0) throw Error("gi: " + what + ": no frame has been recorded yet");
+    return lastProducts.image(name);
   }
 
   FrameResults collect(std::uint64_t completedFrameIndex) {
@@ -569,7 +468,7 @@ ImageRef GiContext::indirect(SignalId signal) const {
   if (signal >= impl_->signals.size())
     throw Error("gi: indirect(" + std::to_string(signal) + "): the context has " +
                 std::to_string(impl_->signals.size()) + " signals (diffuse, specular and ContextDesc::signals)");
-  return libraryRef(impl_->result(signal, impl_->current(), impl_->lastEngineSignals));
+  return libraryRef(impl_->lastProduct(impl_->signals[signal].name, "indirect(" + std::to_string(signal) + ")"));
 }
 
 std::vector<SignalDesc> GiContext::signals() const { return impl_->signals; }
@@ -578,19 +477,14 @@ ImageRef GiContext::indirectDiffuse() const { return indirect(kDiffuseSignal); }
 
 ImageRef GiContext::indirectSpecular() const { return indirect(kSpecularSignal); }
 
-ImageRef GiContext::composite() const { return libraryRef(impl_->frameImages.current(kComposite, impl_->current())); }
+ImageRef GiContext::composite() const { return libraryRef(impl_->lastProduct(product::kComposite, "composite()")); }
 
 std::vector<LibraryImage> GiContext::images() const {
-  std::vector<ImageSet::Listed> listed;
-  for (ImageSet* set : impl_->imageSets()) {
-    const std::vector<ImageSet::Listed> ofSet = set->list(impl_->current());
-    listed.insert(listed.end(), ofSet.begin(), ofSet.end());
-  }
-  if (impl_->pyramidBuilt) listed.push_back(impl_->depthPyramid.listed());
   std::vector<LibraryImage> list;
-  for (const ImageSet::Listed& image : listed)
-    list.push_back({image.name, libraryRef(*image.image), visualization(image.spec->view),
-                    std::string(image.spec->purpose)});
+  for (const std::unique_ptr<Unit>& unit : impl_->units)
+    for (const ImageSet::Listed& image : unit->listImages(impl_->current()))
+      list.push_back(
+          {image.name, libraryRef(*image.image), visualization(image.spec->view), std::string(image.spec->purpose)});
   return list;
 }
 
@@ -608,20 +502,15 @@ std::vector<UnitMemory> GiContext::memoryByUnit() const {
 }
 
 std::uint64_t GiContext::estimateMemoryBytes(const ContextDesc& desc, const Settings& settings) {
-  // The units Impl makes, each sized as it sizes itself.
-  const Extent size{desc.maxWidth, desc.maxHeight};
-  std::uint64_t bytes =
-      imageSetBytes(frameImageTable(), size) + sizeof(shared::GiFrameConstants) +
-      RadianceCache::memoryBytes(size, settings) + DepthPyramid::memoryBytes(size) + ScreenTiles::memoryBytes(size) +
-      LightChange::memoryBytes(size) +
-      imageSetBytes(diffuseImageTable(), size, brightPyramidLevels(size, settings.diffuse.brightPixels),
-                    DiffuseBranch::unusedImages(ownFilter(settings, kDiffuseSignal))) +
-      DiffuseBranch::bufferBytes(size, settings, !desc.sceneBridge.shaders.empty()) +
-      imageSetBytes(specularImageTable(), size, 0, SpecularBranch::unusedImages(ownFilter(settings, kSpecularSignal))) +
-      SpecularBranch::bufferBytes(size, !desc.sceneBridge.shaders.empty());
-  if (settings.denoise.enabled) bytes += denoiserMemoryBytes(size, signalsOf(desc));
+  // The units a context makes, each sized as it sizes itself.
+  std::uint64_t bytes = sizeof(shared::GiFrameConstants);
+  forEachUnit(desc, settings, signalsOf(desc), !desc.sceneBridge.shaders.empty(),
+              [&](const UnitRegistration& registration, const UnitSetup& setup, const std::vector<std::string>&) {
+                bytes += registration.memoryBytes(setup);
+              });
   return bytes;
 }
+
 const Settings& GiContext::settings() const { return impl_->settings; }
 std::uint32_t GiContext::maxWidth() const { return impl_->desc.maxWidth; }
 std::uint32_t GiContext::maxHeight() const { return impl_->desc.maxHeight; }

@@ -2,6 +2,7 @@
 
 #include "gi/gi_shaders.h"
 #include "gi/pass_decls.h"
+#include "gi/units.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -84,5 +85,45 @@ void LightChange::record(gpu::Recorder& recorder, const FrameGroup& group, Engin
 gpu::Image& LightChange::verdict(std::uint64_t frameIndex) { return images_.current(kVerdict, frameIndex); }
 
 std::vector<gpu::PassDesc> LightChange::passes() { return {lightChangeTilesPass(), lightChangeFramePass()}; }
+
+namespace {
+
+// Recorded on the frames a unit after it takes the verdict (every unit with
+// a temporal history).
+class LightChangeUnit final : public Unit {
+ public:
+  LightChangeUnit(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize) : change_(context, arena, maxSize) {}
+  std::string_view name() const override { return "light_change"; }
+  Plan plan(const FramePlan& frame) const override {
+    return {.records = frame.wanted.contains(product::kLightChange),
+            .takes = {std::string(product::kSurface), std::string(product::kPreviousSurface)}};
+  }
+  void putHistory(Products&, std::uint64_t) override { built_ = false; }
+  void record(const FrameState& frame) override {
+    change_.record(frame.recorder, frame.group, frame.engine, frame.products.image(product::kPreviousSurface),
+                   frame.products.image(product::kSurface), frame.nearestSampler, frame.frameIndex, frame.renderSize);
+    frame.products.put(product::kLightChange, change_.verdict(frame.frameIndex));
+    built_ = true;
+  }
+  // Listed when the last frame recorded it.
+  std::vector<ImageSet*> imageSets() override {
+    return built_ ? std::vector<ImageSet*>{&change_.images()} : std::vector<ImageSet*>{};
+  }
+
+ private:
+  LightChange change_;
+  bool built_ = false;
+};
+
+}  // namespace
+
+UnitRegistration lightChangeUnit() {
+  return {.name = "light_change",
+          .produces = [](const UnitSetup&) { return std::vector<std::string>{std::string(product::kLightChange)}; },
+          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
+            return std::make_unique<LightChangeUnit>(resources.context, resources.arena, setup.maxSize);
+          },
+          .memoryBytes = [](const UnitSetup& setup) { return LightChange::memoryBytes(setup.maxSize); }};
+}
 
 }  // namespace bounce::gi

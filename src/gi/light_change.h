@@ -57,4 +57,9 @@ class LightChange {
   gpu::ComputePass frame_;
 };
 
+struct UnitRegistration;
+// The light change as a unit (gi/units.h): product "light_change", recorded
+// on the frames a later unit takes it.
+UnitRegistration lightChangeUnit();
+
 }  // namespace bounce::gi

@@ -53,4 +53,9 @@ class ScreenTiles {
   gpu::ComputePass border_;
 };
 
+struct UnitRegistration;
+// The tiles as a unit (gi/units.h): product "screen_tiles", built on the
+// frames a later unit takes them.
+UnitRegistration screenTilesUnit();
+
 }  // namespace bounce::gi

@@ -31,7 +31,7 @@ std::vector<DeclaredUnit> makeUnits() {
   }
   return {
       {"environment", environmentPrefilterPasses(), {}},
-      {"frame", {storeHistoryPass(), compositePass()}, listOf(frameImageTable())},
+      {"history", {storeHistoryPass()}, listOf(historyImageTable())},
       {"depth_pyramid", DepthPyramid::passes(), {DepthPyramid::spec()}},
       {"screen_tiles", ScreenTiles::passes(), listOf(screenTilesImageTable())},
       {"light_change", LightChange::passes(), listOf(lightChangeImageTable())},
@@ -40,6 +40,7 @@ std::vector<DeclaredUnit> makeUnits() {
       {"specular", SpecularBranch::passes(), listOf(specularImageTable())},
       {"engine_signal", std::move(engineSignalPasses), listOf(engineSignalTable.specs())},
       {"denoise", Denoiser::passes(kLibrarySignals), listOf(denoiseTable.specs())},
+      {"composite", {compositePass()}, listOf(compositeImageTable())},
   };
 }
 

@@ -1,5 +1,10 @@
 #include "gi/cache/radiance_cache.h"
 
+#include <array>
+
+#include "gi/frame_passes.h"
+#include "gi/units.h"
+
 #include <bit>
 #include <cmath>
 
@@ -128,13 +133,13 @@ struct RadianceCache::Passes {
   }
 };
 
-RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                             const SceneBridgeBinding& scene)
+RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
+                             const CacheSettings& settings, float environmentMip, const SceneBridgeBinding& scene)
     : context_(context),
       scene_(scene),
-      settings_(settings.cache),
-      environmentMip_(settings.diffuse.environmentMip),
-      capacity_(cacheCapacity(settings.cache.memoryMib)),
+      settings_(settings),
+      environmentMip_(environmentMip),
+      capacity_(cacheCapacity(settings.memoryMib)),
       images_(context, arena, kImages, maxSize) {
   const auto make = [&](const char* name, std::uint64_t bytes) {
     return std::make_unique<gpu::Buffer>(context, name, bytes, gpu::BufferUsage::DeviceLocal, &arena);
@@ -150,9 +155,9 @@ RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Ext
 
 RadianceCache::~RadianceCache() = default;
 
-std::uint64_t RadianceCache::memoryBytes(Extent maxSize, const Settings& settings) {
+std::uint64_t RadianceCache::memoryBytes(Extent maxSize, const CacheSettings& settings) {
   // keys, accumulators, radiance, touched (as the constructor makes them) and the counts.
-  return imageSetBytes(kImages, maxSize) + std::uint64_t(cacheCapacity(settings.cache.memoryMib)) * kCacheBytesPerCell +
+  return imageSetBytes(kImages, maxSize) + std::uint64_t(cacheCapacity(settings.memoryMib)) * kCacheBytesPerCell +
          kCountsBytes + sizeof(shared::CacheConstants);
 }
 
@@ -165,8 +170,15 @@ std::span<const ImageSpec> cacheImageTable() { return kImages; }
 
 std::vector<gpu::PassDesc> RadianceCache::passes() { return {injectPass(), updatePass(), resolvePass(), viewPass()}; }
 
-void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosition[3], gpu::Image& previousDiffuse) {
+Unit::Plan RadianceCache::plan(const FramePlan& frame) const {
+  return {.records = frame.wanted.contains(product::kCache),
+          .takes = {std::string(product::kPreviousSurface), std::string(product::kLightChange),
+                    std::string(product::kEnvironment)}};
+}
+
+void RadianceCache::record(const FrameState& frame) {
   gpu::Recorder& recorder = frame.recorder;
+  const std::array<float, 3>& cameraPosition = frame.cameraPosition;
   if (frame_ == 0)
     for (gpu::Buffer* b : {keys_.get(), accumulators_.get(), radiance_.get(), touched_.get()})
       recorder.fillBuffer(*b, 0u);
@@ -185,26 +197,31 @@ void RadianceCache::recordBegin(const FrameState& frame, const float cameraPosit
   c.environmentMip = environmentMip_;
   c.directLight = settings_.directLight ? 1u : 0u;
   recorder.updateBuffer(*constants_, &c, sizeof c);
-  if (!c.enabled || !frame.usableHistory) return;
+  frame.products.put(product::kCache, binds());
+  // The cells are filled from last frame's indirect diffuse as the
+  // composite read it (the denoiser's, or the branch's own filter's).
+  gpu::Image* previousDiffuse = frame.previous.find(kLibrarySignals[kDiffuseSignal].name);
+  if (!c.enabled || !frame.usableHistory || !previousDiffuse) return;
   const std::uint32_t stride = settings_.injectStride;
   std::vector<gpu::Bind> binds = this->binds();
-  binds.insert(binds.end(), {{"gPrev_Surface", frame.previousSurface},
-                             {"gPrev_Diffuse", previousDiffuse, frame.nearestSampler},
-                             {"gIn_LightChange", frame.lightChange}});
+  binds.insert(binds.end(), {{"gPrev_Surface", frame.products.image(product::kPreviousSurface)},
+                             {"gPrev_Diffuse", *previousDiffuse, frame.nearestSampler},
+                             {"gIn_LightChange", frame.products.image(product::kLightChange)}});
   recorder.dispatch(passes_->inject, (frame.renderSize.width + stride - 1) / stride,
                     (frame.renderSize.height + stride - 1) / stride, frame.group.binds(GroupPart::Constants),
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->inject, binds)));
 }
 
-void RadianceCache::recordEnd(const FrameState& frame) {
+void RadianceCache::recordAfterConsumers(const FrameState& frame) {
   if (!settings_.enabled || !scene_.traces()) return;
   gpu::Recorder& recorder = frame.recorder;
+  gpu::Image& lightChange = frame.products.image(product::kLightChange);
   // gi.cache.update sums the change of light into them, gi.cache.resolve counts the live cells anew.
   recorder.fillBuffer(*counts_, 0u);
   if (settings_.updateRays > 0) {
     std::vector<gpu::Bind> binds = this->binds();
     binds.push_back({"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler});
-    binds.push_back({"gIn_LightChange", frame.lightChange});
+    binds.push_back({"gIn_LightChange", lightChange});
     const std::vector<gpu::Bind> bridged = scene_.binds(*passes_->update, {});
     binds.insert(binds.end(), bridged.begin(), bridged.end());
     const std::uint32_t stride = cacheUpdateStride(frame.renderSize, settings_);
@@ -213,7 +230,7 @@ void RadianceCache::recordEnd(const FrameState& frame) {
                       std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->update, binds)));
   }
   std::vector<gpu::Bind> resolveBinds = this->binds();
-  resolveBinds.push_back({"gIn_LightChange", frame.lightChange});
+  resolveBinds.push_back({"gIn_LightChange", lightChange});
   recorder.dispatch(passes_->resolve, capacity_, 1,
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->resolve, resolveBinds)));
   if (frame.capturing) {
@@ -227,6 +244,19 @@ void RadianceCache::recordEnd(const FrameState& frame) {
     recorder.dispatch(*passes_->view, frame.renderSize.width, frame.renderSize.height, frame.group.binds(),
                       std::span<const gpu::Bind>(gpu::bindsDeclaredBy(*passes_->view, viewBinds)));
   }
+}
+
+UnitRegistration cacheUnit() {
+  return {.name = "cache",
+          .produces = [](const UnitSetup&) { return std::vector<std::string>{std::string(product::kCache)}; },
+          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
+            // Its update rays that miss read the environment at the level the diffuse branch's rays read.
+            return std::make_unique<RadianceCache>(resources.context, resources.arena, setup.maxSize,
+                                                   setup.settings.cache, setup.settings.diffuse.environmentMip,
+                                                   resources.scene);
+          },
+          .memoryBytes =
+              [](const UnitSetup& setup) { return RadianceCache::memoryBytes(setup.maxSize, setup.settings.cache); }};
 }
 
 }  // namespace bounce::gi

@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "bounce/gi_settings.h"
-#include "gi/branch.h"
 #include "gi/image_table.h"
 #include "gi/scene_bridge.h"
+#include "gi/unit.h"
 #include "gpu/pass.h"
 #include "gpu/resources.h"
 
@@ -40,23 +40,32 @@ gpu::ConstantsDecl cacheConstantsLayout();
 // The cache's debug views (captured frames only).
 std::span<const ImageSpec> cacheImageTable();
 
-class RadianceCache {
+struct UnitRegistration;
+// The cache as a unit (gi/units.h): product "cache" (its buffers, for the
+// passes that query it), recorded on the frames a later unit takes it.
+UnitRegistration cacheUnit();
+
+class RadianceCache final : public Unit {
  public:
-  RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                const SceneBridgeBinding& scene);
-  ~RadianceCache();
+  // `environmentMip`: the level of the environment update rays that miss
+  // read (the diffuse branch's rays' level).
+  RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const CacheSettings& settings,
+                float environmentMip, const SceneBridgeBinding& scene);
+  ~RadianceCache() override;
   // The bytes of device memory one made for `maxSize` and `settings` holds.
-  static std::uint64_t memoryBytes(Extent maxSize, const Settings& settings);
+  static std::uint64_t memoryBytes(Extent maxSize, const CacheSettings& settings);
 
   std::uint32_t capacity() const { return capacity_; }
-  ImageSet& images() { return images_; }
 
-  // Before the branches: clears the cache on the first frame, sets this
-  // frame's constants, fills cells from `previousDiffuse` (last frame's
-  // filtered indirect diffuse).
-  void recordBegin(const FrameState& frame, const float cameraPosition[3], gpu::Image& previousDiffuse);
-  // After the branches' queries: update rays, resolve, and the view on captured frames.
-  void recordEnd(const FrameState& frame);
+  std::string_view name() const override { return "cache"; }
+  Plan plan(const FramePlan& frame) const override;
+  // Before the units that query it: clears the cache on the first frame,
+  // sets this frame's constants, fills cells from last frame's indirect
+  // diffuse (the product "diffuse" of last frame).
+  void record(const FrameState& frame) override;
+  // After their queries: update rays, resolve, and the view on captured frames.
+  void recordAfterConsumers(const FrameState& frame) override;
+  std::vector<ImageSet*> imageSets() override { return {&images_}; }
   // The binds of cacheResources() for a pass that queries the cache.
   std::vector<gpu::Bind> binds() const;
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).

@@ -8,6 +8,7 @@
 
 #include "gi/denoise/denoise_common.glsl"
 #include "gi/denoise/denoise_passes.h"
+#include "gi/units.h"
 #include "gpu/format.h"
 
 namespace bounce::gi {
@@ -92,7 +93,7 @@ struct Denoiser::Passes {
 
 Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
                    std::vector<SignalDesc> signals)
-    : context_(context), settings_(settings), signals_(std::move(signals)) {
+    : context_(context), settings_(settings), signals_(std::move(signals)), lastDenoised_(signals_.size()) {
   addDenoiseImages(table_, signals_);
   images_ = std::make_unique<ImageSet>(context, arena, table_.specs(), maxSize);
   constants_ = std::make_unique<gpu::Buffer>(context, "gi.denoise.constants", sizeof(shared::DenoiseConstants),
@@ -212,13 +213,13 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
                        surfaceBind,
                        motion,
                        input,
-                       {"gPrev_Surface", frame.previousSurface},
+                       {"gPrev_Surface", frame.products.image(product::kPreviousSurface)},
                        {"gPrev_Filtered", previous(kDenoiseHistory)},
                        {"gPrev_Moments", previous(kDenoiseMoments)},
                        {"gOut_Accumulated", accumulated},
                        {"gOut_Moments", image(kDenoiseMoments)},
-                       {"gIn_Surface", frame.currentSurface},
-                       {"gIn_LightChange", frame.lightChange}},
+                       {"gIn_Surface", frame.products.image(product::kSurface)},
+                       {"gIn_LightChange", frame.products.image(product::kLightChange)}},
                       atFullRadius);
     recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(GroupPart::Constants),
                       {constants, tilesBind, surfaceBind, {"gIn_Accumulated", accumulated}, {"gOut_Fixed", fixed}},
@@ -241,11 +242,11 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
                        surfaceBind,
                        motion,
                        {"gIn_Filtered", image(kDenoiseHistory)},
-                       {"gPrev_Surface", frame.previousSurface},
+                       {"gPrev_Surface", frame.products.image(product::kPreviousSurface)},
                        {"gPrev_Stabilized", previous(kDenoiseStabilized)},
                        {"gOut_Stabilized", image(kDenoiseStabilized)},
-                       {"gIn_Surface", frame.currentSurface},
-                       {"gIn_LightChange", frame.lightChange}},
+                       {"gIn_Surface", frame.products.image(product::kSurface)},
+                       {"gIn_LightChange", frame.products.image(product::kLightChange)}},
                       atFullRadius);
   }
   if (frame.capturing) recordValidation(frame, inputs);
@@ -278,6 +279,61 @@ void Denoiser::recordValidation(const FrameState& frame, std::span<const SignalI
                            {"gIn_Specular", images_->current(imageOf(s, kDenoiseStabilized), f)},
                            {"gOut_Validation", images_->current(kDenoiseValidation, f)}},
                           params);
+}
+
+Unit::Plan Denoiser::plan(const FramePlan&) const {
+  return {.records = true,
+          .takes = {std::string(product::kSurface), std::string(product::kPreviousSurface),
+                    std::string(product::kLightChange)}};
+}
+
+void Denoiser::record(const FrameState& frame) {
+  std::vector<SignalInput> inputs(signals_.size());
+  for (std::size_t id = 0; id < signals_.size(); ++id) {
+    const std::string noisy = product::noisy(signals_[id].name);
+    SignalInput& in = inputs[id];
+    in.noisy = frame.products.find(noisy);
+    // Checkerboard mode is the engine's: the library's branches make full signals.
+    in.checkerboarded = frame.given[id] && settings_.checkerboard;
+    // A signal not made last frame (an engine's, given again) has no history of last frame's.
+    in.historyKept = frame.previous.has(noisy);
+  }
+  record(frame, inputs);
+  for (std::size_t id = 0; id < signals_.size(); ++id)
+    if (inputs[id].noisy) {
+      frame.products.put(signals_[id].name, result(id, frame.frameIndex));
+      lastDenoised_[id] = frame.frameIndex;
+    }
+}
+
+void Denoiser::putHistory(Products& products, std::uint64_t frameIndex) {
+  // A signal not given this frame (an engine's own) stays as the last frame
+  // that gave it left it (zero before the first): its result image of that
+  // frame, which no later frame wrote. A signal denoised this frame is put
+  // again by record(); the library's, when not denoised, by its branch.
+  for (std::size_t id = 0; id < signals_.size(); ++id)
+    products.put(signals_[id].name, result(id, lastDenoised_[id].value_or(frameIndex)));
+}
+
+UnitRegistration denoiseUnit() {
+  return {.name = "denoise",
+          .produces =
+              [](const UnitSetup& setup) {
+                std::vector<std::string> names;
+                if (setup.settings.denoise.enabled)
+                  for (const SignalDesc& signal : setup.signals) names.push_back(signal.name);
+                return names;
+              },
+          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
+            if (!setup.settings.denoise.enabled) return nullptr;
+            return std::make_unique<Denoiser>(resources.context, resources.arena, setup.maxSize, setup.settings.denoise,
+                                              std::vector<SignalDesc>(setup.signals.begin(), setup.signals.end()));
+          },
+          .memoryBytes =
+              [](const UnitSetup& setup) {
+                return setup.settings.denoise.enabled ? denoiserMemoryBytes(setup.maxSize, setup.signals)
+                                                      : std::uint64_t(0);
+              }};
 }
 
 }  // namespace bounce::gi

@@ -21,13 +21,14 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "bounce/gi.h"
 #include "bounce/gi_settings.h"
-#include "gi/branch.h"
+#include "gi/unit.h"
 
 namespace bounce::gi {
 
@@ -58,13 +59,23 @@ void addDenoiseImages(ImageTableBuilder& table, std::span<const SignalDesc> sign
 // Its device memory at `maxSize` (images and constants).
 std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const SignalDesc> signals);
 
-class Denoiser {
+struct UnitRegistration;
+// The denoiser as a unit (gi/units.h), made when gi.denoise.enabled: it
+// takes SIGNAL.noisy of every signal some unit before it made this frame
+// and makes SIGNAL, the denoised signal, in place of any earlier one.
+UnitRegistration denoiseUnit();
+
+class Denoiser final : public Unit {
  public:
   Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
            std::vector<SignalDesc> signals);
-  ~Denoiser();
+  ~Denoiser() override;
 
-  ImageSet& images() { return *images_; }
+  std::string_view name() const override { return "denoise"; }
+  Plan plan(const FramePlan& frame) const override;
+  void putHistory(Products& products, std::uint64_t frameIndex) override;
+  void record(const FrameState& frame) override;
+  std::vector<ImageSet*> imageSets() override { return {images_.get()}; }
   std::span<const SignalDesc> signals() const { return signals_; }
 
   // What a signal brings to a frame.
@@ -102,6 +113,8 @@ class Denoiser {
   std::unique_ptr<ImageSet> images_;
   std::unique_ptr<gpu::Buffer> constants_;
   std::unique_ptr<Passes> passes_;
+  std::vector<std::optional<std::uint64_t>>
+      lastDenoised_;  // by signal: the last frame (history index) that denoised it
 };
 
 }  // namespace bounce::gi

@@ -6,8 +6,10 @@
 
 #include <glm/glm.hpp>
 
+#include "gi/cache/radiance_cache.h"
 #include "gi/diffuse/diffuse_common.glsl"
 #include "gi/diffuse/diffuse_passes.h"
+#include "gi/units.h"
 #include "gi/world_queue.h"
 #include "gpu/format.h"
 
@@ -104,7 +106,7 @@ std::uint64_t pendingRayBytes(Extent maxSize, const WorldRayPlan& plan) {
 // How many neighbours one spatial pass may ask for their visibility of the
 // chosen sample with a ray: every one it merges with the unbiased option,
 // else the plan's sky tests (none when they are off or there is no reuse).
-std::uint32_t neighbourTestSlots(const Settings& settings, const WorldRayPlan& plan) {
+std::uint32_t neighbourTestSlots(const DiffuseBranchSettings& settings, const WorldRayPlan& plan) {
   const DiffuseSettings& d = settings.diffuse;
   if (!settings.restir) return 0;
   if (d.reuseVisibility) return std::min(std::max(d.spatialSamples, d.spatial2Samples), shared::kMaxSpatialNeighbours);
@@ -119,9 +121,9 @@ std::uint64_t neighbourTestBytes(Extent maxSize, std::uint32_t slots) {
 
 }  // namespace
 
-std::uint64_t DiffuseBranch::bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces) {
+std::uint64_t DiffuseBranch::bufferBytes(Extent maxSize, const DiffuseBranchSettings& settings, bool bridgeTraces) {
   if (!bridgeTraces) return 0;
-  const WorldRayPlan plan = planWorldRays(settings);
+  const WorldRayPlan& plan = settings.rays;
   const std::uint32_t slots = neighbourTestSlots(settings, plan);
   return pendingRayBytes(maxSize, plan) + worldQueueBytes(maxSize) + neighbourTestBytes(maxSize, slots) +
          worldQueueBytes(maxSize, std::max(1u, slots));
@@ -132,13 +134,13 @@ std::span<const std::size_t> DiffuseBranch::unusedImages(bool ownFilter) {
   return ownFilter ? std::span<const std::size_t>() : std::span<const std::size_t>(kFilterImages);
 }
 
-DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                             const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter)
+DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
+                             const DiffuseBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter)
     : context_(context),
       scene_(scene),
-      cache_(cache),
       settings_(settings),
-      plan_(planWorldRays(settings)),
+      plan_(settings.rays),
+      ownFilter_(ownFilter),
       images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels),
               unusedImages(ownFilter)),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.diffuse.constants", sizeof(shared::DiffuseConstants),
@@ -191,14 +193,33 @@ void DiffuseBranch::viewReservoirs(const FrameState& frame, std::size_t after, g
                            {"gOut_W", images_.current(kReservoirW, f)}});
 }
 
+Unit::Plan DiffuseBranch::plan(const FramePlan& frame) const {
+  // A signal the engine gives in the branch's place: the branch rests.
+  if (frame.engineGives(kSignal)) return {};
+  // Disabled, it clears its result.
+  if (!settings_.diffuse.enabled) return {.records = true};
+  Plan plan{.records = true,
+            .takes = {std::string(product::kPreviousSurface), std::string(product::kPreviousComposite),
+                      std::string(product::kMarchDepth), std::string(product::kLightChange),
+                      std::string(product::kCache), std::string(product::kEnvironment)}};
+  // Without a bridge that traces, the screen-only policy answers the rays screen space cannot decide.
+  if (!scene_.traces()) plan.takes.emplace_back(product::kScreenTiles);
+  return plan;
+}
+
 void DiffuseBranch::record(const FrameState& frame) {
   gpu::Recorder& recorder = frame.recorder;
   const std::uint64_t f = frame.frameIndex;
   const DiffuseSettings& d = settings_.diffuse;
   if (!d.enabled) {
     recorder.clearImage(images_.current(kFiltered, f), {});  // no indirect diffuse: the composite is the direct light
+    frame.products.put(kSignal, images_.current(kFiltered, f));
     return;
   }
+  const Products& products = frame.products;
+  gpu::Image& previousComposite = products.image(product::kPreviousComposite);
+  gpu::Image& previousSurface = products.image(product::kPreviousSurface);
+  gpu::Image& marchDepth = products.image(product::kMarchDepth);
   const Extent full = frame.renderSize;
   const Extent half = extentOf(Resolution::Half, full);
   const std::uint32_t levels = brightPyramidLevels(full, d.brightPixels);
@@ -239,8 +260,8 @@ void DiffuseBranch::record(const FrameState& frame) {
     const Extent first = extentOf(Resolution::Pyramid, full, 1);
     recorder.dispatch(passes_->brightPixels, first.width, first.height, frame.group.binds(GroupPart::Constants),
                       {constants,
-                       {"gPrev_Composite", frame.previousComposite},
-                       {"gPrev_Surface", frame.previousSurface},
+                       {"gPrev_Composite", previousComposite},
+                       {"gPrev_Surface", previousSurface},
                        {"gOut_Brightest", images_.level(kBrightLevels, 1)}});
     for (std::uint32_t level = 2; level <= levels; ++level) {
       const Extent below = extentOf(Resolution::Pyramid, full, level - 1);
@@ -259,17 +280,19 @@ void DiffuseBranch::record(const FrameState& frame) {
 
   gpu::Image& gathered0 = images_.current(kGathered0, f);
   gpu::Image& gathered1 = images_.current(kGathered1, f);
-  std::vector<gpu::Bind> gatherBinds = scene_.binds(passes_->gather, {constants,
-                     {"gPrev_Composite", frame.previousComposite},
-                     {"gPrev_Surface", frame.previousSurface},
-                     {"gIn_Brightest", images_.level(kBrightLevels, levels)},
-                     {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
-                     {"gIn_MarchDepth", frame.marchDepth},
-                     {"gOut_Reservoir0", gathered0},
-                     {"gOut_Reservoir1", gathered1}});
-  const std::vector<gpu::Bind> cache = cache_.binds();
+  std::vector<gpu::Bind> gatherBinds =
+      scene_.binds(passes_->gather, {constants,
+                                     {"gPrev_Composite", previousComposite},
+                                     {"gPrev_Surface", previousSurface},
+                                     {"gIn_Brightest", images_.level(kBrightLevels, levels)},
+                                     {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
+                                     {"gIn_MarchDepth", marchDepth},
+                                     {"gOut_Reservoir0", gathered0},
+                                     {"gOut_Reservoir1", gathered1}});
+  const std::span<const gpu::Bind> cache = products.binds(product::kCache);
   gatherBinds.insert(gatherBinds.end(), cache.begin(), cache.end());
-  for (const gpu::Bind& bind : frame.screenTiles.binds()) gatherBinds.push_back(bind);
+  const std::span<const gpu::Bind> tiles = products.binds(product::kScreenTiles);
+  gatherBinds.insert(gatherBinds.end(), tiles.begin(), tiles.end());
   if (worldQueue_) {
     recorder.fillBuffer(*worldQueue_, 0u);
     gatherBinds.emplace_back("gOut_PendingRays", *pendingRays_);
@@ -282,8 +305,8 @@ void DiffuseBranch::record(const FrameState& frame) {
   if (passes_->worldCandidates) {
     std::vector<gpu::Bind> worldBinds = scene_.binds(
         *passes_->worldCandidates, {constants,
-                                    {"gPrev_Composite", frame.previousComposite},
-                                    {"gPrev_Surface", frame.previousSurface},
+                                    {"gPrev_Composite", previousComposite},
+                                    {"gPrev_Surface", previousSurface},
                                     {"gIn_Brightest", images_.level(kBrightLevels, levels)},
                                     {"gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler},
                                     {"gIn_PendingRays", *pendingRays_},
@@ -310,22 +333,24 @@ void DiffuseBranch::record(const FrameState& frame) {
   gpu::Image& resolved = images_.current(kResolved, f);
   recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
                     std::span<const gpu::Bind>(scene_.binds(passes_->resolve, {constants,
-                                                    {"gIn_Reservoir0", *final0},
-                                                    {"gIn_Reservoir1", *final1},
-                                                    {"gIn_MarchDepth", frame.marchDepth},
-                                                    {"gOut_Diffuse", resolved}})));
-  // The denoiser takes the resolved signal: the filter's images were not made.
-  if (frame.denoised) return;
+                                                                               {"gIn_Reservoir0", *final0},
+                                                                               {"gIn_Reservoir1", *final1},
+                                                                               {"gIn_MarchDepth", marchDepth},
+                                                                               {"gOut_Diffuse", resolved}})));
+  frame.products.put(product::noisy(kSignal), resolved);
+  // A later unit (the denoiser) makes the signal from the resolved one: the filter's images were not made.
+  if (!ownFilter_) return;
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
                     {constants,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
                      {"gIn_Diffuse", resolved},
-                     {"gPrev_Surface", frame.previousSurface},
+                     {"gPrev_Surface", previousSurface},
                      {"gPrev_Filtered", images_.previous(kFiltered, f)},
                      {"gPrev_Moments", images_.previous(kMoments, f)},
                      {"gOut_Filtered", images_.current(kFiltered, f)},
                      {"gOut_Moments", images_.current(kMoments, f)},
-                     {"gIn_LightChange", frame.lightChange}});
+                     {"gIn_LightChange", products.image(product::kLightChange)}});
+  frame.products.put(kSignal, images_.current(kFiltered, f));
 }
 
 // Temporal reuse, then two spatial passes (one shader, other parameters).
@@ -346,15 +371,15 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
                     std::span<const gpu::Bind>(scene_.binds(
                         passes_->temporalReuse, {constants,
                                                  {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
-                                                 {"gPrev_Surface", frame.previousSurface},
+                                                 {"gPrev_Surface", frame.products.image(product::kPreviousSurface)},
                                                  {"gIn_Reservoir0", *final0},
                                                  {"gIn_Reservoir1", *final1},
                                                  {"gPrev_Reservoir0", images_.previous(kReservoirs0, f)},
                                                  {"gPrev_Reservoir1", images_.previous(kReservoirs1, f)},
                                                  {"gOut_Reservoir0", temporalOut0},
                                                  {"gOut_Reservoir1", temporalOut1},
-                                                 {"gPrev_Composite", frame.previousComposite},
-                                                 {"gIn_LightChange", frame.lightChange}})));
+                                                 {"gPrev_Composite", frame.products.image(product::kPreviousComposite)},
+                                                 {"gIn_LightChange", frame.products.image(product::kLightChange)}})));
   if (frame.capturing) viewReservoirs(frame, 1, temporalOut0, temporalOut1);
   // A spatial pass merges; with a bridge that traces, the visibility tests
   // it queued are traced apart and counted in after it.
@@ -399,6 +424,44 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
   final0 = &spatialOut0;
   final1 = &spatialOut1;
   if (frame.capturing) viewReservoirs(frame, 3, *final0, *final1);
+}
+
+UnitRegistration diffuseUnit() {
+  return {.name = std::string(DiffuseBranch::kSignal),
+          .produces =
+              [](const UnitSetup&) {
+                return std::vector<std::string>{std::string(DiffuseBranch::kSignal),
+                                                product::noisy(DiffuseBranch::kSignal)};
+              },
+          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
+            const DiffuseBranchSettings settings = DiffuseBranch::settingsOf(setup.settings);
+            const DiffuseSettings& d = settings.diffuse;
+            // validate() made sure of a candidate without a bridge; with one, rays take the environment's place.
+            if (d.enabled && resources.scene.traces() &&
+                d.screenCandidates + d.brightCandidates + settings.rays.diffuseCandidates == 0)
+              throw Error(
+                  "gi: gi.diffuse.screen_candidates and bright_candidates are 0 and no ray candidate is left "
+                  "(gi.diffuse.ray_candidates, or gi.world_ray_budget too small for one) with the scene bridge '" +
+                  resources.scene.name() + "': every reservoir would stay empty");
+            return std::make_unique<DiffuseBranch>(resources.context, resources.arena, setup.maxSize, settings,
+                                                   resources.scene, DiffuseBranch::ownFilter(setup));
+          },
+          .memoryBytes =
+              [](const UnitSetup& setup) {
+                const DiffuseBranchSettings settings = DiffuseBranch::settingsOf(setup.settings);
+                return imageSetBytes(diffuseImageTable(), setup.maxSize,
+                                     brightPyramidLevels(setup.maxSize, settings.diffuse.brightPixels),
+                                     DiffuseBranch::unusedImages(DiffuseBranch::ownFilter(setup))) +
+                       DiffuseBranch::bufferBytes(setup.maxSize, settings, setup.bridgeTraces);
+              }};
+}
+
+DiffuseBranchSettings DiffuseBranch::settingsOf(const Settings& settings) {
+  return {settings.diffuse, settings.restir, planWorldRays(settings)};
+}
+
+bool DiffuseBranch::ownFilter(const UnitSetup& setup) {
+  return !setup.settings.diffuse.enabled || !setup.madeLater(kSignal);
 }
 
 }  // namespace bounce::gi

@@ -17,9 +17,8 @@
 #include <span>
 
 #include "bounce/gi_settings.h"
-#include "gi/branch.h"
-#include "gi/cache/radiance_cache.h"
 #include "gi/scene_bridge.h"
+#include "gi/unit.h"
 
 namespace bounce::gi {
 
@@ -49,24 +48,40 @@ std::span<const ImageSpec> diffuseImageTable();
 // `brightPixels` entries remain (at least one level).
 std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels);
 
-class DiffuseBranch final : public Branch {
+struct UnitRegistration;
+struct UnitSetup;
+// The branch as a unit (gi/units.h). Products: "diffuse.noisy" (the
+// resolved signal) and, with its own filter, "diffuse" (the filtered one);
+// it takes the frame's surfaces, last frame's composite, the light change,
+// the cache and (screen-only mode) the screen tiles.
+UnitRegistration diffuseUnit();
+
+// What the branch receives of the settings: its own section, the switch of
+// reuse (gi.restir) and its share of the ray budget (planWorldRays).
+struct DiffuseBranchSettings {
+  DiffuseSettings diffuse;
+  bool restir = true;
+  WorldRayPlan rays;
+};
+
+class DiffuseBranch final : public Unit {
  public:
+  static constexpr std::string_view kSignal = "diffuse";
   // `scene`: the bridge the gather, reuse and resolve trace through (it
   // outlives the branch). `ownFilter`: the branch runs its own temporal
-  // filter on some frames (no denoiser takes its signal, or it is disabled
-  // and its result is the cleared filter image); without, the filter's
-  // images are not made (unusedImages).
-  DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter);
+  // filter on some frames (no later unit makes its signal from the resolved
+  // one, or it is disabled and its result is the cleared filter image);
+  // without, the filter's images are not made (unusedImages).
+  DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DiffuseBranchSettings& settings,
+                const SceneBridgeBinding& scene, bool ownFilter);
   ~DiffuseBranch() override;
+  static DiffuseBranchSettings settingsOf(const Settings& settings);
+  static bool ownFilter(const UnitSetup& setup);
 
-  std::string_view name() const override { return "diffuse"; }
-  ImageSet& images() override { return images_; }
+  std::string_view name() const override { return kSignal; }
+  Plan plan(const FramePlan& frame) const override;
   void record(const FrameState& frame) override;
-  gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kFiltered, frameIndex); }
-  // Last frame's result (what the radiance cache is filled from).
-  gpu::Image& resolved(std::uint64_t frameIndex) override { return images_.current(kResolved, frameIndex); }
-  gpu::Image& previousResult(std::uint64_t frameIndex) override { return images_.previous(kFiltered, frameIndex); }
+  std::vector<ImageSet*> imageSets() override { return {&images_}; }
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).
   static std::vector<gpu::PassDesc> passes();
 
@@ -74,7 +89,7 @@ class DiffuseBranch final : public Branch {
   // GiContext::estimateMemoryBytes): with a bridge that traces, the rays
   // waiting for gi.diffuse.world_candidates and their queue, and spatial
   // reuse's visibility tests and theirs.
-  static std::uint64_t bufferBytes(Extent maxSize, const Settings& settings, bool bridgeTraces);
+  static std::uint64_t bufferBytes(Extent maxSize, const DiffuseBranchSettings& settings, bool bridgeTraces);
   // The entries of diffuseImageTable() a branch without its own filter does not make.
   static std::span<const std::size_t> unusedImages(bool ownFilter);
 
@@ -85,9 +100,9 @@ class DiffuseBranch final : public Branch {
 
   gpu::Context& context_;
   const SceneBridgeBinding& scene_;
-  const RadianceCache& cache_;
-  Settings settings_;
-  WorldRayPlan plan_;  // how the ray budget is spent (planWorldRays(settings_))
+  DiffuseBranchSettings settings_;
+  WorldRayPlan plan_;  // how the ray budget is spent (settings_.rays)
+  bool ownFilter_;
   ImageSet images_;
   std::unique_ptr<gpu::Buffer> constants_;
   // With a bridge that traces: per reservoir and ray candidate, the

@@ -4,8 +4,10 @@
 
 #include <glm/glm.hpp>
 
+#include "gi/cache/radiance_cache.h"
 #include "gi/specular/specular_common.glsl"
 #include "gi/specular/specular_passes.h"
+#include "gi/units.h"
 #include "gi/world_queue.h"
 #include "gpu/format.h"
 
@@ -72,12 +74,12 @@ std::span<const std::size_t> SpecularBranch::unusedImages(bool ownFilter) {
   return ownFilter ? std::span<const std::size_t>() : std::span<const std::size_t>(kFilterImages);
 }
 
-SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                               const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter)
+SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
+                               const SpecularBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter)
     : context_(context),
       scene_(scene),
-      cache_(cache),
       settings_(settings),
+      ownFilter_(ownFilter),
       images_(context, arena, kImages, maxSize, 0, unusedImages(ownFilter)),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.specular.constants", sizeof(shared::SpecularConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
@@ -93,14 +95,32 @@ std::vector<gpu::PassDesc> SpecularBranch::passes() {
           specularResolvePass(), specularTemporalFilterPass(), specularValidationPass()};
 }
 
+Unit::Plan SpecularBranch::plan(const FramePlan& frame) const {
+  // A signal the engine gives in the branch's place: the branch rests.
+  if (frame.engineGives(kSignal)) return {};
+  // Disabled, it clears its result.
+  if (!settings_.specular.enabled) return {.records = true};
+  Plan plan{
+      .records = true,
+      .takes = {std::string(product::kPreviousSurface), std::string(product::kPreviousComposite),
+                std::string(product::kLightChange), std::string(product::kCache), std::string(product::kEnvironment)}};
+  // The trace marches the pyramid unless its march is off (trace_steps 0).
+  if (settings_.specular.traceSteps > 0) plan.takes.emplace_back(product::kDepthPyramid);
+  // Without a bridge that traces, the screen-only policy answers the rays screen space cannot decide.
+  if (!scene_.traces()) plan.takes.emplace_back(product::kScreenTiles);
+  return plan;
+}
+
 void SpecularBranch::record(const FrameState& frame) {
   gpu::Recorder& recorder = frame.recorder;
   const std::uint64_t f = frame.frameIndex;
   const SpecularSettings& s = settings_.specular;
   if (!s.enabled) {
     recorder.clearImage(images_.current(kSpecularFiltered, f), {});  // no indirect specular
+    frame.products.put(kSignal, images_.current(kSpecularFiltered, f));
     return;
   }
+  const Products& products = frame.products;
   const Extent full = frame.renderSize;
   const Extent half = extentOf(Resolution::Half, full);
 
@@ -134,8 +154,8 @@ void SpecularBranch::record(const FrameState& frame) {
   gpu::Image& traced0 = images_.current(kSpecularTraced0, f);
   gpu::Image& traced1 = images_.current(kSpecularTraced1, f);
   gpu::Image& pending = images_.current(kSpecularPendingRays, f);
-  const gpu::Bind previousComposite("gPrev_Composite", frame.previousComposite);
-  const gpu::Bind previousSurface("gPrev_Surface", frame.previousSurface);
+  const gpu::Bind previousComposite("gPrev_Composite", products.image(product::kPreviousComposite));
+  const gpu::Bind previousSurface("gPrev_Surface", products.image(product::kPreviousSurface));
   const gpu::Bind environment("gIn_Environment", frame.engine[Input::Environment], frame.environmentSampler);
   // What --dump-stages shows: only this frame's queued rays (and, without a
   // bridge that traces, an image no pass writes still has a defined layout).
@@ -146,13 +166,15 @@ void SpecularBranch::record(const FrameState& frame) {
                                                                     previousComposite,
                                                                     previousSurface,
                                                                     environment,
-                                                                    frame.depthPyramid.bind(),
                                                                     {"gOut_Reservoir0", traced0},
                                                                     {"gOut_Reservoir1", traced1},
                                                                     {"gOut_PendingRay", pending}});
   if (worldQueue_) traceBinds.emplace_back("gOut_WorldQueue", *worldQueue_);
-  for (const gpu::Bind& bind : frame.screenTiles.binds()) traceBinds.push_back(bind);
-  const std::vector<gpu::Bind> cache = cache_.binds();
+  for (const std::string_view name : {product::kDepthPyramid, product::kScreenTiles}) {
+    const std::span<const gpu::Bind> binds = products.binds(name);
+    traceBinds.insert(traceBinds.end(), binds.begin(), binds.end());
+  }
+  const std::span<const gpu::Bind> cache = products.binds(product::kCache);
   traceBinds.insert(traceBinds.end(), cache.begin(), cache.end());
   recorder.dispatch(passes_->trace, half.width, half.height, frame.group.binds(),
                     std::span<const gpu::Bind>(gpu::bindsDeclaredBy(passes_->trace, traceBinds)));
@@ -197,19 +219,21 @@ void SpecularBranch::record(const FrameState& frame) {
                      {"gIn_Reservoir0", *final0},
                      {"gIn_Reservoir1", *final1},
                      {"gOut_Specular", resolved}});
-  // The denoiser takes the resolved signal: the filter's images were not made.
-  if (frame.denoised) return;
+  frame.products.put(product::noisy(kSignal), resolved);
+  // A later unit (the denoiser) makes the signal from the resolved one: the filter's images were not made.
+  if (!ownFilter_) return;
   recorder.dispatch(passes_->temporalFilter, full.width, full.height, frame.group.binds(),
                     {constants,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
                      {"gIn_Specular", resolved},
-                     {"gPrev_Surface", frame.previousSurface},
+                     previousSurface,
                      {"gPrev_Filtered", images_.previous(kSpecularFiltered, f)},
                      {"gPrev_Moments", images_.previous(kSpecularMoments, f)},
                      {"gOut_Filtered", images_.current(kSpecularFiltered, f)},
                      {"gOut_Moments", images_.current(kSpecularMoments, f)},
                      {"gOut_Reprojection", images_.current(kSpecularReprojection, f)},
-                     {"gIn_LightChange", frame.lightChange}});
+                     {"gIn_LightChange", products.image(product::kLightChange)}});
+  frame.products.put(kSignal, images_.current(kSpecularFiltered, f));
 }
 
 // Temporal reuse (its output is the next frame's history), then spatial reuse.
@@ -226,15 +250,15 @@ void SpecularBranch::recordReuse(const FrameState& frame, gpu::Image& traced0, g
                     {constants,
                      material,
                      {"gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler},
-                     {"gPrev_Surface", frame.previousSurface},
+                     {"gPrev_Surface", frame.products.image(product::kPreviousSurface)},
                      {"gIn_Reservoir0", traced0},
                      {"gIn_Reservoir1", traced1},
                      {"gPrev_Reservoir0", images_.previous(kSpecularReservoirs0, f)},
                      {"gPrev_Reservoir1", images_.previous(kSpecularReservoirs1, f)},
                      {"gOut_Reservoir0", history0},
                      {"gOut_Reservoir1", history1},
-                     {"gPrev_Composite", frame.previousComposite},
-                     {"gIn_LightChange", frame.lightChange}});
+                     {"gPrev_Composite", frame.products.image(product::kPreviousComposite)},
+                     {"gIn_LightChange", frame.products.image(product::kLightChange)}});
   gpu::Image& spatial0 = images_.current(kSpecularSpatial0, f);
   gpu::Image& spatial1 = images_.current(kSpecularSpatial1, f);
   recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),
@@ -246,6 +270,34 @@ void SpecularBranch::recordReuse(const FrameState& frame, gpu::Image& traced0, g
                      {"gOut_Reservoir1", spatial1}});
   final0 = &spatial0;
   final1 = &spatial1;
+}
+
+UnitRegistration specularUnit() {
+  return {.name = std::string(SpecularBranch::kSignal),
+          .produces =
+              [](const UnitSetup&) {
+                return std::vector<std::string>{std::string(SpecularBranch::kSignal),
+                                                product::noisy(SpecularBranch::kSignal)};
+              },
+          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
+            return std::make_unique<SpecularBranch>(resources.context, resources.arena, setup.maxSize,
+                                                    SpecularBranch::settingsOf(setup.settings), resources.scene,
+                                                    SpecularBranch::ownFilter(setup));
+          },
+          .memoryBytes =
+              [](const UnitSetup& setup) {
+                return imageSetBytes(specularImageTable(), setup.maxSize, 0,
+                                     SpecularBranch::unusedImages(SpecularBranch::ownFilter(setup))) +
+                       SpecularBranch::bufferBytes(setup.maxSize, setup.bridgeTraces);
+              }};
+}
+
+SpecularBranchSettings SpecularBranch::settingsOf(const Settings& settings) {
+  return {settings.specular, settings.restir};
+}
+
+bool SpecularBranch::ownFilter(const UnitSetup& setup) {
+  return !setup.settings.specular.enabled || !setup.madeLater(kSignal);
 }
 
 }  // namespace bounce::gi

@@ -14,9 +14,8 @@
 #include <span>
 
 #include "bounce/gi_settings.h"
-#include "gi/branch.h"
-#include "gi/cache/radiance_cache.h"
 #include "gi/scene_bridge.h"
+#include "gi/unit.h"
 
 namespace bounce::gi {
 
@@ -39,26 +38,35 @@ enum SpecularImage : std::size_t {
 };
 std::span<const ImageSpec> specularImageTable();
 
-class SpecularBranch final : public Branch {
+struct UnitRegistration;
+struct UnitSetup;
+// The branch as a unit (gi/units.h). Products: "specular.noisy" (the
+// resolved signal) and, with its own filter, "specular"; it takes the
+// frame's surfaces, last frame's composite, the light change, the cache,
+// the depth pyramid (its trace's march) and (screen-only mode) the tiles.
+UnitRegistration specularUnit();
+
+// What the branch receives of the settings: its own section and the switch of reuse (gi.restir).
+struct SpecularBranchSettings {
+  SpecularSettings specular;
+  bool restir = true;
+};
+
+class SpecularBranch final : public Unit {
  public:
+  static constexpr std::string_view kSignal = "specular";
   // `scene`: the bridge rays continue through (it outlives the branch).
   // `ownFilter`: as DiffuseBranch's.
-  SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const Settings& settings,
-                 const SceneBridgeBinding& scene, const RadianceCache& cache, bool ownFilter);
+  SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const SpecularBranchSettings& settings,
+                 const SceneBridgeBinding& scene, bool ownFilter);
   ~SpecularBranch() override;
+  static SpecularBranchSettings settingsOf(const Settings& settings);
+  static bool ownFilter(const UnitSetup& setup);
 
-  std::string_view name() const override { return "specular"; }
-  ImageSet& images() override { return images_; }
+  std::string_view name() const override { return kSignal; }
+  Plan plan(const FramePlan& frame) const override;
   void record(const FrameState& frame) override;
-  gpu::Image& result(std::uint64_t frameIndex) override { return images_.current(kSpecularFiltered, frameIndex); }
-  gpu::Image& previousResult(std::uint64_t frameIndex) override {
-    return images_.previous(kSpecularFiltered, frameIndex);
-  }
-  // The trace marches the pyramid unless its march is off (trace_steps 0).
-  bool marchesDepthPyramid() const override { return settings_.specular.enabled && settings_.specular.traceSteps > 0; }
-  gpu::Image& resolved(std::uint64_t frameIndex) override {
-    return images_.current(kSpecularResolved, frameIndex);
-  }
+  std::vector<ImageSet*> imageSets() override { return {&images_}; }
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).
   static std::vector<gpu::PassDesc> passes();
 
@@ -75,8 +83,8 @@ class SpecularBranch final : public Branch {
                    gpu::Image*& final1);
   gpu::Context& context_;
   const SceneBridgeBinding& scene_;
-  const RadianceCache& cache_;
-  Settings settings_;
+  SpecularBranchSettings settings_;
+  bool ownFilter_;
   ImageSet images_;
   std::unique_ptr<gpu::Buffer> constants_;
   // The half-resolution pixels whose ray the trace left to the world trace:

@@ -1,0 +1,74 @@
+// The library's units, registered in the order GiContext records them
+// (src/gi/units.cpp: one entry each). Adding a branch is a folder with its
+// unit and one entry there; the orchestrator names no unit. A test (or a
+// tool) may register a unit of its own for the contexts it makes while it
+// holds a UnitRegistration::Scoped.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "bounce/gi.h"
+#include "bounce/gi_settings.h"
+#include "gi/scene_bridge.h"
+#include "gi/unit.h"
+#include "gpu/context.h"
+#include "gpu/resources.h"
+
+namespace bounce::gi {
+
+// What a unit is made for: known before anything is made, so that the
+// context's memory can be estimated from it alone.
+struct UnitSetup {
+  Extent maxSize;
+  const Settings& settings;             // a unit's maker hands its unit only its own section
+  std::span<const SignalDesc> signals;  // by SignalId: the library's two, then ContextDesc::signals
+  bool bridgeTraces;                    // a scene bridge that traces world rays is bound
+  // Whether a unit registered after this one makes `product` (with these
+  // settings): then this unit's own version of it is replaced for every
+  // consumer, and need not be kept (the diffuse branch's filter when the
+  // denoiser takes its signal).
+  std::function<bool(std::string_view product)> madeLater;
+};
+
+// What a unit is made with on the device.
+struct UnitResources {
+  gpu::Context& context;
+  gpu::MemoryArena& arena;
+  const SceneBridgeBinding& scene;
+};
+
+struct UnitRegistration {
+  std::string name;
+  // The products a unit made for `setup` would make (what madeLater
+  // answers for the units before it); none when it is not made.
+  std::function<std::vector<std::string>(const UnitSetup& setup)> produces;
+  // The unit; null when these settings make none (the denoiser, off).
+  std::function<std::unique_ptr<Unit>(const UnitSetup& setup, const UnitResources& resources)> make;
+  // The bytes of device memory the unit made for `setup` holds.
+  std::function<std::uint64_t(const UnitSetup& setup)> memoryBytes;
+
+  // Registers `unit` before the library's unit called `before` (at the end
+  // where empty) for every context made while it lives.
+  class Scoped {
+   public:
+    Scoped(UnitRegistration unit, std::string before);
+    ~Scoped();
+    Scoped(const Scoped&) = delete;
+    Scoped& operator=(const Scoped&) = delete;
+
+   private:
+    std::string name_;
+  };
+};
+
+// The units a context is made of, in recording order: the library's
+// (src/gi/units.cpp), with any scoped ones in their places.
+std::vector<UnitRegistration> registeredUnits();
+
+}  // namespace bounce::gi
