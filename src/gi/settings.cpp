@@ -1,7 +1,7 @@
 // The settings layer of gi_settings.h: one table of every settable field
-// (key, member, range, description) from which the key list, the parser, the
-// printer and the validator are all derived, so a new field is added in one
-// place and cannot be parsed but not validated, or listed but not parsed.
+// (key, member, range, description; each unit's section in its own folder,
+// gi/settings_table.h) from which the key list, the parser, the printer and
+// the validator are all derived.
 #include "bounce/gi_settings.h"
 
 #include <algorithm>
@@ -23,8 +23,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gi/cache/cache_types.glsl"
 #include "gi/diffuse/diffuse_common.glsl"
+#include "gi/settings_table.h"
 #include "util/edit_distance.h"
 #include "util/json_error.h"
 #include "util/json_parse.h"
@@ -32,99 +32,9 @@
 namespace bounce::gi {
 namespace {
 
+using namespace settings_table;
+
 constexpr std::string_view kKeyPrefix = "gi.";
-
-// A field is in DiffuseSettings, SpecularSettings, CacheSettings, InputSettings, DenoiseSettings or directly in Settings;
-// keeping the pointer-to-member (not a lambda) lets validate() find a key
-// from its field.
-template <typename T>
-struct Member {
-  T DiffuseSettings::*diffuse = nullptr;
-  T SpecularSettings::*specular = nullptr;
-  T CacheSettings::*cache = nullptr;
-  T InputSettings::*input = nullptr;
-  T DenoiseSettings::*denoise = nullptr;
-  T Settings::*top = nullptr;
-
-  T& of(Settings& settings) const {
-    return diffuse    ? settings.diffuse.*diffuse
-           : specular ? settings.specular.*specular
-           : cache    ? settings.cache.*cache
-           : input      ? settings.input.*input
-           : denoise    ? settings.denoise.*denoise
-                        : settings.*top;
-  }
-  const T& of(const Settings& settings) const {
-    return diffuse    ? settings.diffuse.*diffuse
-           : specular ? settings.specular.*specular
-           : cache    ? settings.cache.*cache
-           : input      ? settings.input.*input
-           : denoise    ? settings.denoise.*denoise
-                        : settings.*top;
-  }
-};
-
-template <typename T>
-constexpr Member<T> inDiffuse(T DiffuseSettings::*member) {
-  return {member, nullptr, nullptr, nullptr, nullptr, nullptr};
-}
-
-template <typename T>
-constexpr Member<T> inSpecular(T SpecularSettings::*member) {
-  return {nullptr, member, nullptr, nullptr, nullptr, nullptr};
-}
-
-template <typename T>
-constexpr Member<T> inCache(T CacheSettings::*member) {
-  return {nullptr, nullptr, member, nullptr, nullptr, nullptr};
-}
-
-template <typename T>
-constexpr Member<T> inInput(T InputSettings::*member) {
-  return {nullptr, nullptr, nullptr, member, nullptr, nullptr};
-}
-
-template <typename T>
-constexpr Member<T> inDenoise(T DenoiseSettings::*member) {
-  return {nullptr, nullptr, nullptr, nullptr, member, nullptr};
-}
-
-template <typename T>
-constexpr Member<T> inSettings(T Settings::*member) {
-  return {nullptr, nullptr, nullptr, nullptr, nullptr, member};
-}
-
-// The alternative held also says the field's type, so type and member cannot disagree.
-using Field = std::variant<Member<bool>, Member<std::uint32_t>, Member<float>, Member<TargetFunction>,
-                           Member<MotionUnits>, Member<Visibility>, Member<SpecularSampling>,
-                           Member<SpecularReprojection>>;
-
-// Numeric range; unused for bool and enum fields.
-struct Bounds {
-  double min = 0.0;
-  double max = 0.0;
-  bool excludeMin = false;
-  bool excludeMax = false;
-
-  bool contains(double value) const {
-    const bool aboveMin = excludeMin ? value > min : value >= min;
-    const bool belowMax = excludeMax ? value < max : value <= max;
-    return aboveMin && belowMax;
-  }
-};
-
-constexpr Bounds closed(double min, double max) { return {min, max, false, false}; }
-constexpr Bounds aboveUpTo(double min, double max) { return {min, max, true, false}; }
-constexpr Bounds open(double min, double max) { return {min, max, true, true}; }
-constexpr Bounds kNoBounds{};
-constexpr Bounds kAnyUint = closed(0.0, std::numeric_limits<std::uint32_t>::max());
-
-struct Entry {
-  std::string_view key;  // relative to "gi."
-  Field field;
-  Bounds bounds;
-  std::string_view description;
-};
 
 // The names an enum setting takes, in the order its help lists them.
 template <typename E>
@@ -163,204 +73,20 @@ constexpr std::array kEnumNames<MotionUnits>{
     EnumName<MotionUnits>{MotionUnits::Uv, "uv"},
 };
 
-// The single source of truth, in the order of the structs in gi_settings.h.
-// The ranges keep every value inside what the passes are written for (loop
-// counts that fit a frame, angles that leave some neighbours, fractions of viewZ).
-constexpr std::array kEntries{
-    Entry{"diffuse.enabled", inDiffuse(&DiffuseSettings::enabled), kNoBounds,
-          "compute indirect diffuse at all (off: the frame has direct light only)"},
-    Entry{"diffuse.screen_candidates", inDiffuse(&DiffuseSettings::screenCandidates), closed(0, 64),
-          "initial candidates per pixel from random pixels of the previous composited frame"},
-    Entry{"diffuse.bright_candidates", inDiffuse(&DiffuseSettings::brightCandidates), closed(0, 64),
-          "initial candidates per pixel picked among the brightest pixels of the previous frame"},
-    Entry{"diffuse.environment_candidates", inDiffuse(&DiffuseSettings::environmentCandidates), closed(0, 64),
-          "initial candidates per pixel from uniform hemisphere directions into the environment (without a scene "
-          "bridge; with one, ray candidates take their place)"},
-    Entry{"diffuse.ray_candidates", inDiffuse(&DiffuseSettings::rayCandidates), closed(0, 64),
-          "with a scene bridge: initial candidates per pixel from cosine-distributed rays, marched through the "
-          "depth buffer, then traced through the bridge where the screen cannot decide"},
-    Entry{"diffuse.ray_screen_steps", inDiffuse(&DiffuseSettings::rayScreenSteps), closed(0, 64),
-          "with a scene bridge: depth-buffer march steps of a ray candidate before it continues through the bridge "
-          "(0: straight to the bridge)"},
-    Entry{"diffuse.bright_pixels", inDiffuse(&DiffuseSettings::brightPixels), closed(1, 4096),
-          "the brightness reduction pyramid stops at about this many pixels to pick bright candidates from"},
-    Entry{"diffuse.environment_mip", inDiffuse(&DiffuseSettings::environmentMip), closed(0, 16),
-          "level of the prefiltered environment that environment samples read (higher: blurrier, less noise)"},
-    Entry{"diffuse.target", inDiffuse(&DiffuseSettings::target), kNoBounds,
-          "scalar weight of a sample's radiance in the target function (times the cosine)"},
-    Entry{"diffuse.temporal_max_m", inDiffuse(&DiffuseSettings::temporalMaxM), closed(1, 1000),
-          "temporal reuse: the history counts as at most this many frames of samples"},
-    Entry{"diffuse.temporal_depth_tolerance", inDiffuse(&DiffuseSettings::temporalDepthTolerance), aboveUpTo(0, 1),
-          "temporal reuse: reprojected depth may differ by this fraction of viewZ"},
-    Entry{"diffuse.temporal_normal_tolerance_degrees", inDiffuse(&DiffuseSettings::temporalNormalToleranceDegrees),
-          open(0, 180), "temporal reuse: reprojected normal may differ by this many degrees"},
-    Entry{"diffuse.spatial_radius", inDiffuse(&DiffuseSettings::spatialRadius), closed(0, 256),
-          "first spatial reuse pass: radius of the disk its neighbours are taken from, in half-resolution pixels"},
-    Entry{"diffuse.spatial_samples", inDiffuse(&DiffuseSettings::spatialSamples), closed(0, 64),
-          "first spatial reuse pass: neighbours merged per pixel"},
-    Entry{"diffuse.spatial2_radius", inDiffuse(&DiffuseSettings::spatial2Radius), closed(0, 256),
-          "second spatial reuse pass: radius of the disk its neighbours are taken from, in half-resolution pixels"},
-    Entry{"diffuse.spatial2_samples", inDiffuse(&DiffuseSettings::spatial2Samples), closed(0, 64),
-          "second spatial reuse pass: neighbours merged per pixel"},
-    Entry{"diffuse.spatial_normal_tolerance_degrees", inDiffuse(&DiffuseSettings::spatialNormalToleranceDegrees),
-          open(0, 180), "spatial reuse: neighbours whose normal differs by more degrees are rejected"},
-    Entry{"diffuse.spatial_plane_tolerance", inDiffuse(&DiffuseSettings::spatialPlaneTolerance), aboveUpTo(0, 1),
-          "spatial reuse: neighbours farther from the tangent plane than this fraction of viewZ are rejected"},
-    Entry{"diffuse.jacobian", inDiffuse(&DiffuseSettings::jacobian), kNoBounds,
-          "apply ReSTIR GI's reconnection Jacobian to reused samples"},
-    Entry{"diffuse.spatial_feedback", inDiffuse(&DiffuseSettings::spatialFeedback), kNoBounds,
-          "the next frame's temporal reuse starts from the spatially reused reservoirs (the Jitter gi pass's "
-          "diffuse ReSTIR) instead of the temporal ones"},
-    Entry{"diffuse.resolve_reservoirs", inDiffuse(&DiffuseSettings::resolveReservoirs), closed(1, 4),
-          "resolve: neighbouring half-resolution reservoirs each full-resolution pixel evaluates"},
-    Entry{"diffuse.visibility_steps", inDiffuse(&DiffuseSettings::visibilitySteps), closed(0, 256),
-          "resolve: screen-space ray-march steps from the pixel to each sample (0: no visibility test)"},
-    Entry{"diffuse.visibility", inDiffuse(&DiffuseSettings::visibility), kNoBounds,
-          "resolve: how a sample's visibility is tested: screen (depth-buffer march), world (an any-hit ray through "
-          "the scene bridge) or hybrid (the march, and a world ray where it cannot decide); without a bridge, screen"},
-    Entry{"diffuse.reuse_visibility", inDiffuse(&DiffuseSettings::reuseVisibility), kNoBounds,
-          "temporal and spatial reuse test each reused sample's visibility with an any-hit ray through the scene "
-          "bridge (unbiased reuse; without a bridge, ignored)"},
-    Entry{"diffuse.sky_reuse_visibility", inDiffuse(&DiffuseSettings::skyReuseVisibility), kNoBounds,
-          "spatial reuse counts a neighbour towards a sky sample's normalisation only if an any-hit ray finds the sky "
-          "open from it (less darkening under windows and arches; costs rays; without a bridge, ignored)"},
-    Entry{"diffuse.sky_reuse_rays", inDiffuse(&DiffuseSettings::skyReuseRays), closed(0, 64),
-          "spatial reuse: neighbours per pass whose view of a sky sample is tested with a ray, at most (16: all); the "
-          "others count with the tested ones' share that saw it, which brightens sky light"},
-    Entry{"diffuse.visibility_thickness", inDiffuse(&DiffuseSettings::visibilityThickness), aboveUpTo(0, 1),
-          "resolve: surfaces are assumed this fraction of their viewZ thick"},
-    Entry{"diffuse.variance_clipping_gamma", inDiffuse(&DiffuseSettings::varianceClippingGamma), aboveUpTo(0, 100),
-          "temporal filter: history is clamped to the pixel's fast history +- gamma * its temporal sigma"},
-    Entry{"diffuse.temporal_filter_frames", inDiffuse(&DiffuseSettings::temporalFilterFrames), closed(1, 1024),
-          "temporal filter: the longest history it accumulates, in frames"},
-    Entry{"specular.enabled", inSpecular(&SpecularSettings::enabled), kNoBounds,
-          "compute indirect specular at all (off: metals and glossy surfaces reflect only direct light)"},
-    Entry{"specular.sampling", inSpecular(&SpecularSettings::sampling), kNoBounds,
-          "how each pixel's ray is drawn: vndf (GGX visible normals, target BRDF * cos * radiance) or uniform (a cone "
-          "around the lobe's dominant direction, view-independent target = radiance, resampled with the BRDF at the "
-          "resolve; Zyanide's uniform-lobe reservoirs)"},
-    Entry{"specular.lobe_fraction", inSpecular(&SpecularSettings::lobeFraction), open(0, 1),
-          "uniform sampling: the cone holds this fraction of the lobe's microfacet normals"},
-    Entry{"specular.reuse_min_roughness", inSpecular(&SpecularSettings::reuseMinRoughness), closed(0, 1),
-          "below this perceptual roughness no reservoir is reused in time or space: each pixel keeps its own ray"},
-    Entry{"specular.trace_steps", inSpecular(&SpecularSettings::traceSteps), closed(0, 512),
-          "screen-space march steps of a ray through the depth buffer before it continues through the scene bridge (0: the "
-          "bridge at once)"},
-    Entry{"specular.trace_thickness", inSpecular(&SpecularSettings::traceThickness), aboveUpTo(0, 1),
-          "trace: depth-buffer surfaces are assumed this fraction of their viewZ thick"},
-    Entry{"specular.temporal_max_m", inSpecular(&SpecularSettings::temporalMaxM), closed(1, 1000),
-          "temporal reuse: the history counts as at most this many frames of samples (short: reflections react fast)"},
-    Entry{"specular.temporal_depth_tolerance", inSpecular(&SpecularSettings::temporalDepthTolerance), aboveUpTo(0, 1),
-          "temporal reuse and filter: reprojected depth may differ by this fraction of viewZ"},
-    Entry{"specular.temporal_normal_tolerance_degrees", inSpecular(&SpecularSettings::temporalNormalToleranceDegrees),
-          open(0, 180), "temporal reuse and filter: reprojected normal may differ by this many degrees"},
-    Entry{"specular.spatial_samples", inSpecular(&SpecularSettings::spatialSamples), closed(0, 16),
-          "spatial reuse: neighbours merged per pixel"},
-    Entry{"specular.spatial_max_radius", inSpecular(&SpecularSettings::spatialMaxRadius), closed(0, 256),
-          "spatial reuse: the largest radius, in half-resolution pixels (the lobe's footprint at the hit sets it "
-          "below that)"},
-    Entry{"specular.spatial_normal_tolerance_degrees", inSpecular(&SpecularSettings::spatialNormalToleranceDegrees),
-          open(0, 180), "spatial reuse: neighbours whose normal differs by more degrees are rejected"},
-    Entry{"specular.spatial_plane_tolerance", inSpecular(&SpecularSettings::spatialPlaneTolerance), aboveUpTo(0, 1),
-          "spatial reuse: neighbours farther from the tangent plane than this fraction of viewZ are rejected"},
-    Entry{"specular.jacobian", inSpecular(&SpecularSettings::jacobian), kNoBounds,
-          "apply ReSTIR GI's reconnection Jacobian to reused samples"},
-    Entry{"specular.resolve_max_samples", inSpecular(&SpecularSettings::resolveMaxSamples), closed(1, 16),
-          "resolve: reservoirs a pixel evaluates at resolve_full_roughness and above (one for a mirror)"},
-    Entry{"specular.resolve_full_roughness", inSpecular(&SpecularSettings::resolveFullRoughness), aboveUpTo(0, 1),
-          "resolve: the perceptual roughness at which a pixel evaluates resolve_max_samples reservoirs (linear from "
-          "one at 0)"},
-    Entry{"specular.resolve_max_radius", inSpecular(&SpecularSettings::resolveMaxRadius), closed(0, 64),
-          "resolve: the largest radius neighbours are taken from, in full-resolution pixels (the lobe's footprint "
-          "at the hit sets it below that)"},
-    Entry{"specular.reprojection", inSpecular(&SpecularSettings::reprojection), kNoBounds,
-          "temporal filter: history reprojected with the surface's motion, the reflection's (virtual) motion, or "
-          "both blended by roughness and agreement with this frame"},
-    Entry{"specular.variance_clipping_gamma", inSpecular(&SpecularSettings::varianceClippingGamma),
-          aboveUpTo(0, 100), "temporal filter: history clamped to the fast history +- gamma * temporal sigma"},
-    Entry{"specular.temporal_filter_frames", inSpecular(&SpecularSettings::temporalFilterFrames), closed(1, 1024),
-          "temporal filter: the longest history, for rough surfaces (smooth ones keep fewer frames)"},
-    Entry{"denoise.enabled", inDenoise(&DenoiseSettings::enabled), kNoBounds,
-          "denoise both branches' signals with the REBLUR-class denoiser (off: each branch's own temporal filter)"},
-    Entry{"denoise.max_accumulated_frames", inDenoise(&DenoiseSettings::maxAccumulatedFrames), closed(1, 255),
-          "temporal accumulation: the longest history, in frames (specular: fewer on smooth lobes)"},
-    Entry{"denoise.history_fix_frames", inDenoise(&DenoiseSettings::historyFixFrames), closed(0, 32),
-          "history fix: pixels with a shorter history are rebuilt from a wide neighbourhood (0: off)"},
-    Entry{"denoise.diffuse_pre_pass_radius", inDenoise(&DenoiseSettings::diffusePrePassRadius), closed(0, 128),
-          "pre-pass: the widest radius in pixels of the diffuse pre-blur, for light from far away; 0: no pre-pass "
-          "(at 1080 rows; scaled with the height)"},
-    Entry{"denoise.specular_pre_pass_radius", inDenoise(&DenoiseSettings::specularPrePassRadius), closed(0, 128),
-          "pre-pass: the same for specular, also scaled by the roughness and cut to the lobe's footprint; 0: no "
-          "pre-pass (at 1080 rows; scaled with the height)"},
-    Entry{"denoise.history_fix_stride", inDenoise(&DenoiseSettings::historyFixStride), closed(1, 64),
-          "history fix: pixels between its 5x5 taps at a history of 0 frames (at 1080 rows; scaled with the height)"},
-    Entry{"denoise.blur_radius", inDenoise(&DenoiseSettings::blurRadius), closed(0, 128),
-          "blur: radius in pixels at the first frame of a history, shrinking as sqrt(1 / (1 + history length)) (at "
-          "1080 rows; scaled with the height)"},
-    Entry{"denoise.min_blur_radius", inDenoise(&DenoiseSettings::minBlurRadius), closed(0, 128),
-          "blur: the smallest radius in pixels, however long the history (at 1080 rows; scaled with the height)"},
-    Entry{"denoise.post_blur_radius_scale", inDenoise(&DenoiseSettings::postBlurRadiusScale), closed(0, 4),
-          "post-blur: its radius as a fraction of blur's"},
-    Entry{"denoise.plane_distance_sensitivity", inDenoise(&DenoiseSettings::planeDistanceSensitivity),
-          aboveUpTo(0, 1), "spatial passes: a neighbour this fraction of viewZ off the pixel's plane weighs 0"},
-    Entry{"denoise.lobe_angle_fraction", inDenoise(&DenoiseSettings::lobeAngleFraction), aboveUpTo(0, 1),
-          "spatial passes: the normal weight's cone holds 0.75 * this^2 of the lobe once the history is long (0.75 "
-          "at its start)"},
-    Entry{"denoise.roughness_fraction", inDenoise(&DenoiseSettings::roughnessFraction), aboveUpTo(0, 4),
-          "spatial passes (specular): a neighbour's roughness may differ by this fraction of the pixel's"},
-    Entry{"denoise.stabilization_frames", inDenoise(&DenoiseSettings::stabilizationFrames), closed(0, 255),
-          "temporal stabilisation: its longest history, in frames (0: off)"},
-    Entry{"denoise.disocclusion_threshold", inDenoise(&DenoiseSettings::disocclusionThreshold), aboveUpTo(0, 1),
-          "temporal accumulation: last frame's depth may differ by this fraction of the frustum's width seen "
-          "head-on (plus a pixel; wider at grazing angles and for a still camera)"},
-    Entry{"denoise.normal_tolerance_degrees", inDenoise(&DenoiseSettings::normalToleranceDegrees), open(0, 180),
-          "temporal passes: a reprojected history's normal may differ from the pixel's by this many degrees"},
-    Entry{"denoise.depth_tolerance", inDenoise(&DenoiseSettings::depthTolerance), aboveUpTo(0, 1),
-          "temporal stabilisation and the reflection's (virtual) history (specular kind): reprojected depth may "
-          "differ by this fraction of viewZ"},
-    Entry{"denoise.clamp_sigma", inDenoise(&DenoiseSettings::clampSigma), aboveUpTo(0, 100),
-          "history clamping (accumulation and stabilisation): mean +- this many sigma"},
-    Entry{"denoise.anti_firefly", inDenoise(&DenoiseSettings::antiFirefly), kNoBounds,
-          "history fix brings a pixel above its neighbours' mean + 2 sigma down to it"},
-    Entry{"denoise.checkerboard", inDenoise(&DenoiseSettings::checkerboard), kNoBounds,
-          "the engine's noisy signals (FrameInputs::noisy) are checkerboarded, as REBLUR's checkerboard mode: "
-          "ceil(width / 2) x height, pixel (x, y) stored at (x / 2, y) where x + y + frameIndex is odd (kind "
-          "diffuse) or even (kind specular); the pre-pass fills the other pixels. Ignored for the branches' own "
-          "signals, which are full resolution"},
-    Entry{"cache.enabled", inCache(&CacheSettings::enabled), kNoBounds,
-          "the world-space radiance cache lights what world rays hit off screen (more bounces; needs a scene bridge)"},
-    Entry{"cache.memory_mib", inCache(&CacheSettings::memoryMib), closed(1, 128),
-          "radiance cache: device memory for its cells at most, in MiB"},
-    Entry{"cache.cell_size", inCache(&CacheSettings::cellSize), closed(0.0005, 0.5),
-          "radiance cache: a cell's edge as a fraction of its distance to the camera (rounded to a power of two)"},
-    Entry{"cache.update_rays", inCache(&CacheSettings::updateRays), closed(0, 1 << 21),
-          "radiance cache: closest-hit rays per frame of its update paths, at most"},
-    Entry{"cache.update_bounces", inCache(&CacheSettings::updateBounces), closed(1, shared::kCacheMaxBounces),
-          "radiance cache: surfaces each update path bounces off at most (bounces of light carried in one frame)"},
-    Entry{"cache.history_samples", inCache(&CacheSettings::historySamples), closed(1, 4096),
-          "radiance cache: a cell's value averages at most this many samples (fewer: follows light changes faster)"},
-    Entry{"cache.max_age", inCache(&CacheSettings::maxAge), closed(1, 1 << 20),
-          "radiance cache: cells nobody used for this many frames are evicted"},
-    Entry{"cache.inject_stride", inCache(&CacheSettings::injectStride), closed(1, 64),
-          "radiance cache: the screen fills cells from one pixel of every stride x stride block of the last frame"},
-    Entry{"cache.direct_light", inCache(&CacheSettings::directLight), kNoBounds,
-          "radiance cache: cells also hold the direct light at their point, and the diffuse ray candidates' hits "
-          "take theirs from there instead of a shadow ray each"},
-    Entry{"input.motion_units", inInput(&InputSettings::motionUnits), kNoBounds,
-          "what the engine's motion vectors are in: pixels, or uv (fractions of the render size)"},
-    Entry{"input.motion_scale_x", inInput(&InputSettings::motionScaleX), closed(-1e6, 1e6),
-          "multiplies the motion vectors' x (after the units): -1 for engines whose x points the other way"},
-    Entry{"input.motion_scale_y", inInput(&InputSettings::motionScaleY), closed(-1e6, 1e6),
-          "multiplies the motion vectors' y (after the units): -1 for engines whose y points up, or that store "
-          "current - previous"},
-    Entry{"restir", inSettings(&Settings::restir), kNoBounds,
-          "temporal and spatial reuse (off: the no-reuse baseline; gathering, resolve and filters stay)"},
-    Entry{"seed", inSettings(&Settings::seed), kAnyUint, "random seed; another seed gives other, independent noise"},
-    Entry{"world_ray_budget", inSettings(&Settings::worldRayBudget), aboveUpTo(0, 64),
-          "world rays per pixel and frame the library may cast through a scene bridge, at most: after what the "
-          "settings fix and one ray candidate, sky tests in spatial reuse, then the other ray candidates are cut to "
-          "fit (cache updates and the bridge's shadow rays not counted)"},
-};
+// The single source of truth: the units' sections (gi/settings_table.h), in
+// the order of the structs in gi_settings.h. The ranges keep every value
+// inside what the passes are written for (loop counts that fit a frame,
+// angles that leave some neighbours, fractions of viewZ).
+const std::vector<Entry>& entries() {
+  static const std::vector<Entry> table = [] {
+    std::vector<Entry> all;
+    for (const std::span<const Entry> section :
+         {diffuseSection(), specularSection(), denoiseSection(), cacheSection(), frameSection()})
+      all.insert(all.end(), section.begin(), section.end());
+    return all;
+  }();
+  return table;
+}
 
 std::string lowercase(std::string_view text) {
   std::string lower(text);
@@ -534,7 +260,7 @@ std::vector<std::string_view> closestKeys(std::string_view key) {
   const std::string_view field = lastSegment(key);
   const std::size_t tolerance = std::max<std::size_t>(2, field.size() / 4);
   std::vector<std::pair<std::size_t, std::string_view>> scored;
-  for (const Entry& entry : kEntries) {
+  for (const Entry& entry : entries()) {
     std::size_t distance = util::editDistance(key, entry.key);
     const std::string_view entryField = lastSegment(entry.key);
     distance = std::min(distance, util::editDistance(field, entryField) + 1);
@@ -553,7 +279,7 @@ std::vector<std::string_view> closestKeys(std::string_view key) {
 // so a JSON file may wrap everything in {"gi": {...}} or use "gi.seed".
 const Entry& findEntry(std::string_view key) {
   const std::string_view relative = key.starts_with(kKeyPrefix) ? key.substr(kKeyPrefix.size()) : key;
-  for (const Entry& entry : kEntries) {
+  for (const Entry& entry : entries()) {
     if (entry.key == relative) return entry;
   }
   std::string message = "unknown setting " + std::string(kKeyPrefix) + std::string(relative);
@@ -573,7 +299,7 @@ const Entry& findEntry(std::string_view key) {
 
 template <typename T, typename Struct>
 const Entry& entryOf(T Struct::*member) {
-  for (const Entry& entry : kEntries) {
+  for (const Entry& entry : entries()) {
     const auto* field = std::get_if<Member<T>>(&entry.field);
     if (!field) continue;
     if constexpr (std::is_same_v<Struct, DiffuseSettings>) {
@@ -672,8 +398,8 @@ const std::vector<SettingInfo>& settingKeys() {
   static const std::vector<SettingInfo> keys = [] {
     const Settings defaults;
     std::vector<SettingInfo> infos;
-    infos.reserve(kEntries.size());
-    for (const Entry& entry : kEntries) {
+    infos.reserve(entries().size());
+    for (const Entry& entry : entries()) {
       infos.push_back(
           {std::string(entry.key), typeText(entry), formatField(defaults, entry), std::string(entry.description)});
     }
@@ -735,7 +461,7 @@ std::string settingValue(const Settings& settings, const std::string& key) {
 }
 
 void validate(const Settings& settings) {
-  for (const Entry& entry : kEntries) {
+  for (const Entry& entry : entries()) {
     if (!fieldIsValid(settings, entry)) throwBadValue(entry, formatField(settings, entry));
   }
   const DiffuseSettings& diffuse = settings.diffuse;
