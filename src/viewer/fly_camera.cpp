@@ -4,6 +4,10 @@
 #include <cmath>
 
 namespace bounce::viewer {
+
+bool samePose(const scene::CameraPose& a, const scene::CameraPose& b) {
+  return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
+}
 namespace {
 
 // Pitch stops this short of the up vector, where yaw would lose its axis.

@@ -19,6 +19,9 @@ struct FlyInput {
   float wheel = 0.0f;          // scroll steps this frame
 };
 
+// Whether two poses are the same view (the reference restarts on any change).
+bool samePose(const scene::CameraPose& a, const scene::CameraPose& b);
+
 class FlyCamera {
  public:
   // `sceneSize`: the scene's bounding-box diagonal; the speed starts at a

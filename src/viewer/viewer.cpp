@@ -23,11 +23,16 @@
 #include "io/image_io.h"
 #include "metrics/image_metrics.h"
 #include "render/frame_memory.h"
+#include "render/frame_pipeline.h"
 #include "render/gi_bridge.h"
 #include "render/reference_renderer.h"
 #include "scene/gltf_export.h"
 #include "viewer/brdf_plot.h"
 #include "viewer/fly_camera.h"
+#include "viewer/pixel_inspector.h"
+#include "viewer/script_player.h"
+#include "viewer/session_recorder.h"
+#include "viewer/split_view.h"
 #include "viewer/viewer_shaders.h"
 
 namespace bounce::viewer {
@@ -42,34 +47,10 @@ struct DisplayParams {
   std::uint32_t splitColumn;
 };
 
-// Samples per pixel the progressive reference adds each frame: few enough
-// that the window stays interactive on a CPU device.
-constexpr std::uint32_t kReferenceSamplesPerFrame = 1;
-
-// Bytes each inspected image's texel gets in the readback buffer: a
-// multiple of every texel size, as copies to buffers need.
-constexpr VkDeviceSize kInspectStride = 16;
-
 // The BRDF plots' panels, pixels a side: three fit the panel's width. Each
 // frame adds kBrdfSamplesPerFrame samples (about half a millisecond of CPU).
 constexpr int kBrdfPlotPanelSize = 90;
 constexpr std::uint32_t kBrdfSamplesPerFrame = 4096;
-
-// Numbers as a recorded script writes them: each after a space, in as many
-// digits as give the same float back.
-std::string scriptNumbers(std::initializer_list<float> values) {
-  std::string text;
-  char number[32];
-  for (float v : values) {
-    std::snprintf(number, sizeof number, " %.9g", double(v));
-    text += number;
-  }
-  return text;
-}
-
-bool samePose(const scene::CameraPose& a, const scene::CameraPose& b) {
-  return a.position == b.position && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
-}
 
 gpu::PassDesc displayPassDesc() {
   return gpu::PassDesc{.name = "viewer.display",
@@ -108,8 +89,9 @@ class Session {
         options_(options),
         window_(options.window),
         context_(window_.context()),
-        renderer_(context_, scene, fitting(context_, options)),
-        loop_(context_, render::FrameRenderer::kFramesInFlight),
+        pipeline_(context_, scene, {.renderer = fitting(context_, options)}),
+        renderer_(pipeline_.renderer()),
+        loop_(pipeline_.loop()),
         camera_(options.camera, sceneSize(scene)),
         display_(context_, gpu::ImageDesc{.name = "viewer.display",
                                           .width = options.renderer.width,
@@ -117,21 +99,17 @@ class Session {
                                           .format = gpu::formats::kRgba8,
                                           .visualize = gpu::Visualize::Color}),
         displayPass_(context_, displayPassDesc()),
+        script_(options.script),
+        recorder_(options.record, scene.name, options.settings, options.mode),
+        split_(context_, scene, options, pipeline_),
+        inspector_(context_),
         brdfImage_(context_, gpu::ImageDesc{.name = "viewer.brdf_plot",
                                             .width = std::uint32_t(brdfPlot_.width()),
                                             .height = std::uint32_t(brdfPlot_.height()),
                                             .format = gpu::formats::kRgba8,
                                             .visualize = gpu::Visualize::Color}) {
     panels_.brdfPlotSize = glm::ivec2(brdfPlot_.width(), brdfPlot_.height());
-    if (!options.record.empty()) {
-      record_.open(options.record, std::ios::binary);
-      if (!record_) throw std::runtime_error(options.record.string() + ": cannot write the recording");
-      record_ << "# bounce view " << scene.name << ", recorded (replay: bounce view ... --script "
-              << options.record.filename().string() << ")\n";
-      recordedSettings_ = options.settings;
-      recordedMode_ = options.mode;
-      panels_.recording = true;
-    }
+    panels_.recording = recorder_.active();
     panels_.mode = options.mode;
     panels_.settings = options.settings;
     panels_.exposure = options.exposure;
@@ -163,19 +141,16 @@ class Session {
     return glm::length(bounds.max - bounds.min);
   }
   void makeGi();
-  // Script: runs commands until one takes frames; false when it has ended.
-  bool stepScript(FlyInput& input);
+  // A script command the player hands over; true when it takes the next frame.
+  bool execute(const ScriptCommand& command);
   FlyInput interactiveInput();
   void applyPanelActions(const PanelActions& actions);
   void renderFrame(const FlyInput& input, bool capture);
-  gpu::Image& frameImage() { return gi_ ? gi_->composite() : renderer_.direct(); }
+  gpu::Image& frameImage() { return pipeline_.frameImage(); }
+  render::GiBridge* gi() { return pipeline_.gi(); }
   void pick(std::uint32_t x, std::uint32_t y);
   void editMaterial(const scene::Material& material);
   void screenshot(const std::string& name);
-  struct NamedImage {
-    std::string name;
-    gpu::Image* image;
-  };
   // Every image a user may look at: the renderer's (render.NAME) and the GI library's.
   std::vector<NamedImage> namedImages();
   void refreshStageNames();
@@ -189,7 +164,6 @@ class Session {
   void inspect(std::uint32_t x, std::uint32_t y);
   void measure();
   void saveGltf(const fs::path& file);
-  void setSplit(SplitMode split);
   void loadOtherSettings(const fs::path& file);
   // The frame's costs, sampled once a frame for the `timings` command.
   void recordCosts();
@@ -204,21 +178,21 @@ class Session {
   const ViewerOptions& options_;
   Window window_;
   gpu::Context& context_;
-  render::FrameRenderer renderer_;
-  gpu::FrameLoop loop_;
-  std::unique_ptr<render::GiBridge> gi_;
+  // The renderer and the library (made anew when the GI mode or settings
+  // change), frame by frame; renderer_ and loop_ are its parts.
+  render::FramePipeline pipeline_;
+  render::FrameRenderer& renderer_;
+  gpu::FrameLoop& loop_;
   FlyCamera camera_;
   gpu::Image display_;
   gpu::ComputePass displayPass_;
   PanelState panels_;
-  render::FrameView previous_{};
   bool cut_ = true;             // the next frame reuses no history
   std::uint64_t rendered_ = 0;  // frames rendered since start
-  // Script progress.
-  std::size_t next_ = 0;
-  std::uint32_t waitFrames_ = 0;
-  std::string heldKey_;
-  std::uint32_t heldFrames_ = 0;
+  ScriptPlayer script_;         // --script: its clock
+  SessionRecorder recorder_;    // --record: the session as a script
+  SplitView split_;             // the split screen's right half
+  PixelInspector inspector_;
   bool stepOnce_ = false;
   bool quit_ = false;
   std::string pendingStages_;  // the next frame's stages go there
@@ -226,44 +200,20 @@ class Session {
   std::chrono::steady_clock::time_point lastFrame_ = std::chrono::steady_clock::now();
   glm::dvec2 lastCursor_{0.0};
   bool dragging_ = false;
-  // The progressive reference of the split screen, and what it was started for.
-  std::unique_ptr<render::ReferenceRenderer> reference_;
-  scene::CameraPose referencePose_;
-  bool referenceStale_ = true;
-  float referenceTime_ = 0.0f;  // the scene stands still at this time while the reference shows
-  std::uint64_t measuredAtSpp_ = 0;
-  std::unique_ptr<gpu::Buffer> inspectBuffer_;
   bool captureOnce_ = false;  // the next frame is captured (a new library's validation views)
   // The picked material's BRDF plots, refined a little every frame.
   BrdfPlot brdfPlot_{kBrdfPlotPanelSize};
   gpu::Image brdfImage_;
   void refineBrdfPlot();
   std::map<std::string, std::size_t> timingCounts_;
-  // The split against the default settings: a second library on the same frame.
-  std::unique_ptr<render::GiBridge> giOther_;
-  bool giOtherCut_ = true;
   // The camera path (C, or a script's play) and its clock.
   float pathTime_ = 0.0f;
   int pathSegment_ = 0;
-  bool scriptPlaying_ = false;
-  // --record: the session written as a script as it goes.
   // R: every frame as a numbered PNG (framesDir_ empty: not recording).
   void setFrameRecording(bool on);
   void writeRecordedFrame();
   fs::path framesDir_;
   std::uint32_t framesWritten_ = 0, recordings_ = 0;
-  void recordLine(const std::string& line);
-  void recordState();
-  void recordFrame(const scene::CameraPose& pose, bool cut);
-  void finishRecording();
-  std::ofstream record_;
-  std::uint32_t recordedWaits_ = 0;
-  std::optional<scene::CameraPose> recordedPose_;
-  gi::Settings recordedSettings_;
-  GiMode recordedMode_ = GiMode::Hybrid;
-  SplitMode recordedSplit_ = SplitMode::None;
-  std::string recordedStage_ = "final";
-  bool recordedHidden_ = false;  // samples per pass at the last look
   struct CostSamples {
     std::vector<double> frameGpuMs, giGpuMs, viewerGpuMs, presentGpuMs, cpuMs;
   } costs_;
@@ -271,23 +221,22 @@ class Session {
 };
 
 void Session::makeGi() {
-  loop_.finish();
-  gi_.reset();
-  if (panels_.mode != GiMode::Off)
-    gi_ = std::make_unique<render::GiBridge>(
-        context_, panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly, panels_.settings);
+  pipeline_.setGi(panels_.mode == GiMode::Off
+                      ? std::nullopt
+                      : std::optional(std::pair(panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly,
+                                                panels_.settings)));
   cut_ = true;  // a new library has no history
   // Its validation views are made on its first captured frame: capture one
   // so that they are in the stage list.
-  captureOnce_ = gi_ != nullptr;
+  captureOnce_ = gi() != nullptr;
   refreshStageNames();
 }
 
-std::vector<Session::NamedImage> Session::namedImages() {
+std::vector<NamedImage> Session::namedImages() {
   std::vector<NamedImage> all;
   for (const render::Aov& aov : renderer_.aovs()) all.push_back({"render." + aov.name, aov.image});
-  if (gi_)
-    for (const render::GiBridge::Named& named : gi_->images()) all.push_back({named.name, named.image});
+  if (gi())
+    for (const render::GiBridge::Named& named : gi()->images()) all.push_back({named.name, named.image});
   return all;
 }
 
@@ -340,47 +289,11 @@ void Session::showStage() {
 
 void Session::inspect(std::uint32_t x, std::uint32_t y) {
   loop_.finish();
-  const std::vector<NamedImage> all = namedImages();
-  const VkDeviceSize bytes = kInspectStride * all.size();
-  if (!inspectBuffer_ || inspectBuffer_->size() < bytes)
-    inspectBuffer_ = std::make_unique<gpu::Buffer>(context_, "viewer.inspector", bytes, gpu::BufferUsage::Readback);
-  // Each image at the same place of the picture (half-resolution ones at half the pixel).
-  const auto texelOf = [&](const gpu::Image& image) {
-    return glm::uvec2(std::uint32_t(std::uint64_t(x) * image.width() / display_.width()),
-                      std::uint32_t(std::uint64_t(y) * image.height() / display_.height()));
-  };
-  context_.submitAndWait([&](gpu::Recorder& recorder) {
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      const glm::uvec2 texel = texelOf(*all[i].image);
-      recorder.copyImageToBuffer(
-          *all[i].image, *inspectBuffer_,
-          gpu::ImageRegion{.x = texel.x, .y = texel.y, .width = 1, .height = 1, .bufferOffset = kInspectStride * i});
-    }
-    recorder.makeHostReadable(*inspectBuffer_);
-  });
   panels_.inspectedPixel = glm::uvec2(x, y);
-  panels_.inspected.clear();
-  const auto* texels = static_cast<const std::uint8_t*>(inspectBuffer_->mapped());
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    const gpu::FormatInfo& format = gpu::formatInfo(all[i].image->format());
-    float values[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    gpu::texelsToFloats(format.format, texels + kInspectStride * i, 1, values);
-    panels_.inspected.push_back({all[i].name, glm::vec4(values[0], values[1], values[2], values[3]), format.channels});
-  }
+  panels_.inspected = inspector_.inspect(namedImages(), x, y, display_.width(), display_.height());
 }
 
-void Session::measure() {
-  if (!reference_) return;
-  loop_.finish();
-  const io::ImageF reference = gpuio::readbackImage(context_, reference_->radianceImage());
-  const io::ImageF frame = gpuio::readbackImage(context_, frameImage());
-  const metrics::Comparison comparison = metrics::compareImages(reference, frame, {.flipMode = metrics::FlipMode::Hdr});
-  panels_.relMse = comparison.values.relMse;
-  panels_.flip = comparison.flip.mean;
-  measuredAtSpp_ = reference_->samplesPerPixel();
-  std::printf("against the reference (%llu spp): relMSE %.5g, HDR-FLIP %.5g\n",
-              static_cast<unsigned long long>(measuredAtSpp_), *panels_.relMse, *panels_.flip);
-}
+void Session::measure() { split_.measure(panels_, frameImage()); }
 
 void Session::saveGltf(const fs::path& file) {
   std::error_code error;
@@ -401,189 +314,144 @@ void Session::loadOtherSettings(const fs::path& file) {
   gi::Settings loaded;
   gi::applySettingsFile(loaded, file);
   gi::validate(loaded);
-  panels_.otherSettings = loaded;
-  loop_.finish();
-  giOther_.reset();
-  recordLine("other-settings " + file.string());
+  split_.setOtherSettings(panels_, loaded);
+  recorder_.line("other-settings " + file.string());
 }
 
-void Session::setSplit(SplitMode split) {
-  if (split == SplitMode::Reference && panels_.split != SplitMode::Reference) {
-    referenceStale_ = true;
-    referenceTime_ = previous_.time;
-  }
-  if (split != SplitMode::Other && giOther_) {
-    loop_.finish();
-    giOther_.reset();
-  }
-  panels_.split = split;
-}
-
-bool Session::stepScript(FlyInput& input) {
-  if (waitFrames_ > 0) {
-    --waitFrames_;
-    return true;
-  }
-  if (scriptPlaying_) {
-    panels_.playing = false;
-    scriptPlaying_ = false;
-  }
-  if (heldFrames_ > 0) {
-    --heldFrames_;
-    input.forward = heldKey_ == "w";
-    input.left = heldKey_ == "a";
-    input.back = heldKey_ == "s";
-    input.right = heldKey_ == "d";
-    input.down = heldKey_ == "q";
-    input.up = heldKey_ == "e";
-    input.fast = heldKey_ == "shift";
-    return true;
-  }
+bool Session::execute(const ScriptCommand& c) {
   using Kind = ScriptCommand::Kind;
-  while (next_ < options_.script.size()) {
-    const ScriptCommand& c = options_.script[next_++];
-    switch (c.kind) {
-      case Kind::Wait:
-        waitFrames_ = std::uint32_t(c.numbers[0]) - 1;
-        return true;
-      case Kind::Key:
-        heldKey_ = c.words[0];
-        heldFrames_ = std::uint32_t(c.numbers[0]);
-        return stepScript(input);
-      case Kind::Look:
-        input.turnPixels += glm::vec2(float(c.numbers[0]), float(c.numbers[1]));
-        break;
-      case Kind::Camera:
-      case Kind::Pose: {
-        scene::CameraPose pose = camera_.pose();
-        pose.position = glm::vec3(c.numbers[0], c.numbers[1], c.numbers[2]);
-        pose.target = glm::vec3(c.numbers[3], c.numbers[4], c.numbers[5]);
-        try {
-          render::checkCamera(pose);
-        } catch (const std::exception& error) {
-          scriptFailure(c, error.what());
-        }
-        camera_.setPose(pose);
-        cut_ = cut_ || c.kind == Kind::Camera;  // camera jumps; pose moves
-        break;
+  switch (c.kind) {
+    case Kind::Camera:
+    case Kind::Pose: {
+      scene::CameraPose pose = camera_.pose();
+      pose.position = glm::vec3(c.numbers[0], c.numbers[1], c.numbers[2]);
+      pose.target = glm::vec3(c.numbers[3], c.numbers[4], c.numbers[5]);
+      try {
+        render::checkCamera(pose);
+      } catch (const std::exception& error) {
+        scriptFailure(c, error.what());
       }
-      case Kind::Play:
-        if (!options_.path) scriptFailure(c, "no camera path to play");
-        panels_.playing = true;
-        scriptPlaying_ = true;
-        cut_ = true;  // from wherever the camera was to the path
-        waitFrames_ = std::uint32_t(c.numbers[0]) - 1;
-        return true;
-      case Kind::Click:
-        if (c.numbers[0] >= options_.renderer.width || c.numbers[1] >= options_.renderer.height)
-          scriptFailure(c, "pixel (" + std::to_string(int(c.numbers[0])) + ", " + std::to_string(int(c.numbers[1])) +
-                               ") is outside the " + std::to_string(options_.renderer.width) + "x" +
-                               std::to_string(options_.renderer.height) + " frame");
-        pick(std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]));
-        break;
-      case Kind::Set:
-        try {
-          gi::Settings edited = panels_.settings;
-          gi::applySetting(edited, c.words[0], c.words[1]);
-          gi::validate(edited);
-          panels_.settings = edited;
-        } catch (const std::exception& error) {
-          scriptFailure(c, error.what());
-        }
-        makeGi();
-        break;
-      case Kind::Gi:
-        panels_.mode = c.words[0] == "off"           ? GiMode::Off
-                       : c.words[0] == "screen-only" ? GiMode::ScreenOnly
-                                                     : GiMode::Hybrid;
-        makeGi();
-        break;
-      case Kind::Material: {
-        if (!panels_.pickedMaterial) scriptFailure(c, "no material is picked: 'click X Y' on a surface first");
-        scene::Material edited = panels_.material;
-        const std::string& field = c.words[0];
-        if (field == "base_color")
-          edited.baseColorFactor =
-              glm::vec4(float(c.numbers[0]), float(c.numbers[1]), float(c.numbers[2]), edited.baseColorFactor.w);
-        else if (field == "emission")
-          edited.emissiveFactor = glm::vec3(float(c.numbers[0]), float(c.numbers[1]), float(c.numbers[2]));
-        else if (field == "roughness")
-          edited.roughnessFactor = float(c.numbers[0]);
-        else if (field == "emission_strength")
-          edited.emissiveStrength = float(c.numbers[0]);
-        else
-          edited.metallicFactor = float(c.numbers[0]);
-        editMaterial(edited);
-        break;
-      }
-      case Kind::Screenshot:
-        screenshot(c.words[0]);
-        break;
-      case Kind::Stages:
-        pendingStages_ = c.words[0];
-        return true;  // the next frame is captured
-      case Kind::Window:
-        fs::create_directories(options_.out);
-        window_.captureNextPresent(options_.out / (freeOutputName(options_.out, c.words[0], {".png"}) + ".png"));
-        return true;  // this frame's window, as the commands so far left it
-      case Kind::Timings:
-        printCosts(c.words[0]);
-        break;
-      case Kind::Frames:
-        setFrameRecording(c.words[0] == "on");
-        break;
-      case Kind::Panels:
-        panels_.hidden = c.words[0] == "off";
-        break;
-      case Kind::Split:
-        setSplit(c.words[0] == "none"     ? SplitMode::None
-                 : c.words[0] == "gi-off" ? SplitMode::GiOff
-                 : c.words[0] == "other"  ? SplitMode::Other
-                                          : SplitMode::Reference);
-        break;
-      case Kind::OtherSettings:
-        try {
-          loadOtherSettings(c.words[0]);
-        } catch (const std::exception& error) {
-          scriptFailure(c, error.what());
-        }
-        break;
-      case Kind::Measure:
-        if (!reference_) scriptFailure(c, "no reference to measure against: 'split reference' and a frame first");
-        measure();
-        break;
-      case Kind::Stage: {
-        const auto at = std::find(panels_.stageNames.begin(), panels_.stageNames.end(), c.words[0]);
-        if (at == panels_.stageNames.end()) {
-          std::string known;
-          for (const std::string& name : panels_.stageNames) known += (known.empty() ? "" : ", ") + name;
-          scriptFailure(c, "no image '" + c.words[0] + "' (images: " + known + ")");
-        }
-        panels_.stage = int(at - panels_.stageNames.begin());
-        break;
-      }
-      case Kind::Inspect: {
-        if (c.numbers[0] >= options_.renderer.width || c.numbers[1] >= options_.renderer.height)
-          scriptFailure(c, "pixel (" + std::to_string(int(c.numbers[0])) + ", " + std::to_string(int(c.numbers[1])) +
-                               ") is outside the " + std::to_string(options_.renderer.width) + "x" +
-                               std::to_string(options_.renderer.height) + " frame");
-        inspect(std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]));
-        for (const InspectedValue& v : panels_.inspected)
-          std::printf("inspect (%u, %u) %s: %g %g %g %g\n", std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]),
-                      v.image.c_str(), double(v.value.x), double(v.value.y), double(v.value.z), double(v.value.w));
-        break;
-      }
-      case Kind::SaveGltf:
-        try {
-          fs::create_directories(options_.out);
-          saveGltf(options_.out / c.words[0]);
-        } catch (const std::exception& error) {
-          scriptFailure(c, error.what());
-        }
-        break;
-      case Kind::Quit:
-        return false;
+      camera_.setPose(pose);
+      cut_ = cut_ || c.kind == Kind::Camera;  // camera jumps; pose moves
+      break;
     }
+    case Kind::Play:  // the player waits its frames
+      if (!options_.path) scriptFailure(c, "no camera path to play");
+      panels_.playing = true;
+      cut_ = true;  // from wherever the camera was to the path
+      break;
+    case Kind::Click:
+      if (c.numbers[0] >= options_.renderer.width || c.numbers[1] >= options_.renderer.height)
+        scriptFailure(c, "pixel (" + std::to_string(int(c.numbers[0])) + ", " + std::to_string(int(c.numbers[1])) +
+                             ") is outside the " + std::to_string(options_.renderer.width) + "x" +
+                             std::to_string(options_.renderer.height) + " frame");
+      pick(std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]));
+      break;
+    case Kind::Set:
+      try {
+        gi::Settings edited = panels_.settings;
+        gi::applySetting(edited, c.words[0], c.words[1]);
+        gi::validate(edited);
+        panels_.settings = edited;
+      } catch (const std::exception& error) {
+        scriptFailure(c, error.what());
+      }
+      makeGi();
+      break;
+    case Kind::Gi:
+      panels_.mode = c.words[0] == "off"           ? GiMode::Off
+                     : c.words[0] == "screen-only" ? GiMode::ScreenOnly
+                                                   : GiMode::Hybrid;
+      makeGi();
+      break;
+    case Kind::Material: {
+      if (!panels_.pickedMaterial) scriptFailure(c, "no material is picked: 'click X Y' on a surface first");
+      scene::Material edited = panels_.material;
+      const std::string& field = c.words[0];
+      if (field == "base_color")
+        edited.baseColorFactor =
+            glm::vec4(float(c.numbers[0]), float(c.numbers[1]), float(c.numbers[2]), edited.baseColorFactor.w);
+      else if (field == "emission")
+        edited.emissiveFactor = glm::vec3(float(c.numbers[0]), float(c.numbers[1]), float(c.numbers[2]));
+      else if (field == "roughness")
+        edited.roughnessFactor = float(c.numbers[0]);
+      else if (field == "emission_strength")
+        edited.emissiveStrength = float(c.numbers[0]);
+      else
+        edited.metallicFactor = float(c.numbers[0]);
+      editMaterial(edited);
+      break;
+    }
+    case Kind::Screenshot:
+      screenshot(c.words[0]);
+      break;
+    case Kind::Stages:
+      pendingStages_ = c.words[0];
+      return true;  // the next frame is captured
+    case Kind::Window:
+      fs::create_directories(options_.out);
+      window_.captureNextPresent(options_.out / (freeOutputName(options_.out, c.words[0], {".png"}) + ".png"));
+      return true;  // this frame's window, as the commands so far left it
+    case Kind::Timings:
+      printCosts(c.words[0]);
+      break;
+    case Kind::Frames:
+      setFrameRecording(c.words[0] == "on");
+      break;
+    case Kind::Panels:
+      panels_.hidden = c.words[0] == "off";
+      break;
+    case Kind::Split:
+      split_.set(panels_, c.words[0] == "none"     ? SplitMode::None
+                          : c.words[0] == "gi-off" ? SplitMode::GiOff
+                          : c.words[0] == "other"  ? SplitMode::Other
+                                                   : SplitMode::Reference);
+      break;
+    case Kind::OtherSettings:
+      try {
+        loadOtherSettings(c.words[0]);
+      } catch (const std::exception& error) {
+        scriptFailure(c, error.what());
+      }
+      break;
+    case Kind::Measure:
+      if (!split_.reference()) scriptFailure(c, "no reference to measure against: 'split reference' and a frame first");
+      measure();
+      break;
+    case Kind::Stage: {
+      const auto at = std::find(panels_.stageNames.begin(), panels_.stageNames.end(), c.words[0]);
+      if (at == panels_.stageNames.end()) {
+        std::string known;
+        for (const std::string& name : panels_.stageNames) known += (known.empty() ? "" : ", ") + name;
+        scriptFailure(c, "no image '" + c.words[0] + "' (images: " + known + ")");
+      }
+      panels_.stage = int(at - panels_.stageNames.begin());
+      break;
+    }
+    case Kind::Inspect: {
+      if (c.numbers[0] >= options_.renderer.width || c.numbers[1] >= options_.renderer.height)
+        scriptFailure(c, "pixel (" + std::to_string(int(c.numbers[0])) + ", " + std::to_string(int(c.numbers[1])) +
+                             ") is outside the " + std::to_string(options_.renderer.width) + "x" +
+                             std::to_string(options_.renderer.height) + " frame");
+      inspect(std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]));
+      for (const InspectedValue& v : panels_.inspected)
+        std::printf("inspect (%u, %u) %s: %g %g %g %g\n", std::uint32_t(c.numbers[0]), std::uint32_t(c.numbers[1]),
+                    v.image.c_str(), double(v.value.x), double(v.value.y), double(v.value.z), double(v.value.w));
+      break;
+    }
+    case Kind::SaveGltf:
+      try {
+        fs::create_directories(options_.out);
+        saveGltf(options_.out / c.words[0]);
+      } catch (const std::exception& error) {
+        scriptFailure(c, error.what());
+      }
+      break;
+    case Kind::Wait:
+    case Kind::Key:
+    case Kind::Look:
+    case Kind::Quit:
+      break;  // the player's own (ScriptPlayer)
   }
   return false;
 }
@@ -639,7 +507,7 @@ void Session::pick(std::uint32_t x, std::uint32_t y) {
   if (panels_.pickedMaterial) {
     panels_.material = renderer_.materials().at(*panels_.pickedMaterial);
     panels_.openMaterialPanel = true;
-    recordLine("click " + std::to_string(x) + " " + std::to_string(y));
+    recorder_.line("click " + std::to_string(x) + " " + std::to_string(y));
     std::printf("picked material %u (%s) at pixel (%u, %u)\n", *panels_.pickedMaterial, panels_.material.name.c_str(),
                 x, y);
   } else {
@@ -654,16 +522,16 @@ void Session::editMaterial(const scene::Material& material) {
   panels_.material = material;
   const glm::vec3 base(material.baseColorFactor);
   if (material.baseColorFactor != before.baseColorFactor)
-    recordLine("material base_color" + scriptNumbers({base.x, base.y, base.z}));
+    recorder_.line("material base_color" + scriptNumbers({base.x, base.y, base.z}));
   if (material.roughnessFactor != before.roughnessFactor)
-    recordLine("material roughness" + scriptNumbers({material.roughnessFactor}));
+    recorder_.line("material roughness" + scriptNumbers({material.roughnessFactor}));
   if (material.metallicFactor != before.metallicFactor)
-    recordLine("material metallic" + scriptNumbers({material.metallicFactor}));
+    recorder_.line("material metallic" + scriptNumbers({material.metallicFactor}));
   const glm::vec3 emission = material.emissiveFactor;
   if (emission != before.emissiveFactor)
-    recordLine("material emission" + scriptNumbers({emission.x, emission.y, emission.z}));
+    recorder_.line("material emission" + scriptNumbers({emission.x, emission.y, emission.z}));
   if (material.emissiveStrength != before.emissiveStrength)
-    recordLine("material emission_strength" + scriptNumbers({material.emissiveStrength}));
+    recorder_.line("material emission_strength" + scriptNumbers({material.emissiveStrength}));
 }
 
 void Session::applyPanelActions(const PanelActions& actions) {
@@ -673,7 +541,7 @@ void Session::applyPanelActions(const PanelActions& actions) {
     static int shot = 0;
     screenshot("screenshot-ui-" + std::to_string(shot++));
   }
-  if (actions.viewChanged) setSplit(panels_.split);
+  if (actions.viewChanged) split_.set(panels_, panels_.split);
   if (actions.loadOtherSettings) {
     try {
       loadOtherSettings(panels_.otherSettingsFile);
@@ -731,51 +599,12 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
     camera_.update(input, std::min(seconds, 0.25f));
   }
   panels_.cameraSpeed = camera_.speed();
-  recordState();
+  recorder_.state(panels_);
 
-  const bool referenceShown = panels_.split == SplitMode::Reference;
-  // The reference traces the renderer's last frame, whose environment must
-  // be built: it starts after the first frame.
-  if (referenceShown && !reference_ && rendered_ > 0) {
-    loop_.finish();
-    reference_ = std::make_unique<render::ReferenceRenderer>(context_, renderer_, scene_, loop_.frameIndex(),
-                                                             previous_.time, render::ReferenceOptions{});
-    referenceStale_ = true;
-  }
-  const float time = referenceShown ? referenceTime_ : float(rendered_) / options_.fps;
+  const float time = split_.prepare(panels_, rendered_, float(rendered_) / options_.fps);
   const render::FrameView view{camera_.pose(), time, cut_};
-  gpu::Recorder& recorder = loop_.beginFrame(capture);
-  const std::uint64_t index = loop_.frameIndex();
-  renderer_.record(recorder, index, view);
-  if (gi_) gi_->record(recorder, renderer_, index, view, previous_, {.captureStages = capture});
-  gpu::Image* right = nullptr;
-  if (panels_.split == SplitMode::GiOff) right = &renderer_.direct();
-  if (panels_.split == SplitMode::Other && panels_.mode != GiMode::Off) {
-    // The same frame through a second library with the other settings.
-    if (!giOther_) {
-      giOther_ = std::make_unique<render::GiBridge>(
-          context_, panels_.mode == GiMode::Hybrid ? options_.hybrid : options_.screenOnly, panels_.otherSettings);
-      giOtherCut_ = true;
-    }
-    giOther_->record(recorder, renderer_, index, {view.camera, view.time, view.cut || giOtherCut_}, previous_);
-    giOtherCut_ = false;
-    right = &giOther_->composite();
-  }
-  if (referenceShown && reference_) {
-    // Accumulates while the camera and the materials stay; anything else starts it over.
-    if (referenceStale_ || !samePose(view.camera, referencePose_) || reference_->materialsChanged()) {
-      reference_->restart(recorder, index, view.time);
-      referencePose_ = view.camera;
-      referenceStale_ = false;
-      measuredAtSpp_ = 0;
-      panels_.relMse.reset();
-      panels_.flip.reset();
-    }
-    reference_->record(recorder, kReferenceSamplesPerFrame);
-    reference_->recordResolve(recorder);
-    panels_.referenceSpp = reference_->samplesPerPixel();
-    right = &reference_->radianceImage();
-  }
+  gpu::Recorder& recorder = pipeline_.begin(view, {.captureStages = capture});
+  gpu::Image* right = split_.record(recorder, loop_.frameIndex(), view, panels_);
   const DisplayParams params{display_.width(), display_.height(), panels_.exposure,
                              right ? display_.width() / 2 : display_.width()};
   recorder.dispatch(displayPass_, display_.width(), display_.height(),
@@ -784,16 +613,15 @@ void Session::renderFrame(const FlyInput& input, bool capture) {
                      {"gOut_Display", display_}},
                     params);
   handOverToWindow(recorder, display_);
-  loop_.endFrame();
-  previous_ = view;
-  recordFrame(view.camera, view.cut);
+  pipeline_.end();
+  recorder_.frame(view.camera, view.cut);
   if (!framesDir_.empty()) writeRecordedFrame();
   cut_ = false;
   ++rendered_;
 }
 
 void Session::screenshot(const std::string& requested) {
-  recordLine("screenshot " + requested);
+  recorder_.line("screenshot " + requested);
   loop_.finish();
   fs::create_directories(options_.out);
   const io::ImageF frame = gpuio::readbackImage(context_, frameImage());
@@ -891,8 +719,8 @@ void Session::setFrameRecording(bool on) {
     std::printf("wrote %u frames to %s\n", framesWritten_, framesDir_.c_str());
     framesDir_.clear();
   }
-  recordLine(on ? "frames on" : "frames off");
-  panels_.recording = !framesDir_.empty() || record_.is_open();
+  recorder_.line(on ? "frames on" : "frames off");
+  panels_.recording = !framesDir_.empty() || recorder_.active();
 }
 
 void Session::writeRecordedFrame() {
@@ -904,52 +732,6 @@ void Session::writeRecordedFrame() {
   io::writePng(framesDir_ / name, shown.image, shown.encoding, panels_.exposure);
 }
 
-void Session::recordLine(const std::string& line) {
-  if (!record_.is_open()) return;
-  if (recordedWaits_ > 0) record_ << "wait " << recordedWaits_ << "\n";
-  recordedWaits_ = 0;
-  record_ << line << "\n";
-}
-
-// What the panels changed since the last frame, as the commands that make it.
-void Session::recordState() {
-  if (!record_.is_open()) return;
-  if (panels_.mode != recordedMode_) recordLine(std::string("gi ") + giModeName(panels_.mode));
-  recordedMode_ = panels_.mode;
-  for (const gi::SettingInfo& info : gi::settingKeys()) {
-    const std::string value = gi::settingValue(panels_.settings, info.key);
-    if (value != gi::settingValue(recordedSettings_, info.key)) recordLine("set " + info.key + " " + value);
-  }
-  recordedSettings_ = panels_.settings;
-  if (panels_.split != recordedSplit_) recordLine(std::string("split ") + splitModeName(panels_.split));
-  recordedSplit_ = panels_.split;
-  const std::string& stage = panels_.stageNames[std::size_t(panels_.stage)];
-  if (stage != recordedStage_) recordLine("stage " + stage);
-  recordedStage_ = stage;
-  if (panels_.hidden != recordedHidden_) recordLine(panels_.hidden ? "panels off" : "panels on");
-  recordedHidden_ = panels_.hidden;
-}
-
-// A rendered frame: its pose when the camera moved (camera, a cut, where
-// the frame was one), and one more frame to wait.
-void Session::recordFrame(const scene::CameraPose& pose, bool cut) {
-  if (!record_.is_open()) return;
-  if (cut || !recordedPose_ || !samePose(pose, *recordedPose_)) {
-    recordLine(std::string(cut ? "camera" : "pose") + scriptNumbers({pose.position.x, pose.position.y, pose.position.z,
-                                                                     pose.target.x, pose.target.y, pose.target.z}));
-    recordedPose_ = pose;
-  }
-  ++recordedWaits_;
-}
-
-void Session::finishRecording() {
-  if (!record_.is_open()) return;
-  if (recordedWaits_ > 0) record_ << "wait " << recordedWaits_ << "\n";
-  recordedWaits_ = 0;
-  record_.close();
-  std::printf("wrote %s (the session as a script)\n", options_.record.c_str());
-}
-
 int Session::run() {
   bool scriptRunning = options_.scripted;
   while (!quit_ && !window_.closeRequested()) {
@@ -957,7 +739,10 @@ int Session::run() {
     FlyInput input;
     bool lastPresent = false;  // the script ended: show (and capture) what there is, then close
     if (scriptRunning) {
-      scriptRunning = stepScript(input);
+      const ScriptPlayer::Step step =
+          script_.step(input, [&](const ScriptCommand& command) { return execute(command); });
+      if (step.stopPlaying) panels_.playing = false;
+      scriptRunning = step.running;
       lastPresent = !scriptRunning;
     } else if (!window_.headless()) {
       input = interactiveInput();
@@ -976,8 +761,7 @@ int Session::run() {
     if (render) {
       renderFrame(input, capture);
       // The error readout at 4, 8, 16... samples per pixel: each doubling halves the reference's noise.
-      const std::uint64_t spp = reference_ && panels_.split == SplitMode::Reference ? reference_->samplesPerPixel() : 0;
-      if (spp >= 4 && (spp & (spp - 1)) == 0 && spp != measuredAtSpp_) measure();
+      if (split_.dueForMeasure(panels_)) measure();
       if (panels_.stage > 0) showStage();
       if (captureOnce_) {
         loop_.finish();
@@ -1005,7 +789,7 @@ int Session::run() {
     recordCosts();
     if (lastPresent) break;
   }
-  finishRecording();
+  recorder_.finish();
   if (!framesDir_.empty()) setFrameRecording(false);
   loop_.finish();
   window_.waitIdle();
