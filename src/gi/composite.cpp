@@ -72,16 +72,9 @@ class CompositeUnit final : public Unit {
 }  // namespace
 
 UnitRegistration compositeUnit() {
-  return {
-      .name = "composite",
-      .produces =
-          [](const UnitSetup&) {
-            return std::vector<std::string>{std::string(product::kComposite), std::string(product::kPreviousComposite)};
-          },
-      .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
-        return std::make_unique<CompositeUnit>(resources.context, resources.arena, setup.maxSize);
-      },
-      .memoryBytes = [](const UnitSetup& setup) { return imageSetBytes(compositeImageTable(), setup.maxSize); }};
+  return sizedUnit<CompositeUnit>("composite",
+                                  {std::string(product::kComposite), std::string(product::kPreviousComposite)},
+                                  [](Extent maxSize) { return imageSetBytes(compositeImageTable(), maxSize); });
 }
 
 }  // namespace bounce::gi

@@ -116,45 +116,32 @@ std::vector<gpu::PassDesc> DepthPyramid::passes() { return {depthPyramidPass(), 
 namespace {
 
 // Built on the frames a unit after it takes the pyramid (a branch's Hi-Z trace).
-class DepthPyramidUnit final : public Unit {
+class DepthPyramidUnit final : public OnDemandUnit {
  public:
   DepthPyramidUnit(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize)
-      : pyramid_(context, arena, maxSize) {}
+      : OnDemandUnit(product::kDepthPyramid), pyramid_(context, arena, maxSize) {}
   std::string_view name() const override { return "depth_pyramid"; }
-  Plan plan(const FramePlan& frame) const override {
-    return {.records = frame.wanted.contains(product::kDepthPyramid), .takes = {std::string(product::kMarchDepth)}};
-  }
-  // The pyramid as last built, for a pass that declares it but does not
-  // march it this frame (the specular trace with trace_steps 0): a unit
-  // that takes it gets it built first.
-  void putHistory(Products& products, std::uint64_t) override {
-    products.put(product::kDepthPyramid, std::vector<gpu::Bind>{pyramid_.bind()});
-    built_ = false;
-  }
-  void record(const FrameState& frame) override {
-    pyramid_.record(frame.recorder, frame.products.image(product::kMarchDepth), frame.renderSize);
-    frame.products.put(product::kDepthPyramid, std::vector<gpu::Bind>{pyramid_.bind()});
-    built_ = true;
-  }
-  // Listed when the last frame built it (else it shows an older frame, or nothing).
-  std::vector<ImageSet::Listed> listImages(std::uint64_t) override {
-    return built_ ? std::vector<ImageSet::Listed>{pyramid_.listed()} : std::vector<ImageSet::Listed>{};
-  }
 
  private:
+  std::vector<std::string> takes() const override { return {std::string(product::kMarchDepth)}; }
+  // For the specular trace with trace_steps 0, which declares it but does not march it.
+  void putLastBuilt(Products& products, std::uint64_t) override {
+    products.put(product::kDepthPyramid, std::vector<gpu::Bind>{pyramid_.bind()});
+  }
+  void build(const FrameState& frame) override {
+    pyramid_.record(frame.recorder, frame.products.image(product::kMarchDepth), frame.renderSize);
+    frame.products.put(product::kDepthPyramid, std::vector<gpu::Bind>{pyramid_.bind()});
+  }
+  std::vector<ImageSet::Listed> listBuilt(std::uint64_t) override { return {pyramid_.listed()}; }
+
   DepthPyramid pyramid_;
-  bool built_ = false;
 };
 
 }  // namespace
 
 UnitRegistration depthPyramidUnit() {
-  return {.name = "depth_pyramid",
-          .produces = [](const UnitSetup&) { return std::vector<std::string>{std::string(product::kDepthPyramid)}; },
-          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
-            return std::make_unique<DepthPyramidUnit>(resources.context, resources.arena, setup.maxSize);
-          },
-          .memoryBytes = [](const UnitSetup& setup) { return DepthPyramid::memoryBytes(setup.maxSize); }};
+  return sizedUnit<DepthPyramidUnit>("depth_pyramid", {std::string(product::kDepthPyramid)},
+                                     &DepthPyramid::memoryBytes);
 }
 
 }  // namespace bounce::gi

@@ -90,40 +90,30 @@ namespace {
 
 // Recorded on the frames a unit after it takes the verdict (every unit with
 // a temporal history).
-class LightChangeUnit final : public Unit {
+class LightChangeUnit final : public OnDemandUnit {
  public:
-  LightChangeUnit(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize) : change_(context, arena, maxSize) {}
+  LightChangeUnit(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize)
+      : OnDemandUnit(product::kLightChange), change_(context, arena, maxSize) {}
   std::string_view name() const override { return "light_change"; }
-  Plan plan(const FramePlan& frame) const override {
-    return {.records = frame.wanted.contains(product::kLightChange),
-            .takes = {std::string(product::kSurface), std::string(product::kPreviousSurface)}};
+  std::vector<ImageSet*> imageSets() override { return {&change_.images()}; }
+
+ private:
+  std::vector<std::string> takes() const override {
+    return {std::string(product::kSurface), std::string(product::kPreviousSurface)};
   }
-  void putHistory(Products&, std::uint64_t) override { built_ = false; }
-  void record(const FrameState& frame) override {
+  void build(const FrameState& frame) override {
     change_.record(frame.recorder, frame.group, frame.engine, frame.products.image(product::kPreviousSurface),
                    frame.products.image(product::kSurface), frame.nearestSampler, frame.frameIndex, frame.renderSize);
     frame.products.put(product::kLightChange, change_.verdict(frame.frameIndex));
-    built_ = true;
-  }
-  // Listed when the last frame recorded it.
-  std::vector<ImageSet*> imageSets() override {
-    return built_ ? std::vector<ImageSet*>{&change_.images()} : std::vector<ImageSet*>{};
   }
 
- private:
   LightChange change_;
-  bool built_ = false;
 };
 
 }  // namespace
 
 UnitRegistration lightChangeUnit() {
-  return {.name = "light_change",
-          .produces = [](const UnitSetup&) { return std::vector<std::string>{std::string(product::kLightChange)}; },
-          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
-            return std::make_unique<LightChangeUnit>(resources.context, resources.arena, setup.maxSize);
-          },
-          .memoryBytes = [](const UnitSetup& setup) { return LightChange::memoryBytes(setup.maxSize); }};
+  return sizedUnit<LightChangeUnit>("light_change", {std::string(product::kLightChange)}, &LightChange::memoryBytes);
 }
 
 }  // namespace bounce::gi

@@ -82,42 +82,28 @@ namespace {
 
 // Built on the frames a unit after it takes the tiles (a branch without a
 // bridge that traces: screen-only mode).
-class ScreenTilesUnit final : public Unit {
+class ScreenTilesUnit final : public OnDemandUnit {
  public:
-  ScreenTilesUnit(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize) : tiles_(context, arena, maxSize) {}
+  ScreenTilesUnit(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize)
+      : OnDemandUnit(product::kScreenTiles), tiles_(context, arena, maxSize) {}
   std::string_view name() const override { return "screen_tiles"; }
-  Plan plan(const FramePlan& frame) const override { return {.records = frame.wanted.contains(product::kScreenTiles)}; }
-  // The tiles as last built, for a pass that declares them but does not
-  // apply the policy this frame (a bridge traces): a unit that takes them
-  // gets them built first.
-  void putHistory(Products& products, std::uint64_t) override {
-    products.put(product::kScreenTiles, tiles_.binds());
-    built_ = false;
-  }
-  void record(const FrameState& frame) override {
-    tiles_.record(frame.recorder, frame.group, frame.engine[Input::Direct], frame.nearestSampler, frame.renderSize);
-    frame.products.put(product::kScreenTiles, tiles_.binds());
-    built_ = true;
-  }
-  // Listed when the last frame built them.
-  std::vector<ImageSet*> imageSets() override {
-    return built_ ? std::vector<ImageSet*>{&tiles_.images()} : std::vector<ImageSet*>{};
-  }
+  std::vector<ImageSet*> imageSets() override { return {&tiles_.images()}; }
 
  private:
+  // For a pass that declares them but does not apply the policy this frame (a bridge traces).
+  void putLastBuilt(Products& products, std::uint64_t) override { products.put(product::kScreenTiles, tiles_.binds()); }
+  void build(const FrameState& frame) override {
+    tiles_.record(frame.recorder, frame.group, frame.engine[Input::Direct], frame.nearestSampler, frame.renderSize);
+    frame.products.put(product::kScreenTiles, tiles_.binds());
+  }
+
   ScreenTiles tiles_;
-  bool built_ = false;
 };
 
 }  // namespace
 
 UnitRegistration screenTilesUnit() {
-  return {.name = "screen_tiles",
-          .produces = [](const UnitSetup&) { return std::vector<std::string>{std::string(product::kScreenTiles)}; },
-          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
-            return std::make_unique<ScreenTilesUnit>(resources.context, resources.arena, setup.maxSize);
-          },
-          .memoryBytes = [](const UnitSetup& setup) { return ScreenTiles::memoryBytes(setup.maxSize); }};
+  return sizedUnit<ScreenTilesUnit>("screen_tiles", {std::string(product::kScreenTiles)}, &ScreenTiles::memoryBytes);
 }
 
 }  // namespace bounce::gi

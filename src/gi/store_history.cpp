@@ -59,16 +59,10 @@ std::span<const ImageSpec> historyImageTable() { return frameImageTable().first(
 std::span<const ImageSpec> compositeImageTable() { return frameImageTable().subspan(kHistoryImageCount); }
 
 UnitRegistration historyUnit() {
-  return {.name = "history",
-          .produces =
-              [](const UnitSetup&) {
-                return std::vector<std::string>{std::string(product::kSurface), std::string(product::kPreviousSurface),
-                                                std::string(product::kMarchDepth)};
-              },
-          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
-            return std::make_unique<HistoryUnit>(resources.context, resources.arena, setup.maxSize);
-          },
-          .memoryBytes = [](const UnitSetup& setup) { return imageSetBytes(historyImageTable(), setup.maxSize); }};
+  return sizedUnit<HistoryUnit>(
+      "history",
+      {std::string(product::kSurface), std::string(product::kPreviousSurface), std::string(product::kMarchDepth)},
+      [](Extent maxSize) { return imageSetBytes(historyImageTable(), maxSize); });
 }
 
 gpu::PassDesc storeHistoryPass() {

@@ -144,4 +144,44 @@ class Unit {
   virtual std::vector<ImageSet*> imageSets() { return {}; }
 };
 
+// A unit that records only on the frames a unit after it takes its product
+// (the depth pyramid, the screen tiles, the light change), and lists its
+// images only when the last frame built them (else they show an older
+// frame, or nothing).
+class OnDemandUnit : public Unit {
+ public:
+  explicit OnDemandUnit(std::string_view product) : product_(product) {}
+  Plan plan(const FramePlan& frame) const final {
+    return {.records = frame.wanted.contains(product_), .takes = takes()};
+  }
+  void putHistory(Products& products, std::uint64_t frameIndex) final {
+    built_ = false;
+    putLastBuilt(products, frameIndex);
+  }
+  void record(const FrameState& frame) final {
+    build(frame);
+    built_ = true;
+  }
+  std::vector<ImageSet::Listed> listImages(std::uint64_t frameIndex) final {
+    return built_ ? listBuilt(frameIndex) : std::vector<ImageSet::Listed>{};
+  }
+
+ protected:
+  // What it takes when it records.
+  virtual std::vector<std::string> takes() const { return {}; }
+  // Its product as last built, for a pass that declares it but does not
+  // read it this frame (bound only to fill the slot); none by default.
+  virtual void putLastBuilt(Products& products, std::uint64_t frameIndex) {
+    (void)products;
+    (void)frameIndex;
+  }
+  // Records the unit and puts its product.
+  virtual void build(const FrameState& frame) = 0;
+  virtual std::vector<ImageSet::Listed> listBuilt(std::uint64_t frameIndex) { return Unit::listImages(frameIndex); }
+
+ private:
+  std::string product_;
+  bool built_ = false;
+};
+
 }  // namespace bounce::gi

@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "bounce/gi.h"
@@ -66,6 +67,20 @@ struct UnitRegistration {
     std::string name_;
   };
 };
+
+// The registration of a unit made from the device alone (its constructor
+// takes the context, the arena and the maximum size), which always makes
+// `products` and holds `memoryBytes(maxSize)`: the frame-level units.
+template <typename U>
+UnitRegistration sizedUnit(std::string name, std::vector<std::string> products,
+                           std::uint64_t (*memoryBytes)(Extent maxSize)) {
+  return {.name = std::move(name),
+          .produces = [products = std::move(products)](const UnitSetup&) { return products; },
+          .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
+            return std::make_unique<U>(resources.context, resources.arena, setup.maxSize);
+          },
+          .memoryBytes = [memoryBytes](const UnitSetup& setup) { return memoryBytes(setup.maxSize); }};
+}
 
 // The units a context is made of, in recording order: the library's
 // (src/gi/units.cpp), with any scoped ones in their places.
