@@ -144,6 +144,29 @@ class Unit {
   virtual std::vector<ImageSet*> imageSets() { return {}; }
 };
 
+// What the branches share (a unit that makes one of the library's signals:
+// SIGNAL and SIGNAL.noisy): it rests on frames the engine gives the signal
+// in its place, and disabled it records only the clearing of its result.
+class BranchUnit : public Unit {
+ public:
+  // `signal`: a name of static storage (the branch's kSignal).
+  BranchUnit(std::string_view signal, bool enabled) : signal_(signal), enabled_(enabled) {}
+  std::string_view name() const final { return signal_; }
+  Plan plan(const FramePlan& frame) const final {
+    if (frame.engineGives(signal_)) return {};
+    if (!enabled_) return {.records = true};
+    return {.records = true, .takes = takes()};
+  }
+
+ protected:
+  // What it takes on the frames it runs.
+  virtual std::vector<std::string> takes() const = 0;
+
+ private:
+  std::string_view signal_;
+  bool enabled_;
+};
+
 // A unit that records only on the frames a unit after it takes its product
 // (the depth pyramid, the screen tiles, the light change), and lists its
 // images only when the last frame built them (else they show an older

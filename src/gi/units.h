@@ -68,6 +68,14 @@ struct UnitRegistration {
   };
 };
 
+// Whether a branch that makes `signal` keeps its own temporal filter: it is
+// disabled (its result is the cleared filter image), or no unit after it
+// makes the signal from the resolved one (the denoiser). Without, the
+// filter's images are not made.
+inline bool branchKeepsOwnFilter(const UnitSetup& setup, std::string_view signal, bool enabled) {
+  return !enabled || !setup.madeLater(signal);
+}
+
 // The registration of a unit made from the device alone (its constructor
 // takes the context, the arena and the maximum size), which always makes
 // `products` and holds `memoryBytes(maxSize)`: the frame-level units.

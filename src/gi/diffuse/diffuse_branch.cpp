@@ -136,7 +136,8 @@ std::span<const std::size_t> DiffuseBranch::unusedImages(bool ownFilter) {
 
 DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
                              const DiffuseBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter)
-    : context_(context),
+    : BranchUnit(kSignal, settings.diffuse.enabled),
+      context_(context),
       scene_(scene),
       settings_(settings),
       plan_(settings.rays),
@@ -193,18 +194,13 @@ void DiffuseBranch::viewReservoirs(const FrameState& frame, std::size_t after, g
                            {"gOut_W", images_.current(kReservoirW, f)}});
 }
 
-Unit::Plan DiffuseBranch::plan(const FramePlan& frame) const {
-  // A signal the engine gives in the branch's place: the branch rests.
-  if (frame.engineGives(kSignal)) return {};
-  // Disabled, it clears its result.
-  if (!settings_.diffuse.enabled) return {.records = true};
-  Plan plan{.records = true,
-            .takes = {std::string(product::kPreviousSurface), std::string(product::kPreviousComposite),
-                      std::string(product::kMarchDepth), std::string(product::kLightChange),
-                      std::string(product::kCache), std::string(product::kEnvironment)}};
+std::vector<std::string> DiffuseBranch::takes() const {
+  std::vector<std::string> takes = {std::string(product::kPreviousSurface), std::string(product::kPreviousComposite),
+                                    std::string(product::kMarchDepth),      std::string(product::kLightChange),
+                                    std::string(product::kCache),           std::string(product::kEnvironment)};
   // Without a bridge that traces, the screen-only policy answers the rays screen space cannot decide.
-  if (!scene_.traces()) plan.takes.emplace_back(product::kScreenTiles);
-  return plan;
+  if (!scene_.traces()) takes.emplace_back(product::kScreenTiles);
+  return takes;
 }
 
 void DiffuseBranch::record(const FrameState& frame) {
@@ -461,7 +457,7 @@ DiffuseBranchSettings DiffuseBranch::settingsOf(const Settings& settings) {
 }
 
 bool DiffuseBranch::ownFilter(const UnitSetup& setup) {
-  return !setup.settings.diffuse.enabled || !setup.madeLater(kSignal);
+  return branchKeepsOwnFilter(setup, kSignal, setup.settings.diffuse.enabled);
 }
 
 }  // namespace bounce::gi

@@ -64,7 +64,7 @@ struct DiffuseBranchSettings {
   WorldRayPlan rays;
 };
 
-class DiffuseBranch final : public Unit {
+class DiffuseBranch final : public BranchUnit {
  public:
   static constexpr std::string_view kSignal = "diffuse";
   // `scene`: the bridge the gather, reuse and resolve trace through (it
@@ -78,8 +78,6 @@ class DiffuseBranch final : public Unit {
   static DiffuseBranchSettings settingsOf(const Settings& settings);
   static bool ownFilter(const UnitSetup& setup);
 
-  std::string_view name() const override { return kSignal; }
-  Plan plan(const FramePlan& frame) const override;
   void record(const FrameState& frame) override;
   std::vector<ImageSet*> imageSets() override { return {&images_}; }
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).
@@ -95,6 +93,7 @@ class DiffuseBranch final : public Unit {
 
  private:
   struct Passes;
+  std::vector<std::string> takes() const override;
   void recordReuse(const FrameState& frame, gpu::Image*& final0, gpu::Image*& final1);
   void viewReservoirs(const FrameState& frame, std::size_t after, gpu::Image& first, gpu::Image& second);
 

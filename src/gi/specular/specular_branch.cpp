@@ -76,7 +76,8 @@ std::span<const std::size_t> SpecularBranch::unusedImages(bool ownFilter) {
 
 SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
                                const SpecularBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter)
-    : context_(context),
+    : BranchUnit(kSignal, settings.specular.enabled),
+      context_(context),
       scene_(scene),
       settings_(settings),
       ownFilter_(ownFilter),
@@ -95,20 +96,15 @@ std::vector<gpu::PassDesc> SpecularBranch::passes() {
           specularResolvePass(), specularTemporalFilterPass(), specularValidationPass()};
 }
 
-Unit::Plan SpecularBranch::plan(const FramePlan& frame) const {
-  // A signal the engine gives in the branch's place: the branch rests.
-  if (frame.engineGives(kSignal)) return {};
-  // Disabled, it clears its result.
-  if (!settings_.specular.enabled) return {.records = true};
-  Plan plan{
-      .records = true,
-      .takes = {std::string(product::kPreviousSurface), std::string(product::kPreviousComposite),
-                std::string(product::kLightChange), std::string(product::kCache), std::string(product::kEnvironment)}};
+std::vector<std::string> SpecularBranch::takes() const {
+  std::vector<std::string> takes = {std::string(product::kPreviousSurface), std::string(product::kPreviousComposite),
+                                    std::string(product::kLightChange), std::string(product::kCache),
+                                    std::string(product::kEnvironment)};
   // The trace marches the pyramid unless its march is off (trace_steps 0).
-  if (settings_.specular.traceSteps > 0) plan.takes.emplace_back(product::kDepthPyramid);
+  if (settings_.specular.traceSteps > 0) takes.emplace_back(product::kDepthPyramid);
   // Without a bridge that traces, the screen-only policy answers the rays screen space cannot decide.
-  if (!scene_.traces()) plan.takes.emplace_back(product::kScreenTiles);
-  return plan;
+  if (!scene_.traces()) takes.emplace_back(product::kScreenTiles);
+  return takes;
 }
 
 void SpecularBranch::record(const FrameState& frame) {
@@ -297,7 +293,7 @@ SpecularBranchSettings SpecularBranch::settingsOf(const Settings& settings) {
 }
 
 bool SpecularBranch::ownFilter(const UnitSetup& setup) {
-  return !setup.settings.specular.enabled || !setup.madeLater(kSignal);
+  return branchKeepsOwnFilter(setup, kSignal, setup.settings.specular.enabled);
 }
 
 }  // namespace bounce::gi

@@ -52,7 +52,7 @@ struct SpecularBranchSettings {
   bool restir = true;
 };
 
-class SpecularBranch final : public Unit {
+class SpecularBranch final : public BranchUnit {
  public:
   static constexpr std::string_view kSignal = "specular";
   // `scene`: the bridge rays continue through (it outlives the branch).
@@ -63,8 +63,6 @@ class SpecularBranch final : public Unit {
   static SpecularBranchSettings settingsOf(const Settings& settings);
   static bool ownFilter(const UnitSetup& setup);
 
-  std::string_view name() const override { return kSignal; }
-  Plan plan(const FramePlan& frame) const override;
   void record(const FrameState& frame) override;
   std::vector<ImageSet*> imageSets() override { return {&images_}; }
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).
@@ -79,6 +77,7 @@ class SpecularBranch final : public Unit {
 
  private:
   struct Passes;
+  std::vector<std::string> takes() const override;
   void recordReuse(const FrameState& frame, gpu::Image& traced0, gpu::Image& traced1, gpu::Image*& final0,
                    gpu::Image*& final1);
   gpu::Context& context_;
