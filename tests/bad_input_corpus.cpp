@@ -2,6 +2,7 @@
 // Each section builds its cases from a valid input and one thing done wrong
 // to it, so a case's name says exactly what it tests.
 #include "bad_input_corpus.h"
+#include "bad_input_corpus_builder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -30,19 +31,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using Bytes = std::vector<std::uint8_t>;
 
-void writeBytes(const fs::path& path, const Bytes& bytes) {
-  std::ofstream(path, std::ios::binary)
-      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
-
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
-
-// Names are test names: letters, digits and underscores only.
-std::string identifier(std::string text) {
-  for (char& c : text)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return text;
-}
+using corpus_files::identifier;
+using corpus_files::writeBytes;
+using corpus_files::writeText;
 
 std::string repeated(const std::string& text, int count) {
   std::string out;
@@ -53,31 +44,6 @@ std::string repeated(const std::string& text, int count) {
 
 // {"a":{"a":...1...}} nested `depth` deep.
 std::string nestedObjects(int depth) { return repeated("{\"a\":", depth) + "1" + std::string(std::size_t(depth), '}'); }
-
-class CorpusBuilder {
- public:
-  std::vector<CorpusCase> cases;
-
-  // A case whose one input is a text file.
-  void textFile(const std::string& name, const std::string& file, std::string text, std::vector<std::string> arguments,
-                const std::string& mentions, Outcome outcome = Outcome::Error) {
-    add(
-        name, file, [file, text = std::move(text)](const fs::path& dir) { writeText(dir / file, text); },
-        std::move(arguments), mentions, outcome);
-  }
-
-  void binaryFile(const std::string& name, const std::string& file, Bytes bytes, std::vector<std::string> arguments,
-                  const std::string& mentions, Outcome outcome = Outcome::Error) {
-    add(
-        name, file, [file, bytes = std::move(bytes)](const fs::path& dir) { writeBytes(dir / file, bytes); },
-        std::move(arguments), mentions, outcome);
-  }
-
-  void add(const std::string& name, const std::string& file, std::function<void(const fs::path&)> write,
-           std::vector<std::string> arguments, const std::string& mentions, Outcome outcome = Outcome::Error) {
-    cases.push_back({identifier(name), std::move(write), std::move(arguments), outcome, file, mentions});
-  }
-};
 
 // ---------------------------------------------------------------- GI settings files
 
@@ -1114,6 +1080,10 @@ const std::vector<CorpusCase>& badInputCorpus() {
     gltfScenes(builder);
     gltfAndCameraRound2(builder);
     imageAndMetricInputs(builder);
+    outputFolderCases(builder);
+    sceneMemoryCases(builder);
+    ghostingCases(builder);
+    scriptAndCompareCases(builder);
     return std::move(builder.cases);
   }();
   return corpus;

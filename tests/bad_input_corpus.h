@@ -18,6 +18,9 @@ enum class Outcome {
   Error,
   // Exit status 0 and an image with nothing but finite values.
   FiniteImage,
+  // Exit status 0 (the command did its work; the case's `check` says
+  // whether it did it right: a file outside the output folder untouched).
+  Completes,
 };
 
 struct CorpusCase {
@@ -32,6 +35,15 @@ struct CorpusCase {
   // (empty when the case names no file: an option value).
   std::string file;      // the input's file name (the line must contain it)
   std::string mentions;  // a phrase that says what is wrong
+  // After the run, whatever the outcome: what went wrong ("" when nothing
+  // did), such as a file outside the output folder that changed. `dir` is
+  // the case's folder.
+  std::function<std::string(const std::filesystem::path& dir)> check;
+  // Bounds on the run, 0 for none: an input that costs gigabytes or minutes
+  // before it is refused fails its case. Not applied under the sanitizers,
+  // whose shadow memory and slower code say nothing about bounce's own cost.
+  double maxSeconds = 0.0;
+  long maxMegabytes = 0;
 };
 
 // Every case, in a fixed order.

@@ -7,6 +7,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -29,6 +30,8 @@ struct ProcessResult {
   bool timedOut = false;  // killed after the time limit
   std::string output;     // stdout and stderr interleaved as written; stdout alone with separateStderr
   std::string errors;     // stderr, with separateStderr
+  double seconds = 0.0;   // wall-clock time from start to exit
+  long peakMegabytes = 0; // the program's peak resident memory (its own, not its children's)
 };
 
 // Runs `argv` (argv[0] is the program's path) with `environment` entries
@@ -64,6 +67,7 @@ inline ProcessResult runProcess(const std::vector<std::string>& argv, const std:
   envPointers.push_back(nullptr);
 
   pid_t child = -1;
+  const auto started = std::chrono::steady_clock::now();
   const int spawnError =
       posix_spawn(&child, argv.at(0).c_str(), &actions, nullptr, argvPointers.data(), envPointers.data());
   posix_spawn_file_actions_destroy(&actions);
@@ -108,8 +112,11 @@ inline ProcessResult runProcess(const std::vector<std::string>& argv, const std:
   close(pipeFds[0]);
   if (errorFds[0] >= 0) close(errorFds[0]);
   int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  rusage usage{};
+  while (wait4(child, &status, 0, &usage) < 0 && errno == EINTR) {
   }
+  result.peakMegabytes = usage.ru_maxrss / 1024;  // Linux reports kilobytes
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (WIFEXITED(status)) result.exitCode = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
   return result;

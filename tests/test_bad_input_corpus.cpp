@@ -67,7 +67,17 @@ TEST_P(BadInput, GivesOneClearErrorOrAFiniteImage) {
   const ProcessResult r = runProcess(argv, {}, 100.0);
   ASSERT_FALSE(r.timedOut) << "hung:\n" << r.output;
   ASSERT_EQ(r.signal, 0) << "crashed with signal " << r.signal << ":\n" << r.output;
-  if (c.outcome == Outcome::FiniteImage) {
+#if !defined(__SANITIZE_ADDRESS__)
+  if (c.maxSeconds > 0.0) EXPECT_LE(r.seconds, c.maxSeconds) << "took too long:\n" << r.output;
+  if (c.maxMegabytes > 0) EXPECT_LE(r.peakMegabytes, c.maxMegabytes) << "peak memory in MB:\n" << r.output;
+#endif
+  if (c.check) {
+    const std::string wrong = c.check(dir);
+    EXPECT_TRUE(wrong.empty()) << wrong << "\n" << r.output;
+  }
+  if (c.outcome == Outcome::Completes) {
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+  } else if (c.outcome == Outcome::FiniteImage) {
     ASSERT_EQ(r.exitCode, 0) << r.output;
     // readImage refuses any NaN or infinity, naming the first. Every scene
     // of the corpus is lit (a sun, a sky, a light): a black frame is a
