@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # After a ctest run: prints the ten slowest tests (ctest's average time of
-# each over its runs in this build) with the share of its
-# timeout each used, and fails (exit 1) naming every test that took more
-# than a quarter of its timeout: CI machines are shared and sometimes busy,
-# so a test has to leave itself that margin.
+# each over its runs in this build) with the share of its timeout each used,
+# then warns, naming them, about every test over a quarter of its timeout
+# (the target every test is written to: on an idle machine it leaves room
+# for one four times busier), and fails (exit 1) naming every test over
+# half of it. CI machines are shared and sometimes busy: a test between a
+# quarter and a half is a test to shrink, not a failed landing, while one
+# over half is a step from its timeout.
 #   scripts/slowest-tests.sh [BUILD_DIR]     (default: build)
 set -euo pipefail
 build=${1:-build}
@@ -30,9 +33,17 @@ awk -v timeouts="$timeouts" '
 mv "$timeouts.sorted" "$timeouts"
 echo "slowest tests (seconds, share of the test's timeout):"
 head -n 10 "$timeouts" | awk -F'\t' '{ printf "  %7.1f s  %5.1f%%  %s\n", $2, 100 * $2 / $3, $1 }'
-over=$(awk -F'\t' '$2 > $3 / 4 { printf "  %s: %.1f s of a %.0f s timeout\n", $1, $2, $3 }' "$timeouts")
+listOver() {  # the tests over 1/$1 of their timeout
+  awk -F'\t' -v share="$1" '$2 > $3 / share { printf "  %s: %.1f s of a %.0f s timeout\n", $1, $2, $3 }' "$timeouts"
+}
+target=$(listOver 4)
+over=$(listOver 2)
+if [ -n "$target" ]; then
+  echo "warning: these tests took more than a quarter of their timeout (the target; shrink them):"
+  echo "$target"
+fi
 if [ -n "$over" ]; then
-  echo "FAILED: these tests took more than a quarter of their timeout:"
+  echo "FAILED: these tests took more than half of their timeout:"
   echo "$over"
   exit 1
 fi

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it (README's test command calls this after
 # building): every test on lavapipe with the validation layer, then the
-# sanitizer job; after each, the ten slowest tests, failing if any took more
-# than a quarter of its timeout. Exits non-zero if anything failed, after
+# sanitizer job; after each, the ten slowest tests, warning about any that
+# took more than a quarter of its timeout (the target) and failing if any
+# took more than half of it. Exits non-zero if anything failed, after
 # running everything, and then names what failed last of all: CI shows only
 # the end of the output, and a failure of the first run would otherwise
 # scroll away under the sanitizer job's.
