@@ -29,23 +29,42 @@
 # GI_FLAGS, e.g. GI_FLAGS="--gi.cache.cell_size 0.02" to measure a variant.
 set -euo pipefail
 usage="usage: scripts/measure.sh OUT_DIR [--scenes DIR] [--protocols timing,quality]"
-out=${1:?$usage}
+# Every mistake on the command line is one line naming it, exit 2, before
+# anything runs (bash's own ${1:?} says "line 32" and nothing a user can act on).
+refuse() {
+  echo "scripts/measure.sh: $1; $usage" >&2
+  exit 2
+}
+[ $# -gt 0 ] || refuse "no OUT_DIR given"
+# An option in OUT_DIR's place means OUT_DIR was left out: its folder would be named "--scenes".
+case "$1" in
+  "") refuse "OUT_DIR is empty" ;;
+  -*) refuse "OUT_DIR is missing ('$1' is an option; OUT_DIR comes first)" ;;
+esac
+out=$1
 shift
 scenes_dir=""
 protocols="timing,quality"
 while [ $# -gt 0 ]; do
   case "$1" in
-    --scenes) scenes_dir=${2:?$usage}; shift 2 ;;
-    --protocols) protocols=${2:?$usage}; shift 2 ;;
-    *) echo "scripts/measure.sh: unknown argument '$1'; $usage" >&2; exit 2 ;;
+    --scenes | --protocols)
+      [ $# -ge 2 ] || refuse "$1 needs a value"
+      [ -n "$2" ] || refuse "$1 is given an empty value"
+      case "$2" in -*) refuse "$1 needs a value, not the option '$2'" ;; esac
+      if [ "$1" = --scenes ]; then scenes_dir=$2; else protocols=$2; fi
+      shift 2
+      ;;
+    *) refuse "unknown argument '$1'" ;;
   esac
 done
+chosen_protocols=0
 for protocol in ${protocols//,/ }; do
   case "$protocol" in
-    timing | quality) ;;
+    timing | quality) chosen_protocols=$((chosen_protocols + 1)) ;;
     *) echo "scripts/measure.sh: unknown protocol '$protocol' (timing, quality)" >&2; exit 2 ;;
   esac
 done
+[ "$chosen_protocols" -gt 0 ] || refuse "--protocols '$protocols' names no protocol (timing, quality)"
 if [ -n "$scenes_dir" ] && [ ! -d "$scenes_dir" ]; then
   echo "scripts/measure.sh: --scenes $scenes_dir is not a folder" >&2
   exit 2

@@ -11,15 +11,29 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-for bad in "--protocols timing,speed" "--scenes $out/missing" "--frobnicate"; do
-  # shellcheck disable=SC2086
-  if BOUNCE=$bounce "$root/scripts/measure.sh" "$out/bad" $bad > "$out/bad.log" 2>&1; then
-    fail "scripts/measure.sh accepted '$bad'"
+# refused WORDS...: the harness, given exactly these arguments, exits 2 with
+# its own message (naming the script, not bash's "line N") and runs nothing.
+refused() {
+  local shown="$*"
+  if BOUNCE=$bounce "$root/scripts/measure.sh" "$@" > "$out/bad.log" 2>&1; then
+    fail "scripts/measure.sh accepted '$shown'"
   else
-    [ $? -eq 2 ] || fail "'$bad' did not exit with 2"
+    [ $? -eq 2 ] || fail "'$shown' did not exit with 2: $(cat "$out/bad.log")"
   fi
-  grep -q "scripts/measure.sh:" "$out/bad.log" || fail "'$bad' gave no message naming the script: $(cat "$out/bad.log")"
-done
+  grep -q "^scripts/measure.sh:" "$out/bad.log" || fail "'$shown' gave no message naming the script: $(cat "$out/bad.log")"
+  grep -q "line [0-9]" "$out/bad.log" && fail "'$shown' gave bash's own message: $(cat "$out/bad.log")"
+  [ ! -e "$out/bad" ] || fail "'$shown' made its output folder"
+}
+refused "$out/bad" --protocols timing,speed
+refused "$out/bad" --scenes "$out/missing"
+refused "$out/bad" --frobnicate
+refused
+refused --protocols timing
+refused "$out/bad" --protocols ""
+refused "$out/bad" --protocols ,
+refused "$out/bad" --protocols
+refused "$out/bad" --scenes
+refused "$out/bad" --scenes --protocols timing
 ONLY=nowhere BOUNCE=$bounce "$root/scripts/measure.sh" "$out/bad" > "$out/bad.log" 2>&1 && fail "ONLY=nowhere was accepted"
 
 BOUNCE=$bounce ONLY=cornell WIDTH=32 HEIGHT=18 REFERENCE_SPP=2 WARMUPS="1 2" BENCH_WIDTH=32 BENCH_HEIGHT=18 \
