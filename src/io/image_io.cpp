@@ -17,8 +17,10 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfRgbaFile.h>
 #include <OpenEXR/ImfStdIO.h>
+#include <fcntl.h>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,6 +34,7 @@
 #include <iterator>
 #include <memory>
 #include <new>
+#include <random>
 #include <set>
 #include <span>
 #include <string_view>
@@ -509,6 +512,47 @@ void validateForWrite(const fs::path& path, const ImageF& image) {
 
 }  // namespace
 
+TemporaryFile createTemporaryBeside(const fs::path& target) {
+  // The name carries 64 random bits, not the process id: a name someone can
+  // predict is a name someone can plant a link at. O_EXCL with O_NOFOLLOW
+  // then makes the open fail on anything already there, a link included,
+  // instead of writing through it.
+  std::random_device random;
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    const std::uint64_t bits = (std::uint64_t(random()) << 32) ^ std::uint64_t(random());
+    char suffix[24];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%016llx", static_cast<unsigned long long>(bits));
+    fs::path name = target;
+    name += suffix;
+    const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0) return {std::move(name), fd, 0};
+    if (errno != EEXIST) return {std::move(name), -1, errno};
+  }
+  return {target, -1, EEXIST};
+}
+
+void moveIntoPlace(const fs::path& temporary, const fs::path& target) {
+  // rename() would replace a link at the target with the file, not write
+  // through it, but the link is the user's, and so is anything that is not
+  // a regular file: neither is replaced.
+  struct stat status {};
+  std::string refusal;
+  if (::lstat(target.c_str(), &status) == 0) {
+    if (S_ISLNK(status.st_mode))
+      refusal = "is a symbolic link; not replaced (Bounce writes regular files only, never through or over a link)";
+    else if (S_ISDIR(status.st_mode))
+      refusal = "is a folder; not replaced";
+    else if (!S_ISREG(status.st_mode))
+      refusal = "is not a regular file; not replaced";
+  }
+  if (refusal.empty() && ::rename(temporary.c_str(), target.c_str()) != 0)
+    refusal = std::string("cannot move the written file into place (") + std::strerror(errno) + ")";
+  if (!refusal.empty()) {
+    ::unlink(temporary.c_str());
+    fail(target, refusal);
+  }
+}
+
 void writeFileAtomically(const fs::path& path, const void* data, std::size_t size) {
   if (path.empty() || !path.has_filename()) fail(path, "not a file path");
   const fs::path parent = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -519,27 +563,27 @@ void writeFileAtomically(const fs::path& path, const void* data, std::size_t siz
   }
   if (parentStatus.type() != fs::file_type::directory) fail(path, parent.string() + " is not a directory");
 
-  fs::path temp = path;
-  temp += ".tmp-" + std::to_string(::getpid());
-  std::FILE* file = std::fopen(temp.c_str(), "wb");
-  if (!file) fail(path, std::string("cannot create ") + temp.string() + " (" + std::strerror(errno) + ")");
-  bool ok = std::fwrite(data, 1, size, file) == size;
-  int error = errno;
-  // fclose flushes, so a full disk often shows up only here.
-  if (std::fclose(file) != 0 && ok) {
-    ok = false;
-    error = errno;
+  const TemporaryFile temporary = createTemporaryBeside(path);
+  if (temporary.fd < 0) fail(path, std::string("cannot write (") + std::strerror(temporary.error) + ")");
+  const auto* bytes = static_cast<const char*>(data);
+  std::size_t written = 0;
+  int error = 0;
+  while (written < size) {
+    const ssize_t n = ::write(temporary.fd, bytes + written, size - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error = n < 0 ? errno : EIO;
+      break;
+    }
+    written += std::size_t(n);
   }
-  if (!ok) {
-    fs::remove(temp, ec);
+  // close reports what a network file system kept back until then.
+  if (::close(temporary.fd) != 0 && error == 0) error = errno;
+  if (error != 0) {
+    ::unlink(temporary.path.c_str());
     fail(path, std::string("cannot write (") + std::strerror(error) + ")");
   }
-  fs::rename(temp, path, ec);
-  if (ec) {
-    const std::string reason = ec.message();
-    fs::remove(temp, ec);
-    fail(path, "cannot move the written file into place (" + reason + ")");
-  }
+  moveIntoPlace(temporary.path, path);
 }
 
 namespace {

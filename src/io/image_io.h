@@ -114,11 +114,32 @@ struct Rgba8Image {
 // side"). `name` is used in the error message.
 Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name, int maxSide);
 
-// Writes the bytes to "<path>.tmp-<pid>" beside the target and renames it into
-// place: a reader sees the old file or the complete new one, never a half file,
-// and a failed write removes its temporary. For any file, not only images.
-// Throws ImageIoError "<path>: <reason>" (a folder that does not exist or
-// cannot be written, a full disk).
+// A new, empty file beside `target`, "<target>.tmp-<16 random hex digits>",
+// and its descriptor, open for writing (the caller closes it and removes or
+// renames the file). Created exclusively (O_CREAT | O_EXCL | O_NOFOLLOW)
+// under a name no one can predict: a file or a symbolic link planted at a
+// name in the folder is never opened, so nothing is written through it.
+// Never throws: `fd` is -1 and `error` the errno when it cannot be created.
+struct TemporaryFile {
+  std::filesystem::path path;
+  int fd = -1;
+  int error = 0;
+};
+TemporaryFile createTemporaryBeside(const std::filesystem::path& target);
+
+// Renames `temporary` to `target`, which must be missing or a regular file:
+// a symbolic link, a folder or anything else there is refused (ImageIoError
+// "<target>: is a symbolic link; not replaced..."), never replaced, and the
+// temporary is then removed.
+void moveIntoPlace(const std::filesystem::path& temporary, const std::filesystem::path& target);
+
+// Writes the bytes to a temporary file beside the target (createTemporaryBeside)
+// and renames it into place (moveIntoPlace): a reader sees the old file or the
+// complete new one, never a half file, a failed write removes its temporary,
+// and a link at the target or at any temporary name is never written through.
+// For any file, not only images. Throws ImageIoError "<path>: <reason>" (a
+// folder that does not exist or cannot be written, a full disk, a symbolic
+// link or a folder at the target).
 void writeFileAtomically(const std::filesystem::path& path, const void* data, std::size_t size);
 
 // Writes float32 channels with their names (ZIP compression). The file is
