@@ -322,6 +322,36 @@ TEST(Cli, BadGiSettingsAreOneLineNamingTheKeyOrFile) {
   fs::remove_all(out);
 }
 
+// Settings that contradict each other only with the bridge the command uses
+// (every initial candidate 0: rays replace the environment's) were refused
+// by the library once built, after the scene had loaded, with exit 1. The
+// scene here does not exist: a check made before loading it is what speaks.
+TEST(Cli, ContradictoryGiSettingsAreRefusedBeforeTheSceneLoads) {
+  const fs::path dir = freshDirectory("gi_contradiction");
+  fs::create_directories(dir);
+  const std::string scene = (dir / "missing.gltf").string(), out = " --out " + (dir / "out").string();
+  const std::string zeros =
+      " --gi.diffuse.screen_candidates 0 --gi.diffuse.bright_candidates 0 --gi.diffuse.ray_candidates 0";
+  for (const char* command : {"render ", "ghosting ", "bench "}) {
+    const Result flags = run(command + scene + zeros + (std::string(command) == "bench " ? "" : out));
+    EXPECT_EQ(flags.exitCode, 2) << command << flags.output;
+    EXPECT_EQ(lineCount(flags.output), 1u) << command << flags.output;
+    EXPECT_NE(flags.output.find("gi.diffuse.ray_candidates is 0"), std::string::npos) << command << flags.output;
+  }
+  // Without the bridge the environment candidates remain: nothing contradicts, and the missing scene is what fails.
+  const Result screenOnly = run("render " + scene + zeros + " --scene-bridge none" + out);
+  EXPECT_EQ(screenOnly.exitCode, 1) << screenOnly.output;
+  EXPECT_NE(screenOnly.output.find("missing.gltf"), std::string::npos) << screenOnly.output;
+
+  const fs::path file = dir / "settings.json";
+  std::ofstream(file) << R"({"diffuse": {"screen_candidates": 0, "bright_candidates": 0, "ray_candidates": 0}})";
+  const Result fromFile = run("render " + scene + " --gi-settings " + file.string() + out);
+  EXPECT_EQ(fromFile.exitCode, 1) << fromFile.output;
+  EXPECT_EQ(fromFile.output.rfind("bounce: error: " + file.string() + ": gi.diffuse.screen_candidates", 0), 0u)
+      << fromFile.output;
+  fs::remove_all(dir);
+}
+
 // The frame count an APNG announces in its acTL chunk (0 if none).
 std::uint32_t apngFrameCount(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);

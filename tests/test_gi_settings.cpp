@@ -423,6 +423,38 @@ TEST(GiSettings, ValidateRefusesNoCandidatesOnlyWhileDiffuseIsOn) {
   EXPECT_NO_THROW(validate(settings));
 }
 
+// With a bridge that traces, ray candidates replace the environment's: the
+// library refused screen, bright and ray candidates all 0 only once it was
+// built, after the command had loaded its scene.
+TEST(GiSettings, ValidateWithATracingBridgeRefusesNoScreenBrightOrRayCandidate) {
+  Settings settings;
+  settings.diffuse.screenCandidates = 0;
+  settings.diffuse.brightCandidates = 0;
+  settings.diffuse.rayCandidates = 0;
+  EXPECT_NO_THROW(validate(settings, false)) << "without a bridge the environment candidates remain";
+  std::string message = invalidArgumentMessage([&] { validate(settings, true); });
+  for (const char* key : {"gi.diffuse.screen_candidates", "gi.diffuse.bright_candidates",
+                          "gi.diffuse.ray_candidates is 0", "gi.diffuse.environment_candidates"})
+    EXPECT_NE(message.find(key), std::string::npos) << key << ": " << message;
+
+  // Ray candidates asked for, but the budget leaves none after what the settings fix.
+  settings.diffuse.rayCandidates = 2;
+  settings.worldRayBudget = 0.5f;
+  ASSERT_EQ(planWorldRays(settings).diffuseCandidates, 0u);
+  message = invalidArgumentMessage([&] { validate(settings, true); });
+  EXPECT_NE(message.find("gi.world_ray_budget 0.5 leaves no ray for gi.diffuse.ray_candidates"), std::string::npos)
+      << message;
+
+  settings.worldRayBudget = Settings{}.worldRayBudget;
+  EXPECT_NO_THROW(validate(settings, true));
+  settings.diffuse.rayCandidates = 0;
+  settings.diffuse.brightCandidates = 1;
+  EXPECT_NO_THROW(validate(settings, true));
+  settings.diffuse.brightCandidates = 0;
+  settings.diffuse.enabled = false;
+  EXPECT_NO_THROW(validate(settings, true));
+}
+
 TEST(GiSettings, JsonFileTakesNestedDottedAndWrappedForms) {
   const TempFile file(R"({
     "restir": false,

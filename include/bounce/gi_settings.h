@@ -306,5 +306,11 @@ std::string settingValue(const Settings& settings, const std::string& key);
 // Checks every field's range; throws std::invalid_argument naming the first
 // bad key (settings built in code, not only parsed, pass through this).
 void validate(const Settings& settings);
+// validate(), and the check that depends on the scene bridge: with one that
+// traces, ray candidates take the environment candidates' place, so the
+// screen, bright and ray candidates (as many as the world-ray budget pays
+// for) must not all be 0 while diffuse is on. A command line checks this
+// before it loads a scene; the library checks it again when it is made.
+void validate(const Settings& settings, bool bridgeTraces);
 
 }  // namespace bounce::gi

@@ -49,6 +49,8 @@ int runView(const ViewOptions& options) {
       throw UsageError("--record " + options.record +
                                ": the file exists; not overwritten (choose another name)");
   }
+  // Settings that contradict each other are a command-line mistake: found before the scene loads.
+  const gi::Settings settings = giSettings(options.gi);
   const SceneOptions& shot = options.view;
   const scene::Scene scene = loadScene(shot);
   std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, shot);
@@ -73,7 +75,7 @@ int runView(const ViewOptions& options) {
   viewerOptions.mode = !gi                                ? viewer::GiMode::Off
                        : options.gi.sceneBridge == "none" ? viewer::GiMode::ScreenOnly
                                                           : viewer::GiMode::Hybrid;
-  viewerOptions.settings = giSettings(options.gi);
+  viewerOptions.settings = settings;
   GiOptions screenOnly = branches, hybrid = branches;
   screenOnly.sceneBridge = "none";
   hybrid.sceneBridge = "bvh";

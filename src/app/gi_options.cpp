@@ -114,7 +114,9 @@ gi::Settings giSettings(const GiOptions& options, const gi::Settings& base) {
   if (!listed("diffuse")) settings.diffuse.enabled = false;
   if (!listed("specular")) settings.specular.enabled = false;
   try {
-    gi::validate(settings);
+    // With the bridge the command will use: a contradiction the library
+    // would only find once built (after the scene loads) is found now.
+    gi::validate(settings, !giSceneBridge(options).shaders.empty());
   } catch (const std::invalid_argument& invalid) {
     // The keys at fault may come from the file, the flags or both: name the file.
     if (options.settingsFile.empty()) throw UsageError(invalid.what());

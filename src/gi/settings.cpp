@@ -477,6 +477,28 @@ void validate(const Settings& settings) {
   planWorldRays(settings);
 }
 
+void validate(const Settings& settings, bool bridgeTraces) {
+  validate(settings);
+  const DiffuseSettings& diffuse = settings.diffuse;
+  if (!bridgeTraces || !diffuse.enabled || diffuse.screenCandidates > 0 || diffuse.brightCandidates > 0) return;
+  // With a bridge that traces, ray candidates take the environment
+  // candidates' place (the diffuse unit's own check, made only once the
+  // library is built: after a scene has loaded).
+  if (planWorldRays(settings).diffuseCandidates > 0) return;
+  const std::string rays = userKey(entryOf(&DiffuseSettings::rayCandidates));
+  throw std::invalid_argument(
+      userKey(entryOf(&DiffuseSettings::screenCandidates)) + " and " +
+      userKey(entryOf(&DiffuseSettings::brightCandidates)) + " are 0 and " +
+      (diffuse.rayCandidates == 0 ? rays + " is 0"
+                                  : userKey(entryOf(&Settings::worldRayBudget)) + " " +
+                                        formatField(settings, entryOf(&Settings::worldRayBudget)) +
+                                        " leaves no ray for " + rays) +
+      " while " + userKey(entryOf(&DiffuseSettings::enabled)) +
+      " is on with a scene bridge that traces (its rays replace " +
+      userKey(entryOf(&DiffuseSettings::environmentCandidates)) +
+      "): every reservoir would stay empty; raise one of them above 0 (or turn diffuse off)");
+}
+
 std::uint32_t WorldRayPlan::perReservoir() const {
   return diffuseCandidates + skyReuseRays * spatialPasses + reuseVisibility + sampleVisibility + resolveVisibility +
          specular;

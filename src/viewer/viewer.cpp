@@ -351,7 +351,8 @@ bool Session::execute(const ScriptCommand& c) {
       try {
         gi::Settings edited = panels_.settings;
         gi::applySetting(edited, c.words[0], c.words[1]);
-        gi::validate(edited);
+        // Hybrid traces through the scene: checked as the library built next will check it, with this line.
+        gi::validate(edited, panels_.mode == GiMode::Hybrid);
         panels_.settings = edited;
       } catch (const std::exception& error) {
         scriptFailure(c, error.what());
