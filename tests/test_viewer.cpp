@@ -392,6 +392,41 @@ TEST(Viewer, AScriptThatFailsMidSessionIsOneLineAndDestroysNothingTheGpuStillUse
   fs::remove_all(dir);
 }
 
+// The lines of `output` that start with one of `prefixes`.
+std::vector<std::string> linesStartingWith(const std::string& output, std::initializer_list<const char*> prefixes) {
+  std::vector<std::string> found;
+  std::istringstream stream(output);
+  for (std::string line; std::getline(stream, line);)
+    for (const char* prefix : prefixes)
+      if (line.rfind(prefix, 0) == 0) found.push_back(line);
+  return found;
+}
+
+TEST(Viewer, ClickAndInspectOnTheFirstLineSeeTheFirstFrame) {
+  // Before any frame existed, a click picked "material 0" (the ids of no
+  // frame) and inspect printed zeros: they now wait for the first frame and
+  // see what a script that waits for it sees.
+  const fs::path dir = freshDirectory("viewer_first_line");
+  std::vector<std::vector<std::string>> seen;
+  // (0, 0) is the sky: "no surface", not material 0; (8, 6) is the back wall.
+  for (const char* script : {"click 0 0\ninspect 8 6\n", "wait 1\nclick 0 0\ninspect 8 6\n"}) {
+    std::ofstream(dir / "s.txt") << script;
+    const bounce::testing::ProcessResult r =
+        bounce({"view", "cornell", "--headless", "--gi", "off", "--width", "16", "--height", "12", "--script",
+                (dir / "s.txt").string(), "--out", (dir / "out").string()});
+    ASSERT_EQ(r.exitCode, 0) << script << r.output;
+    seen.push_back(linesStartingWith(r.output, {"picked material", "no surface", "inspect "}));
+    ASSERT_GT(seen.back().size(), 2u) << script << r.output;
+  }
+  EXPECT_EQ(seen[0], seen[1]);
+  EXPECT_EQ(seen[0][0], "no surface at pixel (0, 0)");
+  bool lit = false;  // the wall's depth and albedo, not the zeros of no frame
+  for (const std::string& line : seen[0])
+    if (line.rfind("inspect (8, 6) render.albedo: ", 0) == 0 && line.find(": 0 0 0") == std::string::npos) lit = true;
+  EXPECT_TRUE(lit) << seen[0][1];
+  fs::remove_all(dir);
+}
+
 TEST(Viewer, AScreenshotOrStageDumpNeverReplacesAFile) {
   const fs::path dir = freshDirectory("viewer_names");
   const fs::path out = dir / "out";

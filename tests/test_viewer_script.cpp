@@ -15,6 +15,7 @@
 #include "viewer/fly_camera.h"
 #include "viewer/panels.h"
 #include "viewer/script.h"
+#include "viewer/script_player.h"
 
 namespace {
 
@@ -119,6 +120,73 @@ TEST(ViewerScript, MistakesNameTheFileLineAndProblem) {
   EXPECT_NE(errorOf("screenshot a/b\n").find("not a plain file name"), std::string::npos);
   EXPECT_NE(errorOf("camera 1 2 3 1 2 3\n").find("same point"), std::string::npos);
   EXPECT_EQ(errorOf("# only a comment\n\n   \n"), "");
+}
+
+TEST(ViewerScript, ANulByteIsShownInTheMessageNotCutAt) {
+  // Before, the message ended at the NUL: "unknown command 'screen".
+  const std::string error = errorOf(std::string("wait 1\nscreen\0shot x\n", 21));
+  EXPECT_EQ(error.find('\0'), std::string::npos);
+  EXPECT_EQ(error.rfind("s.txt:2: ", 0), 0u) << error;
+  EXPECT_NE(error.find("'screen\\x00shot x'"), std::string::npos) << error;
+  EXPECT_NE(error.find("NUL byte at column 7"), std::string::npos) << error;
+  // Other control bytes of a quoted word are made visible too.
+  EXPECT_NE(errorOf("gi \x1b[2Joff\n").find("'\\x1b[2Joff'"), std::string::npos) << errorOf("gi \x1b[2Joff\n");
+}
+
+TEST(ViewerScript, ACameraTooFarFromTheOriginForTheViewersFloatsIsRefusedWithItsLine) {
+  // One unit ahead of 1e9 is 1e9 in 32-bit floats: the view direction was
+  // NaN, refused by the renderer without the script's line.
+  for (const char* line : {"camera 0 0 1e9 0 0 0\n", "pose 0 0 1e9 0 0 0\n", "camera 1e8 0 0 0 0 0\n"}) {
+    const std::string error = errorOf(std::string("wait 1\n") + line);
+    EXPECT_EQ(error.rfind("s.txt:2: the camera at (", 0), 0u) << line << error;
+    EXPECT_NE(error.find("too far from the origin"), std::string::npos) << line << error;
+    EXPECT_NE(error.find("lost to rounding"), std::string::npos) << line << error;
+    EXPECT_EQ(error.find("nan"), std::string::npos) << line << error;
+  }
+  // Far enough to turn the view visibly: the turn is named.
+  const std::string turned = errorOf("camera 1000000 0 0 0 1000000 0\n");
+  EXPECT_NE(turned.find("would turn the view by"), std::string::npos) << turned;
+  // A scene's own scale, and a room's, parse.
+  EXPECT_EQ(errorOf("camera 0 1 5 0 1 0\ncamera 500 300 -800 0 0 0\npose 2000 10 0 0 0 0\n"), "");
+}
+
+TEST(ViewerScriptPlayer, ACommandThatReadsTheFrameWaitsForTheFirstFrame) {
+  using bounce::viewer::ScriptCommand;
+  using bounce::viewer::ScriptPlayer;
+  for (const char* reader : {"click 1 2", "inspect 1 2", "screenshot x", "measure"}) {
+    const auto script = parseScript(std::string("camera 0 1 5 0 1 0\n") + reader + "\nwait 2\n", "s.txt");
+    ScriptPlayer player(script);
+    std::vector<Kind> ran;
+    const ScriptPlayer::Execute execute = [&](const ScriptCommand& c) {
+      ran.push_back(c.kind);
+      return false;
+    };
+    bounce::viewer::FlyInput input;
+    // Before the first frame: the camera is placed, the reader waits.
+    EXPECT_TRUE(player.step(input, execute).running) << reader;
+    EXPECT_EQ(ran, std::vector<Kind>{Kind::Camera}) << reader;
+    // After it, the reader runs, then the wait's first frame.
+    EXPECT_TRUE(player.step(input, execute).running) << reader;
+    ASSERT_EQ(ran.size(), 2u) << reader;
+    EXPECT_EQ(ran[1], script[1].kind) << reader;
+    EXPECT_TRUE(player.step(input, execute).running) << reader;
+    EXPECT_FALSE(player.step(input, execute).running) << reader;
+    EXPECT_EQ(ran.size(), 2u) << reader;
+  }
+  // Commands that do not read the frame run before it, and after the first
+  // frame a reader runs at once.
+  const auto script = parseScript("set diffuse.spatial_radius 4\nwait 1\nclick 0 0\n", "s.txt");
+  ScriptPlayer player(script);
+  std::vector<Kind> ran;
+  const ScriptPlayer::Execute execute = [&](const ScriptCommand& c) {
+    ran.push_back(c.kind);
+    return false;
+  };
+  bounce::viewer::FlyInput input;
+  EXPECT_TRUE(player.step(input, execute).running);
+  EXPECT_EQ(ran, std::vector<Kind>{Kind::Set});
+  EXPECT_FALSE(player.step(input, execute).running);
+  EXPECT_EQ(ran, (std::vector<Kind>{Kind::Set, Kind::Click}));
 }
 
 TEST(ViewerScript, SaveGltfTakesEveryNameWithAStemAndAGltfOrGlbExtension) {

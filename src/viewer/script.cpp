@@ -1,5 +1,6 @@
 #include "viewer/script.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -7,7 +8,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <glm/glm.hpp>
+
 #include "util/parse_number.h"
+#include "util/printable.h"
 
 namespace bounce::viewer {
 namespace {
@@ -45,6 +49,25 @@ constexpr std::array<Syntax, 23> kCommands = {{{"wait", Kind::Wait},
                                                {"save-gltf", Kind::SaveGltf},
                                                {"quit", Kind::Quit}}};
 
+// The most a `camera` or `pose` line's view may turn in the viewer's hands:
+// about two pixels of a 1080-line frame at a 60 degree field of view.
+constexpr double kMaxTurnDegrees = 0.1;
+
+// The fly camera keeps its target one unit ahead of its position in 32-bit
+// floats (FlyCamera::setPose): far from the origin that step is rounded to
+// the floats' spacing there, which turns the view, and where it rounds to
+// nothing the direction is NaN. Returns how many degrees the view the line
+// asks for turns as the camera keeps it, or NaN when it is lost.
+double keptTurnDegrees(const std::vector<double>& n) {
+  const glm::vec3 position{float(n[0]), float(n[1]), float(n[2])};
+  const glm::vec3 target{float(n[3]), float(n[4]), float(n[5])};
+  const glm::vec3 kept = (position + glm::normalize(target - position)) - position;
+  if (!(glm::length(kept) > 0.5f)) return std::nan("");
+  const glm::dvec3 wanted = glm::normalize(glm::dvec3(n[3] - n[0], n[4] - n[1], n[5] - n[2]));
+  const double cosine = glm::dot(wanted, glm::normalize(glm::dvec3(kept)));
+  return glm::degrees(std::acos(std::clamp(cosine, -1.0, 1.0)));
+}
+
 std::vector<std::string> splitWords(std::string_view line) {
   std::vector<std::string> words;
   std::istringstream stream{std::string(line)};
@@ -57,8 +80,10 @@ class LineParser {
   LineParser(const std::string& source, int line, std::vector<std::string> words)
       : source_(source), line_(line), words_(std::move(words)) {}
 
+  // The words quoted in `problem` are the user's: printable() shows their
+  // control bytes as \xNN rather than letting them cut or garble the line.
   [[noreturn]] void fail(const std::string& problem) const {
-    throw std::runtime_error(source_ + ":" + std::to_string(line_) + ": " + problem);
+    throw std::runtime_error(util::printable(source_ + ":" + std::to_string(line_) + ": " + problem));
   }
   void expectArguments(std::size_t count, const char* usage) const {
     if (words_.size() - 1 != count)
@@ -131,6 +156,17 @@ ScriptCommand parseLine(const LineParser& p, int line) {
       if (command.numbers[0] == command.numbers[3] && command.numbers[1] == command.numbers[4] &&
           command.numbers[2] == command.numbers[5])
         p.fail("the camera's position and target are the same point");
+      if (const double turn = keptTurnDegrees(command.numbers); !(turn <= kMaxTurnDegrees)) {
+        std::ostringstream where;
+        where << "the camera at (" << command.numbers[0] << ", " << command.numbers[1] << ", " << command.numbers[2]
+              << ") is too far from the origin for the viewer, which keeps its target one unit ahead in 32-bit "
+                 "floats: ";
+        if (std::isnan(turn))
+          where << "the view direction is lost to rounding there";
+        else
+          where << "rounding would turn the view by " << turn << " degrees (at most " << kMaxTurnDegrees << ")";
+        p.fail(where.str() + "; move the scene or the camera nearer the origin");
+      }
       break;
     case Kind::Click:
     case Kind::Inspect:
@@ -230,6 +266,13 @@ std::vector<ScriptCommand> parseScript(std::string_view text, const std::string&
     std::string_view content = text.substr(start, end - start);
     ++line;
     if (const std::size_t hash = content.find('#'); hash != std::string_view::npos) content = content.substr(0, hash);
+    // A NUL is never part of a command, and every message that quoted the
+    // word holding it would end there ("unknown command 'screen"): the line
+    // is refused whole, shown with the NUL made visible.
+    if (const std::size_t nul = content.find('\0'); nul != std::string_view::npos)
+      throw std::runtime_error(source + ":" + std::to_string(line) + ": a NUL byte at column " +
+                               std::to_string(nul + 1) + " of '" + util::printable(content) +
+                               "' (shown as \\x00): a script is text");
     std::vector<std::string> words = splitWords(content);
     if (!words.empty()) commands.push_back(parseLine(LineParser(source, line, std::move(words)), line));
     start = end + 1;

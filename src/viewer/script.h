@@ -79,7 +79,10 @@ struct ScriptCommand {
 // std::runtime_error "SOURCE:LINE: PROBLEM" for an unknown command, a wrong
 // number of arguments, a number that is not one (or not finite, or out of
 // range: frames 1..100000, pixels >= 0), an unknown key or material field,
-// or a screenshot name that is not a plain file name (no folders, no '..').
+// a screenshot name that is not a plain file name (no folders, no '..'), a
+// camera so far from the origin that the viewer's 32-bit floats would turn
+// or lose its view, or a line holding a NUL byte (shown as \x00). Control
+// bytes of the words quoted are shown as \xNN.
 std::vector<ScriptCommand> parseScript(std::string_view text, const std::string& source);
 // The largest script read: about an hour of a session recorded at 60
 // frames a second (a pose and a wait a frame), and at most a few hundred MB

@@ -2,7 +2,16 @@
 
 namespace bounce::viewer {
 
+bool ScriptPlayer::readsFrame(const ScriptCommand& command) {
+  using Kind = ScriptCommand::Kind;
+  return command.kind == Kind::Click || command.kind == Kind::Inspect || command.kind == Kind::Screenshot ||
+         command.kind == Kind::Measure;
+}
+
 ScriptPlayer::Step ScriptPlayer::step(FlyInput& input, const Execute& execute) {
+  // The session renders a frame after every step that keeps the script running.
+  const bool framed = framed_;
+  framed_ = true;
   Step result;
   if (waitFrames_ > 0) {
     --waitFrames_;
@@ -25,6 +34,11 @@ ScriptPlayer::Step ScriptPlayer::step(FlyInput& input, const Execute& execute) {
   }
   using Kind = ScriptCommand::Kind;
   while (next_ < script_.size()) {
+    // A click on the first line would otherwise pick from ids no frame has
+    // written (material 0 everywhere) and a screenshot would find no frame:
+    // the command waits for the first frame, which the commands before it
+    // (a camera, a setting) have already shaped.
+    if (!framed && readsFrame(script_[next_])) return result;
     const ScriptCommand& c = script_[next_++];
     switch (c.kind) {
       case Kind::Wait:

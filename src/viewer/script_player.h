@@ -1,7 +1,9 @@
 // bounce view --script: the script's clock. It runs the commands until one
 // takes frames (wait, key, play, stages, window), holds keys and waits over
 // the frames they span, and hands every command that changes the session
-// to the session (Session::execute in viewer.cpp).
+// to the session (Session::execute in viewer.cpp). A command that reads the
+// frame (click, inspect, screenshot, measure) waits for the first frame to
+// be rendered: before it there is none to read.
 #pragma once
 
 #include <cstdint>
@@ -27,7 +29,12 @@ class ScriptPlayer {
     bool stopPlaying = false;  // a play command has had its frames: the camera path stops
   };
   // Before a frame: `input` gets the held key and the looks of this frame.
+  // Every call but the last (running false) is followed by a frame.
   Step step(FlyInput& input, const Execute& execute);
+
+  // Whether a command reads the last rendered frame, so that it cannot run
+  // before the first one.
+  static bool readsFrame(const ScriptCommand& command);
 
  private:
   std::span<const ScriptCommand> script_;
@@ -36,6 +43,7 @@ class ScriptPlayer {
   std::string heldKey_;
   std::uint32_t heldFrames_ = 0;
   bool playing_ = false;
+  bool framed_ = false;  // a frame has been rendered: an earlier step returned running
 };
 
 }  // namespace bounce::viewer
