@@ -115,6 +115,31 @@ void writeErrorMap(const fs::path& path, const metrics::ScalarImage& flipMap) {
 
 std::string sizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
+// Colour and radiance are never negative, and FLIP's tone curve clamps a
+// negative value to black: a test image of -1 everywhere scored an HDR-FLIP
+// of 0.29 without a word. An image whose R, G or B holds one is refused,
+// naming its first such pixel, as readImage names the first NaN. (Images
+// without R, G, B, such as a one-channel viewZ, are data, not colour, and
+// are compared as they are.)
+void refuseNegativeColour(const fs::path& path, const io::ImageF& image) {
+  const char* const names[3] = {"R", "G", "B"};
+  std::size_t rgb[3];
+  for (std::size_t c = 0; c < 3; ++c) {
+    const auto at = std::find(image.channels.begin(), image.channels.end(), names[c]);
+    if (at == image.channels.end()) return;
+    rgb[c] = std::size_t(at - image.channels.begin());
+  }
+  const std::size_t channels = image.channelCount(), pixels = std::size_t(image.width) * std::size_t(image.height);
+  for (std::size_t p = 0; p < pixels; ++p)
+    for (std::size_t c = 0; c < 3; ++c)
+      if (const float value = image.pixels[p * channels + rgb[c]]; value < 0.0f)
+        fail(path, "holds a negative " + std::string(names[c]) + " value (" + number(value) + ") at pixel (" +
+                       std::to_string(p % std::size_t(image.width)) + ", " +
+                       std::to_string(p / std::size_t(image.width)) +
+                       "): colour and radiance are never negative, and FLIP would see black there (a signed image, "
+                       "such as a normal or motion map, is not one compare measures)");
+}
+
 // --- regions: the numbers per label of a label image
 
 struct Region {
@@ -300,6 +325,8 @@ int comparePair(const CompareOptions& options) {
   if (const std::string reason = metrics::incompatibility(reference, test); !reason.empty()) {
     fail(testPath, reason + " (" + referencePath.string() + ")");
   }
+  refuseNegativeColour(referencePath, reference);
+  refuseNegativeColour(testPath, test);
 
   double referenceMean = 0.0, testMean = 0.0;
   std::vector<Region> regions;
@@ -307,6 +334,13 @@ int comparePair(const CompareOptions& options) {
   try {
     referenceMean = metrics::meanLuminance(reference);
     testMean = metrics::meanLuminance(test);
+    // HDR-FLIP's exposures span the reference's luminance; a black
+    // reference has none, while LDR-FLIP needs no range (black against
+    // black is 0). Said here, where the option that helps is known.
+    if (hdr && !(referenceMean > 0.0))
+      fail(referencePath,
+           "is black (no pixel has a positive luminance), so HDR-FLIP has no exposure range to measure over; "
+           "compare with --flip ldr");
     if (!options.regions.empty()) regions = regionsOf(options.regions, reference, test);
     // The images go in and are freed there, once FLIP has read them.
     comparison = metrics::compareImages(std::move(reference), std::move(test), comparisonOptions);
