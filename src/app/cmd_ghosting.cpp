@@ -579,7 +579,7 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
       ->capture_default_str();
   command->add_option("--light-change", options.lightChanges,
                       "With --event light: a material edit made at the event frame, NAME:KEY=VALUE as --material "
-                      "(repeatable), e.g. 'light:emission=0,0,0' switches cornell's lamp off");
+                      "(repeatable), e.g. 'cornell light:emission=0,0,0' switches cornell's lamp off");
   command
       ->add_option("--sun-jump", options.sunJump,
                    "With --event sun: degrees the sun's azimuth turns at the event frame (default 30)")
@@ -636,9 +636,12 @@ CLI::App* addGhostingCommand(CLI::App& app, GhostingOptions& options) {
 }
 
 int runGhosting(const GhostingOptions& options) {
+  // Every event measures the GI: without it a light change or a cut has no history to follow.
+  if (!giEnabled(options.gi))
+    throw UsageError("--gi off: bounce ghosting --event " + options.event +
+                     " measures the GI, and there is none to measure: leave --gi out or name a branch (--gi diffuse)");
   if (options.event == "light" || options.event == "sun" || options.event == "cut") return runConvergence(options);
   const bool turn = options.event == "turn";
-  if (!giEnabled(options.gi)) throw UsageError("--gi off: bounce ghosting measures the GI; nothing to measure");
   if (options.eventFrame < options.after + 1)
     throw UsageError("--event-frame " + std::to_string(options.eventFrame) + " is too early for --after " +
                      std::to_string(options.after) + ": the rest is followed from frame event - after - 1, " +

@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -90,8 +91,11 @@ std::optional<int> settledWithin(const std::vector<Measured>& frames, const Meas
   return from;
 }
 
-// "+k on", or "not by +last" (the last frame measured after the event).
-std::string afterText(std::optional<int> after, int last) {
+// "+k on", or "not by +last" (the last frame measured after the event);
+// "undefined" where the value aimed at is not above 0 (a black reference):
+// no share of it can be within a tolerance.
+std::string afterText(std::optional<int> after, int last, double target) {
+  if (!(target > 0.0)) return "undefined, it is 0";
   return after ? "+" + std::to_string(*after) + " on" : "not by +" + std::to_string(last);
 }
 
@@ -170,16 +174,113 @@ io::ImageF convergencePlot(const std::string& title, const std::vector<Measured>
   return canvas.image();
 }
 
+// A mean over another (the reference's, the settled one): none where that
+// is not above 0 (a black reference), where the ratio is undefined; a 0
+// there would read as "the GI found none of the light".
+std::optional<double> shareOf(double mean, double of) {
+  if (!(of > 0.0)) return std::nullopt;
+  return mean / of;
+}
+
+// As denoise writes a ratio over a black reference: null in the JSON,
+// "undefined" in the table.
+nlohmann::json shareJson(std::optional<double> share) {
+  return share ? nlohmann::json(*share) : nlohmann::json(nullptr);
+}
+
+std::string shareCell(std::optional<double> share) {
+  if (!share) return "undefined";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", *share);
+  return text;
+}
+
 nlohmann::json measuredJson(const Measured& m, const std::array<double, kSignalCount>& reference,
                             const std::array<double, kSignalCount>& converged) {
   nlohmann::json json = {
       {"frame", m.frame}, {"after_event", m.after}, {"light_changed", m.lightChanged}, {"history_kept", m.historyKept}};
   for (int s = 0; s < kSignalCount; ++s)
     json[kSignalNames[s]] = {{"mean", m.mean[s]},
-                             {"mean_over_reference", reference[s] > 0.0 ? m.mean[s] / reference[s] : 0.0},
-                             {"mean_over_converged", converged[s] > 0.0 ? m.mean[s] / converged[s] : 0.0},
+                             {"mean_over_reference", shareJson(shareOf(m.mean[s], reference[s]))},
+                             {"mean_over_converged", shareJson(shareOf(m.mean[s], converged[s]))},
                              {"relmse", m.relMse[s]}};
   return json;
+}
+
+// The name of material NAME in a change NAME:KEY=VALUE (as applyMaterialChange reads it), "" if none.
+std::string changedName(const std::string& change) {
+  const std::size_t colon = change.rfind(':');
+  return colon == std::string::npos ? std::string() : change.substr(0, colon);
+}
+
+// A --light-change naming no material of the scene is refused with the
+// scene's lamps as the hint (its materials that emit, or that a --material
+// edit gives an emission: cornell's lamp is 'cornell light', not 'light'),
+// before applyMaterialChange's list of every material, which names them
+// all without saying which of them is a light.
+void checkLightChangeNames(const scene::Scene& scene, const SceneOptions& shot, const std::string& change) {
+  const std::string name = changedName(change);
+  if (name.empty()) return;  // malformed: applyMaterialChange says how
+  for (const scene::Material& m : scene.materials)
+    if (m.name == name) return;
+  std::vector<std::string> lamps;
+  for (const scene::Material& m : scene.materials) {
+    bool emits = m.emissiveTexture >= 0 ||
+                 (m.emissiveStrength > 0.0f && glm::any(glm::greaterThan(m.emissiveFactor, glm::vec3(0.0f))));
+    for (const std::string& edit : shot.materials)
+      emits = emits || (changedName(edit) == m.name && edit.find(":emission=") != std::string::npos);
+    if (emits && std::find(lamps.begin(), lamps.end(), m.name) == lamps.end()) lamps.push_back(m.name);
+  }
+  if (lamps.empty()) return;  // no lamp to suggest: applyMaterialChange lists every material
+  std::string names;
+  for (const std::string& lamp : lamps) names += (names.empty() ? "'" : ", '") + lamp + "'";
+  throw UsageError("--light-change " + change + ": the scene has no material '" + name + "'; its lamps " +
+                   "(materials that emit light) are " + names + ", e.g. --light-change '" + lamps.front() +
+                   ":emission=0,0,0' switches " + (lamps.size() == 1 ? "it" : "'" + lamps.front() + "'") + " off");
+}
+
+// The least angle the sun must move for --event sun to have something to
+// measure: a hundredth of a degree (the sun's disc is half a degree
+// across; a shadow 10 m long moves by under 2 mm).
+constexpr double kLeastSunMoveDegrees = 0.01;
+
+// --event sun measures the light following the sun as it turns: refused,
+// as the command-line mistake it is, when the sun is below the horizon
+// (no daylight to follow: the sky is dark from 12 degrees below) or when
+// the turn does not move it (at the zenith the azimuth moves nothing, and
+// a jump lost to float precision, 105 + 1e-30, is no turn), consistent
+// with --sun-jump 0.
+void checkSunMoves(const scene::Sun& before, const scene::Sun& after, const SceneOptions& shot,
+                   const std::string& sceneName, float sunJump) {
+  char elevation[32], jump[32], azimuths[64];
+  std::snprintf(elevation, sizeof elevation, "%g", double(before.elevationDegrees));
+  std::snprintf(jump, sizeof jump, "%g", double(sunJump));
+  std::snprintf(azimuths, sizeof azimuths, "azimuth %g -> %g", double(before.azimuthDegrees),
+                double(after.azimuthDegrees));
+  const std::string whose = shot.sunElevation ? std::string("the sun (--sun-elevation ") + elevation + ")"
+                                              : sceneName + "'s sun (elevation " + elevation + " degrees)";
+  if (before.elevationDegrees < 0.0f)
+    throw UsageError("--event sun: " + whose +
+                     " is below the horizon: there is no daylight whose change to follow; give --sun-elevation "
+                     "between 0 and 90");
+  // The angle between the sun's directions before and after, in double:
+  // a chord of 2 cos(elevation) sin(turn / 2) on the unit sphere.
+  const double radians = std::numbers::pi / 180.0;
+  const double turn = (double(after.azimuthDegrees) - double(before.azimuthDegrees)) * radians;
+  const double chord = 2.0 * std::cos(double(before.elevationDegrees) * radians) * std::abs(std::sin(turn / 2.0));
+  const double moved = 2.0 * std::asin(std::min(chord / 2.0, 1.0)) / radians;
+  if (moved >= kLeastSunMoveDegrees) return;
+  char movedText[32], least[32];
+  std::snprintf(movedText, sizeof movedText, "%.3g", moved);
+  std::snprintf(least, sizeof least, "%g", kLeastSunMoveDegrees);
+  if (before.elevationDegrees > 89.0f)
+    throw UsageError("--event sun: --sun-jump " + std::string(jump) + " moves the sun by only " + movedText +
+                     " degrees (" + azimuths + "): " + whose +
+                     " stands at the zenith, where turning its azimuth moves nothing; give --sun-elevation below "
+                     "89");
+  throw UsageError("--event sun: --sun-jump " + std::string(jump) + " moves the sun by " + movedText + " degrees (" +
+                   azimuths + "): nothing changes; the sun must move by at least " + least +
+                   " degrees: give a larger --sun-jump");
 }
 
 }  // namespace
@@ -194,7 +295,7 @@ int runConvergence(const GhostingOptions& options) {
   if (light && options.lightChanges.empty())
     throw UsageError(
         "--event light needs what changes at the event: --light-change NAME:emission=R,G,B (e.g. "
-        "'light:emission=0,0,0' switches cornell's lamp off)");
+        "'cornell light:emission=0,0,0' switches cornell's lamp off)");
   if (!light && !options.lightChanges.empty())
     throw UsageError("--light-change is for --event light, not --event " + options.event);
   if (options.settle == 0)
@@ -210,7 +311,10 @@ int runConvergence(const GhostingOptions& options) {
   const scene::Scene scene = loadScene(shot);
   // The lighting after the event: the scene's materials with the changes made.
   scene::Scene changed = scene;
-  for (const std::string& change : options.lightChanges) applyMaterialChange(changed, change, "--light-change");
+  for (const std::string& change : options.lightChanges) {
+    checkLightChangeNames(scene, shot, change);
+    applyMaterialChange(changed, change, "--light-change");
+  }
   std::vector<std::size_t> changedMaterials;
   for (std::size_t m = 0; m < scene.materials.size(); ++m)
     if (changed.materials[m].emissiveFactor != scene.materials[m].emissiveFactor ||
@@ -230,6 +334,7 @@ int runConvergence(const GhostingOptions& options) {
                        " has none here (a scene without one, or "
                        "--no-sun): give it one with --sun-elevation");
     movedSun.azimuthDegrees += sunJump;
+    checkSunMoves(rendererOptions.environment.sun, movedSun, shot, scene.name, sunJump);
   }
 
   OutputFolder(outDir, "--out", options.overwrite)
@@ -347,8 +452,8 @@ int runConvergence(const GhostingOptions& options) {
   const auto row = [&](const Measured& m, const char* label) {
     std::printf("%4s %6u %7.3f %5.2f", label, m.frame, m.lightChanged, m.historyKept);
     for (int s = 0; s < kSignalCount; ++s)
-      std::printf(" | %17.5g %9.3f %9.3f %9.4g", m.mean[s], reference[s] > 0.0 ? m.mean[s] / reference[s] : 0.0,
-                  convergedMean[s] > 0.0 ? m.mean[s] / convergedMean[s] : 0.0, m.relMse[s]);
+      std::printf(" | %17.5g %9s %9s %9.4g", m.mean[s], shareCell(shareOf(m.mean[s], reference[s])).c_str(),
+                  shareCell(shareOf(m.mean[s], convergedMean[s])).c_str(), m.relMse[s]);
     std::printf("\n");
   };
   for (const Measured& m : frames) row(m, m.after < 0 ? "-1" : ("+" + std::to_string(m.after)).c_str());
@@ -356,6 +461,10 @@ int runConvergence(const GhostingOptions& options) {
   std::printf("%4s %6s %7s %5s", "ref.", "", "", "");
   for (int s = 0; s < kSignalCount; ++s) std::printf(" | %17.5g %9s %9s %9s", reference[s], "", "", "");
   std::printf("\n");
+  for (int s = 0; s < kSignalCount; ++s)
+    if (!(reference[s] > 0.0))
+      std::printf("(%s / ref is undefined: the reference's %s is black; null in ghosting.json)\n", kSignalLabels[s],
+                  kSignalLabels[s]);
 
   nlohmann::json within = nlohmann::json::object();
   const int last = frames.back().after;
@@ -371,10 +480,11 @@ int runConvergence(const GhostingOptions& options) {
       const auto value = [](std::optional<int> v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
       signal[key] = {{"of_reference", value(ofReference)}, {"of_settled", value(ofSettled)}};
       std::printf(" %.0f %% of its settled value: %s (of the reference: %s", tolerance * 100.0,
-                  afterText(ofSettled, last).c_str(), afterText(ofReference, last).c_str());
+                  afterText(ofSettled, last, convergedMean[s]).c_str(),
+                  afterText(ofReference, last, reference[s]).c_str());
       if (!light && !sun) {
         signal[key]["of_before_cut"] = value(ofBefore);
-        std::printf("; of the value before the cut: %s", afterText(ofBefore, last).c_str());
+        std::printf("; of the value before the cut: %s", afterText(ofBefore, last, frames.front().mean[s]).c_str());
       }
       std::printf(")%s", tolerance == kTolerances.back() ? "\n" : ";");
     }
