@@ -250,6 +250,16 @@ struct FrameInputs {
   Camera previousCamera;  // ignored on a cut
   std::uint64_t frameIndex = 0;
   bool cameraCut = false;  // nothing of earlier frames is reused
+  // The share of the light (0 to 1) the engine knows it changed since its
+  // last frame: a lamp switched on or off, dimmed or brightened. The
+  // library sees a change of light in the direct light and emission the
+  // frame shows (gi.light_change; docs/gi.md "When the light changes"),
+  // and a lamp off screen or smaller than a pixel (a small frame) changes
+  // the indirect light with no trace there: its histories would go on
+  // holding the old light. The larger of the two counts, so an engine that
+  // knows of a change says so here (0: it declares none). Outside [0, 1]
+  // or NaN: record() throws Error.
+  float lightChange = 0.0f;
   // Copy every pass's output of this frame for debugging; collect() returns
   // the copies once the frame has run.
   bool captureStages = false;

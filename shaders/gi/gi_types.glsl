@@ -29,6 +29,7 @@ struct GiFrameConstants {
   uint normalEncoding;  // kNormalEncoding*
   uint hasEmissive;     // 1: the engine gave emission apart from the direct light
   uint hasMaterialId;   // 1: the engine gave material ids (FrameInputs::materialId); else every pixel is material 0
+  float declaredLightChange;  // FrameInputs::lightChange: the share of the light the engine says it changed
 };
 
 #ifdef __cplusplus

@@ -51,7 +51,7 @@ gpu::ConstantsDecl frameConstantsLayout() {
   using shared::GiFrameConstants;
   return BOUNCE_CONSTANTS_LAYOUT("gIn_Frame", GiFrameConstants, view, previousView, renderSize, halfSize, motionScale,
                                  frameIndex, noHistory, seed, normalEncoding, hasEmissive,
-                                 hasMaterialId);
+                                 hasMaterialId, declaredLightChange);
 }
 
 FrameGroup::FrameGroup(gpu::Buffer& frameConstants, gpu::Image& viewZ, gpu::Image& normalRoughness,

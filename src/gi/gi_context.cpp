@@ -229,6 +229,9 @@ struct GiContext::Impl {
                   std::to_string(*lastFrameIndex) + "); frame indices must increase");
     screenView(frame.camera, "camera");
     if (!frame.cameraCut) screenView(frame.previousCamera, "previousCamera");
+    if (!(frame.lightChange >= 0.0f && frame.lightChange <= 1.0f))
+      throw Error("gi: FrameInputs::lightChange is " + std::to_string(frame.lightChange) +
+                  "; it is a share of the light, within [0, 1]");
     // The noisy signals' size depends on the mode (EngineImages checks the
     // rest of them): the render size, or in checkerboard mode half its
     // width, rounded up. As every input, an image may be larger.
@@ -279,6 +282,7 @@ struct GiContext::Impl {
                            : shared::kNormalEncodingXyz;
     c.hasEmissive = frame.emissive.image != VK_NULL_HANDLE ? 1u : 0u;
     c.hasMaterialId = frame.materialId.image != VK_NULL_HANDLE ? 1u : 0u;
+    c.declaredLightChange = frame.lightChange;
     return c;
   }
 

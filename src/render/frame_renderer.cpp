@@ -508,6 +508,13 @@ void FrameRenderer::setMaterial(std::size_t index, const scene::Material& materi
   if (const std::string problem = materialProblem(material); !problem.empty())
     throw std::invalid_argument("setMaterial: material " + std::to_string(index) +
                                 (target.name.empty() ? "" : " '" + target.name + "'") + ": " + problem);
+  const auto emission = [](const scene::Material& m) {
+    const glm::dvec3 rgb = glm::dvec3(m.emissiveFactor) * double(m.emissiveStrength);
+    return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+  };
+  const double before = emission(target), after = emission(material);
+  if (std::max(before, after) > 0.0)
+    lightChange_ = std::max(lightChange_, float(std::abs(after - before) / std::max(before, after)));
   target.baseColorFactor = material.baseColorFactor;
   target.metallicFactor = material.metallicFactor;
   target.roughnessFactor = material.roughnessFactor;
@@ -516,6 +523,8 @@ void FrameRenderer::setMaterial(std::size_t index, const scene::Material& materi
   uploadMaterials();
   ++materialRevision_;
 }
+
+float FrameRenderer::takeLightChange() { return std::exchange(lightChange_, 0.0f); }
 
 std::vector<gpu::Bind> FrameRenderer::sceneBinds(std::uint64_t frameIndex) {
   std::vector<gpu::Bind> binds = {{"gIn_Frame", frameConstants(frameIndex)},

@@ -142,6 +142,13 @@ class FrameRenderer {
   // Goes up by one with every setMaterial, so whoever built something from
   // materials() (the reference's emissive-triangle list) sees it is stale.
   std::uint64_t materialRevision() const { return materialRevision_; }
+  // The share of its light the emission edits since the last call changed
+  // (of each material setMaterial edited, |after - before| / the larger
+  // luminance of its emission; the largest of them), and resets it to 0:
+  // the GI library's FrameInputs::lightChange for the next frame, since a
+  // lamp the frame does not show (off screen, smaller than a pixel) leaves
+  // no trace in the direct light the library compares.
+  float takeLightChange();
 
   static constexpr std::uint32_t kFramesInFlight = 2;
   static constexpr std::uint32_t kMaxLights = 256;
@@ -169,6 +176,7 @@ class FrameRenderer {
   std::unique_ptr<Environment> environment_;
   std::vector<scene::Material> materials_;
   std::uint64_t materialRevision_ = 0;
+  float lightChange_ = 0.0f;  // takeLightChange()
   std::unique_ptr<gpu::Buffer> materialTable_, vertexAttributes_, instances_, lights_;
   std::array<Slot, kFramesInFlight> slots_;
   std::unique_ptr<gpu::Image> viewZ_, normalRoughness_, geometricNormal_, baseColorMetallic_, emissive_, motion_, ids_,

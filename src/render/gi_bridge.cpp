@@ -151,6 +151,7 @@ RendererInputs rendererInputs(FrameRenderer& renderer, std::uint64_t frameIndex,
                                    options.jitter && frameIndex > 0 ? jitterOffset(frameIndex - 1) : glm::vec2(0.0f));
   inputs.frameIndex = frameIndex;
   inputs.cameraCut = view.cut;
+  inputs.lightChange = renderer.takeLightChange();
   inputs.captureStages = options.captureStages;
   return made;
 }
