@@ -99,6 +99,10 @@ CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options) {
                     "Also write the two independent halves of the samples (OUT.halfA.exr, OUT.halfB.exr)");
   command->add_flag("--dump-stages", options.dumpStages,
                     "Write the G-buffer and light passes of the frame (EXR + PNG) to OUT.stages/");
+  command->add_flag("--overwrite", options.overwrite,
+                    "Replace files of OUT (OUT.exr, its siblings, OUT.gbuffer/...) that no Bounce run wrote (by "
+                    "default such a file stops the run before it starts; files an earlier run wrote, listed in "
+                    ".bounce-written beside OUT, are always replaced)");
   return command;
 }
 
@@ -117,6 +121,22 @@ int runReference(const ReferenceCommandOptions& options) {
     for (const char* extension : {".exr", ".png"}) outputs.push_back(sibling(out, std::string(part) + extension));
   for (const fs::path& output : outputs) refuseToOverwriteInputs(output, "--out", inputs);
   for (const char* folder : {".gbuffer", ".stages"}) refuseInputsInside(sibling(out, folder), "--out", inputs);
+  // OUT.exr shares its folder with whatever else is there, so what this run
+  // writes is recorded in that folder's .bounce-written like render's files
+  // (and nothing else there is removed): a file no Bounce run wrote is not
+  // replaced, a link is never written through, a rerun replaces its own.
+  std::vector<fs::path> written = {out.filename(), sibling(out, ".png").filename(),
+                                   sibling(out, ".sheet.png").filename(), sibling(out, ".json").filename()};
+  for (const char* part : {".direct", ".indirect-diffuse", ".indirect-specular", ".halfA", ".halfB"}) {
+    if (!options.halves && std::string(part).starts_with(".half")) continue;
+    for (const char* extension : {".exr", ".png"})
+      written.push_back(sibling(out, std::string(part) + extension).filename());
+  }
+  std::vector<fs::path> filled = {sibling(out, ".gbuffer").filename()};
+  if (options.dumpStages) filled.push_back(sibling(out, ".stages").filename());
+  OutputFolder folder(out.parent_path().empty() ? fs::path(".") : out.parent_path(), "--out", options.overwrite,
+                      OutputFolder::Use::Shared);
+  folder.prepare(written, filled, inputs);
   const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, view);
   // The frame before (for its motion vectors) and the frame itself.
   const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
@@ -199,7 +219,7 @@ int runReference(const ReferenceCommandOptions& options) {
       writeImage(sibling(out, ".halfB.exr"), halfB, options.exposure);
     }
   }
-  writeAovs(*context, renderer, {"all"}, sibling(out, ".gbuffer"), options.exposure);
+  folder.wrote(writeAovs(*context, renderer, {"all"}, sibling(out, ".gbuffer"), options.exposure));
   // The picture to look at first: what direct light alone gives, each
   // indirect part, and the whole.
   const auto display = [&](const io::ImageF& image) {
@@ -214,6 +234,7 @@ int runReference(const ReferenceCommandOptions& options) {
                io::PngEncoding::Linear);
   if (!captures.empty()) {
     const auto files = gpuio::writeStageDumps(sibling(out, ".stages"), captures, options.exposure);
+    folder.wrote(files);
     std::printf("wrote %zu stage images to %s\n", files.size(), sibling(out, ".stages").c_str());
   }
 

@@ -197,6 +197,7 @@ struct ReferenceCommandOptions {
   float exposure = 1.0f;
   bool halves = false;
   bool dumpStages = false;
+  bool overwrite = false;  // replace OUT.exr's files that no Bounce run wrote
 };
 CLI::App* addReferenceCommand(CLI::App& app, ReferenceCommandOptions& options);
 int runReference(const ReferenceCommandOptions& options);

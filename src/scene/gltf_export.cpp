@@ -547,12 +547,33 @@ class Exporter {
 
 }  // namespace
 
-void writeGltf(const Scene& scene, const fs::path& file) {
+void writeGltf(const Scene& scene, const fs::path& file, ExistingFiles existing) {
   const std::string extension = file.extension().string();
   if (extension != ".gltf" && extension != ".glb")
     fail(file, "a glTF export is named .gltf or .glb (got '" + extension + "')");
   Exporter exporter(scene, file);
-  refuseSourceFiles(exporter.outputs(), sourceFiles(scene));
+  const std::vector<fs::path> outputs = exporter.outputs();
+  refuseSourceFiles(outputs, sourceFiles(scene));
+  // Every file is looked at before the first is written, so a refusal
+  // leaves the folder as it was; symlink_status, so that a link (even one
+  // leading nowhere) counts as a file that exists.
+  for (const fs::path& output : outputs) {
+    std::error_code error;
+    const fs::file_status status = fs::symlink_status(output, error);
+    if (fs::is_symlink(status))
+      fail(output, "is a symbolic link; not replaced (an export writes regular files only): choose another name");
+    if (existing == ExistingFiles::Refuse && fs::exists(status)) {
+      std::string names;
+      for (std::size_t i = 0; i < outputs.size(); ++i) {
+        if (outputs.size() > 4 && i > 0 && i + 2 < outputs.size()) {
+          if (i == 1) names += ", ...";  // the textures between the first and the .bin
+          continue;
+        }
+        names += (names.empty() ? "" : ", ") + outputs[i].filename().string();
+      }
+      fail(output, "exists; not overwritten (this export writes " + names + "): choose another name");
+    }
+  }
   exporter.write();
 }
 

@@ -31,15 +31,22 @@
 
 namespace bounce::scene {
 
+// What writeGltf does where a file it would write exists: Replace it (a
+// regular file; a symbolic link is never replaced), or Refuse before any
+// file is written (the viewer's save-gltf, which never writes over a file).
+enum class ExistingFiles { Replace, Refuse };
+
 // Writes `scene` to `file`: a .glb (everything in one file) when its
 // extension is ".glb"; for ".gltf", the JSON with "<stem>.bin" (the buffer)
 // and "<stem>.texture<N>.png" (texture N) beside it. Each file is written
 // beside its place and renamed into it, so a failed write leaves no half
-// file; files of an earlier export are overwritten. Throws SceneError
-// "<file>: <reason>" for another extension, a folder that does not exist
-// or cannot be written, and a file to write that is one of the scene's own
-// source files (scene.source, or a buffer or image it reads), which an
-// export must never overwrite.
-void writeGltf(const Scene& scene, const std::filesystem::path& file);
+// file. Throws SceneError "<file>: <reason>" for another extension, a
+// folder that does not exist or cannot be written, a file to write that is
+// one of the scene's own source files (scene.source, or a buffer or image
+// it reads), which an export must never overwrite, a symbolic link where a
+// file goes, and, with ExistingFiles::Refuse, any of the files that exists
+// (the .bin and textures as much as the .gltf: they are someone's too).
+void writeGltf(const Scene& scene, const std::filesystem::path& file,
+               ExistingFiles existing = ExistingFiles::Replace);
 
 }  // namespace bounce::scene

@@ -296,14 +296,11 @@ void Session::inspect(std::uint32_t x, std::uint32_t y) {
 void Session::measure() { split_.measure(panels_, frameImage()); }
 
 void Session::saveGltf(const fs::path& file) {
-  std::error_code error;
-  if (fs::exists(file, error)) {
-    panels_.materialMessage = file.string() + " exists; not overwritten (choose another name)";
-    throw std::runtime_error(panels_.materialMessage);
-  }
   scene::Scene edited = scene_;
   edited.materials = renderer_.materials();
-  scene::writeGltf(edited, file);
+  // Nothing is replaced: the .bin and the textures beside the .gltf may be
+  // the user's as much as the .gltf itself.
+  scene::writeGltf(edited, file, scene::ExistingFiles::Refuse);
   panels_.materialMessage = "saved " + file.string();
   std::printf("wrote %s (the scene with its edited materials)\n", file.c_str());
 }
