@@ -3,9 +3,12 @@
 // people, EXR for comparisons), every frame when asked (--hdr, numbered PNGs
 // and an MP4 when ffmpeg is installed), any AOVs, every pass's output
 // (--dump-stages), and prints the per-pass GPU timings.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "app/commands.h"
@@ -40,14 +43,28 @@ constexpr double kMaxAnimationPixels = 32.0e6;
 // ffmpeg gets its arguments as a list, never through a shell: an output
 // folder named "x'; rm -rf ~" is a file name, not a command.
 void encodeVideo(const fs::path& framesDir, const fs::path& video, float fps) {
-  const std::optional<int> status = runProgram(
-      {"ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps), "-i",
-       (framesDir / "frame%04d.png").string(), "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18", video.string()});
-  if (!status) return;  // no ffmpeg on this machine
-  if (*status == 0)
+  // ffmpeg opens the name it is given and follows a link there, so it
+  // writes a new file of this process's own making (under a name no one can
+  // predict), which is then renamed into place as every output is.
+  const io::TemporaryFile temporary = io::createTemporaryBeside(video);
+  if (temporary.fd < 0) {
+    std::printf("cannot write %s (%s); frames stay as numbered PNGs in %s\n", video.c_str(),
+                std::strerror(temporary.error), framesDir.c_str());
+    return;
+  }
+  ::close(temporary.fd);
+  const std::optional<int> status =
+      runProgram({"ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-framerate", std::to_string(fps), "-i",
+                  (framesDir / "frame%04d.png").string(), "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18", "-f",
+                  "mp4", temporary.path.string()});
+  if (status && *status == 0) {
+    io::moveIntoPlace(temporary.path, video);
     std::printf("wrote %s\n", video.c_str());
-  else
-    std::printf("ffmpeg failed; frames stay as numbered PNGs in %s\n", framesDir.c_str());
+    return;
+  }
+  ::unlink(temporary.path.c_str());
+  if (status) std::printf("ffmpeg failed; frames stay as numbered PNGs in %s\n", framesDir.c_str());
+  // (no status: no ffmpeg on this machine)
 }
 
 // On a CPU device what the command line left unset (the size, the GI

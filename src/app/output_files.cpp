@@ -103,7 +103,7 @@ namespace {
 // when it is: a relative path whose every part is a name. "." or "frames/.."
 // name the folder itself (removing it fails, every later run with it), ".."
 // and absolute paths lead out of it.
-std::string entryProblem(std::string_view entry) {
+std::string recordEntryProblem(std::string_view entry) {
   if (entry.find('\0') != std::string_view::npos) return "a NUL character";
   if (entry.starts_with('/')) return "an absolute path";
   if (entry == OutputFolder::kRecordName) return "the record itself";
@@ -119,13 +119,13 @@ std::string entryProblem(std::string_view entry) {
 
 // A line of the record as a message shows it: control characters (a
 // terminal's escapes) as '?', and not without end.
-std::string shown(std::string_view line) {
+std::string shownRecordLine(std::string_view line) {
   std::string text;
   for (char c : line.substr(0, 200)) text += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
   return line.size() > 200 ? text + "..." : text;
 }
 
-std::string kindOf(mode_t mode) {
+std::string fileKindOf(mode_t mode) {
   if (S_ISLNK(mode)) return "a symbolic link";
   if (S_ISFIFO(mode)) return "a FIFO";
   if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
@@ -138,33 +138,33 @@ std::string kindOf(mode_t mode) {
 // looked at with lstat, so that no link is followed: the walk stops at the
 // first part that is not a real folder. `at` is that part, or the entry
 // itself; `inPath` says it is a folder of the entry's path.
-struct Place {
+struct PlaceInside {
   enum class Kind { Missing, File, Folder, Link, Other } kind = Kind::Missing;
   fs::path at;
   bool inPath = false;
 };
 
-Place lookUp(const fs::path& dir, const std::string& entry) {
+PlaceInside lookUpInside(const fs::path& dir, const std::string& entry) {
   fs::path path = dir;
   const fs::path parts(entry);
   for (auto part = parts.begin(); part != parts.end(); ++part) {
     path /= *part;
     const bool last = std::next(part) == parts.end();
     struct stat status {};
-    if (::lstat(path.c_str(), &status) != 0) return {Place::Kind::Missing, path, !last};
-    const Place::Kind kind = S_ISLNK(status.st_mode)   ? Place::Kind::Link
-                             : S_ISDIR(status.st_mode) ? Place::Kind::Folder
-                             : S_ISREG(status.st_mode) ? Place::Kind::File
-                                                       : Place::Kind::Other;
-    if (last || kind != Place::Kind::Folder) return {kind, path, !last};
+    if (::lstat(path.c_str(), &status) != 0) return {PlaceInside::Kind::Missing, path, !last};
+    const PlaceInside::Kind kind = S_ISLNK(status.st_mode)   ? PlaceInside::Kind::Link
+                             : S_ISDIR(status.st_mode) ? PlaceInside::Kind::Folder
+                             : S_ISREG(status.st_mode) ? PlaceInside::Kind::File
+                                                       : PlaceInside::Kind::Other;
+    if (last || kind != PlaceInside::Kind::Folder) return {kind, path, !last};
   }
-  return {Place::Kind::Missing, path, false};
+  return {PlaceInside::Kind::Missing, path, false};
 }
 
 // Descriptors of the folders on an entry's path, closed together.
-struct Folders {
+struct OpenFolders {
   std::vector<int> fds;
-  ~Folders() {
+  ~OpenFolders() {
     for (int fd : fds) ::close(fd);
   }
 };
@@ -172,11 +172,11 @@ struct Folders {
 // Removes the regular file `entry` inside `dir`, then the folders of its
 // path that it leaves empty. Each folder is opened with O_NOFOLLOW from the
 // one above and the file removed relative to its folder, so a link put in
-// the path after lookUp looked is never followed. "" or why not.
-std::string removeInside(const fs::path& dir, const std::string& entry) {
+// the path after lookUpInside looked is never followed. "" or why not.
+std::string removeRecordedFile(const fs::path& dir, const std::string& entry) {
   std::vector<std::string> parts;
   for (const fs::path& part : fs::path(entry)) parts.push_back(part.string());
-  Folders folders;
+  OpenFolders folders;
   folders.fds.push_back(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
   for (std::size_t i = 0; folders.fds.back() >= 0 && i + 1 < parts.size(); ++i)
     folders.fds.push_back(::openat(folders.fds.back(), parts[i].c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC));
@@ -184,7 +184,7 @@ std::string removeInside(const fs::path& dir, const std::string& entry) {
   struct stat status {};
   if (::fstatat(folders.fds.back(), parts.back().c_str(), &status, AT_SYMLINK_NOFOLLOW) != 0)
     return std::strerror(errno);
-  if (!S_ISREG(status.st_mode)) return "it is " + kindOf(status.st_mode) + " now";
+  if (!S_ISREG(status.st_mode)) return "it is " + fileKindOf(status.st_mode) + " now";
   if (::unlinkat(folders.fds.back(), parts.back().c_str(), 0) != 0) return std::strerror(errno);
   // A subfolder the earlier run made (frames/, stages/) goes when it is left empty.
   for (std::size_t i = parts.size() - 1; i-- > 0;)
@@ -204,7 +204,7 @@ std::string OutputFolder::relative(const fs::path& file) const {
       file.is_absolute() ? file.lexically_relative(fs::absolute(dir_)) : file.lexically_relative(dir_);
   const bool joined = !inside.empty() && *inside.begin() != "..";
   std::string name = (joined ? inside : file).lexically_normal().generic_string();
-  if (const std::string problem = entryProblem(name); !problem.empty())
+  if (const std::string problem = recordEntryProblem(name); !problem.empty())
     throw std::logic_error("OutputFolder: '" + name + "' is not a file inside " + dir_.string() + " (" + problem + ")");
   return name;
 }
@@ -223,7 +223,7 @@ std::set<std::string> OutputFolder::readRecord() const {
   }
   const auto refuse = [&](const struct stat& s) {
     if (!S_ISREG(s.st_mode))
-      throw std::runtime_error(file.string() + ": is " + kindOf(s.st_mode) +
+      throw std::runtime_error(file.string() + ": is " + fileKindOf(s.st_mode) +
                                ", not Bounce's record of the files it wrote there (a small regular file)" + remedy);
     if (std::uintmax_t(s.st_size) > kMaxRecordBytes)
       throw std::runtime_error(file.string() + ": is " + std::to_string(s.st_size) + " bytes, more than the " +
@@ -237,7 +237,7 @@ std::set<std::string> OutputFolder::readRecord() const {
                              std::strerror(errno) + ")");
   std::string text;
   {
-    const Folders closing{{fd}};
+    const OpenFolders closing{{fd}};
     // What was opened is checked again: the file may have been swapped since lstat.
     if (::fstat(fd, &status) != 0)
       throw std::runtime_error(file.string() + ": cannot read (" + std::string(std::strerror(errno)) + ")");
@@ -266,9 +266,9 @@ std::set<std::string> OutputFolder::readRecord() const {
     // A line no Bounce run writes is reported and ignored: removal follows
     // the record, so it must never name a file elsewhere, nor fail every
     // later run on a name it cannot remove.
-    if (const std::string problem = entryProblem(line); !problem.empty()) {
+    if (const std::string problem = recordEntryProblem(line); !problem.empty()) {
       std::fprintf(stderr, "warning: %s:%zu: \"%s\" is not the name of a file inside the folder (%s); ignored\n",
-                   file.c_str(), number, shown(line).c_str(), problem.c_str());
+                   file.c_str(), number, shownRecordLine(line).c_str(), problem.c_str());
       continue;
     }
     entries.insert(std::string(line));
@@ -295,9 +295,9 @@ std::size_t OutputFolder::prepare(const std::vector<fs::path>& files, const std:
   };
   // A link is never written through, nor replaced (it is the user's, even
   // where a Bounce run once wrote a file): not with --overwrite either.
-  const auto refuseLink = [&](const Place& place) {
-    if (place.kind == Place::Kind::Missing) return;
-    if (place.kind == Place::Kind::Link)
+  const auto refuseLink = [&](const PlaceInside& place) {
+    if (place.kind == PlaceInside::Kind::Missing) return;
+    if (place.kind == PlaceInside::Kind::Link)
       throw UsageError(place.at.string() + " is a symbolic link: " +
                        (place.inPath ? "Bounce does not write through a link in its output folder"
                                      : "not replaced, even with --overwrite (Bounce writes regular files only)") +
@@ -306,20 +306,20 @@ std::size_t OutputFolder::prepare(const std::vector<fs::path>& files, const std:
       throw UsageError(place.at.string() + " is not a folder, and this run writes files in it" + remedy);
   };
   for (const std::string& file : planned) {
-    const Place place = lookUp(dir_, file);
+    const PlaceInside place = lookUpInside(dir_, file);
     refuseLink(place);
-    if (place.kind == Place::Kind::Folder)
+    if (place.kind == PlaceInside::Kind::Folder)
       throw UsageError(place.at.string() + " is a folder, and this run writes a file there" + remedy);
-    if (place.kind == Place::Kind::Other)
+    if (place.kind == PlaceInside::Kind::Other)
       throw UsageError(place.at.string() + " is not a regular file; not replaced" + remedy);
-    if (place.kind == Place::Kind::File && !overwrite_ && !earlier.count(file)) refuseForeign(file);
+    if (place.kind == PlaceInside::Kind::File && !overwrite_ && !earlier.count(file)) refuseForeign(file);
   }
   for (const fs::path& folder : folders) {
-    const Place place = lookUp(dir_, relative(folder));
+    const PlaceInside place = lookUpInside(dir_, relative(folder));
     refuseLink(place);
-    if (place.kind == Place::Kind::File || place.kind == Place::Kind::Other)
+    if (place.kind == PlaceInside::Kind::File || place.kind == PlaceInside::Kind::Other)
       throw UsageError(place.at.string() + " is not a folder, and this run fills it with files" + remedy);
-    if (place.kind != Place::Kind::Folder) continue;
+    if (place.kind != PlaceInside::Kind::Folder) continue;
     // The iterator does not follow links; a link inside is refused, since
     // the names the work gives its files are not known yet.
     std::error_code error;
@@ -341,13 +341,13 @@ std::size_t OutputFolder::prepare(const std::vector<fs::path>& files, const std:
   std::vector<std::string> stale, kept;
   for (const std::string& file : earlier) {
     if (planned.count(file)) continue;
-    const Place place = lookUp(dir_, file);
-    if (place.kind == Place::Kind::Missing) continue;
-    if (place.kind != Place::Kind::File) {
+    const PlaceInside place = lookUpInside(dir_, file);
+    if (place.kind == PlaceInside::Kind::Missing) continue;
+    if (place.kind != PlaceInside::Kind::File) {
       std::fprintf(stderr, "warning: %s lists %s, but %s is %s, not a file Bounce wrote; left as it is\n",
                    recordFile.c_str(), file.c_str(), place.at.c_str(),
-                   place.kind == Place::Kind::Link     ? "a symbolic link"
-                   : place.kind == Place::Kind::Folder ? "a folder"
+                   place.kind == PlaceInside::Kind::Link     ? "a symbolic link"
+                   : place.kind == PlaceInside::Kind::Folder ? "a folder"
                                                        : "not a regular file");
       continue;
     }
@@ -360,7 +360,7 @@ std::size_t OutputFolder::prepare(const std::vector<fs::path>& files, const std:
                          ": this run would remove it; choose another " + option_);
 
   for (const std::string& file : stale)
-    if (const std::string reason = removeInside(dir_, file); !reason.empty())
+    if (const std::string reason = removeRecordedFile(dir_, file); !reason.empty())
       throw std::runtime_error(where(file) + ": cannot remove this file of an earlier run (" + reason + ")");
   record_ = planned;
   record_.insert(kept.begin(), kept.end());
