@@ -57,7 +57,7 @@ inline std::vector<std::uint8_t> encodePng(int width, int height, const std::vec
 }
 
 // A GLB container of this JSON text and binary chunk (none when empty).
-void writeGlbFile(const fs::path& path, std::string text, std::vector<std::uint8_t> bin) {
+inline void writeGlbFile(const fs::path& path, std::string text, std::vector<std::uint8_t> bin) {
   while (text.size() % 4 != 0) text += ' ';
   while (bin.size() % 4 != 0) bin.push_back(0);
   std::vector<std::uint8_t> file;
