@@ -461,6 +461,44 @@ TEST(GltfImport, RefusesMissingAndUndecodableTextureFiles) {
   expectRefused(gltf.writeGltf(folder / "bad_texture.gltf"), "'bricks_missing.png' is not a PNG or JPEG");
 }
 
+// One PNG named by URIs that resolve to the same file ("t.png", "./t.png",
+// "t%2Epng") is one texture, decoded and held once (issue 46, M3: three
+// names of a 16384 x 16384 PNG were decoded three times, 4.2 GB), and so are
+// the same bytes under another name; other bytes are another texture, and
+// an image used as sRGB and as linear data is two (converted differently).
+TEST(GltfImport, AnImageUnderSeveralUrisOrNamesIsOneTexture) {
+  TempFolder folder;
+  const std::vector<std::uint8_t> pixels = {10, 20, 30, 255, 40, 50, 60, 255};
+  const std::vector<std::uint8_t> otherPixels = {90, 80, 70, 255, 60, 50, 40, 255};
+  writeBytes(folder / "t.png", encodePng(2, 1, pixels).data(), encodePng(2, 1, pixels).size());
+  writeBytes(folder / "copy.png", encodePng(2, 1, pixels).data(), encodePng(2, 1, pixels).size());
+  writeBytes(folder / "other.png", encodePng(2, 1, otherPixels).data(), encodePng(2, 1, otherPixels).size());
+  GltfBuilder gltf;
+  const std::vector<std::string> uris = {"t.png", "./t.png", "t%2Epng", "copy.png", "other.png"};
+  for (std::size_t i = 0; i < uris.size(); ++i) {
+    gltf.add("images", {{"uri", uris[i]}});
+    gltf.add("textures", {{"source", i}});
+    gltf.add("materials", {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", i}}}}}});
+  }
+  gltf.add("materials", {{"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}}}});
+  json primitive = quadPrimitive(gltf);
+  primitive["material"] = 0;
+  gltf.addMeshNode(primitive);
+  const Loaded loaded = load(gltf.writeGltf(folder / "shared.gltf"));
+  const Scene& scene = loaded.scene;
+
+  ASSERT_EQ(scene.textures.size(), 3u) << "t.png as sRGB and as linear data, other.png";
+  const int shared = scene.materials[0].baseColorTexture;
+  for (std::size_t i = 1; i < 4; ++i) EXPECT_EQ(scene.materials[i].baseColorTexture, shared) << uris[i];
+  EXPECT_NE(scene.materials[4].baseColorTexture, shared);
+  EXPECT_NE(scene.materials[5].metallicRoughnessTexture, shared);
+  EXPECT_EQ(scene.textures[std::size_t(shared)].name, "t.png");
+  EXPECT_EQ(scene.textures[std::size_t(shared)].rgba8, pixels);
+  EXPECT_EQ(scene.textures[std::size_t(scene.materials[4].baseColorTexture)].rgba8, otherPixels);
+  EXPECT_EQ(scene.textures[std::size_t(scene.materials[5].metallicRoughnessTexture)].rgba8, pixels);
+  EXPECT_FALSE(scene.textures[std::size_t(scene.materials[5].metallicRoughnessTexture)].srgb);
+}
+
 // A texture of 20000 x 20000 pixels is refused from its header, naming both
 // sizes (it used to be called truncated or corrupt).
 TEST(GltfImport, TexturesOverTheSizeLimitAreRefusedWithBothSizes) {
@@ -999,7 +1037,16 @@ TEST(GltfImport, RefusesBrokenAccessorsBufferViewsAndIndices) {
       {"float_indices", [](json& d) { d["accessors"][2]["componentType"] = kFloat; }, "expected UNSIGNED_BYTE"},
       {"count_mismatch", [](json& d) { d["accessors"][1]["count"] = 3; }, "NORMAL has 3 elements but POSITION has 4"},
       {"indices_offset", [](json& d) { d["accessors"][2]["byteOffset"] = 4; }, "do not fit in bufferView"},
-      {"buffer_too_short", [](json& d) { d["buffers"][0]["byteLength"] = 1000; }, "cannot load glTF"},
+      {"buffer_too_short", [](json& d) { d["buffers"][0]["byteLength"] = 1000; },
+       "buffer 0: its file 'valid.bin' is 120 bytes, but its byteLength says 1000 bytes"},
+      {"virtual_accessors_over_the_limit_together",
+       [](json& d) {
+         d["accessors"].push_back({{"componentType", kFloat}, {"count", 700000}, {"type", "VEC3"}});
+         d["accessors"].push_back({{"componentType", kFloat}, {"count", 700000}, {"type", "VEC3"}});
+         d["meshes"][0]["primitives"][0]["attributes"] = {{"POSITION", 3}, {"NORMAL", 4}};
+         d["meshes"][0]["primitives"][0].erase("indices");
+       },
+       "NORMAL (accessor 4) has too many elements without a bufferView: 700000 after 700000 read before"},
       {"missing_material", [](json& d) { d["meshes"][0]["primitives"][0]["material"] = 3; }, "material 3"},
       {"bad_mode", [](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 9; }, "unknown primitive mode 9"},
       {"negative_index", [](json& d) { d["nodes"][0]["mesh"] = -1; }, "must be a non-negative integer"},

@@ -872,6 +872,35 @@ TEST_F(ImageIoTest, DecodeRgba8RefusesImagesOverItsLimitFromTheHeader) {
             "wide.jpg: image size 4x1 is over the limit of 3 pixels a side");
 }
 
+// rgba8Info reads from the header alone what decodeRgba8 would make and the
+// memory decoding takes, so the textures of a glTF are added up before any
+// is decoded (issue 46: a 261 KB PNG of 16384 x 16384 took 2.1 GB); it
+// refuses what decodeRgba8 refuses from the header, with the same message.
+TEST_F(ImageIoTest, Rgba8InfoIsWhatDecodeRgba8MakesFromTheHeaderAlone) {
+  const fs::path path = file("texture.png");
+  const Bytes pixels(3 * 2 * 4, 77);
+  ASSERT_TRUE(stbi_write_png(path.c_str(), 3, 2, 4, pixels.data(), 12));
+  const Bytes encoded = readBytes(path);
+  const Rgba8Info info = rgba8Info(encoded, "texture.png", 16);
+  const Rgba8Image image = decodeRgba8(encoded, "texture.png", 16);
+  EXPECT_EQ(info.width, image.width);
+  EXPECT_EQ(info.height, image.height);
+  EXPECT_EQ(info.imageBytes(), image.rgba8.size());
+  EXPECT_GT(info.decoderBytes, encoded.size()) << "stb holds the compressed data and the samples";
+
+  // A grey 16384 x 16384 PNG whose data ends after one row: only its header is read.
+  const Rgba8Info huge = rgba8Info(testing::zeroPng(16384, 16384, 1), "huge.png", 16384);
+  EXPECT_EQ(huge.width, 16384);
+  EXPECT_EQ(huge.height, 16384);
+  EXPECT_EQ(huge.imageBytes(), 16384ull * 16384 * 4);
+  EXPECT_GE(huge.decoderBytes, 16384ull * 16384 * (1 + 4)) << "the grey samples and stb's RGBA copy of them";
+
+  EXPECT_EQ(errorOf([&] { rgba8Info(pngHeaderOnly(20000, 20000), "huge.png", 16384); }),
+            errorOf([&] { decodeRgba8(pngHeaderOnly(20000, 20000), "huge.png", 16384); }));
+  const Bytes gif = {'G', 'I', 'F'};
+  EXPECT_EQ(errorOf([&] { rgba8Info(gif, "x", 16); }), errorOf([&] { decodeRgba8(gif, "x", 16); }));
+}
+
 // ============================================================== APNG
 
 struct ParsedChunk {
@@ -982,14 +1011,16 @@ TEST_F(ImageIoTest, ImageInfoIsWhatReadImageMakes) {
   ASSERT_TRUE(stbi_write_hdr(file("sky.hdr").c_str(), 11, 6, 3, radiance.data()));
   writeExr(file("layers.exr"), randomImage(6, 4, {"R", "G", "B", "A", "Z"}, 0.0f, 1.0f, 3));
   writeExr(file("depth.exr"), randomImage(6, 4, {"viewZ"}, 0.0f, 1.0f, 4));
+  writeExr(file("alpha.exr"), randomImage(6, 4, {"A"}, 0.0f, 1.0f, 5));
   for (const char* name :
-       {"rgb.png", "grey.png", "greyalpha16.png", "grey.jpg", "sky.hdr", "layers.exr", "depth.exr"}) {
+       {"rgb.png", "grey.png", "greyalpha16.png", "grey.jpg", "sky.hdr", "layers.exr", "depth.exr", "alpha.exr"}) {
     SCOPED_TRACE(name);
     const ImageInfo info = readImageInfo(file(name));
     const ImageF image = readImage(file(name));
     EXPECT_EQ(info.width, image.width);
     EXPECT_EQ(info.height, image.height);
     EXPECT_EQ(info.channels, image.channelCount());
+    EXPECT_EQ(info.channelNames, image.channels) << "a map of alpha alone is told from grey by its header";
     EXPECT_EQ(info.imageBytes(), image.pixels.size() * sizeof(float));
     EXPECT_GT(info.readBytes(), info.imageBytes()) << "decoding needs something beside the image";
   }

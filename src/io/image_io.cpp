@@ -291,17 +291,20 @@ ImageInfo readExrInfo(const fs::path& path) {
   const std::int64_t width = layout.width, height = layout.height;
   const std::vector<std::string>& fileNames = layout.channels;
   const bool subsampled = layout.subsampled;
-  ImageInfo info{int(width), int(height), 0, 0};
+  ImageInfo info{int(width), int(height), 0, 0, {}};
   const auto has = [&](const char* name) {
     return std::find(fileNames.begin(), fileNames.end(), name) != fileNames.end();
   };
   if (has("RY") || has("BY")) {
-    info.channels = has("A") ? 4 : 3;
+    info.channelNames = {"R", "G", "B"};
+    if (has("A")) info.channelNames.push_back("A");
+    info.channels = info.channelNames.size();
     info.decoderBytes = info.pixels() * sizeof(Imf::Rgba);
     return info;
   }
   if (subsampled) fail(path, "EXR channels with x/y subsampling are not supported");
-  info.channels = planExrChannels(fileNames).outputNames.size();
+  info.channelNames = planExrChannels(fileNames).outputNames;
+  info.channels = info.channelNames.size();
   const std::uint64_t chunkRows = header.hasTileDescription()
                                       ? std::min<std::uint64_t>(header.tileDescription().ySize, std::uint64_t(height))
                                       : scanlinesPerChunk(header.compression());
@@ -617,7 +620,7 @@ ImageF::ImageF(int w, int h, std::vector<std::string> channelNames)
   pixels.assign(std::size_t(w) * std::size_t(h) * channels.size(), 0.0f);
 }
 
-Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name, int maxSide) {
+Rgba8Info rgba8Info(std::span<const unsigned char> bytes, const std::string& name, int maxSide) {
   const fs::path path(name);
   const bool png = bytes.size() >= 4 && std::memcmp(bytes.data(), "\x89PNG", 4) == 0;
   const bool jpeg = bytes.size() >= 3 && std::memcmp(bytes.data(), "\xff\xd8\xff", 3) == 0;
@@ -645,6 +648,22 @@ Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& 
   }
   refuseOverLimit(width, height);
   checkReadSize(path, width, height);
+  StbMemoryReader probe(bytes);
+  const bool sixteenBit = png && stbi_is_16_bit_from_callbacks(&StbMemoryReader::callbacks(), &probe) != 0;
+  // stb copies a PNG's compressed data out of the file, inflates its rows
+  // (the samples and a filter byte a row), unfilters them into a second
+  // buffer of samples and converts those to RGBA in a third, which
+  // decodeRgba8 copies into the image it returns: at most two of those
+  // three buffers live at once.
+  const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+  const std::uint64_t samples = pixels * std::uint64_t(components) * (sixteenBit ? 2 : 1) + std::uint64_t(height);
+  return {width, height, bytes.size() + std::max(2 * samples, samples + 4 * pixels)};
+}
+
+Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name, int maxSide) {
+  const fs::path path(name);
+  const Rgba8Info info = rgba8Info(bytes, name, maxSide);
+  int width = info.width, height = info.height, components = 0;
   auto pixels = callStb<stbi_uc>(path, bytes, [&](const stbi_io_callbacks* io, void* user) {
     return stbi_load_from_callbacks(io, user, &width, &height, &components, 4);
   });
@@ -707,7 +726,7 @@ ImageInfo readImageInfo(const fs::path& path) {
         header = readRadianceHeader(path, readFileBytes(path), fileSize, int(kMaxSide), kMaxImagePixels);
       }
       // The decoder holds the whole file and one scanline of RGBE.
-      return {header.width, header.height, 3, fileSize + 4 * std::uint64_t(header.width)};
+      return {header.width, header.height, 3, fileSize + 4 * std::uint64_t(header.width), {"R", "G", "B"}};
     }
     const StbHeader header = readStbHeader(path, readFileBytes(path), format);
     // stb holds the file, its inflated or decoded samples and the pixels it
@@ -715,7 +734,8 @@ ImageInfo readImageInfo(const fs::path& path) {
     // until they are converted to float.
     const std::uint64_t samples = std::uint64_t(header.width) * std::uint64_t(header.height) *
                                   std::uint64_t(header.components) * (header.sixteenBit ? 2 : 1);
-    return {header.width, header.height, stbChannelNames(header.components).size(), 2 * fileSize + 3 * samples};
+    const std::vector<std::string> names = stbChannelNames(header.components);
+    return {header.width, header.height, names.size(), 2 * fileSize + 3 * samples, names};
   } catch (const ImageIoError&) {
     throw;
   } catch (const std::bad_alloc&) {

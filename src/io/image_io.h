@@ -66,6 +66,7 @@ struct ImageInfo {
   int height = 0;
   std::size_t channels = 0;        // of the ImageF readImage returns
   std::uint64_t decoderBytes = 0;  // what decoding needs beside that image (file bytes, decoded samples), at most
+  std::vector<std::string> channelNames;  // those channels, as readImage names them
 
   std::uint64_t pixels() const { return std::uint64_t(width) * std::uint64_t(height); }
   // The ImageF's pixels.
@@ -113,6 +114,19 @@ struct Rgba8Image {
 // decoded ("image size 20000x20000 is over the limit of 16384 pixels a
 // side"). `name` is used in the error message.
 Rgba8Image decodeRgba8(std::span<const unsigned char> bytes, const std::string& name, int maxSide);
+
+// What decodeRgba8 would make of the bytes, from the image's header alone,
+// with the same errors for a header it refuses (not a PNG or JPEG, corrupt,
+// over maxSide): nothing is decoded, so a caller can add up the memory its
+// textures will take before it decodes any (docs/reliability.md).
+struct Rgba8Info {
+  int width = 0;
+  int height = 0;
+  std::uint64_t decoderBytes = 0;  // what decoding holds beside the result, at most (its copy of the file, samples)
+
+  std::uint64_t imageBytes() const { return std::uint64_t(width) * std::uint64_t(height) * 4; }
+};
+Rgba8Info rgba8Info(std::span<const unsigned char> bytes, const std::string& name, int maxSide);
 
 // A new, empty file beside `target`, "<target>.tmp-<16 random hex digits>",
 // and its descriptor, open for writing (the caller closes it and removes or

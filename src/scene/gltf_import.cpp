@@ -293,8 +293,11 @@ struct AssetFolder {
   std::string baseDir;  // the folder as handed to tinygltf, which appends "/" and the decoded URI
   fs::path folder;      // the same folder, with symlinks resolved
   bool allowOutside = false;
-  std::string refusal;  // why the first refused URI was refused
+  std::string refusal;         // why the first refused URI (or file) was refused
   std::vector<fs::path> read;  // every buffer and image file read, in order
+  // The largest file any buffer or image of this glTF may be: a file larger
+  // than this is refused by its size, before a byte of it is read.
+  std::uint64_t maxFileBytes = 0;
 };
 
 // Symlinks followed while resolving one URI before it counts as a loop (Linux's limit).
@@ -397,9 +400,19 @@ bool absoluteFileExists(const std::string& path, void*) {
   return fs::path(path).is_absolute() && fs::is_regular_file(path, error);
 }
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* userData) {
-  static_cast<AssetFolder*>(userData)->read.push_back(path);
+  AssetFolder& assets = *static_cast<AssetFolder*>(userData);
+  assets.read.push_back(path);
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   const std::streamoff size = file ? std::streamoff(file.tellg()) : -1;
+  // The importer sized every file the glTF names before tinygltf ran; this
+  // catches one that grew since, still before it is read.
+  if (size >= 0 && std::uint64_t(size) > assets.maxFileBytes) {
+    if (assets.refusal.empty())
+      assets.refusal = "the file '" + printableUri(path) + "' is " + io::memoryText(std::uint64_t(size)) +
+                       ", larger than any buffer or image of this glTF may be";
+    if (err) *err = assets.refusal;
+    return false;
+  }
   if (size >= 0) {
     out->resize(std::size_t(size));
     file.seekg(0);
@@ -584,11 +597,51 @@ const AccessorFormat kRotationKeys{
      TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
     true};
 
-// An accessor without a bufferView is all zeros (plus sparse values); this
-// bounds the memory such an accessor can make us allocate.
-constexpr std::size_t kMaxVirtualElements = std::size_t(1) << 24;
+// An accessor without a bufferView is all zeros (plus sparse values), so a
+// 2 KB file can ask for any number of elements: two of 2^24 took 2.2 GB
+// before the renderer refused the vertex buffer they made. The elements of
+// every such accessor read (each time it is read) are counted against this,
+// before any is allocated; real data comes with a bufferView, whose bytes
+// bound its count.
+constexpr std::size_t kMaxVirtualElements = std::size_t(1) << 20;
 // glTF images are at most this many pixels a side here (as in io/image_io).
 constexpr int kMaxTextureSide = 16384;
+
+// The image files a glTF names are held, encoded, while their pixels are
+// decoded, which takes at least as many bytes again: together they may be
+// at most half of the memory a command may plan for its images (the rest
+// of that limit then bounds the decoded textures; docs/reliability.md).
+constexpr std::uint64_t kMaxImageFileBytes = io::kImageMemoryLimit / 2;
+
+// The renderer draws a texture at most this many pixels a side (a larger
+// one is shrunk into its atlas), said when a texture is refused for memory.
+constexpr int kDrawnTextureSide = 2048;
+
+// A URI's %XX escapes decoded as tinygltf decodes them before it opens the
+// file (its dlib::urldecode, which is not part of its interface): '+' is a
+// space, and a '%' with two characters after it always takes them, a
+// character that is not a hex digit counting as 0. The importer sizes the
+// file tinygltf will open, so it must name the same file.
+std::string decodedAsTinygltfDoes(const std::string& uri) {
+  const auto hex = [](char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return 0;
+  };
+  std::string decoded;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '+') {
+      decoded += ' ';
+    } else if (uri[i] == '%' && uri.size() > i + 2) {
+      decoded += char(hex(uri[i + 1]) << 4 | hex(uri[i + 2]));
+      i += 2;
+    } else {
+      decoded += uri[i];
+    }
+  }
+  return decoded;
+}
 
 // ---------------------------------------------------------------- the importer
 
@@ -730,6 +783,7 @@ class Importer {
     std::error_code error;
     AssetFolder assets{folder.string(), fs::weakly_canonical(folder, error), options_.allowOutsideAssets, {}};
     if (error) fail("cannot resolve the folder of the file (" + error.message() + ")");
+    sizeAssetFiles(document, assets);
     loader.SetFsCallbacks({&absoluteFileExists, &resolveAssetPath, &readWholeFile, &refuseWrite, &assets});
     std::string loadError;
     // tinygltf's warnings only concern images it could not read; whether that
@@ -752,6 +806,91 @@ class Importer {
     if (!loaded)
       fail("cannot load glTF: " + (loadError.empty() ? std::string("tinygltf gave no reason") : oneLine(loadError)));
     restoreDroppedPbrBlocks(document);
+  }
+
+  // Every buffer and image a URI names, sized before tinygltf reads any:
+  // tinygltf reads a whole file and only then compares a buffer's size with
+  // its byteLength (a 2 GB sparse scene.bin was read, 8 s and 2.1 GB, to be
+  // refused), reads every image whether a material uses it or not, and
+  // calls a file it did not read "missing". A buffer must be exactly its
+  // byteLength (data: URIs too, decoded); the image files together at most
+  // kMaxImageFileBytes. Missing or empty image files are noted for the
+  // message, should a material use one.
+  void sizeAssetFiles(const json& document, AssetFolder& assets) {
+    const std::string prefix = assets.baseDir.ends_with('/') ? assets.baseDir : assets.baseDir + "/";
+    // The file tinygltf will open for a URI (resolveAssetPath's answer), or
+    // nothing for a data: URI or none; a refused URI is refused here.
+    const auto fileOf = [&](const std::string& uri) -> std::optional<fs::path> {
+      if (uri.empty() || tinygltf::IsDataURI(uri)) return std::nullopt;
+      const std::string resolved = resolveAssetPath(prefix + decodedAsTinygltfDoes(uri), &assets);
+      if (!assets.refusal.empty()) fail(assets.refusal);
+      return fs::path(resolved);
+    };
+    // A regular file's size; nothing for one that is missing (tinygltf and
+    // the messages below say so) or cannot be sized.
+    const auto sizeOf = [](const fs::path& file) -> std::optional<std::uint64_t> {
+      std::error_code error;
+      const std::uintmax_t size = fs::file_size(file, error);
+      if (error) return std::nullopt;
+      return std::uint64_t(size);
+    };
+    const auto text = [](std::uint64_t bytes) {
+      return std::to_string(bytes) + (bytes == 1 ? " byte" : " bytes") +
+             (bytes >= 1024 ? " (" + io::memoryText(bytes) + ")" : "");
+    };
+    const json* buffers = document.contains("buffers") ? &document["buffers"] : nullptr;
+    for (std::size_t i = 0; buffers && i < buffers->size(); ++i) {
+      const json& buffer = (*buffers)[i];
+      const std::string uri = buffer.value("uri", "");
+      const std::uint64_t byteLength = buffer["byteLength"].get<std::uint64_t>();
+      const std::string what = named("buffer", i, buffer.value("name", ""));
+      assets.maxFileBytes = std::max(assets.maxFileBytes, byteLength);
+      if (tinygltf::IsDataURI(uri)) {
+        // tinygltf's own message for a size that differs, "Failed to decode
+        // 'uri'", blames the encoding and repeats the whole URI.
+        std::vector<unsigned char> decoded;
+        std::string mimeType;
+        tinygltf::DecodeDataURI(&decoded, mimeType, uri, 0, false);
+        if (decoded.empty()) fail(what + ": its data: URI holds no base64 data");
+        if (decoded.size() != byteLength)
+          fail(what + ": its data: URI decodes to " + text(decoded.size()) + ", but its byteLength says " +
+               text(byteLength));
+        continue;
+      }
+      const std::optional<fs::path> file = fileOf(uri);
+      if (!file) continue;
+      std::error_code missing;
+      if (!fs::exists(*file, missing))
+        fail(what + ": its file '" + printableUri(percentDecoded(uri)) + "' does not exist");
+      const std::optional<std::uint64_t> size = sizeOf(*file);
+      if (size && *size != byteLength)
+        fail(what + ": its file '" + printableUri(percentDecoded(uri)) + "' is " + text(*size) +
+             ", but its byteLength says " + text(byteLength));
+    }
+    const json* images = document.contains("images") ? &document["images"] : nullptr;
+    std::uint64_t imageFileBytes = 0;
+    for (std::size_t i = 0; images && i < images->size(); ++i) {
+      const std::string uri = (*images)[i].value("uri", "");
+      const std::optional<fs::path> file = fileOf(uri);
+      if (!file) continue;
+      assets.maxFileBytes = std::max(assets.maxFileBytes, kMaxImageFileBytes);
+      const std::string name = printableUri(percentDecoded(uri));
+      std::error_code missing;
+      if (!fs::exists(*file, missing)) {
+        imageFileProblems_[int(i)] = "the file does not exist";
+        continue;
+      }
+      const std::optional<std::uint64_t> size = sizeOf(*file);
+      if (!size) continue;
+      if (*size == 0) imageFileProblems_[int(i)] = "the file is empty";
+      imageFileBytes += *size;
+      if (imageFileBytes > kMaxImageFileBytes)
+        fail("the image file '" + name + "' is too large: " + text(*size) +
+             (imageFileBytes > *size ? ", " + io::memoryText(imageFileBytes) + " with the image files before it" : "") +
+             "; a glTF's image files may hold at most " + io::memoryText(kMaxImageFileBytes) + " in all (half the " +
+             io::memoryText(io::kImageMemoryLimit) +
+             " image memory limit: they are held while their pixels are decoded; docs/reliability.md)");
+    }
   }
 
   // tinygltf replaces a KHR_lights_punctual value of the wrong JSON type by
@@ -910,7 +1049,12 @@ class Importer {
     const std::size_t elementSize = components * bytesPerComponent;
     std::vector<T> values;
     if (accessor.bufferView < 0) {
-      if (accessor.count > kMaxVirtualElements) fail(name + " has too many elements");
+      if (accessor.count > kMaxVirtualElements - std::min(virtualElements_, kMaxVirtualElements))
+        fail(name + " has too many elements without a bufferView: " + std::to_string(accessor.count) +
+             (virtualElements_ ? " after " + std::to_string(virtualElements_) + " read before" : "") +
+             ", more than the " + std::to_string(kMaxVirtualElements) +
+             " that accessors without a bufferView (zeros but for their sparse values) may have in one file");
+      virtualElements_ += accessor.count;
       values.assign(accessor.count * components, T(0));
     } else {
       const ByteRange view = bufferView(accessor.bufferView, name);
@@ -1003,11 +1147,12 @@ class Importer {
     if (std::size_t(image) >= model_.images.size())
       fail(what + ": texture " + std::to_string(index) + " uses image " + std::to_string(image) +
            ", which does not exist");
-    const auto key = std::make_pair(image, srgb);
+    const int source = firstImageWithSameBytes(image);
+    const auto key = std::make_pair(source, srgb);
     if (const auto found = textureIndex_.find(key); found != textureIndex_.end()) return found->second;
 
-    const auto [jobIndex, isNew] = decodeJobOfImage_.try_emplace(image, decodeJobs_.size());
-    if (isNew) decodeJobs_.push_back({.image = image, .name = imageName(image)});
+    const auto [jobIndex, isNew] = decodeJobOfImage_.try_emplace(source, decodeJobs_.size());
+    if (isNew) decodeJobs_.push_back({.image = source, .name = imageName(source)});
     DecodeJob& job = decodeJobs_[jobIndex->second];
     const int textureIndex = int(scene_.textures.size());
     Texture texture;
@@ -1017,6 +1162,41 @@ class Importer {
     job.textures.push_back(textureIndex);
     textureIndex_[key] = textureIndex;
     return textureIndex;
+  }
+
+  // An image's encoded bytes: its file's or data: URI's, or its bufferView's
+  // (checked); empty when its file could not be read.
+  ByteRange encodedImage(int index) const {
+    const tinygltf::Image& image = model_.images[std::size_t(index)];
+    if (image.bufferView >= 0) return bufferView(image.bufferView, "texture image '" + imageName(index) + "'");
+    return {image.image.data(), image.image.size()};
+  }
+
+  // The first image whose encoded bytes are this one's: a file named by
+  // several URIs ("t.png", "./t.png", "t%2Epng") or stored twice becomes
+  // one texture, decoded and held once (it was decoded once a URI: three
+  // names of a 16384 x 16384 PNG took 4.2 GB). Compared by content rather
+  // than by resolved path, which also catches the same bytes under two
+  // names or in two bufferViews; the hash only narrows the candidates.
+  int firstImageWithSameBytes(int index) {
+    if (const auto found = firstWithSameBytes_.find(index); found != firstWithSameBytes_.end()) return found->second;
+    const ByteRange bytes = encodedImage(index);
+    int first = index;
+    if (bytes.size > 0) {
+      const std::size_t hash =
+          std::hash<std::string_view>{}(std::string_view(reinterpret_cast<const char*>(bytes.data), bytes.size));
+      std::vector<int>& candidates = imagesByHash_[hash];
+      const auto same = std::find_if(candidates.begin(), candidates.end(), [&](int other) {
+        const ByteRange otherBytes = encodedImage(other);
+        return otherBytes.size == bytes.size && std::memcmp(otherBytes.data, bytes.data, bytes.size) == 0;
+      });
+      if (same != candidates.end())
+        first = *same;
+      else
+        candidates.push_back(index);
+    }
+    firstWithSameBytes_[index] = first;
+    return first;
   }
 
   std::string imageName(int index) const {
@@ -1090,25 +1270,26 @@ class Importer {
   }
 
   // Decodes every image a material uses, a few at a time in parallel (on a
-  // large scene this is most of the load time).
+  // large scene this is most of the load time), once their headers have
+  // shown that the memory this takes is within the limit for images.
   void decodeTextures() {
     for (DecodeJob& job : decodeJobs_) {
       const tinygltf::Image& image = model_.images[std::size_t(job.image)];
-      if (image.bufferView < 0 && image.image.empty())
-        fail("cannot read texture image '" + job.name + "' (file missing, empty or unreadable)");
+      if (image.bufferView < 0 && image.image.empty()) {
+        const auto problem = imageFileProblems_.find(job.image);
+        fail("cannot read texture image '" + job.name + "' (" +
+             (problem != imageFileProblems_.end() ? problem->second : "file missing, empty or unreadable") + ")");
+      }
     }
     std::vector<ByteRange> encoded;
-    for (const DecodeJob& job : decodeJobs_) {
-      const tinygltf::Image& image = model_.images[std::size_t(job.image)];
-      encoded.push_back(image.bufferView >= 0 ? bufferView(image.bufferView, "texture image '" + job.name + "'")
-                                              : ByteRange{image.image.data(), image.image.size()});
-    }
+    for (const DecodeJob& job : decodeJobs_) encoded.push_back(encodedImage(job.image));
+    const unsigned threads =
+        std::min<unsigned>({std::max(1u, std::thread::hardware_concurrency()), 8u, unsigned(decodeJobs_.size())});
+    checkTextureMemory(encoded, threads);
     std::atomic<std::size_t> next{0};
     const auto work = [&] {
       for (std::size_t j = next++; j < decodeJobs_.size(); j = next++) decode(decodeJobs_[j], encoded[j]);
     };
-    const unsigned threads =
-        std::min<unsigned>({std::max(1u, std::thread::hardware_concurrency()), 8u, unsigned(decodeJobs_.size())});
     {
       std::vector<std::jthread> helpers;
       for (unsigned t = 1; t < threads; ++t) helpers.emplace_back(work);
@@ -1123,18 +1304,60 @@ class Importer {
         texture.rgba8 = k + 1 < job.textures.size() ? job.rgba8 : std::move(job.rgba8);
       }
     }
+    // The encoded files are not needed once decoded.
+    for (tinygltf::Image& image : model_.images) std::vector<unsigned char>().swap(image.image);
+  }
+
+  // The memory decoding the textures takes, from the images' headers, before
+  // a pixel is decoded: a 261 KB PNG declares 16384 x 16384 pixels, 1 GiB as
+  // RGBA8 (it took 2.1 GB). Counted: the encoded files tinygltf holds, every
+  // texture's RGBA8 pixels (an image used as sRGB and as linear data is two
+  // textures), and the decoder's buffers (io::rgba8Info) for as many of the
+  // largest images as decode at once. Over io::kImageMemoryLimit is refused,
+  // naming the largest texture.
+  void checkTextureMemory(const std::vector<ByteRange>& encoded, unsigned threads) const {
+    std::uint64_t held = 0;
+    for (const tinygltf::Image& image : model_.images) held += image.image.size();
+    std::vector<std::uint64_t> decoders;
+    std::size_t largest = 0;
+    std::vector<io::Rgba8Info> infos;
+    for (std::size_t j = 0; j < decodeJobs_.size(); ++j) {
+      const DecodeJob& job = decodeJobs_[j];
+      const std::string what = "texture image '" + job.name + "'";
+      if (const std::string problem = notPngOrJpeg(encoded[j], what); !problem.empty()) fail(problem);
+      try {
+        infos.push_back(io::rgba8Info(std::span(encoded[j].data, encoded[j].size), what, kMaxTextureSide));
+      } catch (const io::ImageIoError& e) {
+        fail(e.what());
+      }
+      held += infos.back().imageBytes() * job.textures.size();
+      decoders.push_back(infos.back().decoderBytes);
+      if (infos.back().imageBytes() > infos[largest].imageBytes()) largest = j;
+    }
+    std::sort(decoders.rbegin(), decoders.rend());
+    for (std::size_t j = 0; j < decoders.size() && j < threads; ++j) held += decoders[j];
+    if (held <= io::kImageMemoryLimit) return;
+    const io::Rgba8Info& big = infos[largest];
+    const std::size_t others = decodeJobs_.size() - 1;
+    fail("decoding the texture image '" + decodeJobs_[largest].name + "' (" + std::to_string(big.width) + "x" +
+         std::to_string(big.height) + ", " + io::memoryText(big.imageBytes()) + " as RGBA8)" +
+         (others ? " and " + std::to_string(others) + (others == 1 ? " other" : " others") : "") + " needs about " +
+         io::memoryText(held) + " of memory, more than the limit of " + io::memoryText(io::kImageMemoryLimit) +
+         " for images (docs/reliability.md); the renderer draws a texture at most " +
+         std::to_string(kDrawnTextureSide) + " pixels a side, so a copy shrunk to that draws the same");
+  }
+
+  // Why bytes that should be a texture cannot be one, or "".
+  static std::string notPngOrJpeg(ByteRange bytes, const std::string& what) {
+    const auto isPrefix = [&](std::string_view magic) {
+      return bytes.size >= magic.size() && std::memcmp(bytes.data, magic.data(), magic.size()) == 0;
+    };
+    return isPrefix("\x89PNG") || isPrefix("\xFF\xD8\xFF") ? "" : what + " is not a PNG or JPEG file";
   }
 
   // Runs on worker threads: touches only its own job.
   static void decode(DecodeJob& job, ByteRange bytes) {
-    const auto isPrefix = [&](std::string_view magic) {
-      return bytes.size >= magic.size() && std::memcmp(bytes.data, magic.data(), magic.size()) == 0;
-    };
     const std::string what = "texture image '" + job.name + "'";
-    if (!isPrefix("\x89PNG") && !isPrefix("\xFF\xD8\xFF")) {
-      job.error = what + " is not a PNG or JPEG file";
-      return;
-    }
     try {
       io::Rgba8Image image = io::decodeRgba8(std::span(bytes.data, bytes.size), what, kMaxTextureSide);
       job.width = image.width;
@@ -1587,6 +1810,10 @@ class Importer {
   std::map<std::pair<int, bool>, int> textureIndex_;  // (glTF image, sRGB) -> Scene::textures
   std::vector<DecodeJob> decodeJobs_;                 // one per image that materials use
   std::map<int, std::size_t> decodeJobOfImage_;       // glTF image -> decodeJobs_
+  std::map<int, std::string> imageFileProblems_;      // glTF image -> why its file could not be read
+  std::map<int, int> firstWithSameBytes_;             // glTF image -> the first image with the same encoded bytes
+  std::unordered_map<std::size_t, std::vector<int>> imagesByHash_;  // hash of encoded bytes -> images
+  mutable std::size_t virtualElements_ = 0;  // elements of accessors without a bufferView read so far
 };
 
 }  // namespace
