@@ -242,7 +242,7 @@ void environmentMaps(CorpusBuilder& corpus) {
   exrMap("infinity", std::numeric_limits<float>::infinity(), "Inf", Outcome::Error);
   exrMap("largest_float", std::numeric_limits<float>::max(), "1 texel too bright, first at pixel (3, 1) channel G",
          Outcome::Error);
-  exrMap("negative", -5.0f, "", Outcome::FiniteImage);
+  exrMap("negative", -5.0f, "1 texel of negative radiance, first at pixel (3, 1) channel G: -5", Outcome::Error);
 
   // Not files at all.
   corpus.add(

@@ -483,6 +483,57 @@ TEST(EnvironmentMap, TexelsBeyondTheBrightestLightAreRefusedByPosition) {
   EXPECT_NE(errorOf(grey, 1.0f).find("pixel (15, 7) channel Y"), std::string::npos);
 }
 
+// Light is never negative (issue 46, S5: a map of negative texels rendered
+// black without a word). The small negatives lossy codecs leave beside
+// bright edges (the DWAB HDRIs here: at most 0.006 % of their brightest
+// texel) are drawn as 0; a texel below -10 % of the brightest is refused by
+// position, and in a map with nothing brighter than 0 every negative is.
+TEST(EnvironmentMap, NegativeTexelsBeyondCodecRingingAreRefusedByPosition) {
+  const auto errorOf = [](const io::ImageF& m) -> std::string {
+    try {
+      prepareEnvironmentMap(m, "sky.exr", 1.0f, 0.0f, 2048);
+    } catch (const io::ImageIoError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string dark = errorOf(constantMap(16, 8, glm::vec3(-5.0f)));
+  EXPECT_EQ(dark.rfind("sky.exr: 128 texels of negative radiance, first at pixel (0, 0) channel R: -5; light is 0 or "
+                       "more",
+                       0),
+            0u)
+      << dark;
+  io::ImageF hole = constantMap(16, 8, glm::vec3(1.0f));
+  hole.at(7, 2, 2) = -0.2f;
+  const std::string one = errorOf(hole);
+  EXPECT_NE(one.find("1 texel of negative radiance, first at pixel (7, 2) channel B: -0.2"), std::string::npos) << one;
+  io::ImageF ringing = constantMap(16, 8, glm::vec3(1.0f));
+  ringing.at(7, 2, 2) = -0.05f;
+  const io::ImageF prepared = prepareEnvironmentMap(ringing, "sky.exr", 1.0f, 0.0f, 2048);
+  EXPECT_EQ(prepared.at(7, 2, 2), 0.0f) << "a small negative is drawn as 0";
+  io::ImageF tiny = constantMap(16, 8, glm::vec3(0.0f));
+  tiny.at(1, 1, 0) = -1e-6f;
+  EXPECT_NE(errorOf(tiny).find("pixel (1, 1) channel R"), std::string::npos) << "nothing lit: any negative is wrong";
+}
+
+// An EXR of one channel is read as grey light, but an alpha channel alone
+// (issue 46, S5: it lit the scene as a uniform white map) is coverage, not
+// light: refused from the header's channel names, and from the image.
+TEST(EnvironmentMap, AMapOfAlphaAloneIsRefused) {
+  io::ImageF alpha(16, 8, {"A"});
+  std::fill(alpha.pixels.begin(), alpha.pixels.end(), 1.0f);
+  try {
+    prepareEnvironmentMap(alpha, "alpha.exr", 1.0f, 0.0f, 2048);
+    FAIL() << "a map of alpha alone was accepted";
+  } catch (const io::ImageIoError& e) {
+    EXPECT_NE(std::string(e.what()).find("alpha.exr: holds only an alpha channel (A), no light"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(checkEnvironmentMapShape(16, 8, {"layer.A"}, "alpha.exr"), io::ImageIoError);
+  EXPECT_NO_THROW(checkEnvironmentMapShape(16, 8, {"Y"}, "grey.exr"));
+  EXPECT_NO_THROW(checkEnvironmentMapShape(16, 8, {"R", "G", "B", "A"}, "colour.exr"));
+}
+
 TEST(EnvironmentMap, RejectsMapsThatAreNotEquirectangular) {
   try {
     prepareEnvironmentMap(constantMap(64, 64, glm::vec3(1.0f)), "/maps/square.exr", 1.0f, 0.0f, 2048);

@@ -257,9 +257,16 @@ SkyParameters skyParams(const EnvironmentDesc& desc) {
   return params;
 }
 
-void checkEnvironmentMapShape(int width, int height, std::size_t channels, const std::string& name) {
-  if (channels != 1 && channels < 3)
-    throw io::ImageIoError(name + ": an environment map needs 1, 3 or 4 channels, not " + std::to_string(channels));
+void checkEnvironmentMapShape(int width, int height, const std::vector<std::string>& channels,
+                              const std::string& name) {
+  if (channels.size() != 1 && channels.size() < 3)
+    throw io::ImageIoError(name + ": an environment map needs 1, 3 or 4 channels, not " +
+                           std::to_string(channels.size()));
+  // A lone alpha channel (an EXR of "A" only) is coverage, not light: read
+  // as grey it lit the scene with a uniform white sky, without a word.
+  if (channels.size() == 1 && (channels[0] == "A" || channels[0].ends_with(".A")))
+    throw io::ImageIoError(name + ": holds only an alpha channel (" + channels[0] +
+                           "), no light: an environment map needs colour channels (R, G, B) or one grey channel");
   if (width < 8)
     throw io::ImageIoError(name + ": " + std::to_string(width) + "x" + std::to_string(height) +
                            " is too small for an environment map (at least 8x4)");
@@ -314,13 +321,47 @@ void checkTexelStrength(const io::ImageF& map, const std::string& name, float in
                          scene::lightStrengthProblem(std::fabs(value) * scale));
 }
 
+// Light is never negative. Lossy EXR codecs (DWAA/DWAB) leave small
+// negatives where they ring beside a bright edge, which the map drops to 0
+// (sanitizeRadiance); but a map of negative texels rendered black, and one
+// negative texel amid others lit a hole, without a word. Negatives beyond
+// kNegativeShare of the brightest texel (or any, in a map with nothing
+// brighter than 0) are refused by position, naming the first and their count.
+constexpr double kNegativeShare = 0.1;
+
+void checkNegativeTexels(const io::ImageF& map, const std::string& name) {
+  const std::size_t channels = map.channelCount();
+  const std::size_t colours = std::min<std::size_t>(channels, 3);
+  float brightest = 0.0f;
+  for (std::size_t i = 0; i < map.pixels.size(); ++i)
+    if (i % channels < colours && std::isfinite(map.pixels[i])) brightest = std::max(brightest, map.pixels[i]);
+  const double floor = -kNegativeShare * double(brightest);
+  std::size_t count = 0, first = 0;  // texels, and the first one's first negative value
+  for (std::size_t pixel = 0; pixel < map.pixels.size() / channels; ++pixel)
+    for (std::size_t c = 0; c < colours; ++c)
+      if (const float value = map.pixels[pixel * channels + c]; double(value) < floor && value < 0.0f) {
+        if (count == 0) first = pixel * channels + c;
+        ++count;
+        break;
+      }
+  if (count == 0) return;
+  const std::size_t pixel = first / channels;
+  throw io::ImageIoError(name + ": " + std::to_string(count) + (count == 1 ? " texel" : " texels") +
+                         " of negative radiance, first at pixel (" + std::to_string(pixel % std::size_t(map.width)) +
+                         ", " + std::to_string(pixel / std::size_t(map.width)) + ") channel " +
+                         map.channels[first % channels] + ": " + number(map.pixels[first]) +
+                         "; light is 0 or more (the small negatives a lossy codec leaves, down to -" +
+                         number(kNegativeShare * 100.0) + " % of the brightest texel, are drawn as 0)");
+}
+
 }  // namespace
 
 io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
                                  std::uint32_t maxWidth) {
   const std::size_t channels = map.channelCount();
-  checkEnvironmentMapShape(map.width, map.height, channels, name);
+  checkEnvironmentMapShape(map.width, map.height, map.channels, name);
   checkTexelStrength(map, name, intensity);
+  checkNegativeTexels(map, name);
 
   // A texel with a NaN or infinite channel is black before it is filtered,
   // so that it cannot spread into its neighbours.
@@ -371,7 +412,7 @@ Environment::Environment(gpu::Context& context, const EnvironmentDesc& desc) : c
     // The header first: a map of the wrong shape, or one too large to
     // prepare, is refused before it is decoded.
     const io::ImageInfo info = io::readImageInfo(desc.map);
-    checkEnvironmentMapShape(info.width, info.height, info.channels, desc.map.string());
+    checkEnvironmentMapShape(info.width, info.height, info.channelNames, desc.map.string());
     io::refuseOverMemoryLimit(
         desc.map,
         std::max(info.readBytes(),

@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 #include <glm/glm.hpp>
@@ -105,14 +106,16 @@ glm::vec3 skyHorizontalIrradiance(const SkyParameters& params);
 // down to maxWidth if wider, turned by rotationDegrees about +Y, times
 // intensity. Throws io::ImageIoError naming `name` if it is not 2:1 (within
 // 1 %) or narrower than 8 texels, or if a texel's radiance (times the
-// intensity, when above 1) is beyond scene::kMaxLightStrength, naming the
-// first such texel and their count.
+// intensity, when above 1) is beyond scene::kMaxLightStrength or negative
+// beyond a lossy codec's ringing (below -10 % of the brightest texel), naming
+// the first such texel and their count.
 io::ImageF prepareEnvironmentMap(const io::ImageF& map, const std::string& name, float intensity, float rotationDegrees,
                                  std::uint32_t maxWidth);
 
-// prepareEnvironmentMap's refusals of a map's shape, for a size known from a
-// header: throws io::ImageIoError naming `name`.
-void checkEnvironmentMapShape(int width, int height, std::size_t channels, const std::string& name);
+// prepareEnvironmentMap's refusals of a map's shape and channels (a lone
+// alpha channel is no light), for a size known from a header: throws
+// io::ImageIoError naming `name`.
+void checkEnvironmentMapShape(int width, int height, const std::vector<std::string>& channels, const std::string& name);
 
 // The most prepareEnvironmentMap holds beside the map it is given, in bytes:
 // a wide map is shrunk as it is read (no full-size copy), a narrow one copied
