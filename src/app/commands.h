@@ -73,9 +73,10 @@ void addSceneOptions(CLI::App& command, SceneOptions& options);
 // The scene the options name, with their --material changes made.
 scene::Scene loadScene(const SceneOptions& options);
 // Changes a material's factors as "NAME:KEY=VALUE" says (KEY: roughness,
-// metallic in [0, 1]; base_color R,G,B in [0, 1]; emission R,G,B >= 0);
-// throws naming the argument and the problem (an unknown material lists the
-// scene's).
+// metallic in [0, 1]; base_color R,G,B in [0, 1]; emission R,G,B >= 0), of
+// every material of that name (glTF names need not be unique; a warning
+// names them when there are several); throws naming the argument and the
+// problem (an unknown material lists the scene's).
 // `flag` names the option in messages.
 void applyMaterialChange(scene::Scene& scene, const std::string& change, const std::string& flag = "--material");
 // The camera path --camera names, or the scene's own (its first glTF

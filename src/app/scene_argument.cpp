@@ -9,6 +9,7 @@
 #include "scene/builtin_scenes.h"
 #include "scene/gltf_import.h"
 #include "util/parse_number.h"
+#include "util/printable.h"
 
 namespace bounce::app {
 
@@ -65,26 +66,45 @@ void applyMaterialChange(scene::Scene& scene, const std::string& change, const s
   const std::string name = change.substr(0, colon);
   const std::string key = change.substr(colon + 1, equals - colon - 1);
   const std::string value = change.substr(equals + 1);
-  scene::Material* material = nullptr;
-  for (scene::Material& m : scene.materials)
-    if (m.name == name) material = &m;
-  if (!material) {
+  // glTF does not make names unique, and exporters repeat one when they
+  // split a material per primitive, so a name can stand for several
+  // materials. Every material of the name is changed, and a warning says
+  // how many and which: the user names what they see as one material, and
+  // changing one of its copies (as happened, without a word) draws a
+  // picture nobody asked for; refusing would leave no way to change them
+  // at all, since --material has no other way to name a material.
+  std::vector<std::size_t> matching;
+  for (std::size_t i = 0; i < scene.materials.size(); ++i)
+    if (scene.materials[i].name == name) matching.push_back(i);
+  if (matching.empty()) {
     std::string names;
     for (const scene::Material& m : scene.materials) names += (names.empty() ? "'" : ", '") + m.name + "'";
     throw UsageError(what + ": the scene has no material '" + name + "' (it has " + names + ")");
   }
-  if (key == "roughness") {
-    material->roughnessFactor = parseNumbers(value, 1, 0.0f, 1.0f, what)[0];
-  } else if (key == "metallic") {
-    material->metallicFactor = parseNumbers(value, 1, 0.0f, 1.0f, what)[0];
-  } else if (key == "base_color") {
-    const std::vector<float> rgb = parseNumbers(value, 3, 0.0f, 1.0f, what);
-    material->baseColorFactor = glm::vec4(rgb[0], rgb[1], rgb[2], material->baseColorFactor.w);
-  } else if (key == "emission") {
-    const std::vector<float> rgb = parseNumbers(value, 3, 0.0f, 1e20f, what);
-    material->emissiveFactor = glm::vec3(rgb[0], rgb[1], rgb[2]);
-  } else {
-    throw UsageError(what + ": unknown key '" + key + "' (roughness, metallic, base_color, emission)");
+  for (const std::size_t index : matching) {
+    scene::Material& material = scene.materials[index];
+    if (key == "roughness") {
+      material.roughnessFactor = parseNumbers(value, 1, 0.0f, 1.0f, what)[0];
+    } else if (key == "metallic") {
+      material.metallicFactor = parseNumbers(value, 1, 0.0f, 1.0f, what)[0];
+    } else if (key == "base_color") {
+      const std::vector<float> rgb = parseNumbers(value, 3, 0.0f, 1.0f, what);
+      material.baseColorFactor = glm::vec4(rgb[0], rgb[1], rgb[2], material.baseColorFactor.w);
+    } else if (key == "emission") {
+      const std::vector<float> rgb = parseNumbers(value, 3, 0.0f, 1e20f, what);
+      material.emissiveFactor = glm::vec3(rgb[0], rgb[1], rgb[2]);
+    } else {
+      throw UsageError(what + ": unknown key '" + key + "' (roughness, metallic, base_color, emission)");
+    }
+  }
+  if (matching.size() > 1) {
+    std::string indices;
+    for (std::size_t i = 0; i < matching.size(); ++i)
+      indices += (i == 0 ? "" : i + 1 == matching.size() ? " and " : ", ") + std::to_string(matching[i]);
+    std::fprintf(stderr, "bounce: warning: %s\n",
+                 util::printable(what + ": " + std::to_string(matching.size()) + " materials are named '" + name +
+                                 "' (materials " + indices + "); all of them were changed")
+                     .c_str());
   }
 }
 
