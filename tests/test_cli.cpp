@@ -750,9 +750,12 @@ TEST(CliHardening, FfmpegGetsTheOutputPathAsOneArgumentNeverThroughAShell) {
   EXPECT_FALSE(fs::exists("INJECTED")) << "the output name ran as a command";
   EXPECT_FALSE(fs::exists(dir / "INJECTED"));
   const std::string arguments = readText(log);
-  EXPECT_NE(arguments.find("\n" + (out / "render.mp4").string() + "\n"), std::string::npos)
+  // ffmpeg writes a new file beside render.mp4 (render.mp4.tmp-<random>),
+  // which is then renamed into place: a link at the name is never followed.
+  EXPECT_NE(arguments.find("\n" + (out / "render.mp4").string() + ".tmp-"), std::string::npos)
       << "the video path is one argument, apostrophes and all:\n"
       << arguments;
+  EXPECT_TRUE(fs::is_regular_file(out / "render.mp4")) << "the video was not moved into place";
   EXPECT_NE(arguments.find("\n" + (out / "frames" / "frame%04d.png").string() + "\n"), std::string::npos) << arguments;
   fs::remove_all(dir);
 }

@@ -121,6 +121,11 @@ int runReference(const ReferenceCommandOptions& options) {
     for (const char* extension : {".exr", ".png"}) outputs.push_back(sibling(out, std::string(part) + extension));
   for (const fs::path& output : outputs) refuseToOverwriteInputs(output, "--out", inputs);
   for (const char* folder : {".gbuffer", ".stages"}) refuseInputsInside(sibling(out, folder), "--out", inputs);
+  const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, view);
+  // The frame before (for its motion vectors) and the frame itself.
+  const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
+  const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, first, options.frame - first + 1, view);
+  const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, view);
   // OUT.exr shares its folder with whatever else is there, so what this run
   // writes is recorded in that folder's .bounce-written like render's files
   // (and nothing else there is removed): a file no Bounce run wrote is not
@@ -137,11 +142,6 @@ int runReference(const ReferenceCommandOptions& options) {
   OutputFolder folder(out.parent_path().empty() ? fs::path(".") : out.parent_path(), "--out", options.overwrite,
                       OutputFolder::Use::Shared);
   folder.prepare(written, filled, inputs);
-  const std::unique_ptr<scene::CameraPath> path = cameraPathOf(scene, view);
-  // The frame before (for its motion vectors) and the frame itself.
-  const std::uint32_t first = options.frame > 0 ? options.frame - 1 : 0;
-  const std::vector<scene::CameraFrame> cameraFrames = checkedCameraFrames(*path, first, options.frame - first + 1, view);
-  const render::FrameRendererOptions rendererOptions = frameRendererOptions(scene, view);
 
   std::unique_ptr<gpu::Context> context = openContext(options.gpu);
   std::printf("device: %s (%s)\n", context->deviceInfo().name.c_str(), context->deviceInfo().type.c_str());

@@ -59,9 +59,11 @@ void checkWritableFile(const fs::path& file, const std::string& option) {
   if (::lstat(file.c_str(), &status) == 0) {
     const std::string where = option + " " + file.string() + ": ";
     if (S_ISDIR(status.st_mode)) throw std::runtime_error(where + "is a folder, expected a file name");
+    // The command line names a link: the same mistake as naming a file
+    // that no Bounce run wrote (OutputFolder), and the same exit status.
     if (S_ISLNK(status.st_mode))
-      throw std::runtime_error(where + "is a symbolic link; not replaced (Bounce writes regular files only, never "
-                                       "through or over a link): remove it or choose another name");
+      throw UsageError(where + "is a symbolic link; not replaced (Bounce writes regular files only, never "
+                               "through or over a link): remove it or choose another name");
     if (!S_ISREG(status.st_mode))
       throw std::runtime_error(where + "is not a regular file; not replaced: choose another name");
   }
@@ -145,7 +147,7 @@ struct PlaceInside {
 };
 
 PlaceInside lookUpInside(const fs::path& dir, const std::string& entry) {
-  fs::path path = dir;
+  fs::path path = dir == "." ? fs::path() : dir;  // "v.json", not "./v.json", in messages
   const fs::path parts(entry);
   for (auto part = parts.begin(); part != parts.end(); ++part) {
     path /= *part;
@@ -283,7 +285,7 @@ std::size_t OutputFolder::prepare(const std::vector<fs::path>& files, const std:
   std::set<std::string> planned;
   for (const fs::path& file : files) planned.insert(relative(file));
 
-  const auto where = [&](const std::string& file) { return (dir_ / file).string(); };
+  const auto where = [&](const std::string& file) { return (dir_ == "." ? fs::path(file) : dir_ / file).string(); };
   for (const std::string& file : planned) refuseToOverwriteInputs(dir_ / file, option_, inputs);
   refuseToOverwriteInputs(recordFile, option_, inputs);
   for (const fs::path& folder : folders) refuseInputsInside(dir_ / folder, option_, inputs);

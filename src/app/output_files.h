@@ -103,6 +103,7 @@ void checkWritableDirectory(const std::filesystem::path& dir, const std::string&
 // Checks that `file` can be written: it is not a folder, a symbolic link or
 // anything but a regular file (none of which a write replaces), and its
 // folder (created when missing) is writable. The file itself is not touched.
+// Throws UsageError for a link, std::runtime_error otherwise.
 void checkWritableFile(const std::filesystem::path& file, const std::string& option);
 
 // Writes `text` beside `file` and renames it into place
