@@ -1,7 +1,9 @@
 // bounce ghosting on lavapipe, in miniature (docs/metrics.md): both events
-// at 96x64 with a few frames and 4-spp references. The references are far
-// too noisy here for the errors to mean much, so beyond their being finite
-// the tests check what the regions are: the pixels a fast turn uncovers are
+// at 96x64 with a few frames and 1-spp references (tracing them was most of
+// each test's time: at 4 spp the moving object took 31 s of its 120 s on a
+// busy 2-core machine, issue 46). The references are far too noisy here
+// for the errors to mean much at any of those sample counts, so beyond
+// their being finite the tests check what the regions are: the pixels a fast turn uncovers are
 // those outside the view before the turn (worked out here from the two
 // cameras alone), and on the uncovered pixels of either event the GI
 // library's own history length (which its reprojection, not the tool's,
@@ -50,7 +52,7 @@ fs::path freshDirectory(const std::string& name) {
 }
 
 constexpr int kWidth = 96, kHeight = 64;
-const std::string kSmall = " --validate --width 96 --height 64 --gi-warmup 2 --reference-spp 4 --seed 3";
+const std::string kSmall = " --validate --width 96 --height 64 --gi-warmup 2 --reference-spp 1 --seed 3";
 
 // Labels of regions.exr.
 enum Label { kBackground = 0, kRest = 1, kUncovered = 2, kNeither = 3, kNearby = 4 };
@@ -117,6 +119,10 @@ struct View {
   }
 };
 
+// A fast turn: the uncovered pixels are exactly those the view before did
+// not show, the library restarts its history on them (and keeps it on the
+// rest), and every region's error is measured (finite; what 1-spp
+// references can say of it).
 TEST(Ghosting, AFastTurnUncoversWhatTheViewBeforeDidNotShow) {
   const fs::path dir = freshDirectory("turn");
   const Result r = run("ghosting sun-room --event-frame 5 --after 3 --settle 2" + kSmall + " --out " + dir.string());
@@ -157,6 +163,11 @@ TEST(Ghosting, AFastTurnUncoversWhatTheViewBeforeDidNotShow) {
   fs::remove_all(dir);
 }
 
+// A moving object: three event frames' strips are found and pooled by their
+// age, the library's history restarts on each strip and grows a frame a
+// frame while the rest keeps its own, and every region's error is finite.
+// The 1-spp references change none of that (the checks on the regions and
+// histories never read them); they only cost less to trace than 4 spp.
 TEST(Ghosting, AMovingObjectUncoversStripsTheLibraryStartsOverOn) {
   const fs::path dir = freshDirectory("object");
   const Result r = run("ghosting --event object --event-frame 5 --events 3 --after 3 --settle 0" + kSmall + " --out " +
@@ -257,10 +268,17 @@ TEST(Ghosting, ALampSwitchedOnIsFollowedFrameByFrameToItsSettledLight) {
 // the screen's samples first see the lamp), then regrows. Without that the
 // histories (reservoirs, the denoiser's, the radiance cache's) held the
 // dark room: 0.38 of the reference 10 frames after the lamp.
+// The reference is traced at 16 spp (64 took most of the test's 36.6 s of
+// its 120 s on a busy 2-core machine, issue 46): its indirect diffuse mean
+// over the 96x64 frame is 1.1553 at 16 spp and 1.1518 at 64, 0.3 % apart
+// against the 10 % bar, so the test still proves the same: the GI frame is
+// within 10 % of the new light 10 frames on (1.054 of it), after a dark
+// room of 36 frames. Its frames are kept: the value at +10 depends on how
+// long the room was dark (1.23 with the event at frame 12).
 TEST(Ghosting, ALampSwitchedOnIsWithinTenPercentOfTheNewLightTenFramesLater) {
   const fs::path dir = freshDirectory("lamp_ten_frames");
   const Result r = switchCornellsLampOn(
-      "--width 96 --height 64 --gi-warmup 16 --event-frame 20 --after 10 --settle 1 --reference-spp 64", dir);
+      "--width 96 --height 64 --gi-warmup 16 --event-frame 20 --after 10 --settle 1 --reference-spp 16", dir);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json json = readJson(dir / "ghosting.json");
   ASSERT_EQ(json["frames"].size(), 12u) << "the frame before the event, then +0 .. +10";
