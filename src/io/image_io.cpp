@@ -567,7 +567,9 @@ void writeFileAtomically(const fs::path& path, const void* data, std::size_t siz
   if (parentStatus.type() != fs::file_type::directory) fail(path, parent.string() + " is not a directory");
 
   const TemporaryFile temporary = createTemporaryBeside(path);
-  if (temporary.fd < 0) fail(path, std::string("cannot write (") + std::strerror(temporary.error) + ")");
+  if (temporary.fd < 0)
+    fail(path, "cannot create " + temporary.path.string() + " to write it into first (" +
+                   std::strerror(temporary.error) + ")");
   const auto* bytes = static_cast<const char*>(data);
   std::size_t written = 0;
   int error = 0;
