@@ -527,6 +527,30 @@ TEST_F(GiTest, WorldRaysStayWithinTheBudget) {
   EXPECT_EQ(perFrame(counted, Purpose::ReuseVisibility), 0.0);
   EXPECT_EQ(perFrame(counted, Purpose::ResolveVisibility), 0.0);
 
+  // Every ray is counted once more, by the pass that cast it (bounce
+  // bench's rays per second of each pass): both sums agree; the passes that
+  // trace one purpose and shade no hits count exactly that purpose's rays;
+  // the passes that shade hits add any shadow rays they cast to their own.
+  const auto byPass = [&](const char* name) {
+    for (std::size_t p = 0; p < gi::kWorldRayPassCount; ++p)
+      if (std::string(gi::worldRayPassName(p)) == name) return double(counted.sum.passRays[p]) / double(counted.frames);
+    ADD_FAILURE() << "no world-ray pass named " << name;
+    return 0.0;
+  };
+  double passTotal = 0.0;
+  for (const std::uint64_t rays : counted.sum.passRays) passTotal += double(rays);
+  EXPECT_EQ(passTotal, double(counted.sum.total()));
+  EXPECT_EQ(byPass("gi.diffuse.neighbour_visibility"), perFrame(counted, Purpose::SkyReuse));
+  EXPECT_EQ(byPass("gi.diffuse.sample_visibility"), perFrame(counted, Purpose::SampleVisibility));
+  EXPECT_GE(byPass("gi.diffuse.world_candidates"), perFrame(counted, Purpose::DiffuseCandidates))
+      << "the candidates' rays and any shadow rays at their hits";
+  EXPECT_GE(byPass("gi.specular.world_trace"), perFrame(counted, Purpose::Specular));
+  EXPECT_GE(byPass("gi.cache.update"), perFrame(counted, Purpose::CacheUpdate));
+  EXPECT_EQ(byPass("gi.diffuse.gather") + byPass("gi.diffuse.temporal_reuse") + byPass("gi.diffuse.spatial_reuse") +
+                byPass("gi.diffuse.resolve"),
+            0.0)
+      << "by default the rays are queued for passes of their own";
+
   // Three rays per reservoir: sample visibility and specular take two, the
   // one left pays for one candidate, none for a sky test in both passes.
   Settings tight;

@@ -428,10 +428,18 @@ constexpr std::size_t kWorldRayPurposeCount = std::size_t(WorldRayPurpose::Count
 // "diffuse_candidates", "sky_reuse", ... (the JSON keys of bounce bench).
 const char* worldRayPurposeName(WorldRayPurpose purpose);
 
-// The world rays one frame cast, by purpose (all 0 with the bridge "none").
+// The passes that cast world rays (the counters of gi/world_ray_count.glsl).
+constexpr std::size_t kWorldRayPassCount = 10;
+// The pass's name as its timings carry it: "gi.diffuse.gather",
+// "gi.diffuse.world_candidates", ... "gi.cache.update" (pass < kWorldRayPassCount).
+const char* worldRayPassName(std::size_t pass);
+
+// The world rays one frame cast, by purpose and by the pass that cast them
+// (all 0 with the bridge "none"); both add up to the same total.
 struct WorldRayCount {
   std::uint64_t frameIndex = 0;
   std::array<std::uint64_t, kWorldRayPurposeCount> rays{};
+  std::array<std::uint64_t, kWorldRayPassCount> passRays{};  // by worldRayPassName's numbering
   std::uint64_t total() const;
 };
 

@@ -298,6 +298,7 @@ int runBench(const BenchOptions& options) {
                        copy ? "the copy pass's" : "--bandwidth-gbps");
   }
   nlohmann::json worldRays = nlohmann::json::object();
+  nlohmann::json worldRaysByPass = nlohmann::json::object();
   if (gi && gi->worldRays().frames > 0) {
     const render::GiBridge::WorldRayTally& tally = gi->worldRays();
     const double frames = double(tally.frames);
@@ -318,6 +319,24 @@ int runBench(const BenchOptions& options) {
                  double(gi->library().settings().worldRayBudget), double(plan.perReservoir()) / 4.0,
                  plan.diffuseCandidates, plan.skyReuseRays);
     worldRays["total"] = total;
+    // Each pass's own rays (its rays of every purpose, the shadow rays that
+    // light its hits among them) over its median time: the rate the GI sees,
+    // to hold against the walk's own in a dense pass (--rays).
+    std::fprintf(report, "\nworld rays per second, by the pass that cast them (rays a frame / median pass time):\n");
+    const std::vector<gpu::PassTiming> timings = loop.timings().summary();
+    for (std::size_t p = 0; p < gi::kWorldRayPassCount; ++p) {
+      const double perFrame = double(tally.sum.passRays[p]) / frames;
+      if (perFrame == 0.0) continue;
+      const char* pass = gi::worldRayPassName(p);
+      const auto timing = std::find_if(timings.begin(), timings.end(),
+                                       [&](const gpu::PassTiming& t) { return t.pass == pass; });
+      const double medianMs = timing != timings.end() ? timing->medianMs : 0.0;
+      std::fprintf(report, "  %-32s %12.0f rays  %8.4f ms  %7.0f M rays/s\n", pass, perFrame, medianMs,
+                   medianMs > 0.0 ? perFrame / (medianMs * 1e-3) / 1e6 : 0.0);
+      worldRaysByPass[pass] = {{"rays_per_frame", perFrame},
+                               {"median_ms", medianMs},
+                               {"rays_per_second", medianMs > 0.0 ? perFrame / (medianMs * 1e-3) : 0.0}};
+    }
   }
   std::fprintf(report, "\nrays per second (median pass time): primary %.0f M (whole G-buffer pass, 1 ray per pixel)",
                primaryRays / 1e6);
@@ -360,6 +379,7 @@ int runBench(const BenchOptions& options) {
                                     {"gi_memory_bytes", gi ? gi->library().memoryBytes() : 0},
                                     {"gi_memory_bytes_by_unit", memoryByUnit},
                                     {"world_rays_per_frame", worldRays},
+                                    {"world_rays_by_pass", worldRaysByPass},
                                     {"passes", passes}};
     if (jsonToStdout)
       std::cout << results.dump(2) << "\n" << std::flush;

@@ -38,7 +38,8 @@ Visualization visualization(gpu::Visualize view) {
 PassLog::PassLog(gpu::Context& context, bool timestamps, bool countRays)
     : context_(context), timestamps_(timestamps && context.hasTimestamps()) {
   if (countRays) {
-    const VkDeviceSize bytes = shared::kWorldRayPurposes * shared::kWorldRayCounterCopies * sizeof(std::uint32_t);
+    const VkDeviceSize bytes =
+        shared::kWorldRayPasses * shared::kWorldRayPurposes * shared::kWorldRayCounterCopies * sizeof(std::uint32_t);
     rayCounters_ = std::make_unique<gpu::Buffer>(context, "gi.world_ray_counts", bytes, gpu::BufferUsage::DeviceLocal);
     rayReadback_ =
         std::make_unique<gpu::Buffer>(context, "gi.world_ray_counts.readback", bytes, gpu::BufferUsage::Readback);
@@ -107,9 +108,14 @@ void PassLog::collectInto(FrameResults& results, const std::string& caller) {
   if (rayCountsRecorded_) {
     WorldRayCount count{.frameIndex = frameIndex};
     const auto* words = static_cast<const std::uint32_t*>(rayReadback_->mapped());
-    for (std::uint32_t purpose = 0; purpose < shared::kWorldRayPurposes; ++purpose)
-      for (std::uint32_t copy = 0; copy < shared::kWorldRayCounterCopies; ++copy)
-        count.rays[purpose] += words[purpose * shared::kWorldRayCounterCopies + copy];
+    for (std::uint32_t pass = 0; pass < shared::kWorldRayPasses; ++pass)
+      for (std::uint32_t purpose = 0; purpose < shared::kWorldRayPurposes; ++purpose)
+        for (std::uint32_t copy = 0; copy < shared::kWorldRayCounterCopies; ++copy) {
+          const std::uint32_t rays =
+              words[(pass * shared::kWorldRayPurposes + purpose) * shared::kWorldRayCounterCopies + copy];
+          count.rays[purpose] += rays;
+          count.passRays[pass] += rays;
+        }
     results.worldRays.push_back(count);
   }
   for (gpu::CapturedStage& capture : captures_) {

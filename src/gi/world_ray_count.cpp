@@ -39,6 +39,36 @@ const char* worldRayPurposeName(WorldRayPurpose purpose) {
   return "unknown";
 }
 
+static_assert(kWorldRayPassCount == shared::kWorldRayPasses, "one counter set per pass that casts world rays");
+
+const char* worldRayPassName(std::size_t pass) {
+  switch (pass) {
+    case shared::kWorldRayPassGather:
+      return "gi.diffuse.gather";
+    case shared::kWorldRayPassWorldCandidates:
+      return "gi.diffuse.world_candidates";
+    case shared::kWorldRayPassTemporalReuse:
+      return "gi.diffuse.temporal_reuse";
+    case shared::kWorldRayPassSpatialReuse:
+      return "gi.diffuse.spatial_reuse";
+    case shared::kWorldRayPassNeighbourVisibility:
+      return "gi.diffuse.neighbour_visibility";
+    case shared::kWorldRayPassSampleVisibility:
+      return "gi.diffuse.sample_visibility";
+    case shared::kWorldRayPassResolve:
+      return "gi.diffuse.resolve";
+    case shared::kWorldRayPassSpecularTrace:
+      return "gi.specular.trace";
+    case shared::kWorldRayPassSpecularWorldTrace:
+      return "gi.specular.world_trace";
+    case shared::kWorldRayPassCacheUpdate:
+      return "gi.cache.update";
+    default:
+      break;
+  }
+  return "unknown";
+}
+
 std::uint64_t WorldRayCount::total() const {
   std::uint64_t sum = 0;
   for (std::uint64_t r : rays) sum += r;

@@ -93,7 +93,7 @@ class GiBridge {
   std::vector<Named> images();
 
   // The world rays of the frames collected since the last resetWorldRays()
-  // (gi::FrameResults::worldRays), summed by purpose; sum.frameIndex is the
+  // (gi::FrameResults::worldRays), summed by purpose and by pass; sum.frameIndex is the
   // last frame added.
   struct WorldRayTally {
     std::uint64_t frames = 0;

@@ -16,6 +16,8 @@
 // bounces in one frame instead of one, and every sample is an integer added
 // to an integer (radiance_cache.glsl): which thread adds first changes no
 // bit. (The pass is made only with a bridge that traces.)
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassCacheUpdate
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "shared/brdf.glsl"

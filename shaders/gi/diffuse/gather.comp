@@ -41,6 +41,8 @@
 // screen techniques where they hit such a point. Each candidate's weight is
 // p-hat / (sum over techniques of count * pdf); the reservoir's W is then
 // weightSum / p-hat(chosen), with M = 1.
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassGather
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"

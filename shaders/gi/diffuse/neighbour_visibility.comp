@@ -7,6 +7,8 @@
 // gi.diffuse.spatial_normalize. Dispatched over the half-resolution size;
 // the queue can hold several tests per pixel, so each invocation takes
 // every queueInvocations()-th entry from its own on (gi/diffuse/neighbour_tests.glsl).
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassNeighbourVisibility
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"

@@ -11,6 +11,8 @@
 // the march cannot decide (hybrid); and averages them. Reservoirs of another
 // surface (depth or normal too different) are left out. Demodulated: the
 // result is what a white Lambert surface would reflect.
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassResolve
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"

@@ -10,6 +10,8 @@
 // rays are one per reservoir instead of one per sample per full-resolution
 // pixel (16 times fewer); a sample visible from the reservoir's surface but
 // hidden from a pixel next to it, where the march cannot tell, leaks.
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassSampleVisibility
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "shared/reservoir.glsl"

@@ -16,6 +16,8 @@
 // and gi.diffuse.spatial_normalize counts their verdicts in
 // (gi/diffuse/neighbour_tests.glsl). Run twice (radius and count are push
 // constants); the second pass's output is next frame's history.
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassSpatialReuse
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"

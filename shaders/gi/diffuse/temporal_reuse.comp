@@ -13,6 +13,8 @@
 // change of light, and every bounce the feedback adds, for as long as the
 // sample lives. After a change of light (gi.light_change) the history's M
 // shrinks further: samples drawn for the old light cannot find the new.
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassTemporalReuse
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"

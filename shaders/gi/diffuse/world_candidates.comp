@@ -14,6 +14,8 @@
 // finalized. Apart from the gather, a warp's threads all have rays to trace,
 // and the traversal does not share its registers with the gather's
 // candidates (docs/benchmarks.md, "World rays").
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassWorldCandidates
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 #include "gi/diffuse/diffuse_common.glsl"

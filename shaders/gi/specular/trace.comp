@@ -22,6 +22,8 @@
 // edge shows where it left. The sample goes into a fresh
 // reservoir (M = 1) with the target of its sampling; its hit point keeps the
 // hit distance, which the resolve and the filter need.
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassSpecularTrace
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 

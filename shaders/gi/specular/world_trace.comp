@@ -8,6 +8,8 @@
 // with the candidate the ray found. Traced apart, a warp's threads all have a
 // ray: inside the trace only the pixels screen space failed would trace,
 // the others waiting (docs/benchmarks.md, "World rays").
+// The pass whose counters its world rays add to (gi/world_ray_count.glsl).
+#define WORLD_RAY_PASS kWorldRayPassSpecularWorldTrace
 #include "gi/gi_common.glsl"
 #include "gi/gbuffer.glsl"
 
