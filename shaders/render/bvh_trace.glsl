@@ -2,12 +2,12 @@
 //
 // The including shader defines, before including this file:
 //   #define BVH_FIRST_BINDING n   bindings n .. n + BVH_BINDING_COUNT - 1 are taken here (readonly storage buffers):
-//     n + 0  gIn_BvhNodes      every mesh's BLAS nodes                      (BvhNode items[])
+//     n + 0  gIn_BvhNodes      every mesh's BLAS nodes                  (BvhWideNode items[])
 //     n + 1  gIn_BvhTriangles  i0, i1, i2, material | alpha bit             (uvec4 items[], BLAS leaf order)
 //     n + 2  gIn_BvhPositions  object-space vertex positions (w = 1), then  (vec4 items[])
 //                              each triangle's corners in BLAS leaf order
 //     n + 3  gIn_BvhInstances  per instance transforms + BLAS root          (BvhInstance items[], TLAS leaf order)
-//     n + 4  gIn_BvhTlasNodes  the TLAS over the instances                  (BvhNode items[])
+//     n + 4  gIn_BvhTlasNodes  the TLAS over the instances              (BvhWideNode items[])
 //   and optionally
 //   #define BVH_ALPHA_TEST(instance, triangle, barycentrics) myTest(instance, triangle, barycentrics)
 //     called for hits on alpha-masked triangles only; false = transparent
@@ -41,14 +41,14 @@
 
 #include "render/bvh_types.glsl"
 
-layout(set = 0, binding = BVH_FIRST_BINDING + 0, std430) readonly buffer BvhNodes { BvhNode items[]; } gIn_BvhNodes;
+layout(set = 0, binding = BVH_FIRST_BINDING + 0, std430) readonly buffer BvhNodes { BvhWideNode items[]; } gIn_BvhNodes;
 layout(set = 0, binding = BVH_FIRST_BINDING + 1, std430) readonly buffer BvhTriangles { uvec4 items[]; }
 gIn_BvhTriangles;
 layout(set = 0, binding = BVH_FIRST_BINDING + 2, std430) readonly buffer BvhPositions { vec4 items[]; }
 gIn_BvhPositions;
 layout(set = 0, binding = BVH_FIRST_BINDING + 3, std430) readonly buffer BvhInstances { BvhInstance items[]; }
 gIn_BvhInstances;
-layout(set = 0, binding = BVH_FIRST_BINDING + 4, std430) readonly buffer BvhTlasNodes { BvhNode items[]; }
+layout(set = 0, binding = BVH_FIRST_BINDING + 4, std430) readonly buffer BvhTlasNodes { BvhWideNode items[]; }
 gIn_BvhTlasNodes;
 
 // Accessors for shading a hit.

@@ -116,6 +116,10 @@ bool sampleLobes(uint lobes, PathVertex x, vec3 v, vec3 u, out vec3 direction, o
 
 vec3 environmentLight(vec3 direction) { return environmentRadianceLod(gIn_Environment, direction, 0.0f); }
 
+// Light samples whose direction makes a smaller cosine than this with the
+// emitter's or the receiver's surface are dropped (sampledLights).
+const float kGrazingLightCosine = 1e-4f;
+
 // Light from the environment and the emissive triangles reflected at x
 // towards v, one light sample each, weighted against BSDF sampling.
 vec3 sampledLights(uint lobes, PathVertex x, vec3 v, inout uint rng) {
@@ -138,7 +142,14 @@ vec3 sampledLights(uint lobes, PathVertex x, vec3 v, inout uint rng) {
     float distanceSquared = dot(toLight, toLight);
     direction = toLight * inversesqrt(max(distanceSquared, 1e-20f));
     float lightCosine = abs(dot(light.geometricNormal, direction));
-    if (lightCosine > 0.0f && distanceSquared > 0.0f && dot(x.geometricNormal, direction) > 0.0f) {
+    // A light point seen at a grazing angle (both cosines below
+    // kGrazingLightCosine) brings almost nothing, and which side of the
+    // emitter or of the receiver it is on is decided by rounding: a point
+    // on or beside the receiver's own triangle of a closed single-sided
+    // shell was taken as its lit front side, and a furnace that must stay
+    // black saw light (ReferenceTest.SingleSidedEmittersLightOnlyTheirFrontSide).
+    if (lightCosine > kGrazingLightCosine && distanceSquared > 0.0f &&
+        dot(x.geometricNormal, direction) > kGrazingLightCosine) {
       lightPdf = light.pdfArea * distanceSquared / lightCosine;
       float brdfPdf;
       vec3 f = lobesBrdfCosine(lobes, x, v, direction, brdfPdf);

@@ -217,8 +217,10 @@ int runBench(const BenchOptions& options) {
   const render::SceneBvh& bvh = renderer.bvh();
   const double bvhBuildMs = bvh.blasBuildSeconds() * 1e3;
   std::fprintf(report,
-               "BVH: %.2f MiB of device memory; BLASes built in %.0f ms (one CPU thread), depth %u, TLAS depth %u\n",
-               double(bvh.deviceBytes()) / (1 << 20), bvhBuildMs, bvh.blasDepth(), bvh.tlasDepth());
+               "BVH: %.2f MiB of device memory, %zu 8-wide BLAS nodes; BLASes built in %.0f ms (%u CPU threads), "
+               "binary depth %u, TLAS depth %u\n",
+               double(bvh.deviceBytes()) / (1 << 20), bvh.blasNodes().size(), bvhBuildMs, bvh.blasBuildThreads(),
+               bvh.blasDepth(), bvh.tlasDepth());
   nlohmann::json memoryByUnit = nlohmann::json::object();
   if (gi) {
     std::fprintf(report, "GI library: %.1f MiB of device memory at %ux%u (",

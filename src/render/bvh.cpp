@@ -1,6 +1,10 @@
 #include "render/bvh.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <future>
+#include <thread>
 #include <chrono>
 #include <cmath>
 #include <numeric>
@@ -13,8 +17,8 @@
 // data reached through a BvhTraversalData instead of storage buffers.
 namespace bounce::shared {
 struct BvhTraversalData {
-  const std::vector<BvhNode>& tlasNodes;
-  const std::vector<BvhNode>& blasNodes;
+  const std::vector<BvhWideNode>& tlasNodes;
+  const std::vector<BvhWideNode>& blasNodes;
   const std::vector<BvhInstance>& instances;
   const std::vector<vec4>& positions;
   const render::BvhAlphaTest& alphaTest;
@@ -242,74 +246,185 @@ bool finiteMatrix(const glm::mat4& m) {
   return true;
 }
 
-// The traversal layout of a binary tree (docs/bvh.md): one BvhNode per
-// interior node, holding both children's boxes and references, depth first
-// with the root first and a left interior child right after its parent.
-// Node indices start at firstNode, leaf items at firstItem. A tree of one
-// leaf gets a root whose right slot is empty, a tree of nothing a root with
-// two empty slots, so every walk starts at an interior node.
-class TraversalLayout {
+// The traversal layout of a binary tree (docs/bvh.md): its compressed wide
+// form (Ylitie, Karras and Laine 2017). Each wide node is collapsed from a
+// binary interior node by opening, while it has fewer than eight children,
+// its interior child of the largest surface area (the one a ray is most
+// likely to enter), so a wide node is one binary node and up to six of its
+// descendants. Children take the slots their directions suit (below), a
+// node's interior children are laid out consecutively in slot order (the
+// root first, then each node's children before their subtrees), and its
+// leaves' items consecutively in slot order; `itemSlots` says which binary
+// leaf slot each item position holds. Node indices start at firstNode,
+// items at firstItem. A tree of one leaf is a root with one child, a tree
+// of nothing a root with none, so every walk starts at a node.
+class WideLayout {
  public:
-  TraversalLayout(const Bvh& bvh, std::uint32_t firstNode, std::uint32_t firstItem)
-      : bvh_(bvh), firstNode_(firstNode), firstItem_(firstItem) {}
-
-  std::vector<BvhNode> nodes() && {
+  WideLayout(const Bvh& bvh, std::uint32_t firstNode, std::uint32_t firstItem)
+      : bvh_(bvh), firstNode_(firstNode), firstItem_(firstItem) {
+    nodes.emplace_back();
     if (bvh_.nodes.empty()) {
-      nodes_.push_back({});
-      setChild(0, 0, Aabb{}, kBvhInvalidIndex);
-      setChild(0, 1, Aabb{}, kBvhInvalidIndex);
+      fill(0, {}, 0);
     } else if (bvh_.nodes[0].count > 0) {
-      nodes_.push_back({});
-      setChild(0, 0, bounds(bvh_.nodes[0]), reference(0));
-      setChild(0, 1, Aabb{}, kBvhInvalidIndex);
+      fill(0, {0}, 0);
     } else {
-      place(0);
+      fill(0, collapse(0), 0);
     }
-    return std::move(nodes_);
   }
+
+  std::vector<BvhWideNode> nodes;
+  std::vector<std::uint32_t> itemSlots;  // item position -> binary leaf slot (index into Bvh::itemOrder)
+  std::uint32_t levels = 1;              // of wide nodes (a root alone: 1)
 
  private:
   static Aabb bounds(const BvhBuildNode& node) { return {node.boundsMin, node.boundsMax}; }
+  bool interior(std::uint32_t index) const { return bvh_.nodes[index].count == 0; }
 
-  // The reference a parent stores for binary node `index`, placing its subtree first if it is interior.
-  std::uint32_t reference(std::uint32_t index) {
-    const BvhBuildNode& node = bvh_.nodes[index];
-    if (node.count == 0) return place(index);
-    if (firstItem_ + node.leftFirst >= shared::kBvhMaxLeafFirst || node.count > shared::kBvhMaxLeafSize)
-      throw std::invalid_argument("BVH: a leaf of " + std::to_string(node.count) + " items from item " +
-                                  std::to_string(firstItem_ + node.leftFirst) + " does not fit a child reference");
-    return shared::bvhLeafReference(firstItem_ + node.leftFirst, node.count);
+  // The binary nodes that become interior node `index`'s wide children.
+  std::vector<std::uint32_t> collapse(std::uint32_t index) const {
+    std::vector<std::uint32_t> children = {bvh_.nodes[index].leftFirst, bvh_.nodes[index].leftFirst + 1};
+    while (children.size() < shared::kBvhWideArity) {
+      int widest = -1;
+      float widestArea = -1.0f;
+      for (std::size_t c = 0; c < children.size(); ++c)
+        if (interior(children[c]) && bounds(bvh_.nodes[children[c]]).halfArea() > widestArea) {
+          widest = int(c);
+          widestArea = bounds(bvh_.nodes[children[c]]).halfArea();
+        }
+      if (widest < 0) break;
+      const std::uint32_t opened = children[std::size_t(widest)];
+      children[std::size_t(widest)] = bvh_.nodes[opened].leftFirst;
+      children.push_back(bvh_.nodes[opened].leftFirst + 1);
+    }
+    return children;
   }
 
-  // Places interior binary node `index` and, after it, its subtree; returns its global index.
-  std::uint32_t place(std::uint32_t index) {
-    const auto slot = std::uint32_t(nodes_.size());
-    if (firstNode_ + slot >= shared::kBvhLeafBit) throw std::invalid_argument("BVH: too many nodes for a reference");
-    nodes_.push_back({});
-    for (std::uint32_t side = 0; side < 2; ++side) {
-      const std::uint32_t child = bvh_.nodes[index].leftFirst + side;
-      const std::uint32_t childReference = reference(child);  // may grow nodes_: index it afterwards
-      setChild(slot, side, bounds(bvh_.nodes[child]), childReference);
+  // Slot s serves rays of octant s (bvhOctant): it gets the child that lies
+  // furthest back along that octant's diagonal, so a ray meets it first.
+  // Greedy over all (child, slot) pairs, cheapest first (Ylitie et al.).
+  std::array<int, shared::kBvhWideArity> assignSlots(const std::vector<std::uint32_t>& children) const {
+    std::array<int, shared::kBvhWideArity> slotChild;
+    slotChild.fill(-1);
+    Aabb parent;
+    for (const std::uint32_t c : children) parent.extend(bounds(bvh_.nodes[c]));
+    struct Pair {
+      float cost;
+      std::uint32_t child, slot;
+    };
+    std::vector<Pair> pairs;
+    for (std::uint32_t c = 0; c < children.size(); ++c) {
+      const glm::vec3 offset = bounds(bvh_.nodes[children[c]]).centroid() - parent.centroid();
+      for (std::uint32_t slot = 0; slot < shared::kBvhWideArity; ++slot) {
+        const glm::vec3 diagonal((slot & 4u) ? -1.0f : 1.0f, (slot & 2u) ? -1.0f : 1.0f, (slot & 1u) ? -1.0f : 1.0f);
+        pairs.push_back({glm::dot(offset, diagonal), c, slot});
+      }
     }
-    return firstNode_ + slot;
+    std::stable_sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.cost < b.cost; });
+    std::vector<bool> placed(children.size(), false);
+    for (const Pair& pair : pairs)
+      if (!placed[pair.child] && slotChild[pair.slot] < 0) {
+        slotChild[pair.slot] = int(pair.child);
+        placed[pair.child] = true;
+      }
+    return slotChild;
   }
 
-  void setChild(std::uint32_t slot, std::uint32_t side, const Aabb& box, std::uint32_t childReference) {
-    BvhNode& node = nodes_[slot];
-    if (side == 0) {
-      node.leftMin = box.min;
-      node.leftMax = box.max;
-      node.left = childReference;
-    } else {
-      node.rightMin = box.min;
-      node.rightMax = box.max;
-      node.right = childReference;
+  // Fills wide node `slot` (local index) from these binary children, then
+  // lays out and fills its interior children's subtrees.
+  void fill(std::uint32_t slot, const std::vector<std::uint32_t>& children, std::uint32_t level) {
+    levels = std::max(levels, level + 1);
+    const std::array<int, shared::kBvhWideArity> slotChild = assignSlots(children);
+    const auto firstChild = std::uint32_t(nodes.size());
+    const auto firstItem = std::uint32_t(itemSlots.size());
+    if (firstNode_ + firstChild + shared::kBvhWideArity >= kBvhInvalidIndex ||
+        firstItem_ + firstItem + shared::kBvhWideMaxItems >= kBvhInvalidIndex / 3)
+      throw std::invalid_argument("BVH: too many nodes or items for 32-bit indices");
+    std::array<std::uint32_t, shared::kBvhWideArity> meta{};
+    std::uint32_t interiorMask = 0;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> interiors;  // (local node, binary node)
+    Aabb box;
+    for (std::uint32_t s = 0; s < shared::kBvhWideArity; ++s) {
+      if (slotChild[s] < 0) continue;
+      const std::uint32_t child = children[std::size_t(slotChild[s])];
+      box.extend(bounds(bvh_.nodes[child]));
+      if (interior(child)) {
+        meta[s] = shared::bvhWideMetaInterior(s);
+        interiorMask |= 1u << s;
+        interiors.emplace_back(std::uint32_t(nodes.size()) + std::uint32_t(interiors.size()), child);
+      } else {
+        const BvhBuildNode& leaf = bvh_.nodes[child];
+        if (leaf.count > shared::kBvhMaxLeafSize)
+          throw std::invalid_argument("BVH: a leaf of " + std::to_string(leaf.count) + " items (at most " +
+                                      std::to_string(shared::kBvhMaxLeafSize) + ")");
+        meta[s] = shared::bvhWideMetaLeaf(std::uint32_t(itemSlots.size()) - firstItem, leaf.count);
+        for (std::uint32_t i = 0; i < leaf.count; ++i) itemSlots.push_back(leaf.leftFirst + i);
+      }
     }
+    nodes.resize(nodes.size() + interiors.size());
+    BvhWideNode& node = nodes[slot];
+    node = {};
+    node.childrenMeta = glm::uvec4(firstNode_ + firstChild, firstItem_ + firstItem, 0u, 0u);
+    for (std::uint32_t s = 0; s < shared::kBvhWideArity; ++s)
+      node.childrenMeta[2 + s / 4] |= meta[s] << (8u * (s % 4));
+    quantize(node, box, children, slotChild);
+    std::uint32_t exponents = floatBitsToUint(node.originExponents.w);
+    node.originExponents.w = glm::uintBitsToFloat(exponents | (interiorMask << 24u));
+    for (const auto& [local, binary] : interiors) fill(local, collapse(binary), level + 1);
+  }
+
+  static std::uint32_t floatBitsToUint(float f) { return glm::floatBitsToUint(f); }
+
+  // The node's grid: origin at the box's minimum, per axis the smallest
+  // power-of-two scale whose 255 steps span the box; each child box rounded
+  // outwards onto it, checked in the float arithmetic the walk uses
+  // (origin + scale * q), so no stored box is ever smaller than its child's.
+  void quantize(BvhWideNode& node, const Aabb& box, const std::vector<std::uint32_t>& children,
+                const std::array<int, shared::kBvhWideArity>& slotChild) const {
+    std::array<std::array<std::uint32_t, shared::kBvhWideArity>, 3> low{}, high{};
+    std::uint32_t exponents = 0;
+    const glm::vec3 origin = box.empty() ? glm::vec3(0.0f) : box.min;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double extent = box.empty() ? 0.0 : double(box.max[axis]) - double(box.min[axis]);
+      int exponent = -126;
+      if (extent > 0.0) {
+        int binary = 0;
+        const double mantissa = std::frexp(extent / 255.0, &binary);  // extent / 255 = mantissa * 2^binary
+        exponent = std::max(-126, mantissa == 0.5 ? binary - 1 : binary);
+      }
+      for (bool fits = false; !fits; ++exponent) {
+        if (exponent > 127) throw std::invalid_argument("BVH: a node too large for its grid");
+        const float scale = std::ldexp(1.0f, exponent);
+        const auto at = [&](std::uint32_t q) { return origin[axis] + scale * float(q); };
+        fits = true;
+        for (std::uint32_t s = 0; s < shared::kBvhWideArity && fits; ++s) {
+          if (slotChild[s] < 0) continue;
+          const Aabb child = bounds(bvh_.nodes[children[std::size_t(slotChild[s])]]);
+          auto q0 = std::uint32_t(
+              std::clamp(std::floor((double(child.min[axis]) - double(origin[axis])) / double(scale)), 0.0, 255.0));
+          while (q0 > 0 && at(q0) > child.min[axis]) --q0;
+          auto q1 = std::uint32_t(
+              std::clamp(std::ceil((double(child.max[axis]) - double(origin[axis])) / double(scale)), 0.0, 255.0));
+          while (q1 < 255 && at(q1) < child.max[axis]) ++q1;
+          if (at(q0) > child.min[axis] || at(q1) < child.max[axis]) fits = false;
+          low[std::size_t(axis)][s] = q0;
+          high[std::size_t(axis)][s] = q1;
+        }
+        if (fits) exponents |= std::uint32_t(exponent + 127) << (8 * axis);
+      }
+    }
+    const auto pack = [](const std::array<std::uint32_t, shared::kBvhWideArity>& q, int part) {
+      std::uint32_t word = 0;
+      for (int i = 0; i < 4; ++i) word |= q[std::size_t(4 * part + i)] << (8 * i);
+      return word;
+    };
+    node.originExponents = glm::vec4(origin, glm::uintBitsToFloat(exponents));
+    node.lowXY = glm::uvec4(pack(low[0], 0), pack(low[0], 1), pack(low[1], 0), pack(low[1], 1));
+    node.lowZHighX = glm::uvec4(pack(low[2], 0), pack(low[2], 1), pack(high[0], 0), pack(high[0], 1));
+    node.highYZ = glm::uvec4(pack(high[1], 0), pack(high[1], 1), pack(high[2], 0), pack(high[2], 1));
   }
 
   const Bvh& bvh_;
   std::uint32_t firstNode_, firstItem_;
-  std::vector<BvhNode> nodes_;
 };
 
 BvhHit noHit() { return {kNoHit, kBvhInvalidIndex, kBvhInvalidIndex, glm::vec2(0.0f)}; }
@@ -346,15 +461,19 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
   vertexCount_ = std::uint32_t(vertexTotal);
   // Corner records start at a multiple of three entries, after the vertices.
   firstCornerRecord_ = (vertexCount_ + 2) / 3;
-  if (firstCornerRecord_ + triangleTotal > shared::kBvhMaxLeafFirst)
-    throw scene::SceneError(scene.name + ": too many triangles and vertices for the BVH's leaf references");
+  // The walk reads corner record r at 3r .. 3r + 2, a 32-bit index.
+  if (3 * (std::uint64_t(firstCornerRecord_) + triangleTotal) >= kBvhInvalidIndex)
+    throw scene::SceneError(scene.name + ": too many triangles and vertices for the BVH's 32-bit indices");
   positions_.reserve(3 * (firstCornerRecord_ + triangleTotal));
   std::vector<glm::vec4> cornerRecords;
   cornerRecords.reserve(3 * triangleTotal);
 
   blasRoots_.assign(scene.meshes.size(), kBvhInvalidIndex);
   meshFirstTriangle_.reserve(scene.meshes.size() + 1);
-  std::vector<Aabb> triangleBounds;
+  // Each mesh's tree is built on its own (the build is most of the load
+  // time of a large scene), a few meshes at a time on the machine's cores,
+  // with node and item numbers from 0; they are then concatenated in mesh
+  // order and renumbered. Index and material checks come first, here.
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const scene::Mesh& mesh = scene.meshes[m];
     const auto fail = [&](const std::string& why) {
@@ -362,35 +481,65 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
     };
     if (mesh.material < 0 || std::size_t(mesh.material) >= scene.materials.size())
       throw fail("material index " + std::to_string(mesh.material) + " out of range");
+    for (std::size_t i = 0; i < mesh.indices.size() / 3 * 3; ++i)
+      if (mesh.indices[i] >= mesh.positions.size())
+        throw fail("index " + std::to_string(mesh.indices[i]) + " out of range");
+  }
+  struct MeshTree {
+    Bvh binary;
+    std::optional<WideLayout> wide;
+  };
+  std::vector<MeshTree> trees(scene.meshes.size());
+  std::atomic<std::size_t> nextMesh{0};
+  const auto buildTrees = [&] {
+    std::vector<Aabb> triangleBounds;
+    for (std::size_t m = nextMesh++; m < scene.meshes.size(); m = nextMesh++) {
+      const scene::Mesh& mesh = scene.meshes[m];
+      const std::size_t triangleCount = mesh.indices.size() / 3;
+      if (triangleCount == 0) continue;
+      triangleBounds.clear();
+      for (std::size_t t = 0; t < triangleCount; ++t) {
+        Aabb box;
+        for (int corner = 0; corner < 3; ++corner) box.extend(mesh.positions[mesh.indices[3 * t + std::size_t(corner)]]);
+        triangleBounds.push_back(box);
+      }
+      trees[m].binary = buildBvh(triangleBounds);
+      trees[m].wide.emplace(trees[m].binary, 0u, 0u);
+    }
+  };
+  {
+    const unsigned helpers =
+        std::max(1u, std::min<unsigned>(std::max(1u, std::thread::hardware_concurrency()),
+                                        unsigned(scene.meshes.size()))) - 1;
+    std::vector<std::future<void>> running;
+    blasBuildThreads_ = helpers + 1;
+    for (unsigned h = 0; h < helpers; ++h) running.push_back(std::async(std::launch::async, buildTrees));
+    buildTrees();
+    for (std::future<void>& helper : running) helper.get();  // rethrows a helper's exception
+  }
+
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const scene::Mesh& mesh = scene.meshes[m];
     const scene::AlphaMode alphaMode = scene.materials[std::size_t(mesh.material)].alphaMode;
     const std::uint32_t materialBits =
         std::uint32_t(mesh.material) | (alphaMode == scene::AlphaMode::Opaque ? 0u : kBvhAlphaMaskedBit);
     const auto vertexOffset = std::uint32_t(positions_.size());
     for (const glm::vec3& p : mesh.positions) positions_.emplace_back(p, 1.0f);
-
-    const std::size_t triangleCount = mesh.indices.size() / 3;
-    triangleBounds.clear();
-    for (std::size_t t = 0; t < triangleCount; ++t) {
-      Aabb box;
-      for (int corner = 0; corner < 3; ++corner) {
-        const std::uint32_t index = mesh.indices[3 * t + std::size_t(corner)];
-        if (index >= mesh.positions.size()) throw fail("index " + std::to_string(index) + " out of range");
-        box.extend(mesh.positions[index]);
-      }
-      triangleBounds.push_back(box);
-    }
     const auto firstTriangle = std::uint32_t(triangles_.size());
     meshFirstTriangle_.push_back(firstTriangle);
-    if (triangleCount == 0) {
+    if (!trees[m].wide) {
       meshBounds_.emplace_back();
       continue;
     }
-
-    const Bvh blas = buildBvh(triangleBounds);
+    const Bvh& blas = trees[m].binary;
     const auto root = std::uint32_t(blasNodes_.size());
-    for (const BvhNode& node : TraversalLayout(blas, root, firstCornerRecord_ + firstTriangle).nodes())
+    for (BvhWideNode node : trees[m].wide->nodes) {
+      node.childrenMeta.x += root;
+      node.childrenMeta.y += firstCornerRecord_ + firstTriangle;
       blasNodes_.push_back(node);
-    for (const std::uint32_t t : blas.itemOrder) {
+    }
+    for (const std::uint32_t slot : trees[m].wide->itemSlots) {
+      const std::uint32_t t = blas.itemOrder[slot];
       const std::uint32_t* index = &mesh.indices[3 * std::size_t(t)];
       const auto triangle = std::uint32_t(triangles_.size());
       triangles_.emplace_back(index[0] + vertexOffset, index[1] + vertexOffset, index[2] + vertexOffset, materialBits);
@@ -402,6 +551,8 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
     blasRoots_[m] = root;
     meshBounds_.push_back({blas.nodes[0].boundsMin, blas.nodes[0].boundsMax});
     blasDepth_ = std::max(blasDepth_, blas.depth);
+    trees[m].wide.reset();  // their memory back before the next mesh's arrays grow
+    trees[m].binary = {};
   }
   meshFirstTriangle_.push_back(std::uint32_t(triangles_.size()));
   positions_.resize(3 * std::size_t(firstCornerRecord_), glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
@@ -411,9 +562,9 @@ SceneBvh::SceneBvh(const scene::Scene& scene) {
 }
 
 std::size_t SceneBvh::deviceBytes() const {
-  return blasNodes_.size() * sizeof(BvhNode) + triangles_.size() * sizeof(glm::uvec4) +
+  return blasNodes_.size() * sizeof(BvhWideNode) + triangles_.size() * sizeof(glm::uvec4) +
          positions_.size() * sizeof(glm::vec4) + instances_.size() * sizeof(BvhInstance) +
-         tlasNodes_.size() * sizeof(BvhNode);
+         tlasNodes_.size() * sizeof(BvhWideNode);
 }
 
 void SceneBvh::setInstances(std::span<const scene::Instance> instances) {
@@ -445,9 +596,10 @@ void SceneBvh::setInstances(std::span<const scene::Instance> instances) {
   // One instance per leaf: an instance costs a transform and a BLAS root, far
   // more than a triangle, and the traversal enters a TLAS leaf's one instance.
   const Bvh tlas = buildBvh(bounds, {.maxLeafSize = 1});
+  WideLayout layout(tlas, 0, 0);
   instances_.clear();
-  for (const std::uint32_t item : tlas.itemOrder) instances_.push_back(records[item]);
-  tlasNodes_ = TraversalLayout(tlas, 0, 0).nodes();
+  for (const std::uint32_t slot : layout.itemSlots) instances_.push_back(records[tlas.itemOrder[slot]]);
+  tlasNodes_ = std::move(layout.nodes);
   tlasBounds_ = tlas.nodes.empty() ? Aabb{} : Aabb{tlas.nodes[0].boundsMin, tlas.nodes[0].boundsMax};
   tlasDepth_ = tlas.depth;
 }

@@ -24,9 +24,9 @@ namespace bounce::render {
 
 using shared::BvhHit;
 using shared::BvhInstance;
-using shared::BvhNode;
+using shared::BvhWideNode;
 
-static_assert(sizeof(BvhNode) == 64, "BvhNode must match its std430 layout");
+static_assert(sizeof(BvhWideNode) == 80, "BvhWideNode must match its std430 layout");
 static_assert(sizeof(BvhInstance) == 112, "BvhInstance must match its std430 layout");
 
 struct Aabb {
@@ -65,8 +65,8 @@ struct BvhBuildOptions {
 // A node of the binary tree buildBvh makes. count == 0: interior node whose
 // children are leftFirst and leftFirst + 1; count > 0: leaf of leaf slots
 // leftFirst .. leftFirst + count - 1. Bounds are the exact union of the
-// children's or the items'. (The GPU reads BvhNodes, made from these by
-// SceneBvh: each holds its two children's boxes.)
+// children's or the items'. (The GPU reads BvhWideNodes, collapsed from
+// these by SceneBvh: each holds up to eight children's quantised boxes.)
 struct BvhBuildNode {
   glm::vec3 boundsMin{0.0f};
   std::uint32_t leftFirst = 0;
@@ -117,7 +117,7 @@ class SceneBvh {
   // --- The arrays uploaded to the GPU (render/bvh_trace.glsl) ---
   // Every mesh's BLAS, concatenated: child references are global (node
   // indices into this array, leaves' corner records in positions()).
-  const std::vector<BvhNode>& blasNodes() const { return blasNodes_; }
+  const std::vector<BvhWideNode>& blasNodes() const { return blasNodes_; }
   // Per triangle in BLAS leaf order: global vertex indices i0, i1, i2 and
   // w = material index | kBvhAlphaMaskedBit for Mask and Blend materials.
   const std::vector<glm::uvec4>& triangles() const { return triangles_; }
@@ -134,8 +134,8 @@ class SceneBvh {
   std::uint32_t firstCornerRecord() const { return firstCornerRecord_; }
   // Instances in the TLAS, in TLAS leaf order.
   const std::vector<BvhInstance>& instances() const { return instances_; }
-  // Root at 0, never empty: a scene with nothing to hit has a root with two empty slots.
-  const std::vector<BvhNode>& tlasNodes() const { return tlasNodes_; }
+  // Root at 0, never empty: a scene with nothing to hit has a root without children.
+  const std::vector<BvhWideNode>& tlasNodes() const { return tlasNodes_; }
   // The world box of the instances in the TLAS (empty when there are none).
   Aabb tlasBounds() const { return tlasBounds_; }
 
@@ -154,6 +154,9 @@ class SceneBvh {
   std::uint32_t blasDepth() const { return blasDepth_; }
   std::uint32_t tlasDepth() const { return tlasDepth_; }
   double blasBuildSeconds() const { return blasBuildSeconds_; }
+  // The threads that built the BLASes (a mesh's tree is built by one, the
+  // meshes spread over the machine's cores).
+  unsigned blasBuildThreads() const { return blasBuildThreads_; }
   // Bytes of the arrays the GPU reads (nodes, triangles, positions and
   // corner records, instances), for reports.
   std::size_t deviceBytes() const;
@@ -179,7 +182,7 @@ class SceneBvh {
   bool acceptHit(std::uint32_t instance, std::uint32_t triangle, glm::vec2 barycentrics,
                  const BvhAlphaTest& alphaTest) const;
 
-  std::vector<BvhNode> blasNodes_;
+  std::vector<BvhWideNode> blasNodes_;
   std::vector<glm::uvec4> triangles_;
   std::vector<glm::vec4> positions_;
   std::vector<std::uint32_t> blasRoots_;
@@ -187,7 +190,7 @@ class SceneBvh {
   std::vector<std::uint32_t> meshFirstTriangle_;
   std::vector<std::uint32_t> sourceTriangle_;
   std::vector<BvhInstance> instances_;
-  std::vector<BvhNode> tlasNodes_;
+  std::vector<BvhWideNode> tlasNodes_;
   Aabb tlasBounds_;
   std::vector<std::size_t> untraceable_;
   std::uint32_t vertexCount_ = 0;
@@ -196,6 +199,7 @@ class SceneBvh {
   std::uint32_t blasDepth_ = 0;
   std::uint32_t tlasDepth_ = 0;
   double blasBuildSeconds_ = 0.0;
+  unsigned blasBuildThreads_ = 1;
 };
 
 }  // namespace bounce::render

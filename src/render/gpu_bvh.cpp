@@ -36,7 +36,7 @@ GpuBvh::GpuBvh(gpu::Context& context, const SceneBvh& bvh, std::uint32_t framesI
   if (framesInFlight == 0) throw gpu::GpuError("GpuBvh needs at least one frame slot");
   instanceCapacity_ = std::max<std::size_t>(1, bvh.instanceCount());
   // A binary tree with one instance per leaf has n - 1 interior nodes, and
-  // the traversal layout keeps one node per interior node (one for n <= 1).
+  // the wide layout keeps at most one node per interior node (one for n <= 1).
   tlasNodeCapacity_ = instanceCapacity_;
   checkCapacity();
 
@@ -44,16 +44,16 @@ GpuBvh::GpuBvh(gpu::Context& context, const SceneBvh& bvh, std::uint32_t framesI
   triangles_ = uploadArray(context, "bvh.triangles", bvh.triangles());
   positions_ = uploadArray(context, "bvh.positions", bvh.positions());
   instances_ = makeBuffer<BvhInstance>(context, "bvh.instances", instanceCapacity_, gpu::BufferUsage::DeviceLocal);
-  tlasNodes_ = makeBuffer<BvhNode>(context, "bvh.tlas_nodes", tlasNodeCapacity_, gpu::BufferUsage::DeviceLocal);
+  tlasNodes_ = makeBuffer<BvhWideNode>(context, "bvh.tlas_nodes", tlasNodeCapacity_, gpu::BufferUsage::DeviceLocal);
   if (!bvh.instances().empty())
     gpu::uploadBuffer(context, *instances_, bvh.instances().data(), bvh.instances().size() * sizeof(BvhInstance));
-  gpu::uploadBuffer(context, *tlasNodes_, bvh.tlasNodes().data(), bvh.tlasNodes().size() * sizeof(BvhNode));
+  gpu::uploadBuffer(context, *tlasNodes_, bvh.tlasNodes().data(), bvh.tlasNodes().size() * sizeof(BvhWideNode));
 
   for (std::uint32_t i = 0; i < framesInFlight; ++i) {
     const std::string suffix = ".staging.slot" + std::to_string(i);
     slots_.push_back(
         {makeBuffer<BvhInstance>(context, "bvh.instances" + suffix, instanceCapacity_, gpu::BufferUsage::Upload),
-         makeBuffer<BvhNode>(context, "bvh.tlas_nodes" + suffix, tlasNodeCapacity_, gpu::BufferUsage::Upload)});
+         makeBuffer<BvhWideNode>(context, "bvh.tlas_nodes" + suffix, tlasNodeCapacity_, gpu::BufferUsage::Upload)});
   }
 }
 
@@ -71,7 +71,7 @@ void GpuBvh::updateInstances(gpu::Recorder& recorder, std::uint32_t frameSlot) {
   checkCapacity();
   Slot& slot = slots_[frameSlot];
   const std::size_t instanceBytes = bvh_.instances().size() * sizeof(BvhInstance);
-  const std::size_t tlasBytes = bvh_.tlasNodes().size() * sizeof(BvhNode);
+  const std::size_t tlasBytes = bvh_.tlasNodes().size() * sizeof(BvhWideNode);
   // With nothing to trace the vectors are empty and their data() may be
   // null, which memcpy must not be given even for zero bytes.
   if (instanceBytes) {
