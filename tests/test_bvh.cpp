@@ -24,7 +24,11 @@
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
 #include "gpu_test.h"
+#include "render/benchmark_rays.h"
 #include "render/bvh.h"
+#include "render/frame_renderer.h"
+#include "scene/builtin_scenes.h"
+#include "scene/camera_path.h"
 #include "render/gpu_bvh.h"
 
 #if __has_include("scene/gltf_import.h")
@@ -856,6 +860,107 @@ TEST(SceneBvh, TraversalMatchesBruteForceOnTransformedInstances) {
   EXPECT_EQ(any.excused, 0);
   EXPECT_GT(any.blocked, int(rays.size()) / 4);
   EXPECT_GT(any.unblocked, int(rays.size()) / 20);
+}
+
+// bench --ray-origins visible: every ray starts on (just off) the surface a
+// pixel of the camera sees, on the camera's side, the pixels taken in 8x8
+// tiles; the pixels that see nothing give no ray.
+// Checks visibleSurfaceRays on a width x height view of `bvh` from `camera`.
+void checkVisibleSurfaceRays(const SceneBvh& bvh, const scene::CameraPose& camera) {
+  const std::uint32_t width = 44, height = 21;  // tiles cut at the right and bottom edges
+  const shared::GpuCamera gpu = gpuCamera(camera, width, height);
+  const glm::vec2 size{float(width), float(height)};
+
+  // Which pixels see a surface, by brute force, and where each would come in 8x8 tiles.
+  std::uint32_t visible = 0;
+  std::vector<int> tileRank(std::size_t(width) * height, -1);
+  int rank = 0;
+  for (std::uint32_t ty = 0; ty < height; ty += 8)
+    for (std::uint32_t tx = 0; tx < width; tx += 8)
+      for (std::uint32_t y = ty; y < std::min(ty + 8, height); ++y)
+        for (std::uint32_t x = tx; x < std::min(tx + 8, width); ++x) {
+          const glm::vec3 d = shared::cameraRayDirection(gpu, glm::vec2(x, y) + 0.5f, size);
+          if (bvh.traceClosestBruteForce(camera.position, d, 0.0f, kNoHit).t == kNoHit) continue;
+          ++visible;
+          tileRank[std::size_t(y) * width + x] = rank++;
+        }
+  ASSERT_GT(visible, width * height / 2) << "the view must see the scene";
+  ASSERT_LT(visible, width * height) << "the view must see some sky too";
+
+  const VisibleSurfaceRays result = visibleSurfaceRays(bvh, camera, width, height, visible);
+  EXPECT_EQ(result.pixels, width * height);
+  EXPECT_EQ(result.visiblePixels, visible);
+  ASSERT_EQ(result.rays.size(), visible);
+  int previousRank = -1;
+  for (std::size_t r = 0; r < result.rays.size(); ++r) {
+    const glm::vec3 origin(result.rays[r].originTMin);
+    const glm::vec3 direction(result.rays[r].directionTMax);
+    EXPECT_NEAR(glm::length(direction), 1.0f, 1e-5f);
+    // The camera's own ray towards the origin reaches a surface just beyond it.
+    const glm::vec3 toOrigin = origin - camera.position;
+    const float distance = glm::length(toOrigin);
+    const BvhHit hit = bvh.traceClosestBruteForce(camera.position, toOrigin / distance, 0.0f, kNoHit);
+    ASSERT_NE(hit.instance, kBvhInvalidIndex) << "ray " << r;
+    EXPECT_GT(hit.t, distance) << "ray " << r << ": the origin must be on the camera's side";
+    EXPECT_LT(hit.t - distance, 1e-3f * (1.0f + distance)) << "ray " << r << ": the origin must be on the surface";
+    // The ray leaves on the camera's side of that surface.
+    const glm::uvec4 corners = bvh.triangles()[hit.triangle];
+    const BvhInstance* record = nullptr;
+    for (const BvhInstance& i : bvh.instances())
+      if (i.info.z == hit.instance) record = &i;
+    ASSERT_NE(record, nullptr);
+    const auto world = [&](std::uint32_t v) {
+      return shared::bvhTransformPoint(record->objectToWorld, glm::vec3(bvh.positions()[v]));
+    };
+    const glm::vec3 normal = glm::cross(world(corners.y) - world(corners.x), world(corners.z) - world(corners.x));
+    EXPECT_GT(glm::dot(direction, normal) * glm::dot(-toOrigin, normal), 0.0f) << "ray " << r;
+    // One ray a visible pixel, in tile order.
+    const glm::vec3 pixel = shared::projectToPixel(gpu, origin, size);
+    const int at = tileRank[std::size_t(pixel.y) * width + std::size_t(pixel.x)];
+    EXPECT_GT(at, previousRank) << "ray " << r << " at pixel " << pixel.x << ", " << pixel.y;
+    previousRank = at;
+  }
+  EXPECT_EQ(previousRank, int(visible) - 1);
+
+  // Fewer rays than pixels spread over all of them; more repeat pixels.
+  const VisibleSurfaceRays fewer = visibleSurfaceRays(bvh, camera, width, height, visible / 4);
+  ASSERT_EQ(fewer.rays.size(), visible / 4);
+  const glm::vec3 last = shared::projectToPixel(gpu, glm::vec3(fewer.rays.back().originTMin), size);
+  EXPECT_GT(tileRank[std::size_t(last.y) * width + std::size_t(last.x)], int(visible) * 3 / 4);
+  EXPECT_EQ(visibleSurfaceRays(bvh, camera, width, height, 3 * visible).rays.size(), 3 * visible);
+}
+
+TEST(BenchmarkRays, VisibleSurfaceRaysStartWhereTheCameraLooksInTileOrder) {
+  const scene::Scene scene = scene::makeBuiltinScene("sun-room");
+  SceneBvh bvh(scene);
+  std::vector<scene::Instance> instances = scene::instancesAt(scene, 0.0f);
+  bvh.setInstances(instances);
+  const scene::CameraPose camera = scene::defaultCameraPath(scene)->pose(0.0f);
+  {
+    SCOPED_TRACE("the camera sees the triangles' front faces");
+    checkVisibleSurfaceRays(bvh, camera);
+  }
+  // Mirrored (x -> -x), every triangle turns its back to the same view.
+  const glm::mat4 mirror = glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f));
+  for (scene::Instance& instance : instances) instance.objectToWorld = mirror * instance.objectToWorld;
+  bvh.setInstances(instances);
+  scene::CameraPose mirrored = camera;
+  mirrored.position.x = -mirrored.position.x;
+  mirrored.target.x = -mirrored.target.x;
+  mirrored.up.x = -mirrored.up.x;
+  {
+    SCOPED_TRACE("the camera sees the triangles' back faces");
+    checkVisibleSurfaceRays(bvh, mirrored);
+  }
+
+  // From outside the scene, looking away from it: no rays.
+  const Aabb bounds = bvh.tlasBounds();
+  scene::CameraPose away = camera;
+  away.position = bounds.max + (bounds.max - bounds.min);
+  away.target = away.position + (bounds.max - bounds.min);
+  const VisibleSurfaceRays none = visibleSurfaceRays(bvh, away, 16, 9, 16);
+  EXPECT_EQ(none.visiblePixels, 0u);
+  EXPECT_TRUE(none.rays.empty());
 }
 
 TEST(SceneBvh, AlphaTestSkipsRejectedHitsOnMaskedTrianglesOnly) {

@@ -18,88 +18,16 @@
 #include "app/progress.h"
 #include "gpu/frame_loop.h"
 #include "gpu/transfer.h"
+#include "render/benchmark_rays.h"
 #include "render/frame_memory.h"
 #include "render/frame_pipeline.h"
 #include "render/frame_renderer.h"
 #include "render/gi_bridge.h"
 #include "render/gpu_bvh.h"
 #include "scene/camera_path.h"
-#include "shared/sampling.glsl"
 
 namespace bounce::app {
 namespace {
-
-// Rays from random points inside the scene's bounds in random directions:
-// the incoherent case (GI bounces), unlike primary rays.
-std::vector<render::BvhRay> randomRays(const scene::Scene& scene, std::uint32_t count) {
-  const scene::Bounds sceneBounds = scene::worldBounds(scene, 0.0f);
-  // A scene with nothing in it has no bounds (they are inverted and infinite): its rays start around the origin.
-  const scene::Bounds bounds = sceneBounds.empty() ? scene::Bounds{glm::vec3(-1.0f), glm::vec3(1.0f)} : sceneBounds;
-  std::mt19937 random(1234);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::normal_distribution<float> gauss;
-  std::vector<render::BvhRay> rays(count);
-  for (render::BvhRay& ray : rays) {
-    const glm::vec3 origin = bounds.min + bounds.extent() * glm::vec3(unit(random), unit(random), unit(random));
-    glm::vec3 direction(gauss(random), gauss(random), gauss(random));
-    direction = glm::normalize(direction + glm::vec3(1e-6f));
-    ray.originTMin = glm::vec4(origin, 0.0f);
-    ray.directionTMax = glm::vec4(direction, 1e30f);
-  }
-  return rays;
-}
-
-// Rays as GI bounces cast them: from uniformly random points on the placed
-// triangles (by area), a little off the surface on a random side, in
-// cosine-distributed directions about that side's normal, unbounded.
-std::vector<render::BvhRay> surfaceRays(const scene::Scene& scene, std::uint32_t count) {
-  struct Placed {
-    glm::vec3 p0, e1, e2;
-  };
-  std::vector<Placed> triangles;
-  std::vector<double> cumulativeArea;
-  double area = 0.0;
-  for (const scene::Instance& instance : scene::instancesAt(scene, 0.0f)) {
-    const scene::Mesh& mesh = scene.meshes[std::size_t(instance.mesh)];
-    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-      const auto corner = [&](std::size_t c) {
-        return glm::vec3(instance.objectToWorld * glm::vec4(mesh.positions[mesh.indices[t + c]], 1.0f));
-      };
-      const glm::vec3 p0 = corner(0), e1 = corner(1) - p0, e2 = corner(2) - p0;
-      const double a = 0.5 * double(glm::length(glm::cross(e1, e2)));
-      if (!(a > 0.0) || !std::isfinite(a)) continue;
-      area += a;
-      triangles.push_back({p0, e1, e2});
-      cumulativeArea.push_back(area);
-    }
-  }
-  if (triangles.empty()) return randomRays(scene, count);
-  const scene::Bounds bounds = scene::worldBounds(scene, 0.0f);
-  const float extent = glm::length(bounds.extent());
-  std::mt19937 random(1234);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::vector<render::BvhRay> rays(count);
-  for (render::BvhRay& ray : rays) {
-    const double pick = double(unit(random)) * area;
-    const std::size_t index =
-        std::size_t(std::lower_bound(cumulativeArea.begin(), cumulativeArea.end(), pick) - cumulativeArea.begin());
-    const Placed& triangle = triangles[std::min(index, triangles.size() - 1)];
-    float u = unit(random), v = unit(random);
-    if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
-    const glm::vec3 p = triangle.p0 + triangle.e1 * u + triangle.e2 * v;
-    glm::vec3 normal = glm::normalize(glm::cross(triangle.e1, triangle.e2));
-    if (unit(random) < 0.5f) normal = -normal;
-    // Cosine-distributed about the normal, as the GI's ray candidates are.
-    glm::vec3 tangent, bitangent;
-    shared::buildOrthonormalBasis(normal, tangent, bitangent);
-    const glm::vec3 local = shared::sampleCosineHemisphere(glm::vec2(unit(random), unit(random)));
-    const glm::vec3 direction = glm::normalize(tangent * local.x + bitangent * local.y + normal * local.z);
-    const glm::vec3 origin = p + normal * (1e-4f * (1.0f + glm::length(p)) + 1e-5f * extent);
-    ray.originTMin = glm::vec4(origin, 0.0f);
-    ray.directionTMax = glm::vec4(direction, 1e30f);
-  }
-  return rays;
-}
 
 // Each GI pass against its traffic floor (docs/benchmarks.md, "Traffic
 // floors"): the bytes of the images its binds cover, each once, over the
@@ -156,9 +84,11 @@ CLI::App* addBenchCommand(CLI::App& app, BenchOptions& options) {
       ->check(CLI::Range(0u, 1u << 26));
   command
       ->add_option("--ray-origins", options.rayOrigins,
-                   "Where the --rays start: bounds (uniformly in the scene's box, uniform directions) or surfaces "
-                   "(on the triangles, cosine-distributed off them: GI bounces)")
-      ->check(CLI::IsMember({"bounds", "surfaces"}))
+                   "Where the --rays start: visible (off the surfaces the camera sees, one cosine-distributed "
+                   "ray a pixel in 8x8 tiles: the GI's rays), surfaces (anywhere on the triangles, "
+                   "cosine-distributed off them: GI bounces) or bounds (uniformly in the scene's box, uniform "
+                   "directions)")
+      ->check(CLI::IsMember({"visible", "surfaces", "bounds"}))
       ->capture_default_str();
   command
       ->add_option("--json", options.json,
@@ -240,9 +170,26 @@ int runBench(const BenchOptions& options) {
     copy = std::make_unique<CopyBandwidthProbe>(*context, VkDeviceSize(options.copyMegabytes) << 20);
   std::unique_ptr<render::BvhRayTracer> tracer;
   std::unique_ptr<gpu::Buffer> rays, results;
+  std::string rayOriginsText =
+      options.rayOrigins == "surfaces" ? "off the scene's surfaces" : "in the scene bounds";
   if (options.rays) {
-    const std::vector<render::BvhRay> rayData =
-        options.rayOrigins == "surfaces" ? surfaceRays(scene, options.rays) : randomRays(scene, options.rays);
+    std::vector<render::BvhRay> rayData;
+    if (options.rayOrigins == "visible") {
+      render::VisibleSurfaceRays visible =
+          render::visibleSurfaceRays(bvh, camera, options.width, options.height, options.rays);
+      rayData = std::move(visible.rays);
+      if (rayData.empty()) {
+        rayData = render::surfaceRays(scene, options.rays);
+        rayOriginsText = "off the scene's surfaces (the camera sees no surface)";
+      } else {
+        rayOriginsText = "off the surfaces the camera sees (" + std::to_string(visible.visiblePixels) + " of " +
+                         std::to_string(visible.pixels) + " pixels)";
+      }
+    } else if (options.rayOrigins == "surfaces") {
+      rayData = render::surfaceRays(scene, options.rays);
+    } else {
+      rayData = render::boundsRays(scene, options.rays);
+    }
     rays = std::make_unique<gpu::Buffer>(*context, "bench.rays", rayData.size() * sizeof(render::BvhRay),
                                          gpu::BufferUsage::DeviceLocal);
     gpu::uploadBuffer(*context, *rays, rayData.data(), rayData.size() * sizeof(render::BvhRay));
@@ -342,8 +289,7 @@ int runBench(const BenchOptions& options) {
                primaryRays / 1e6);
   if (tracer)
     std::fprintf(report, ", incoherent closest-hit %.0f M, incoherent any-hit %.0f M (%u random rays %s)",
-                 incoherentClosest / 1e6, incoherentAny / 1e6, options.rays,
-                 options.rayOrigins == "surfaces" ? "off the scene's surfaces" : "in the scene bounds");
+                 incoherentClosest / 1e6, incoherentAny / 1e6, options.rays, rayOriginsText.c_str());
   std::fprintf(report, "\n");
   if (copy)
     std::fprintf(

@@ -269,7 +269,9 @@ struct BenchOptions {
   // it (docs/benchmarks.md).
   double bandwidthGbps = 3000.0;
   std::uint32_t rays = 1u << 20;  // incoherent rays per frame for render.bvh_trace_rays (0 = skip)
-  std::string rayOrigins = "bounds";  // where they start: bounds (anywhere in the scene's box) or surfaces
+  // Where they start: surfaces (anywhere on the triangles), visible (the
+  // surfaces the camera sees) or bounds (anywhere in the scene's box).
+  std::string rayOrigins = "surfaces";
   std::string json;
   std::optional<float> sunElevation;
   std::optional<float> sunAzimuth;
