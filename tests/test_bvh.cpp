@@ -718,6 +718,39 @@ TEST(SceneBvh, KnownHitOnAScaledInstance) {
   EXPECT_EQ(bvh.traceClosest({3.0f, 1.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, 1e30f).t, kNoHit);
 }
 
+// The walk's counters (bench's "BVH walk" line): one triangle in one
+// instance, each tree a root with one slot, so every step is known.
+TEST(SceneBvh, WalkStatsCountTheNodesInstancesAndTrianglesTheWalkVisits) {
+  const scene::Scene s = oneTriangleScene();
+  SceneBvh bvh(s);
+  bvh.setInstances(std::vector<scene::Instance>{{0, 0, placement({0.0f, 0.0f, -4.0f}, 0.0f, {0, 1, 0}, {2.0f, 4.0f, 3.0f})}});
+  const BvhRay hits{glm::vec4(0.5f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, -2.0f, 1e30f)};
+  const BvhRay missesTheBox{glm::vec4(3.0f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, -1.0f, 1e30f)};
+  const BvhRay endsBeforeTheBox{glm::vec4(0.5f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, -2.0f, 1.0f)};
+  for (const bool anyHit : {false, true}) {
+    SCOPED_TRACE(anyHit ? "any hit" : "closest hit");
+    // TLAS root, the instance, its BLAS root, the triangle.
+    BvhWalkStats one = bvh.walkStats(std::vector<BvhRay>{hits}, anyHit);
+    EXPECT_EQ(one.rays, 1u);
+    EXPECT_EQ(one.nodes, 2u);
+    EXPECT_EQ(one.instances, 1u);
+    EXPECT_EQ(one.triangles, 1u);
+    // The TLAS root's one box is missed: nothing more.
+    for (const BvhRay& ray : {missesTheBox, endsBeforeTheBox}) {
+      const BvhWalkStats none = bvh.walkStats(std::vector<BvhRay>{ray}, anyHit);
+      EXPECT_EQ(none.nodes, 1u);
+      EXPECT_EQ(none.instances, 0u);
+      EXPECT_EQ(none.triangles, 0u);
+    }
+    // Sums over many rays, whichever thread walked each.
+    const std::vector<BvhRay> many(999, hits);
+    const BvhWalkStats all = bvh.walkStats(many, anyHit);
+    EXPECT_EQ(all.rays, 999u);
+    EXPECT_EQ(all.nodes, 2u * 999u);
+    EXPECT_DOUBLE_EQ(all.perRay(all.triangles), 1.0);
+  }
+}
+
 // A float determinant overflows at a scale of 1e13 and underflows at 1e-13;
 // such instances used to be left out as if singular. Only transforms with no
 // inverse in floats are left out now, and they are listed.

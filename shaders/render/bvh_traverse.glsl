@@ -18,6 +18,10 @@
 //                                whether a hit on an alpha-masked triangle counts
 //   BVH_CHECK_STACK(size)        optional, runs before every push (the CPU
 //                                throws on a full stack; the GPU relies on the bound)
+//   BVH_COUNT_NODE(), BVH_COUNT_INSTANCE(), BVH_COUNT_TRIANGLE()
+//                                optional, run at every node fetched, instance
+//                                entered and triangle tested (the CPU's walk
+//                                statistics)
 #ifndef BOUNCE_RENDER_BVH_TRAVERSE_GLSL
 #define BOUNCE_RENDER_BVH_TRAVERSE_GLSL
 
@@ -25,6 +29,11 @@
 
 #ifndef BVH_CHECK_STACK
 #define BVH_CHECK_STACK(size)
+#endif
+#ifndef BVH_COUNT_NODE
+#define BVH_COUNT_NODE()
+#define BVH_COUNT_INSTANCE()
+#define BVH_COUNT_TRIANGLE()
 #endif
 
 BOUNCE_SHARED_BEGIN
@@ -75,6 +84,7 @@ bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, floa
         stack[stackSize] = nodeGroup;
         ++stackSize;
       }
+      BVH_COUNT_NODE();
       BvhWideNode node;
       if (instance != kBvhInvalidIndex)
         node = BVH_BLAS_NODE(index);
@@ -102,6 +112,7 @@ bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, floa
         stack[stackSize] = itemGroup;
         ++stackSize;
       }
+      BVH_COUNT_INSTANCE();
       BvhInstance record = BVH_INSTANCE(itemGroup.x + bit);
       origin = bvhTransformPoint(record.worldToObject, worldOrigin);
       direction = bvhTransformVector(record.worldToObject, worldDirection);
@@ -116,6 +127,7 @@ bool bvhTraverse(BVH_SCENE_PARAMETER vec3 worldOrigin, vec3 worldDirection, floa
       uint bit = uint(findMSB(itemGroup.y));
       itemGroup.y &= ~(1u << bit);
       uint record = itemGroup.x + bit;
+      BVH_COUNT_TRIANGLE();
       vec4 p0 = BVH_POSITION(3u * record);
       vec4 p1 = BVH_POSITION(3u * record + 1u);
       vec4 p2 = BVH_POSITION(3u * record + 2u);

@@ -29,6 +29,9 @@
 namespace bounce::app {
 namespace {
 
+// How many of the --rays the CPU walks to count the walk's work.
+constexpr std::size_t kWalkStatsRays = 65536;
+
 // Each GI pass against its traffic floor (docs/benchmarks.md, "Traffic
 // floors"): the bytes of the images its binds cover, each once, over the
 // device's bandwidth is the least time it could take; the share of that in
@@ -170,6 +173,7 @@ int runBench(const BenchOptions& options) {
     copy = std::make_unique<CopyBandwidthProbe>(*context, VkDeviceSize(options.copyMegabytes) << 20);
   std::unique_ptr<render::BvhRayTracer> tracer;
   std::unique_ptr<gpu::Buffer> rays, results;
+  nlohmann::json walkStats = nlohmann::json::object();
   std::string rayOriginsText =
       options.rayOrigins == "surfaces" ? "off the scene's surfaces" : "in the scene bounds";
   if (options.rays) {
@@ -189,6 +193,22 @@ int runBench(const BenchOptions& options) {
       rayData = render::surfaceRays(scene, options.rays);
     } else {
       rayData = render::boundsRays(scene, options.rays);
+    }
+    // What the walk does for these rays, counted on the CPU (the same walk)
+    // over an even sample of them: where its time goes.
+    std::vector<render::BvhRay> sample;
+    const std::size_t sampleStride = std::max<std::size_t>(1, rayData.size() / kWalkStatsRays);
+    for (std::size_t i = 0; i < rayData.size(); i += sampleStride) sample.push_back(rayData[i]);
+    for (const bool anyHit : {false, true}) {
+      const render::BvhWalkStats stats = bvh.walkStats(sample, anyHit);
+      std::fprintf(report,
+                   "BVH walk (CPU, %zu of the rays), %s: %.1f nodes, %.2f instances, %.1f triangles a ray\n",
+                   sample.size(), anyHit ? "any hit" : "closest hit", stats.perRay(stats.nodes),
+                   stats.perRay(stats.instances), stats.perRay(stats.triangles));
+      walkStats[anyHit ? "any_hit" : "closest_hit"] = {{"rays", stats.rays},
+                                                       {"nodes_per_ray", stats.perRay(stats.nodes)},
+                                                       {"instances_per_ray", stats.perRay(stats.instances)},
+                                                       {"triangles_per_ray", stats.perRay(stats.triangles)}};
     }
     rays = std::make_unique<gpu::Buffer>(*context, "bench.rays", rayData.size() * sizeof(render::BvhRay),
                                          gpu::BufferUsage::DeviceLocal);
@@ -318,6 +338,7 @@ int runBench(const BenchOptions& options) {
                                     {"incoherent_closest_rays_per_s", incoherentClosest},
                                     {"incoherent_any_rays_per_s", incoherentAny},
                                     {"ray_origins", options.rayOrigins},
+                                    {"bvh_walk", walkStats},
                                     {"bvh_bytes", bvh.deviceBytes()},
                                     {"bvh_build_ms", bvhBuildMs},
                                     {"scene_bridge", gi ? options.gi.sceneBridge : "off"},

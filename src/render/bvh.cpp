@@ -6,6 +6,7 @@
 #include <future>
 #include <thread>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -22,6 +23,7 @@ struct BvhTraversalData {
   const std::vector<BvhInstance>& instances;
   const std::vector<vec4>& positions;
   const render::BvhAlphaTest& alphaTest;
+  render::BvhWalkStats* stats = nullptr;  // counted into when set
 };
 }  // namespace bounce::shared
 // Checked access: a reference out of range throws instead of reading past an array.
@@ -32,6 +34,12 @@ struct BvhTraversalData {
 #define BVH_POSITION(index) scene.positions.at(index)
 #define BVH_ALPHA_TEST(instance, triangle, barycentrics) \
   (!scene.alphaTest || scene.alphaTest(instance, triangle, barycentrics))
+#define BVH_COUNT_NODE() \
+  if (scene.stats) ++scene.stats->nodes
+#define BVH_COUNT_INSTANCE() \
+  if (scene.stats) ++scene.stats->instances
+#define BVH_COUNT_TRIANGLE() \
+  if (scene.stats) ++scene.stats->triangles
 #define BVH_CHECK_STACK(size) \
   if ((size) == kBvhStackSize) throw std::logic_error("BVH traversal stack overflow: the depth bound failed")
 #include "render/bvh_traverse.glsl"
@@ -611,9 +619,39 @@ bool SceneBvh::acceptHit(std::uint32_t instance, std::uint32_t triangle, glm::ve
 }
 
 bool SceneBvh::trace(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax, bool anyHit,
-                     const BvhAlphaTest& alphaTest, BvhHit& hit) const {
-  const shared::BvhTraversalData data{tlasNodes_, blasNodes_, instances_, positions_, alphaTest};
+                     const BvhAlphaTest& alphaTest, BvhHit& hit, BvhWalkStats* stats) const {
+  const shared::BvhTraversalData data{tlasNodes_, blasNodes_, instances_, positions_, alphaTest, stats};
   return shared::bvhTraverse(data, origin, direction, tMin, tMax, anyHit, hit);
+}
+
+BvhWalkStats SceneBvh::walkStats(std::span<const BvhRay> rays, bool anyHit) const {
+  const unsigned threadCount = std::clamp(std::thread::hardware_concurrency(), 1u, 64u);
+  std::vector<BvhWalkStats> counts(threadCount);
+  std::vector<std::exception_ptr> failures(threadCount);
+  std::vector<std::thread> threads;
+  for (unsigned worker = 0; worker < threadCount; ++worker)
+    threads.emplace_back([&, worker] {
+      try {
+        for (std::size_t i = worker; i < rays.size(); i += threadCount) {
+          BvhHit hit;
+          trace(glm::vec3(rays[i].originTMin), glm::vec3(rays[i].directionTMax), rays[i].originTMin.w,
+                rays[i].directionTMax.w, anyHit, {}, hit, &counts[worker]);
+        }
+      } catch (...) {
+        failures[worker] = std::current_exception();
+      }
+    });
+  for (std::thread& thread : threads) thread.join();
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+  BvhWalkStats total;
+  for (const BvhWalkStats& c : counts) {
+    total.nodes += c.nodes;
+    total.instances += c.instances;
+    total.triangles += c.triangles;
+  }
+  total.rays = rays.size();
+  return total;
 }
 
 BvhHit SceneBvh::traceClosest(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,

@@ -24,6 +24,7 @@ namespace bounce::render {
 
 using shared::BvhHit;
 using shared::BvhInstance;
+using shared::BvhRay;
 using shared::BvhWideNode;
 
 static_assert(sizeof(BvhWideNode) == 80, "BvhWideNode must match its std430 layout");
@@ -98,6 +99,16 @@ std::optional<glm::mat4> instanceWorldToObject(const glm::mat4& objectToWorld);
 // BVH_ALPHA_TEST in bvh_trace.glsl). Empty: every triangle is opaque.
 using BvhAlphaTest = std::function<bool(std::uint32_t instance, std::uint32_t triangle, glm::vec2 barycentrics)>;
 
+// What the walk did for a set of rays, in all (the CPU's walk, which is the
+// GPU's): nodes fetched (both levels), instances entered, triangles tested.
+struct BvhWalkStats {
+  std::uint64_t rays = 0;
+  std::uint64_t nodes = 0;
+  std::uint64_t instances = 0;
+  std::uint64_t triangles = 0;
+  double perRay(std::uint64_t count) const { return rays ? double(count) / double(rays) : 0.0; }
+};
+
 // The two-level scene BVH, flattened into the arrays the GPU reads.
 class SceneBvh {
  public:
@@ -168,6 +179,9 @@ class SceneBvh {
   // Whether anything is hit in (tMin, tMax) (shadow rays).
   bool traceAny(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,
                 const BvhAlphaTest& alphaTest = {}) const;
+  // The walk's work for these rays (each in its (tMin, tMax), no alpha test),
+  // counted on the machine's cores.
+  BvhWalkStats walkStats(std::span<const BvhRay> rays, bool anyHit) const;
   // Every triangle of every TLAS instance, no hierarchy.
   BvhHit traceClosestBruteForce(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax,
                                 const BvhAlphaTest& alphaTest = {}) const;
@@ -178,7 +192,7 @@ class SceneBvh {
 
  private:
   bool trace(glm::vec3 origin, glm::vec3 direction, float tMin, float tMax, bool anyHit, const BvhAlphaTest& alphaTest,
-             BvhHit& hit) const;
+             BvhHit& hit, BvhWalkStats* stats = nullptr) const;
   bool acceptHit(std::uint32_t instance, std::uint32_t triangle, glm::vec2 barycentrics,
                  const BvhAlphaTest& alphaTest) const;
 
