@@ -547,9 +547,33 @@ TEST_F(GiTest, WorldRaysStayWithinTheBudget) {
   EXPECT_GE(byPass("gi.specular.world_trace"), perFrame(counted, Purpose::Specular));
   EXPECT_GE(byPass("gi.cache.update"), perFrame(counted, Purpose::CacheUpdate));
   EXPECT_EQ(byPass("gi.diffuse.gather") + byPass("gi.diffuse.temporal_reuse") + byPass("gi.diffuse.spatial_reuse") +
-                byPass("gi.diffuse.resolve"),
+                byPass("gi.diffuse.resolve") + byPass("gi.specular.trace"),
             0.0)
       << "by default the rays are queued for passes of their own";
+
+  // The queued passes trace their lists and nothing else: one sky test a
+  // queued test, one specular ray a queued pixel, one to rayCandidates
+  // candidates a queued pixel; the passes without a queue take none.
+  const auto queuedBy = [&](const char* name) {
+    for (std::size_t p = 0; p < gi::kWorldRayPassCount; ++p)
+      if (std::string(gi::worldRayPassName(p)) == name)
+        return double(counted.sum.passQueued[p]) / double(counted.frames);
+    ADD_FAILURE() << "no world-ray pass named " << name;
+    return 0.0;
+  };
+  const double queuedTests = queuedBy("gi.diffuse.neighbour_visibility");
+  const double queuedSpecular = queuedBy("gi.specular.world_trace");
+  const double queuedCandidates = queuedBy("gi.diffuse.world_candidates");
+  ASSERT_GT(queuedTests, 0.0);
+  ASSERT_GT(queuedSpecular, 0.0);
+  ASSERT_GT(queuedCandidates, 0.0);
+  EXPECT_EQ(byPass("gi.diffuse.neighbour_visibility"), queuedTests);
+  EXPECT_EQ(perFrame(counted, Purpose::Specular), queuedSpecular);
+  EXPECT_GE(perFrame(counted, Purpose::DiffuseCandidates), queuedCandidates);
+  EXPECT_LE(perFrame(counted, Purpose::DiffuseCandidates), double(defaults.diffuse.rayCandidates) * queuedCandidates);
+  EXPECT_LT(queuedSpecular + queuedCandidates, 2.0 * reservoirs) << "only the pixels screen space could not finish";
+  for (const char* unqueued : {"gi.diffuse.gather", "gi.diffuse.sample_visibility", "gi.cache.update"})
+    EXPECT_EQ(queuedBy(unqueued), 0.0) << unqueued;
 
   // Three rays per reservoir: sample visibility and specular take two, the
   // one left pays for one candidate, none for a sky test in both passes.

@@ -440,6 +440,9 @@ struct WorldRayCount {
   std::uint64_t frameIndex = 0;
   std::array<std::uint64_t, kWorldRayPurposeCount> rays{};
   std::array<std::uint64_t, kWorldRayPassCount> passRays{};  // by worldRayPassName's numbering
+  // The entries of its world queue each pass took up (the pixels or tests
+  // an earlier pass left it to trace; 0 for passes that trace without one).
+  std::array<std::uint64_t, kWorldRayPassCount> passQueued{};
   std::uint64_t total() const;
 };
 

@@ -6,7 +6,8 @@
 // uints: a count, then the entries; the library clears the count before
 // the writer runs. The writer declares it as gOut_WorldQueue and defines
 // WORLD_QUEUE_APPEND, the reader as gIn_WorldQueue and defines
-// WORLD_QUEUE_READ, before including this.
+// WORLD_QUEUE_READ, before including this (the reader after
+// gi/world_ray_count.glsl: the entries it takes up are counted).
 #ifndef BOUNCE_GI_WORLD_QUEUE_GLSL
 #define BOUNCE_GI_WORLD_QUEUE_GLSL
 
@@ -31,7 +32,14 @@ void enqueuePixel(ivec2 halfPixel) { enqueue(uint(halfPixel.x) | (uint(halfPixel
 uint queueInvocation() { return gl_GlobalInvocationID.y * uint(halfSize().x) + gl_GlobalInvocationID.x; }
 uint queueInvocations() { return uint(halfSize().x) * uint(halfSize().y); }
 
-uint queuedCount() { return gIn_WorldQueue.items[0]; }
+// How many entries the queue holds; the first invocation of the dispatch
+// also counts them as taken up by this pass (gi/world_ray_count.glsl), so
+// the frame's counts give the pass's rays per entry.
+uint queuedCount() {
+  uint count = gIn_WorldQueue.items[0];
+  if (gl_GlobalInvocationID.x == 0u && gl_GlobalInvocationID.y == 0u) countQueuedEntries(count);
+  return count;
+}
 uint queuedEntry(uint index) { return gIn_WorldQueue.items[1u + index]; }
 
 // The pixel of this invocation's queue entry (invocation i takes entry i);

@@ -41,6 +41,11 @@ const uint kWorldRayPasses = 10u;
 // Each purpose has this many counters (summed on readback), so the atomics
 // of a frame's workgroups spread over several addresses instead of queueing on one.
 const uint kWorldRayCounterCopies = 16u;
+// After the ray counters, one word per pass: the entries of its world
+// queue (gi/world_queue.glsl) the pass took up in the frame, 0 for passes
+// without a queue; rays per entry show that a pass traces only its list.
+const uint kWorldRayQueuedCounters = kWorldRayPasses * kWorldRayPurposes * kWorldRayCounterCopies;
+const uint kWorldRayCounterWords = kWorldRayQueuedCounters + kWorldRayPasses;
 
 #ifdef __cplusplus
 }  // namespace bounce::shared
@@ -64,6 +69,11 @@ void countWorldRay(uint purpose) {
     uint counter = (uint(WORLD_RAY_PASS) * kWorldRayPurposes + purpose) * kWorldRayCounterCopies + copy;
     atomicAdd(gOut_WorldRays.items[counter], subgroupBallotBitCount(lanes));
   }
+}
+
+// Adds a queue's entries to this pass's count of them (one invocation calls it).
+void countQueuedEntries(uint entries) {
+  atomicAdd(gOut_WorldRays.items[kWorldRayQueuedCounters + uint(WORLD_RAY_PASS)], entries);
 }
 
 #endif

@@ -289,7 +289,9 @@ int runBench(const BenchOptions& options) {
     // Each pass's own rays (its rays of every purpose, the shadow rays that
     // light its hits among them) over its median time: the rate the GI sees,
     // to hold against the walk's own in a dense pass (--rays).
-    std::fprintf(report, "\nworld rays per second, by the pass that cast them (rays a frame / median pass time):\n");
+    std::fprintf(report,
+                 "\nworld rays per second, by the pass that cast them (rays a frame / median pass time; a pass "
+                 "that traces a queue left by an earlier one: its entries a frame):\n");
     const std::vector<gpu::PassTiming> timings = loop.timings().summary();
     for (std::size_t p = 0; p < gi::kWorldRayPassCount; ++p) {
       const double perFrame = double(tally.sum.passRays[p]) / frames;
@@ -298,9 +300,13 @@ int runBench(const BenchOptions& options) {
       const auto timing = std::find_if(timings.begin(), timings.end(),
                                        [&](const gpu::PassTiming& t) { return t.pass == pass; });
       const double medianMs = timing != timings.end() ? timing->medianMs : 0.0;
-      std::fprintf(report, "  %-32s %12.0f rays  %8.4f ms  %7.0f M rays/s\n", pass, perFrame, medianMs,
+      const double queued = double(tally.sum.passQueued[p]) / frames;
+      std::fprintf(report, "  %-32s %12.0f rays  %8.4f ms  %7.0f M rays/s", pass, perFrame, medianMs,
                    medianMs > 0.0 ? perFrame / (medianMs * 1e-3) / 1e6 : 0.0);
+      if (queued > 0.0) std::fprintf(report, "  %10.0f queued, %.2f rays each", queued, perFrame / queued);
+      std::fprintf(report, "\n");
       worldRaysByPass[pass] = {{"rays_per_frame", perFrame},
+                               {"queued_per_frame", queued},
                                {"median_ms", medianMs},
                                {"rays_per_second", medianMs > 0.0 ? perFrame / (medianMs * 1e-3) : 0.0}};
     }

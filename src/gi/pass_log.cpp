@@ -38,8 +38,7 @@ Visualization visualization(gpu::Visualize view) {
 PassLog::PassLog(gpu::Context& context, bool timestamps, bool countRays)
     : context_(context), timestamps_(timestamps && context.hasTimestamps()) {
   if (countRays) {
-    const VkDeviceSize bytes =
-        shared::kWorldRayPasses * shared::kWorldRayPurposes * shared::kWorldRayCounterCopies * sizeof(std::uint32_t);
+    const VkDeviceSize bytes = shared::kWorldRayCounterWords * sizeof(std::uint32_t);
     rayCounters_ = std::make_unique<gpu::Buffer>(context, "gi.world_ray_counts", bytes, gpu::BufferUsage::DeviceLocal);
     rayReadback_ =
         std::make_unique<gpu::Buffer>(context, "gi.world_ray_counts.readback", bytes, gpu::BufferUsage::Readback);
@@ -116,6 +115,8 @@ void PassLog::collectInto(FrameResults& results, const std::string& caller) {
           count.rays[purpose] += rays;
           count.passRays[pass] += rays;
         }
+    for (std::uint32_t pass = 0; pass < shared::kWorldRayPasses; ++pass)
+      count.passQueued[pass] = words[shared::kWorldRayQueuedCounters + pass];
     results.worldRays.push_back(count);
   }
   for (gpu::CapturedStage& capture : captures_) {

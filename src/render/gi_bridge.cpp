@@ -183,7 +183,10 @@ void GiBridge::record(gpu::Recorder& recorder, const gi::FrameInputs& inputs, st
       ++worldRays_.frames;
       worldRays_.sum.frameIndex = count.frameIndex;
       for (std::size_t p = 0; p < count.rays.size(); ++p) worldRays_.sum.rays[p] += count.rays[p];
-      for (std::size_t p = 0; p < count.passRays.size(); ++p) worldRays_.sum.passRays[p] += count.passRays[p];
+      for (std::size_t p = 0; p < count.passRays.size(); ++p) {
+        worldRays_.sum.passRays[p] += count.passRays[p];
+        worldRays_.sum.passQueued[p] += count.passQueued[p];
+      }
     }
     if (captures)
       for (gi::CapturedStage& stage : results.stages) captures->push_back(capturedStage(std::move(stage), stage.frameIndex));
