@@ -27,10 +27,18 @@ void enqueuePixel(ivec2 halfPixel) { enqueue(uint(halfPixel.x) | (uint(halfPixel
 #endif
 
 #ifdef WORLD_QUEUE_READ
-// For a pass dispatched over the half-resolution size: this invocation's
-// number, and how many there are.
-uint queueInvocation() { return gl_GlobalInvocationID.y * uint(halfSize().x) + gl_GlobalInvocationID.x; }
-uint queueInvocations() { return uint(halfSize().x) * uint(halfSize().y); }
+// This invocation's number, and how many the dispatch has: a workgroup's
+// invocations take consecutive entries, so the entries a writer's subgroup
+// appended together (neighbouring pixels) go to one subgroup here, whose
+// rays then start close together and walk the same nodes. (Numbered by
+// rows of the dispatch instead, a 32-wide subgroup of an 8x8 group took
+// four runs of eight entries from four places in the queue.) Every
+// invocation has its own number below queueInvocations().
+uint queueInvocation() {
+  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  return group * (gl_WorkGroupSize.x * gl_WorkGroupSize.y) + gl_LocalInvocationIndex;
+}
+uint queueInvocations() { return gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_WorkGroupSize.x * gl_WorkGroupSize.y; }
 
 // How many entries the queue holds; the first invocation of the dispatch
 // also counts them as taken up by this pass (gi/world_ray_count.glsl), so
@@ -47,7 +55,7 @@ uint queuedEntry(uint index) { return gIn_WorldQueue.items[1u + index]; }
 bool queuedPixel(out ivec2 halfPixel) {
   halfPixel = ivec2(0);
   uint index = queueInvocation();
-  if (gl_GlobalInvocationID.x >= uint(halfSize().x) || index >= queuedCount()) return false;
+  if (index >= queuedCount()) return false;
   uint entry = queuedEntry(index);
   halfPixel = ivec2(entry & 0xffffu, entry >> 16);
   return true;

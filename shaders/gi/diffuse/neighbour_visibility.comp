@@ -6,7 +6,7 @@
 // that does not has its M negated in the slot, for
 // gi.diffuse.spatial_normalize. Dispatched over the half-resolution size;
 // the queue can hold several tests per pixel, so each invocation takes
-// every queueInvocations()-th entry from its own on (gi/diffuse/neighbour_tests.glsl).
+// every queueInvocations()-th entry from its own on (gi/world_queue.glsl).
 // The pass whose counters its world rays add to (gi/world_ray_count.glsl).
 #define WORLD_RAY_PASS kWorldRayPassNeighbourVisibility
 #include "gi/gi_common.glsl"
@@ -26,12 +26,11 @@ layout(set = 0, binding = 7, std430) readonly buffer WorldQueue { uint items[]; 
 #include "gi/world_queue.glsl"
 
 void main() {
-  // Only invocations inside the half-resolution size: the dispatch rounds
-  // up to whole workgroups, and an invocation below the last row would
-  // start on an entry the one a row of pixels above takes on its second
-  // round, and both would turn its verdict (two turns: none, and which one
-  // lands last differed from run to run on the H100).
-  if (!kSceneBridgeTraces || params.slotsPerPixel == 0u || !insideHalf(ivec2(gl_GlobalInvocationID.xy))) return;
+  // Each entry is taken by exactly one invocation (queueInvocation numbers
+  // every invocation of the dispatch once and the stride is their count):
+  // two turning one verdict would cancel (they once did, when invocations
+  // past the half-resolution size shared numbers with others).
+  if (!kSceneBridgeTraces || params.slotsPerPixel == 0u) return;
   uint count = queuedCount();
   for (uint index = queueInvocation(); index < count; index += queueInvocations()) {
     uint slot = queuedEntry(index);
