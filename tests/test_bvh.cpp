@@ -27,9 +27,9 @@
 #include "render/benchmark_rays.h"
 #include "render/bvh.h"
 #include "render/frame_renderer.h"
+#include "render/gpu_bvh.h"
 #include "scene/builtin_scenes.h"
 #include "scene/camera_path.h"
-#include "render/gpu_bvh.h"
 
 #if __has_include("scene/gltf_import.h")
 #include "scene/gltf_import.h"
@@ -723,7 +723,8 @@ TEST(SceneBvh, KnownHitOnAScaledInstance) {
 TEST(SceneBvh, WalkStatsCountTheNodesInstancesAndTrianglesTheWalkVisits) {
   const scene::Scene s = oneTriangleScene();
   SceneBvh bvh(s);
-  bvh.setInstances(std::vector<scene::Instance>{{0, 0, placement({0.0f, 0.0f, -4.0f}, 0.0f, {0, 1, 0}, {2.0f, 4.0f, 3.0f})}});
+  bvh.setInstances(
+      std::vector<scene::Instance>{{0, 0, placement({0.0f, 0.0f, -4.0f}, 0.0f, {0, 1, 0}, {2.0f, 4.0f, 3.0f})}});
   const BvhRay hits{glm::vec4(0.5f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, -2.0f, 1e30f)};
   const BvhRay missesTheBox{glm::vec4(3.0f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, -1.0f, 1e30f)};
   const BvhRay endsBeforeTheBox{glm::vec4(0.5f, 1.0f, 0.0f, 0.0f), glm::vec4(0.0f, 0.0f, -2.0f, 1.0f)};

@@ -1,6 +1,8 @@
 #include "render/benchmark_rays.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <random>
@@ -69,7 +71,8 @@ std::vector<BvhRay> boundsRays(const scene::Scene& scene, std::uint32_t count) {
   std::vector<BvhRay> rays(count);
   for (BvhRay& ray : rays) {
     const glm::vec3 origin = bounds.min + bounds.extent() * glm::vec3(unit(random), unit(random), unit(random));
-    const glm::vec3 direction = glm::normalize(glm::vec3(gauss(random), gauss(random), gauss(random)) + glm::vec3(1e-6f));
+    const glm::vec3 direction =
+        glm::normalize(glm::vec3(gauss(random), gauss(random), gauss(random)) + glm::vec3(1e-6f));
     ray = unboundedRay(origin, direction);
   }
   return rays;
@@ -118,7 +121,8 @@ std::vector<BvhRay> surfaceRays(const scene::Scene& scene, std::uint32_t count) 
 }
 
 VisibleSurfaceRays visibleSurfaceRays(const SceneBvh& bvh, const scene::CameraPose& camera, std::uint32_t width,
-                                      std::uint32_t height, std::uint32_t count) {
+                                      std::uint32_t height, std::uint32_t count,
+                                      const std::function<void(std::uint64_t done, std::uint64_t total)>& progress) {
   VisibleSurfaceRays result;
   result.pixels = width * height;
   const shared::GpuCamera gpu = gpuCamera(camera, width, height);
@@ -138,33 +142,46 @@ VisibleSurfaceRays visibleSurfaceRays(const SceneBvh& bvh, const scene::CameraPo
   const unsigned threadCount = std::clamp(std::thread::hardware_concurrency(), 1u, 64u);
   std::vector<std::thread> threads;
   std::vector<std::exception_ptr> failures(threadCount);
+  std::atomic<std::uint64_t> traced{0};
+  std::atomic<unsigned> running{threadCount};
   for (unsigned worker = 0; worker < threadCount; ++worker)
     threads.emplace_back([&, worker] {
       try {
-      for (std::uint64_t i = worker; i < result.pixels; i += threadCount) {
-        const glm::uvec2 pixel = tiledPixel(width, height, i);
-        const glm::vec3 direction = shared::cameraRayDirection(gpu, glm::vec2(pixel) + 0.5f, size);
-        const BvhHit hit = bvh.traceClosest(eye, direction, 0.0f, shared::kNoHit);
-        if (hit.instance == shared::kBvhInvalidIndex) continue;
-        const BvhInstance& record = bvh.instances()[recordOf.at(hit.instance)];
-        const glm::uvec4 corners = bvh.triangles()[hit.triangle];
-        const auto world = [&](std::uint32_t vertex) {
-          return shared::bvhTransformPoint(record.objectToWorld, glm::vec3(bvh.positions()[vertex]));
-        };
-        const glm::vec3 p0 = world(corners.x), p1 = world(corners.y), p2 = world(corners.z);
-        const glm::vec3 cross = glm::cross(p1 - p0, p2 - p0);
-        const float length = glm::length(cross);
-        if (!(length > 0.0f) || !std::isfinite(length)) continue;
-        glm::vec3 normal = cross / length;
-        if (glm::dot(normal, direction) > 0.0f) normal = -normal;
-        const glm::vec2 b = hit.barycentrics;
-        surfaces[i] = {p0 + (p1 - p0) * b.x + (p2 - p0) * b.y, normal, true};
-      }
+        std::uint64_t sinceReported = 0;  // pixels this thread took since it last added them to `traced`
+        for (std::uint64_t i = worker; i < result.pixels; i += threadCount) {
+          if (++sinceReported == 4096) {
+            traced.fetch_add(sinceReported, std::memory_order_relaxed);
+            sinceReported = 0;
+          }
+          const glm::uvec2 pixel = tiledPixel(width, height, i);
+          const glm::vec3 direction = shared::cameraRayDirection(gpu, glm::vec2(pixel) + 0.5f, size);
+          const BvhHit hit = bvh.traceClosest(eye, direction, 0.0f, shared::kNoHit);
+          if (hit.instance == shared::kBvhInvalidIndex) continue;
+          const BvhInstance& record = bvh.instances()[recordOf.at(hit.instance)];
+          const glm::uvec4 corners = bvh.triangles()[hit.triangle];
+          const auto world = [&](std::uint32_t vertex) {
+            return shared::bvhTransformPoint(record.objectToWorld, glm::vec3(bvh.positions()[vertex]));
+          };
+          const glm::vec3 p0 = world(corners.x), p1 = world(corners.y), p2 = world(corners.z);
+          const glm::vec3 cross = glm::cross(p1 - p0, p2 - p0);
+          const float length = glm::length(cross);
+          if (!(length > 0.0f) || !std::isfinite(length)) continue;
+          glm::vec3 normal = cross / length;
+          if (glm::dot(normal, direction) > 0.0f) normal = -normal;
+          const glm::vec2 b = hit.barycentrics;
+          surfaces[i] = {p0 + (p1 - p0) * b.x + (p2 - p0) * b.y, normal, true};
+        }
       } catch (...) {
         failures[worker] = std::current_exception();
       }
+      running.fetch_sub(1);
     });
+  while (progress && running.load() > 0) {
+    progress(std::min<std::uint64_t>(traced.load(std::memory_order_relaxed), result.pixels), result.pixels);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
   for (std::thread& thread : threads) thread.join();
+  if (progress) progress(result.pixels, result.pixels);
   for (const std::exception_ptr& failure : failures)
     if (failure) std::rethrow_exception(failure);
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "render/bvh.h"
@@ -37,8 +38,11 @@ struct VisibleSurfaceRays {
 // tiles, as the GI's 8x8 workgroups take them, so neighbouring rays start
 // close together; `count` rays spread evenly over the visible pixels in that
 // order (a pixel repeats when count exceeds them). No rays when no pixel
-// sees a surface. `bvh` must hold its instances (setInstances).
-VisibleSurfaceRays visibleSurfaceRays(const SceneBvh& bvh, const scene::CameraPose& camera, std::uint32_t width,
-                                      std::uint32_t height, std::uint32_t count);
+// sees a surface. `bvh` must hold its instances (setInstances). `progress`,
+// when given, is called on the calling thread with the pixels traced so
+// far and their total, a few times a second and once at the end.
+VisibleSurfaceRays visibleSurfaceRays(
+    const SceneBvh& bvh, const scene::CameraPose& camera, std::uint32_t width, std::uint32_t height,
+    std::uint32_t count, const std::function<void(std::uint64_t done, std::uint64_t total)>& progress = {});
 
 }  // namespace bounce::render

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <future>
-#include <thread>
 #include <chrono>
-#include <exception>
 #include <cmath>
+#include <exception>
+#include <future>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include <glm/gtc/matrix_inverse.hpp>
 
