@@ -351,6 +351,31 @@ TEST_F(GiTest, RoughMetalFloorReflectsTheWallsLight) { checkMetalFloor(0.5f, 0.1
 
 TEST_F(GiTest, SmoothMetalFloorReflectsTheWallsLight) { checkMetalFloor(0.15f, 0.15f); }
 
+// Rough pixels take the diffuse branch's final sample instead of casting a
+// ray (gi.specular.diffuse_sample_roughness): on the rough metal floor,
+// with the diffuse branch on and every pixel taking its sample, the
+// specular estimate still matches the quadrature, and the specular passes
+// cast no ray at all. A sample weighed wrongly (W taken as the pdf instead
+// of its inverse, or the diffuse target kept) misses by far more than the
+// tolerance; a branch that fell back to tracing casts rays.
+TEST_F(GiTest, RoughMetalFloorReflectsTheWallsLightThroughTheDiffuseSamples) {
+  const float roughness = 0.6f;
+  Settings settings;
+  settings.specular.diffuseSampleRoughness = 0.0f;
+  const scene::CameraPose camera = metalFloorCamera();
+  Run run = start(metalFloorBeforeTheWall(roughness), settings, 96, 72, false, render::bvhSceneBridge());
+  advance(run, camera, 16u);
+  run.gi->resetWorldRays();
+  const io::ImageF mean = average(run, camera, 24, &render::GiBridge::indirectSpecular);
+  const render::GiBridge::WorldRayTally rays = run.gi->worldRays();
+  EXPECT_GT(rays.frames, 0u);
+  EXPECT_EQ(rays.sum.rays[std::size_t(gi::WorldRayPurpose::Specular)], 0u);
+  EXPECT_GT(rays.sum.rays[std::size_t(gi::WorldRayPurpose::DiffuseCandidates)], 0u);
+  expectFloorMatches(
+      run, camera, mean, [&](glm::vec3 p) { return metalFloorReflection(p, roughness); }, 500, 0.15f,
+      "rough metal floor through the diffuse samples");
+}
+
 // Specular reuse pays on a rough metal floor at the first frame after a cut
 // (no temporal reuse, no filter history: the resolve's own noise): its
 // error against the quadrature, per pixel where the wall is reflected,
@@ -620,6 +645,47 @@ TEST_F(GiTest, CachedDirectLightSavesShadowRaysAndKeepsTheLight) {
   ASSERT_GT(exact.hitShadows, 0.0);
   EXPECT_LT(cached.hitShadows, 0.8 * exact.hitShadows);  // the cells' own shadow rays stay
   EXPECT_NEAR(cached.indirect / exact.indirect, 1.0, 0.06);
+}
+
+// gi.specular.cached_direct_roughness: the specular world ray's hits take
+// their direct light from their cache cell as the diffuse ones do: fewer
+// shadow rays at hits and about the same light. The diffuse branch is off,
+// so every shadow ray at a hit is the specular continuation's.
+TEST_F(GiTest, SpecularHitsTakeTheCachedDirectLightAndKeepTheLight) {
+  const scene::Scene room = scene::makeBuiltinScene("sun-room");
+  const scene::CameraPose camera = *room.suggestedCamera;
+  constexpr std::uint32_t kWidth = 96, kHeight = 54;
+  struct Result {
+    double hitShadows, specular;
+  };
+  const auto measure = [&](float cachedDirectRoughness) {
+    Settings settings = filtersOnly();
+    settings.diffuse.enabled = false;
+    settings.specular.cachedDirectRoughness = cachedDirectRoughness;
+    settings.cache.cellSize = 0.16f;  // cells shared by as many hits as at 1080p (see above)
+    Run run = start(room, settings, kWidth, kHeight, false, render::bvhSceneBridge());
+    advance(run, camera, 16u);
+    run.gi->resetWorldRays();
+    const double specular =
+        bounce::testing::meanLuminance(average(run, camera, 8, &render::GiBridge::indirectSpecular));
+    // The continuation's own shadow rays: its pass's rays beyond its one a pixel (the cache's paths cast theirs too).
+    const render::GiBridge::WorldRayTally& tally = run.gi->worldRays();
+    double passRays = -1.0;
+    for (std::size_t p = 0; p < gi::kWorldRayPassCount; ++p)
+      if (std::string(gi::worldRayPassName(p)) == "gi.specular.world_trace") passRays = double(tally.sum.passRays[p]);
+    EXPECT_GE(passRays, 0.0) << "no world-ray pass named gi.specular.world_trace";
+    const double traced = double(tally.sum.rays[std::size_t(gi::WorldRayPurpose::Specular)]);
+    return Result{(passRays - traced) / double(tally.frames), specular};
+  };
+  const Result exact = measure(2.0f);
+  const Result cached = measure(0.0f);
+  std::printf(
+      "sun-room %ux%u, specular only: the continuation's shadow rays %.0f -> %.0f a frame, specular mean %.4f -> "
+      "%.4f\n",
+              kWidth, kHeight, exact.hitShadows, cached.hitShadows, exact.specular, cached.specular);
+  ASSERT_GT(exact.hitShadows, 0.0);
+  EXPECT_LT(cached.hitShadows, 0.5 * exact.hitShadows);  // a cell not yet known still takes a shadow ray
+  EXPECT_NEAR(cached.specular / exact.specular, 1.0, 0.06);
 }
 
 // Same command, same seed, same bits: two runs of the hybrid on sun-room

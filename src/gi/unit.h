@@ -40,6 +40,9 @@ inline constexpr std::string_view kDepthPyramid = "depth_pyramid";  // binds: gI
 inline constexpr std::string_view kScreenTiles = "screen_tiles";    // binds: the tiles and border
 inline constexpr std::string_view kLightChange = "light_change";
 inline constexpr std::string_view kCache = "cache";  // binds: the radiance cache's buffers
+// binds: gIn_Diffuse_Reservoir0/1, the diffuse branch's final reservoirs of
+// this frame (half resolution; rough specular pixels take their samples).
+inline constexpr std::string_view kDiffuseReservoirs = "diffuse.reservoirs";
 // The engine's environment (FrameInputs::environment), which the context
 // makes: a frame no unit takes it of may leave it out.
 inline constexpr std::string_view kEnvironment = "engine.environment";

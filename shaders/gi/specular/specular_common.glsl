@@ -36,6 +36,8 @@ struct SpecularConstants {
   float temporalFilterFrames;
   float environmentLevels;  // mip levels of the prefiltered environment
   uint hasPreviousFrame;    // 1: last frame's composite holds a frame to read hits from
+  float diffuseSampleRoughness;  // at and above: the diffuse branch's sample, no ray (above 1: none)
+  float cachedDirectRoughness;   // at and above: world hits take the cache's direct light (above 1: none)
 };
 
 #ifdef __cplusplus

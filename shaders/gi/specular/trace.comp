@@ -21,7 +21,9 @@
 // surface is blocked by it, one that left the screen sees what the screen's
 // edge shows where it left. The sample goes into a fresh
 // reservoir (M = 1) with the target of its sampling; its hit point keeps the
-// hit distance, which the resolve and the filter need.
+// hit distance, which the resolve and the filter need. A pixel at least
+// gi.specular.diffuse_sample_roughness rough casts no ray: it takes the
+// diffuse branch's final sample of this frame instead (storeDiffuseSample).
 // The pass whose counters its world rays add to (gi/world_ray_count.glsl).
 #define WORLD_RAY_PASS kWorldRayPassSpecularTrace
 #include "gi/gi_common.glsl"
@@ -59,6 +61,33 @@ layout(set = 0, binding = WORLD_QUEUE_BINDING + 1, std430) buffer WorldQueue { u
 #include "gi/world_queue.glsl"
 #define SCREEN_TILES_BINDING 13
 #include "gi/screen_only_policy.glsl"
+// The diffuse branch's final reservoirs of this frame (rough pixels take
+// their sample; bound to something else, and never read, where
+// diffuseSampleRoughness is above 1).
+layout(set = 0, binding = 15, rgba32ui) readonly uniform uimage2D gIn_Diffuse_Reservoir0;
+layout(set = 0, binding = 16, rgba32ui) readonly uniform uimage2D gIn_Diffuse_Reservoir1;
+
+// The fresh reservoir of a pixel at least diffuseSampleRoughness rough:
+// the diffuse branch's final sample at the same surface (the same
+// half-resolution pixel), streamed in with that reservoir's unbiased
+// contribution weight W as the inverse of its pdf (per unit solid angle,
+// as the specular lobe's). RIS with a source pdf known only through W
+// stays unbiased where the source's target covers the new one: the
+// diffuse target (the sample's luminance times the cosine) is positive
+// wherever the specular target (BRDF times the cosine times the radiance)
+// is. A reservoir without a sample, or with W = 0 (not visible), leaves
+// the pixel a frame with nothing, as its estimate says.
+void storeDiffuseSample(ivec2 halfPixel, Reservoir r, GlossySurface s) {
+  Reservoir diffuse = unpackReservoir(imageLoad(gIn_Diffuse_Reservoir0, halfPixel),
+                                      imageLoad(gIn_Diffuse_Reservoir1, halfPixel));
+  bool found = reservoirHasSample(diffuse) && diffuse.W > 0.0f && isFinite(diffuse.W);
+  Reservoir candidate = emptyReservoir();
+  candidate.flags = kReservoirHasSample | (diffuse.flags & kReservoirEnvironment);
+  candidate.position = diffuse.position;
+  candidate.normal = diffuse.normal;
+  candidate.radiance = sanitizeRadiance(diffuse.radiance);
+  storeCandidate(halfPixel, r, found, candidate, s, found ? 1.0f / diffuse.W : 1.0f);
+}
 
 // Where an undecided ray that did not pass behind a surface on screen left
 // the screen: where the segment from its origin's pixel through the last
@@ -94,6 +123,10 @@ void main() {
   r.M = 1.0f;  // one frame's ray, even when it finds nothing: later merges must weigh that too
   SpecularConstants c = gIn_SpecularConstants.specular;
   GlossySurface s = pixelGlossySurface(x, roughness, pixel);
+  if (s.roughness >= c.diffuseSampleRoughness) {
+    storeDiffuseSample(halfPixel, r, s);
+    return;
+  }
   uint pixelSeed = rngSeed(uvec2(halfPixel), 0u, gIn_Frame.frame.seed ^ kSaltSpecularTrace);
   vec2 u = haltonPixelSample(gIn_Frame.frame.frameIndex, pixelSeed);
   vec3 direction;

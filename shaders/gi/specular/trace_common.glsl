@@ -33,8 +33,10 @@ bool previousRadiance(vec3 position, vec3 normal, float roughness, vec3 directio
 
 // The candidate of a ray through the scene bridge from the start: its hit,
 // lit by last frame's screen where that showed it alike, else by the bridge
-// and the radiance cache; a true miss sees the sharp environment.
-Reservoir worldCandidate(vec3 origin, vec3 direction, vec3 normal) {
+// and the radiance cache (with `directFromCache`, the direct light too where
+// the hit's cell knows it: no shadow ray); a true miss sees the sharp
+// environment.
+Reservoir worldCandidate(vec3 origin, vec3 direction, vec3 normal, bool directFromCache) {
   Reservoir candidate = emptyReservoir();
   candidate.flags = kReservoirHasSample;
   SceneHit hit = worldTraceClosest(origin, direction, kWorldRaysSpecular);
@@ -42,7 +44,7 @@ Reservoir worldCandidate(vec3 origin, vec3 direction, vec3 normal) {
     candidate.position = hit.position;
     candidate.normal = hit.normal;
     if (!previousRadiance(hit.position, hit.normal, hit.roughness, direction, candidate.radiance))
-      candidate.radiance = offscreenHitRadiance(hit, direction, false);
+      candidate.radiance = offscreenHitRadiance(hit, direction, directFromCache);
   } else {
     candidate.position = direction;
     candidate.normal = normal;

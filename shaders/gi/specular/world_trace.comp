@@ -49,6 +49,10 @@ void main() {
   float pdf = pending.w;
   Reservoir r = emptyReservoir();
   r.M = 1.0f;
-  Reservoir candidate = worldCandidate(rayOrigin(x.position, x.normal, x.viewZ), direction, x.normal);
+  // A rough lobe blurs what it reflects over more than a cache cell: its
+  // hits may take their direct light from the cell instead of a shadow ray.
+  bool directFromCache = s.roughness >= gIn_SpecularConstants.specular.cachedDirectRoughness;
+  Reservoir candidate =
+      worldCandidate(rayOrigin(x.position, x.normal, x.viewZ), direction, x.normal, directFromCache);
   storeCandidate(halfPixel, r, true, candidate, s, pdf);
 }

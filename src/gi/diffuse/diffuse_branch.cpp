@@ -325,6 +325,12 @@ void DiffuseBranch::record(const FrameState& frame) {
                       std::span<const gpu::Bind>(scene_.binds(*passes_->sampleVisibility,
                                                               {{"gIn_Reservoir0", *final0},
                                                                {"gInOut_Reservoir1", *final1}})));
+  // Samples tested visible from their surface, which rough specular pixels
+  // may take as their own (gi.specular.diffuse_sample_roughness); untested
+  // ones (screen or world visibility: the resolve tests them) are not offered.
+  if (traces && d.visibility == Visibility::Hybrid)
+    frame.products.put(product::kDiffuseReservoirs,
+                       std::vector<gpu::Bind>{{"gIn_Diffuse_Reservoir0", *final0}, {"gIn_Diffuse_Reservoir1", *final1}});
 
   gpu::Image& resolved = images_.current(kResolved, f);
   recorder.dispatch(passes_->resolve, full.width, full.height, frame.group.binds(),
@@ -427,7 +433,8 @@ UnitRegistration diffuseUnit() {
           .produces =
               [](const UnitSetup&) {
                 return std::vector<std::string>{std::string(DiffuseBranch::kSignal),
-                                                product::noisy(DiffuseBranch::kSignal)};
+                                                product::noisy(DiffuseBranch::kSignal),
+                                                std::string(product::kDiffuseReservoirs)};
               },
           .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
             const DiffuseBranchSettings settings = DiffuseBranch::settingsOf(setup.settings);

@@ -104,6 +104,8 @@ std::vector<std::string> SpecularBranch::takes() const {
   if (settings_.specular.traceSteps > 0) takes.emplace_back(product::kDepthPyramid);
   // Without a bridge that traces, the screen-only policy answers the rays screen space cannot decide.
   if (!scene_.traces()) takes.emplace_back(product::kScreenTiles);
+  // Rough pixels take the diffuse branch's samples where it offers them (record() falls back to a ray where not).
+  if (settings_.specular.diffuseSampleRoughness <= 1.0f) takes.emplace_back(product::kDiffuseReservoirs);
   return takes;
 }
 
@@ -143,6 +145,11 @@ void SpecularBranch::record(const FrameState& frame) {
   c.temporalFilterFrames = float(s.temporalFilterFrames);
   c.environmentLevels = float(frame.engine[Input::Environment].desc().mipLevels);
   c.hasPreviousFrame = frame.hasHistory ? 1u : 0u;
+  // Without the diffuse branch's tested samples (it is off, the engine
+  // gives its own diffuse, or its visibility is not hybrid) every pixel traces.
+  const std::span<const gpu::Bind> diffuseSamples = products.binds(product::kDiffuseReservoirs);
+  c.diffuseSampleRoughness = diffuseSamples.empty() ? 2.0f : s.diffuseSampleRoughness;
+  c.cachedDirectRoughness = s.cachedDirectRoughness;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_SpecularConstants", *constants_);
   const gpu::Bind material("gIn_BaseColorMetallic", frame.engine[Input::BaseColorMetallic], frame.nearestSampler);
@@ -166,6 +173,13 @@ void SpecularBranch::record(const FrameState& frame) {
                                                                     {"gOut_Reservoir1", traced1},
                                                                     {"gOut_PendingRay", pending}});
   if (worldQueue_) traceBinds.emplace_back("gOut_WorldQueue", *worldQueue_);
+  if (diffuseSamples.empty()) {
+    // Never read (diffuseSampleRoughness 2): last frame's reservoirs keep the bindings whole.
+    traceBinds.emplace_back("gIn_Diffuse_Reservoir0", images_.previous(kSpecularReservoirs0, f));
+    traceBinds.emplace_back("gIn_Diffuse_Reservoir1", images_.previous(kSpecularReservoirs1, f));
+  } else {
+    traceBinds.insert(traceBinds.end(), diffuseSamples.begin(), diffuseSamples.end());
+  }
   for (const std::string_view name : {product::kDepthPyramid, product::kScreenTiles}) {
     const std::span<const gpu::Bind> binds = products.binds(name);
     traceBinds.insert(traceBinds.end(), binds.begin(), binds.end());

@@ -32,7 +32,8 @@ gpu::ConstantsDecl specularConstantsLayout() {
                                  temporalCosNormalTolerance, spatialSamples, spatialMaxRadius,
                                  spatialCosNormalTolerance, spatialPlaneTolerance, jacobian, resolveMaxSamples,
                                  resolveFullRoughness, resolveMaxRadius, reprojection, varianceClippingGamma,
-                                 temporalFilterFrames, environmentLevels, hasPreviousFrame);
+                                 temporalFilterFrames, environmentLevels, hasPreviousFrame,
+                                 diffuseSampleRoughness, cachedDirectRoughness);
 }
 
 ResourceDecl baseColorMetallic() {
@@ -62,7 +63,10 @@ gpu::PassDesc specularTracePass() {
                       {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED,
                        "prefiltered sky for rays that miss", ResourceKind::SampledImage}},
                      joinDecls(reservoirDecls("gOut", Access::Write, "fresh reservoirs (hit point, its radiance)"),
-                               {depthPyramidDecl()})));
+                               joinDecls({depthPyramidDecl()},
+                                         reservoirDecls("gIn_Diffuse", Access::Read,
+                                                        "the diffuse branch's final reservoirs: rough pixels' "
+                                                        "samples (gi.specular.diffuse_sample_roughness)")))));
   desc.constants.push_back(cacheConstantsLayout());
   return desc;
 }

@@ -17,6 +17,12 @@ constexpr std::array kEntries{
           "uniform sampling: the cone holds this fraction of the lobe's microfacet normals"},
     Entry{"specular.reuse_min_roughness", inSpecular(&SpecularSettings::reuseMinRoughness), closed(0, 1),
           "below this perceptual roughness no reservoir is reused in time or space: each pixel keeps its own ray"},
+    Entry{"specular.diffuse_sample_roughness", inSpecular(&SpecularSettings::diffuseSampleRoughness), closed(0, 2),
+          "at and above this perceptual roughness a pixel traces no ray: its fresh sample is the diffuse branch's "
+          "final one at the same surface, weighed by its contribution weight (above 1: every pixel traces)"},
+    Entry{"specular.cached_direct_roughness", inSpecular(&SpecularSettings::cachedDirectRoughness), closed(0, 2),
+          "at and above this perceptual roughness the hits of a pixel's world ray take their direct light from the "
+          "radiance cache where it knows it, instead of shadow rays (above 1: every hit casts its own)"},
     Entry{"specular.trace_steps", inSpecular(&SpecularSettings::traceSteps), closed(0, 512),
           "screen-space march steps of a ray through the depth buffer before it continues through the scene bridge (0: "
           "the "
