@@ -611,6 +611,28 @@ TEST_F(GiTest, WorldRaysStayWithinTheBudget) {
   EXPECT_LT(perPixelPurposes(cut), used);
 }
 
+// The radiance cache holds its cells only where they can be filled: with a
+// bridge that traces, the cells of gi.cache.memory_mib; screen-only, or
+// with the cache off, one cell (its 72 MiB at every size were once held
+// for nothing). memoryByUnit() counts what the arena handed out.
+TEST_F(GiTest, TheCacheHoldsItsCellsOnlyWhereTheyCanBeFilled) {
+  const scene::Scene room = scene::makeBuiltinScene("sun-room");
+  const auto cacheBytes = [&](const Settings& settings, bool bridged) {
+    Run run = start(room, settings, 64, 36, false, bridged ? render::bvhSceneBridge() : gi::SceneBridge{});
+    for (const UnitMemory& unit : run.gi->library().memoryByUnit())
+      if (unit.unit == "cache") return unit.bytes;
+    ADD_FAILURE() << "no unit named cache";
+    return std::uint64_t(0);
+  };
+  constexpr std::uint64_t kMiB = 1 << 20;
+  const Settings defaults;
+  Settings off;
+  off.cache.enabled = false;
+  EXPECT_GE(cacheBytes(defaults, true), std::uint64_t(defaults.cache.memoryMib) * kMiB / 2);
+  EXPECT_LT(cacheBytes(defaults, false), kMiB);
+  EXPECT_LT(cacheBytes(off, true), kMiB);
+}
+
 // With gi.cache.direct_light, the diffuse hits take their direct light from
 // their cache cell: far fewer shadow rays at hits where many hits share a
 // cell, and about the same light (the cell's light is the bridge's at one

@@ -97,6 +97,10 @@ std::uint32_t cacheCapacity(std::uint32_t memoryMib) {
   return std::uint32_t(std::bit_floor(std::max<std::uint64_t>(cells, 1)));
 }
 
+std::uint32_t cacheCellsHeld(const CacheSettings& settings, bool bridgeTraces) {
+  return settings.enabled && bridgeTraces ? cacheCapacity(settings.memoryMib) : 1u;
+}
+
 std::uint32_t cacheUpdateStride(Extent renderSize, const CacheSettings& settings) {
   const std::uint64_t paths = std::max<std::uint64_t>(settings.updateRays / std::max(settings.updateBounces, 1u), 1);
   const double pixelsPerPath = double(renderSize.width) * double(renderSize.height) / double(paths);
@@ -139,7 +143,7 @@ RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Ext
       scene_(scene),
       settings_(settings),
       environmentMip_(environmentMip),
-      capacity_(cacheCapacity(settings.memoryMib)),
+      capacity_(cacheCellsHeld(settings, scene.traces())),
       images_(context, arena, kImages, maxSize) {
   const auto make = [&](const char* name, std::uint64_t bytes) {
     return std::make_unique<gpu::Buffer>(context, name, bytes, gpu::BufferUsage::DeviceLocal, &arena);
@@ -155,9 +159,9 @@ RadianceCache::RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Ext
 
 RadianceCache::~RadianceCache() = default;
 
-std::uint64_t RadianceCache::memoryBytes(Extent maxSize, const CacheSettings& settings) {
+std::uint64_t RadianceCache::memoryBytes(Extent maxSize, const CacheSettings& settings, bool bridgeTraces) {
   // keys, accumulators, radiance, touched (as the constructor makes them) and the counts.
-  return imageSetBytes(kImages, maxSize) + std::uint64_t(cacheCapacity(settings.memoryMib)) * kCacheBytesPerCell +
+  return imageSetBytes(kImages, maxSize) + std::uint64_t(cacheCellsHeld(settings, bridgeTraces)) * kCacheBytesPerCell +
          kCountsBytes + sizeof(shared::CacheConstants);
 }
 
@@ -256,7 +260,9 @@ UnitRegistration cacheUnit() {
                                                    resources.scene);
           },
           .memoryBytes =
-              [](const UnitSetup& setup) { return RadianceCache::memoryBytes(setup.maxSize, setup.settings.cache); }};
+              [](const UnitSetup& setup) {
+                return RadianceCache::memoryBytes(setup.maxSize, setup.settings.cache, setup.bridgeTraces);
+              }};
 }
 
 }  // namespace bounce::gi

@@ -27,6 +27,10 @@ constexpr std::uint64_t kCacheBytesPerCell = 4 + 32 + 32 + 4;
 constexpr std::uint64_t kCountsBytes = 12;
 // Cells the cache holds within `memoryMib`: the largest power of two that fits.
 std::uint32_t cacheCapacity(std::uint32_t memoryMib);
+// The cells a cache holds: cacheCapacity(memory_mib) where it can be
+// filled (enabled, with a bridge that traces); else one, which keeps every
+// binding whole without the 72 MiB of cells nothing would write or read.
+std::uint32_t cacheCellsHeld(const CacheSettings& settings, bool bridgeTraces);
 // gi.cache.update starts a path at one pixel of every stride x stride block
 // of the frame: the smallest stride whose paths' rays (update_bounces each)
 // stay within update_rays.
@@ -52,8 +56,9 @@ class RadianceCache final : public Unit {
   RadianceCache(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const CacheSettings& settings,
                 float environmentMip, const SceneBridgeBinding& scene);
   ~RadianceCache() override;
-  // The bytes of device memory one made for `maxSize` and `settings` holds.
-  static std::uint64_t memoryBytes(Extent maxSize, const CacheSettings& settings);
+  // The bytes of device memory one made for `maxSize`, `settings` and a
+  // bridge that traces or not holds.
+  static std::uint64_t memoryBytes(Extent maxSize, const CacheSettings& settings, bool bridgeTraces);
 
   std::uint32_t capacity() const { return capacity_; }
 
