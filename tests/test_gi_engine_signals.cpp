@@ -359,8 +359,7 @@ TEST_F(GiEngineSignals, TheEnginesSignalsAreDenoisedInPlaceOfTheBranches) {
     EXPECT_NE(pass.rfind("gi.specular.", 0), 0u) << pass << " ran: the engine gave the specular signal";
   }
   const std::vector<std::string> passes = passesRecorded(run);
-  for (const char* pass : {"gi.engine_signal.diffuse", "gi.engine_signal.specular",
-                           "gi.denoise.diffuse.temporal_accumulation", "gi.denoise.specular.temporal_accumulation"})
+  for (const char* pass : {"gi.engine_signal.diffuse", "gi.engine_signal.specular", "gi.denoise.temporal_accumulation"})
     EXPECT_NE(std::find(passes.begin(), passes.end(), pass), passes.end()) << pass << " did not run";
   for (int s = 0; s < 2; ++s) {
     const io::ImageF denoisedSignal = rgb(out.signal[s]);
@@ -562,7 +561,7 @@ TEST_F(GiEngineSignals, CheckerboardedSignalsDenoiseCloseToTheFullOnes) {
   const Output fullOut = output(full);
   const Output halvesOut = output(halves);
   const std::vector<std::string> passes = passesRecorded(halves);
-  for (const char* pass : {"gi.engine_signal.diffuse", "gi.denoise.diffuse.pre_pass", "gi.denoise.specular.pre_pass"})
+  for (const char* pass : {"gi.engine_signal.diffuse", "gi.denoise.pre_pass"})
     EXPECT_NE(std::find(passes.begin(), passes.end(), pass), passes.end()) << pass << " did not run";
   for (int s = 0; s < 2; ++s) {
     const double noisyError = relMse(halves.truth, halves.lastNoisy[s]);
@@ -589,7 +588,7 @@ TEST_F(GiEngineSignals, CheckerboardedSignalsDenoiseCloseToTheFullOnes) {
 // its surface on one side and another surface (another normal, or none)
 // on the other takes that one neighbour's value, nothing across the edge.
 // Both signals, of opposite parities. With the radius 0 and the mode off,
-// no pre-pass runs.
+// the pre-pass hands every pixel on unchanged.
 TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnly) {
   Settings settings = checkerboarded();
   settings.denoise.diffusePrePassRadius = 0.0f;
@@ -602,14 +601,13 @@ TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnl
   };
   frame(run, {true, true}, false, pattern, [](FrameInputs& inputs) { inputs.captureStages = true; });
   const std::vector<std::string> passes = passesRecorded(run);
-  ASSERT_NE(std::find(passes.begin(), passes.end(), "gi.denoise.diffuse.pre_pass"), passes.end())
+  ASSERT_NE(std::find(passes.begin(), passes.end(), "gi.denoise.pre_pass"), passes.end())
       << "checkerboard mode needs the pre-pass even at radius 0";
   const std::vector<gpu::CapturedStage> captures = stageOutputs(run);
   io::ImageF prePassOutputs[2];
   for (int s = 0; s < 2; ++s)
-    prePassOutputs[s] =
-        stageOutput(captures, std::string("gi.denoise.") + (s == kDiffuse ? "diffuse" : "specular") + ".pre_pass",
-                    "gOut_PrePassed");
+    prePassOutputs[s] = stageOutput(captures, "gi.denoise.pre_pass",
+                                    std::string(s == kDiffuse ? "diffuse" : "specular") + ".gOut_PrePassed");
   const io::ImageF viewZ = gpuio::readbackImage(context(), run.renderer->viewZ());
   const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
   const auto normalAt = [&](int x, int y) {
@@ -674,9 +672,23 @@ TEST_F(GiEngineSignals, TheCheckerboardResolveFillsFromNeighboursOnTheSurfaceOnl
   off.denoise.diffusePrePassRadius = 0.0f;
   off.denoise.specularPrePassRadius = 0.0f;
   Run full = start(off);
-  frame(full);
-  const std::vector<std::string> fullPasses = passesRecorded(full);
-  EXPECT_EQ(std::find(fullPasses.begin(), fullPasses.end(), "gi.denoise.diffuse.pre_pass"), fullPasses.end());
+  frame(full, {true, true}, false, pattern, [](FrameInputs& inputs) { inputs.captureStages = true; });
+  const std::vector<gpu::CapturedStage> fullCaptures = stageOutputs(full);
+  for (int s = 0; s < 2; ++s) {
+    SCOPED_TRACE(s == kDiffuse ? "diffuse, every pixel" : "specular, every pixel");
+    const io::ImageF prePassed = stageOutput(fullCaptures, "gi.denoise.pre_pass",
+                                             std::string(s == kDiffuse ? "diffuse" : "specular") + ".gOut_PrePassed");
+    ASSERT_EQ(prePassed.width, int(kWidth));
+    int changed = 0, surfaces = 0;
+    for (int y = 0; y < int(kHeight); ++y)
+      for (int x = 0; x < int(kWidth); ++x) {
+        if (viewZ.at(x, y, 0) <= 0.0f) continue;
+        ++surfaces;
+        if (!close(prePassed, x, y, full.lastNoisy[s], x, y, nullptr, 0, 0, 2e-3f)) ++changed;
+      }
+    EXPECT_GT(surfaces, int(kWidth * kHeight / 2));
+    EXPECT_EQ(changed, 0) << "at radius 0 a signal with every pixel passes through the pre-pass unchanged";
+  }
 }
 
 // In checkerboard mode a noisy signal must cover half the render width
@@ -865,8 +877,8 @@ TEST_F(GiEngineSignals, AnEnginesOwnThirdSignalIsDenoisedByTheSameDenoiser) {
   for (int f = 0; f < 10; ++f) occlusionFrame(true);
   const std::vector<std::string> passes = passesRecorded(run);
   for (const char* pass :
-       {"gi.engine_signal.ambient_occlusion", "gi.denoise.ambient_occlusion.pre_pass",
-        "gi.denoise.ambient_occlusion.temporal_accumulation", "gi.denoise.ambient_occlusion.temporal_stabilization"})
+       {"gi.engine_signal.ambient_occlusion", "gi.denoise.pre_pass", "gi.denoise.temporal_accumulation",
+        "gi.denoise.temporal_stabilization"})
     EXPECT_NE(std::find(passes.begin(), passes.end(), pass), passes.end()) << pass << " did not run";
   const io::ImageF denoisedOcclusion = gpuio::readbackImage(context(), run.gi->indirect(kOcclusion));
   const double noisyError = relMse(truth, lastNoisy);

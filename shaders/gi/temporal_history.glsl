@@ -3,12 +3,17 @@
 // count only where they saw the surface the pixel expects
 // (gi/history_taps.glsl), the reflection's (virtual) history of specular
 // light and its blend with the surface's, and the clamp of that history to
-// the fast history. The including shader
-// includes gi/gi_common.glsl first and declares gPrev_Surface (rg32ui),
-// gPrev_Filtered (radiance, history length) and gPrev_Moments (luminance
-// moments as shared/moments.glsl stores them: mean and deviation over the
-// history, mean of the fast history; decoded a tap at a time, so that
-// interpolation averages mean squares, as the moments it stands for).
+// the fast history. The including shader includes gi/gi_common.glsl first
+// and declares gPrev_Surface (rg32ui) and the history it reads: by
+// default gPrev_Filtered (radiance, history length) and gPrev_Moments
+// (luminance moments as shared/moments.glsl stores them: mean and deviation
+// over the history, mean of the fast history; decoded a tap at a time, so
+// that interpolation averages mean squares, as the moments it stands for).
+// A shader that keeps several signals' histories (the denoiser, one slot
+// per signal) defines HISTORY_FILTERED(slot, tap) and
+// HISTORY_MOMENTS(slot, tap) first: the taps are tested once for every
+// signal (catmullRomFootprint, historyTapWeights) and each slot's history
+// read with those weights.
 #ifndef BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 #define BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 
@@ -16,6 +21,11 @@
 #include "shared/color.glsl"
 #include "shared/denoise_weights.glsl"
 #include "shared/moments.glsl"
+
+#ifndef HISTORY_FILTERED
+#define HISTORY_FILTERED(slot, tap) imageLoad(gPrev_Filtered, tap)
+#define HISTORY_MOMENTS(slot, tap) imageLoad(gPrev_Moments, tap)
+#endif
 
 // The fast history averages about this many frames (REBLUR's fast history).
 const float kFastFrames = 6.0f;
@@ -36,21 +46,18 @@ History noHistory() {
   return h;
 }
 
-// Last frame's filtered value at continuous pixel position `previous`
-// (texel space: a pixel's centre + motion - 0.5), bilinear over the taps
-// that show the expected surface.
-History fetchHistory(vec2 previous, ExpectedSurface expected) {
+// Slot `slot`'s history over last frame's four pixels from `corner` (as
+// historyTapWeights gives them), bilinear over the taps of weight > 0.
+History bilinearHistory(uint slot, ivec2 corner, vec4 weights) {
   History h = noHistory();
-  ivec2 corner;
-  vec4 weights = historyTapWeights(previous, expected, corner);
   vec4 accumulated = vec4(0.0f);
   vec3 accumulatedMoments = vec3(0.0f);
   float weightSum = 0.0f;
   for (int i = 0; i < 4; ++i) {
     if (weights[i] <= 0.0f) continue;
     ivec2 tap = corner + ivec2(i & 1, i >> 1);
-    accumulated += imageLoad(gPrev_Filtered, tap) * weights[i];
-    accumulatedMoments += momentsFromStored(imageLoad(gPrev_Moments, tap)) * weights[i];
+    accumulated += HISTORY_FILTERED(slot, tap) * weights[i];
+    accumulatedMoments += momentsFromStored(HISTORY_MOMENTS(slot, tap)) * weights[i];
     weightSum += weights[i];
   }
   if (weightSum > kMinHistoryWeight) {
@@ -62,33 +69,58 @@ History fetchHistory(vec2 previous, ExpectedSurface expected) {
   return h;
 }
 
-// The same fetch with a Catmull-Rom filter (REBLUR's): the 12 taps of its
-// 4x4 footprint without the corners, where all 12 show the expected
-// surface; else bilinear over the centre four that do (an edge, a
+// Last frame's filtered value at continuous pixel position `previous`
+// (texel space: a pixel's centre + motion - 0.5), bilinear over the taps
+// that show the expected surface.
+History fetchHistory(uint slot, vec2 previous, ExpectedSurface expected) {
+  ivec2 corner;
+  vec4 weights = historyTapWeights(previous, expected, corner);
+  return bilinearHistory(slot, corner, weights);
+}
+
+// The same fetch with a Catmull-Rom filter (REBLUR's), in two steps: which
+// of the 12 taps of its 4x4 footprint without the corners show the
+// expected surface (catmullRomFootprint, once for every signal), then a
+// slot's history over them (catmullRomHistory): Catmull-Rom where all 12
+// show it; else bilinear over the centre four that do (an edge, a
 // disocclusion), as fetchHistory. Only the radiance is filtered sharply;
 // the moments and the history length are bilinear, as REBLUR's fast
-// history is. The overshoot of the negative lobes is cut at 0. One pass
-// over the footprint: each tap is tested and read once.
-History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
+// history is. The overshoot of the negative lobes is cut at 0.
+struct HistoryFootprint {
+  ivec2 origin;  // the first of the centre four
+  vec2 f;        // the position past it
+  uint shows;    // bit (i + 1) + 4 (j + 1) for the tap at origin + (i, j), i and j in -1..2
+};
+const uint kFootprintAllShow = 0x6FF6u;  // the 12 taps: all but the corners 0, 3, 12, 15
+
+HistoryFootprint catmullRomFootprint(vec2 previous, ExpectedSurface expected) {
+  HistoryFootprint footprint;
+  footprint.origin = ivec2(floor(previous));
+  footprint.f = previous - vec2(footprint.origin);
+  footprint.shows = 0u;
+  for (int j = -1; j <= 2; ++j)
+    for (int i = -1; i <= 2; ++i) {
+      if ((i == -1 || i == 2) && (j == -1 || j == 2)) continue;
+      ivec2 tap = footprint.origin + ivec2(i, j);
+      if (insideFull(tap) && tapShows(expected, tap, imageLoad(gPrev_Surface, tap).xy))
+        footprint.shows |= 1u << uint((i + 1) + 4 * (j + 1));
+    }
+  return footprint;
+}
+
+History catmullRomHistory(uint slot, HistoryFootprint footprint) {
   History h = noHistory();
-  ivec2 origin = ivec2(floor(previous));  // the first of the centre four
-  vec2 f = previous - vec2(origin);
+  vec2 f = footprint.f;
   vec4 wx = catmullRomWeights(f.x), wy = catmullRomWeights(f.y);
   vec3 sharp = vec3(0.0f);
   float sharpWeight = 0.0f;
-  bool allShow = true;
   vec4 bilinear = vec4(0.0f);  // radiance and history length over the centre four
   float bilinearWeight = 0.0f;
   vec4 centreWeights = vec4(0.0f);
   for (int j = -1; j <= 2; ++j)
     for (int i = -1; i <= 2; ++i) {
-      if ((i == -1 || i == 2) && (j == -1 || j == 2)) continue;
-      ivec2 tap = origin + ivec2(i, j);
-      if (!insideFull(tap) || !tapShows(expected, tap, imageLoad(gPrev_Surface, tap).xy)) {
-        allShow = false;
-        continue;
-      }
-      vec4 value = imageLoad(gPrev_Filtered, tap);
+      if ((footprint.shows & (1u << uint((i + 1) + 4 * (j + 1)))) == 0u) continue;
+      vec4 value = HISTORY_FILTERED(slot, footprint.origin + ivec2(i, j));
       float w = wx[i + 1] * wy[j + 1];
       sharp += value.xyz * w;
       sharpWeight += w;
@@ -101,11 +133,11 @@ History fetchHistoryCatmullRom(vec2 previous, ExpectedSurface expected) {
     }
   if (bilinearWeight <= kMinHistoryWeight) return h;
   h.found = true;
-  h.radiance = allShow ? max(sharp / sharpWeight, vec3(0.0f)) : bilinear.xyz / bilinearWeight;
+  h.radiance = footprint.shows == kFootprintAllShow ? max(sharp / sharpWeight, vec3(0.0f)) : bilinear.xyz / bilinearWeight;
   h.frames = bilinear.w / bilinearWeight;
   for (int i = 0; i < 4; ++i)
     if (centreWeights[i] > 0.0f)
-      h.moments += momentsFromStored(imageLoad(gPrev_Moments, origin + ivec2(i & 1, i >> 1))) * centreWeights[i];
+      h.moments += momentsFromStored(HISTORY_MOMENTS(slot, footprint.origin + ivec2(i & 1, i >> 1))) * centreWeights[i];
   h.moments /= bilinearWeight;
   return h;
 }
@@ -127,11 +159,11 @@ vec3 virtualReprojection(Surface x, float hitDistance, float curvature, float do
 // (virtualReprojection, `projected`), on the pixel's reflector, whose plane
 // (and material, unless kAnyMaterial) the taps must have. Not found where
 // the point was behind last frame's camera.
-History fetchVirtualHistory(Surface x, vec3 projected, float depthTolerance, float cosNormalTolerance,
+History fetchVirtualHistory(uint slot, Surface x, vec3 projected, float depthTolerance, float cosNormalTolerance,
                             uint material) {
   History h = noHistory();
   if (projected.z <= 0.0f) return h;
-  return fetchHistory(vec2(projected) - 0.5f,
+  return fetchHistory(slot, vec2(projected) - 0.5f,
                       ExpectedSurface(x.position, x.normal, 0.0f, depthTolerance, cosNormalTolerance, material));
 }
 

@@ -193,10 +193,11 @@ std::vector<fs::path> writeValidationSheets(const fs::path& dir, const std::vect
   std::vector<fs::path> written;
   for (const gpu::CapturedStage& filter : captures) {
     // The diffuse history: the branch's temporal filter, or the denoiser's
-    // temporal accumulation when it runs in the filter's place.
+    // temporal accumulation of the diffuse signal when it runs in the
+    // filter's place.
     const bool branchFilter = filter.pass == "gi.diffuse.temporal_filter" && filter.binding == "gOut_Filtered";
     const bool denoiser =
-        filter.pass == "gi.denoise.diffuse.temporal_accumulation" && filter.binding == "gOut_Accumulated";
+        filter.pass == "gi.denoise.temporal_accumulation" && filter.binding == "diffuse.gOut_Accumulated";
     if (!branchFilter && !denoiser) continue;
     const std::uint64_t frame = filter.frame;
     const gpu::CapturedStage* viewZ = findCapture(captures, frame, "render.gbuffer", "gOut_ViewZ");

@@ -293,13 +293,17 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
   if (captures_) {
     for (std::size_t i = 0; i < desc.resources.size(); ++i) {
       const ResourceDecl& decl = desc.resources[i];
-      if (decl.access == Access::Read || !ordered_[i]->image) continue;
+      if (decl.access == Access::Read || !ordered_[i]->image || ordered_[i]->fillsUnusedSlot) continue;
       Image& image = *ordered_[i]->image;
       const std::uint32_t level = ordered_[i]->mipLevel == Bind::kAllMips ? 0 : ordered_[i]->mipLevel;
       const ImageRegion region{.mipLevel = level,
                                .width = std::min(width, image.mipWidth(level)),
                                .height = std::min(height, image.mipHeight(level))};
-      CapturedStage capture{.frame = captureFrame_, .pass = desc.name, .binding = decl.name, .image = image.desc()};
+      const std::string_view label = ordered_[i]->captureLabel;
+      CapturedStage capture{.frame = captureFrame_,
+                            .pass = desc.name,
+                            .binding = label.empty() ? decl.name : std::string(label),
+                            .image = image.desc()};
       capture.image.width = region.width;
       capture.image.height = region.height;
       capture.image.mipLevels = 1;

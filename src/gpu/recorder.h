@@ -46,11 +46,27 @@ struct Bind {
   Bind(std::string_view name, Image& image, MipLevel mip, VkSampler sampler = VK_NULL_HANDLE)
       : name(name), image(&image), sampler(sampler), mipLevel(mip.level) {}
   Bind(std::string_view name, Buffer& buffer) : name(name), buffer(&buffer) {}
+  // Captured (--dump-stages) under `label` in place of the binding's name:
+  // a per-signal slot named after the signal it holds this time.
+  static Bind labelled(std::string_view name, Image& image, std::string_view label) {
+    Bind bind(name, image);
+    bind.captureLabel = label;
+    return bind;
+  }
+  // Fills a slot the pass leaves untouched (a stage's slot that no signal
+  // of the dispatch takes): bound as declared, never captured.
+  static Bind filler(std::string_view name, Image& image) {
+    Bind bind(name, image);
+    bind.fillsUnusedSlot = true;
+    return bind;
+  }
   std::string_view name;
   Image* image = nullptr;
   Buffer* buffer = nullptr;
   VkSampler sampler = VK_NULL_HANDLE;  // sampled images: VK_NULL_HANDLE = the context's linear sampler
   std::uint32_t mipLevel = kAllMips;
+  std::string_view captureLabel;  // empty: captured under `name`
+  bool fillsUnusedSlot = false;
 };
 
 // The binds of `binds` whose names `pass` declares (for shared lists, see

@@ -1,25 +1,35 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.denoise.SIGNAL.blur and gi.denoise.SIGNAL.post_blur (one shader, two
-// passes, as REBLUR's): the spatial kernel of gi/denoise/spatial_filter.glsl.
-// Blur runs over the history-fixed signal at gi.denoise.blur_radius (scaled
-// as blurRadius says); post-blur over blur's output at
-// post_blur_radius_scale of that, and its output is next frame's history
-// for temporal accumulation and what temporal stabilisation reads.
+// gi.denoise.blur and gi.denoise.post_blur (one shader, two passes, as
+// REBLUR's): the spatial kernel of gi/denoise/spatial_filter.glsl, for
+// every signal of the dispatch from one load of the pixel's surface. Blur
+// runs over the history-fixed signal (in the signal's history image) at
+// gi.denoise.blur_radius (scaled as blurRadius says) into the
+// accumulation image; post-blur over blur's output at
+// post_blur_radius_scale of that, back into the history image: next
+// frame's history for temporal accumulation and what temporal
+// stabilisation reads.
 #include "gi/gi_common.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Filtered;
-layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_Signal;
-layout(set = 0, binding = 7, rgba16f) writeonly uniform image2D gOut_Filtered;
+DENOISE_SLOT_IMAGES(readonly, gIn_Filtered, 20)
+DENOISE_SLOT_IMAGES(readonly, gIn_Signal, 24)
+DENOISE_SLOT_IMAGES(writeonly, gOut_Filtered, 28)
+DENOISE_SLOT_LOAD(gIn_Filtered)
+DENOISE_SLOT_LOAD(gIn_Signal)
+DENOISE_SLOT_STORE(gOut_Filtered)
 
 #include "gi/denoise/spatial_filter.glsl"
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (!insideFull(pixel)) return;
-  imageStore(gOut_Filtered, pixel, roundedToHalf(spatialFilter(pixel)));
+  float roughness;
+  Surface x = denoiseSurfaceRoughness(pixel, roughness);
+  bool surface = !tileEmpty(pixel) && x.viewZ > 0.0f;
+  for (uint slot = 0u; slot < gSignals.count; ++slot)
+    gOut_FilteredStore(slot, pixel, surface ? roundedToHalf(spatialFilter(slot, pixel, x, roughness)) : vec4(0.0f));
 }

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.denoise.SIGNAL.pre_pass: REBLUR's pre-blur of the noisy signal before
-// it meets the history: 8 taps of a disk rotated per frame,
+// gi.denoise.pre_pass: REBLUR's pre-blur of each noisy signal before it
+// meets the history (every signal of the dispatch in turn, from one load of
+// the pixel's surface): 8 taps of a disk rotated per frame,
 // radius gi.denoise.diffuse_pre_pass_radius (specular_pre_pass_radius)
 // times the square root of how far the light came from (a fraction of the
 // frustum's width: light from far away varies slowly across the screen,
@@ -35,8 +36,10 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 5, rgba16f) readonly uniform image2D gIn_Signal;
-layout(set = 0, binding = 6, rgba16f) writeonly uniform image2D gOut_PrePassed;
+DENOISE_SLOT_IMAGES(readonly, gIn_Signal, 20)
+DENOISE_SLOT_IMAGES(writeonly, gOut_PrePassed, 24)
+DENOISE_SLOT_LOAD(gIn_Signal)
+DENOISE_SLOT_STORE(gOut_PrePassed)
 
 // REBLUR's pre-pass constants: its weights are those of a 10-frame history
 // with the normal cone and roughness reach doubled; a tap of another hit
@@ -47,9 +50,9 @@ const float kPrePassWidening = 2.0f;
 const float kHitWeightFloor = 0.2f;
 const float kPrePassLobeShare = 0.3f;
 
-// The signal at a pixel with a sample.
-vec4 signalAt(ivec2 pixel) {
-  vec4 s = imageLoad(gIn_Signal, pixel);
+// A slot's signal at a pixel with a sample.
+vec4 signalAt(uint slot, ivec2 pixel) {
+  vec4 s = gIn_SignalAt(slot, pixel);
   return vec4(sanitizeRadiance(s.xyz), max(finiteOr(s.w, 0.0f), 0.0f));
 }
 
@@ -59,8 +62,9 @@ vec4 signalAt(ivec2 pixel) {
 // widest reach it grants); left and right first (REBLUR's), then above
 // and below, then every neighbour with a surface alike. The hit distance
 // averages over the neighbours that know theirs.
-vec4 checkerboardResolve(ivec2 pixel, Surface x, float roughness) {
+vec4 checkerboardResolve(uint slot, ivec2 pixel, Surface x, float roughness) {
   const ivec2 kSteps[4] = ivec2[](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+  NeighbourWeighting weighting = neighbourWeighting(slot, x, roughness, 0.0f, 1.0f);
   vec4 samples[4];
   float weights[4];
   bool onSurface[4];
@@ -74,8 +78,8 @@ vec4 checkerboardResolve(ivec2 pixel, Surface x, float roughness) {
     Surface y = denoiseSurfaceRoughness(tap, tapRoughness);
     if (y.viewZ <= 0.0f) continue;
     onSurface[i] = true;
-    samples[i] = signalAt(tap);
-    weights[i] = neighbourWeight(x, roughness, 0.0f, y, tapRoughness);
+    samples[i] = signalAt(slot, tap);
+    weights[i] = neighbourWeight(weighting, y, tapRoughness);
   }
   if (weights[0] + weights[1] > 0.0f) {
     weights[2] = 0.0f;
@@ -101,31 +105,22 @@ vec4 checkerboardResolve(ivec2 pixel, Surface x, float roughness) {
 // where it has no sample, its neighbour to the left (even taps) or right
 // (odd ones), the other way at the frame's edge (outside a frame one
 // pixel wide: the caller skips it).
-ivec2 tapWithSample(ivec2 tap, uint index) {
-  if (pixelHasSample(tap)) return tap;
+ivec2 tapWithSample(uint slot, ivec2 tap, uint index) {
+  if (pixelHasSample(slot, tap)) return tap;
   int shift = (index & 1u) == 0u ? -1 : 1;
   ivec2 moved = tap + ivec2(shift, 0);
   return insideFull(moved) ? moved : tap - ivec2(shift, 0);
 }
 
-void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (!insideFull(pixel)) return;
-  float roughness;
-  Surface x = denoiseSurfaceRoughness(pixel, roughness);
-  if (tileEmpty(pixel) || x.viewZ <= 0.0f) {
-    imageStore(gOut_PrePassed, pixel, vec4(0.0f));
-    return;
-  }
+// The pre-passed value of a slot's signal at a pixel with a surface.
+vec4 prePassed(uint slot, ivec2 pixel, Surface x, float roughness) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  vec4 center = pixelHasSample(pixel) ? signalAt(pixel) : checkerboardResolve(pixel, x, roughness);
-  bool specular = specularKind();
-  float maxRadius = (specular ? d.specularPrePassRadius : d.diffusePrePassRadius) * gSignal.radiusScale;
-  // Radius 0: the pass runs for the checkerboard resolve alone.
-  if (maxRadius <= 0.0f) {
-    imageStore(gOut_PrePassed, pixel, vec4(sanitizeRadiance(center.xyz), center.w));
-    return;
-  }
+  vec4 center = pixelHasSample(slot, pixel) ? signalAt(slot, pixel) : checkerboardResolve(slot, pixel, x, roughness);
+  bool specular = specularKind(slot);
+  float maxRadius = (specular ? d.specularPrePassRadius : d.diffusePrePassRadius) * gSignals.radiusScale;
+  // Radius 0: the pass runs for the checkerboard resolve alone (or, for a
+  // signal of full samples, to hand the later passes a sanitised copy).
+  if (maxRadius <= 0.0f) return vec4(sanitizeRadiance(center.xyz), center.w);
   float r = specular ? roughness : 1.0f;
   float hit = center.w;
 
@@ -149,7 +144,8 @@ void main() {
 
   float normalizedHit = normalizedHitDistance(d.hitDistanceParameters, hit, x.viewZ, r);
   float historyWeight = 1.0f / (1.0f + kPrePassHistoryFrames);
-  float rotation = diskRotation(d.frameIndex, 4u + gSignal.slot);
+  float rotation = diskRotation(d.frameIndex, 4u + gSignals.indices[slot]);
+  NeighbourWeighting weighting = neighbourWeighting(slot, x, roughness, kPrePassHistoryFrames, kPrePassWidening);
   vec3 sum = center.xyz;
   float weightSum = 1.0f;
   // Hit distances average over the taps that know theirs (0: unknown).
@@ -159,13 +155,13 @@ void main() {
     vec2 offset = diskTap(i, rotation);
     ivec2 tap = pixel + ivec2(round(offset * radius));
     if (!insideFull(tap)) continue;
-    tap = tapWithSample(tap, i);
+    tap = tapWithSample(slot, tap, i);
     if (!insideFull(tap) || tap == pixel) continue;
     float tapRoughness;
     Surface y = denoiseSurfaceRoughness(tap, tapRoughness);
-    float w = neighbourWeightWidened(x, roughness, kPrePassHistoryFrames, y, tapRoughness, kPrePassWidening);
+    float w = neighbourWeight(weighting, y, tapRoughness);
     if (w <= 0.0f) continue;
-    vec4 s = signalAt(tap);
+    vec4 s = signalAt(slot, tap);
     float tapNormalizedHit = normalizedHitDistance(d.hitDistanceParameters, s.w, y.viewZ, r);
     w *= hitDistanceWeight(normalizedHit, tapNormalizedHit, historyWeight, r, kHitWeightFloor);
     w *= exp(-0.66f * dot(offset, offset));
@@ -183,5 +179,15 @@ void main() {
     }
   }
   float averageHit = hitWeightSum > 0.0f ? hitSum / hitWeightSum : 0.0f;
-  imageStore(gOut_PrePassed, pixel, vec4(sanitizeRadiance(sum / weightSum), averageHit));
+  return vec4(sanitizeRadiance(sum / weightSum), averageHit);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (!insideFull(pixel)) return;
+  float roughness;
+  Surface x = denoiseSurfaceRoughness(pixel, roughness);
+  bool surface = !tileEmpty(pixel) && x.viewZ > 0.0f;
+  for (uint slot = 0u; slot < gSignals.count; ++slot)
+    gOut_PrePassedStore(slot, pixel, surface ? prePassed(slot, pixel, x, roughness) : vec4(0.0f));
 }

@@ -1,26 +1,25 @@
-// The blur of gi.denoise.SIGNAL.blur and .post_blur (REBLUR's blur and
-// post-blur, one kernel at two radii): 8 taps of a disk rotated per frame
+// The blur of gi.denoise.blur and .post_blur (REBLUR's blur and post-blur,
+// one kernel at two radii): 8 taps of a disk rotated per frame
 // (diskRotation), its radius set by the pixel's history length, roughness
 // and hit distance (blurRadius), each tap weighed by neighbourWeight
-// (plane, lobe, roughness). The including shader declares gIn_Filtered (rgba16f:
-// radiance, history length), gIn_Signal (the noisy input, for its hit
-// distance) and includes gi/denoise/denoise_common.glsl with
-// DENOISE_READS_TILES.
+// (plane, lobe, roughness). The including shader declares the slots
+// gIn_Filtered (rgba16f: radiance, history length) and gIn_Signal (the
+// pre-passed signal, for its hit distance), with their loaders, and
+// includes gi/denoise/denoise_common.glsl with DENOISE_READS_TILES.
 #ifndef BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
 #define BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
 
-// The filtered value at `pixel` (alpha: its history length, unchanged); 0
-// without a surface.
-vec4 spatialFilter(ivec2 pixel) {
-  float roughness;
-  Surface x = denoiseSurfaceRoughness(pixel, roughness);
-  if (tileEmpty(pixel) || x.viewZ <= 0.0f) return vec4(0.0f);
+// A slot's filtered value at `pixel` (surface x, a surface; alpha: its
+// history length, unchanged).
+vec4 spatialFilter(uint slot, ivec2 pixel, Surface x, float roughness) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  vec4 center = imageLoad(gIn_Filtered, pixel);
+  vec4 center = gIn_FilteredAt(slot, pixel);
   float normalizedHit =
-      normalizedHitDistance(d.hitDistanceParameters, imageLoad(gIn_Signal, pixel).w, x.viewZ, roughness);
-  float radius = blurRadius(center.w, roughness, normalizedHit);
-  float rotation = diskRotation(d.frameIndex, 2u * gSignal.slot + (gSignal.radiusScale < 1.0f ? 1u : 0u));
+      normalizedHitDistance(d.hitDistanceParameters, gIn_SignalAt(slot, pixel).w, x.viewZ, roughness);
+  float radius = blurRadius(slot, center.w, roughness, normalizedHit);
+  float rotation =
+      diskRotation(d.frameIndex, 2u * gSignals.indices[slot] + (gSignals.radiusScale < 1.0f ? 1u : 0u));
+  NeighbourWeighting weighting = neighbourWeighting(slot, x, roughness, center.w, 1.0f);
   vec3 sum = center.xyz;
   float weightSum = 1.0f;
   for (uint i = 0u; i < 8u; ++i) {
@@ -28,9 +27,9 @@ vec4 spatialFilter(ivec2 pixel) {
     if (!insideFull(tap) || tap == pixel) continue;
     float tapRoughness;
     Surface y = denoiseSurfaceRoughness(tap, tapRoughness);
-    float w = neighbourWeight(x, roughness, center.w, y, tapRoughness);
+    float w = neighbourWeight(weighting, y, tapRoughness);
     if (w <= 0.0f) continue;
-    sum += imageLoad(gIn_Filtered, tap).xyz * w;
+    sum += gIn_FilteredAt(slot, tap).xyz * w;
     weightSum += w;
   }
   return vec4(sanitizeRadiance(sum / weightSum), center.w);

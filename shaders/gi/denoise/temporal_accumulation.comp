@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.denoise.SIGNAL.temporal_accumulation: this frame's noisy signal
-// blended into last frame's denoised history (the post-blur's output),
+// gi.denoise.temporal_accumulation: each signal's pre-passed noisy value
+// blended into last frame's denoised history of it (the post-blur's output),
 // reprojected by the surface motion with a Catmull-Rom filter where all 12
 // of its taps showed the same surface, bilinear over the taps that did
 // where some did not (gi/temporal_history.glsl), so a disocclusion starts
@@ -24,7 +24,10 @@
 // pre-pass filled it from its neighbours) trusts its history more, as
 // REBLUR's checkerboard resolve does (kCheckerboardResolveAccumSpeed).
 // Output alpha: the history length; the moments are the next frame's.
-// Pixels without a surface (and empty tiles) store 0.
+// Pixels without a surface (and empty tiles) store 0. The signals of a
+// dispatch share the pixel's surface, its neighbours' positions, the
+// disocclusion test of the 12 reprojection taps and the surface's
+// curvature; each reads its own history and moments over them.
 #include "gi/gi_common.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
@@ -37,24 +40,31 @@ layout(local_size_x = kGroupSize, local_size_y = kGroupSize) in;
 
 #include "shared/sampling.glsl"
 layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
-layout(set = 0, binding = 6, rgba16f) readonly uniform image2D gIn_Signal;
 layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
-layout(set = 0, binding = 8, rgba16f) readonly uniform image2D gPrev_Filtered;
-layout(set = 0, binding = 9, rgba16f) readonly uniform image2D gPrev_Moments;
-layout(set = 0, binding = 10, rgba16f) writeonly uniform image2D gOut_Accumulated;
-layout(set = 0, binding = 11, rgba16f) writeonly uniform image2D gOut_Moments;
+layout(set = 0, binding = 12, rg32ui) readonly uniform uimage2D gIn_Surface;
+DENOISE_SLOT_IMAGES(readonly, gIn_Signal, 20)
+DENOISE_SLOT_IMAGES(readonly, gPrev_Filtered, 24)
+DENOISE_SLOT_IMAGES(readonly, gPrev_Moments, 28)
+DENOISE_SLOT_IMAGES(writeonly, gOut_Accumulated, 32)
+DENOISE_SLOT_IMAGES(writeonly, gOut_Moments, 36)
+DENOISE_SLOT_LOAD(gIn_Signal)
+DENOISE_SLOT_LOAD(gPrev_Filtered)
+DENOISE_SLOT_LOAD(gPrev_Moments)
+DENOISE_SLOT_STORE(gOut_Accumulated)
+DENOISE_SLOT_STORE(gOut_Moments)
 
 #include "gi/motion.glsl"
+#define HISTORY_FILTERED(slot, tap) gPrev_FilteredAt(slot, tap)
+#define HISTORY_MOMENTS(slot, tap) gPrev_MomentsAt(slot, tap)
 #include "gi/temporal_history.glsl"
-layout(set = 0, binding = 12, rg32ui) readonly uniform uimage2D gIn_Surface;
 #define LIGHT_CHANGE_BINDING 16
 #include "gi/light_change/light_change.glsl"
 
 // The longest history a specular lobe keeps: a mirror's reflection moves
 // with the view and keeps few frames, a rough lobe's barely does.
-float maxFrames(float roughness) {
+float maxFrames(uint slot, float roughness) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  if (!specularKind()) return d.maxAccumulatedFrames;
+  if (!specularKind(slot)) return d.maxAccumulatedFrames;
   return max(1.0f, d.maxAccumulatedFrames * clamp(roughness * roughness * 4.0f, 0.1f, 1.0f));
 }
 
@@ -81,38 +91,60 @@ const float kCheckerboardResolveAccumSpeed = 0.88f;
 
 // The workgroup's pixels and the moments' reach around them, read once
 // into shared memory (each pixel is a tap of up to 25 others): world
-// position and luminance, luminance -1 where there is no surface.
+// position (w: 1 with a surface, -1 without) and each slot's luminance.
 const int kMomentsReach = 2 * kMomentsStride;
 const int kTileSize = kGroupSize + 2 * kMomentsReach;
-shared vec4 sNeighbourhood[kTileSize][kTileSize];
+shared vec4 sPosition[kTileSize][kTileSize];
+shared vec4 sLuminance[kTileSize][kTileSize];
 
 void loadNeighbourhood() {
   ivec2 origin = ivec2(gl_WorkGroupID.xy) * kGroupSize - kMomentsReach;
   for (uint k = gl_LocalInvocationIndex; k < uint(kTileSize * kTileSize); k += uint(kGroupSize * kGroupSize)) {
     ivec2 local = ivec2(int(k) % kTileSize, int(k) / kTileSize);
     ivec2 tap = origin + local;
-    vec4 value = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    vec4 position = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    vec4 luminances = vec4(0.0f);
     if (insideFull(tap)) {
       Surface y = denoiseSurface(tap);
-      if (y.viewZ > 0.0f) value = vec4(y.position, luminance(sanitizeRadiance(imageLoad(gIn_Signal, tap).xyz)));
+      if (y.viewZ > 0.0f) {
+        position = vec4(y.position, 1.0f);
+        for (uint slot = 0u; slot < gSignals.count; ++slot)
+          luminances[slot] = luminance(sanitizeRadiance(gIn_SignalAt(slot, tap).xyz));
+      }
     }
-    sNeighbourhood[local.y][local.x] = value;
+    sPosition[local.y][local.x] = position;
+    sLuminance[local.y][local.x] = luminances;
   }
   barrier();
 }
 
-vec2 neighbourhoodMoments(Surface x) {
+// Which of the 5x5 taps around the pixel lie on its plane: bit i + 5 j
+// (i, j in 0..4); the same for every signal.
+uint neighbourhoodOnPlane(Surface x) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  ivec2 centre = ivec2(gl_LocalInvocationID.xy) + kMomentsReach;
+  uint onPlane = 0u;
+  for (int j = -2; j <= 2; ++j)
+    for (int i = -2; i <= 2; ++i) {
+      ivec2 local = centre + ivec2(i, j) * kMomentsStride;
+      vec4 y = sPosition[local.y][local.x];
+      if (y.w < 0.0f || planeWeight(x.normal, x.position, y.xyz, x.viewZ, d.planeDistanceSensitivity) <= 0.0f)
+        continue;
+      onPlane |= 1u << uint((i + 2) + 5 * (j + 2));
+    }
+  return onPlane;
+}
+
+vec2 neighbourhoodMoments(uint slot, uint onPlane) {
   ivec2 centre = ivec2(gl_LocalInvocationID.xy) + kMomentsReach;
   vec2 sum = vec2(0.0f);
   float count = 0.0f;
   for (int j = -2; j <= 2; ++j)
     for (int i = -2; i <= 2; ++i) {
+      if ((onPlane & (1u << uint((i + 2) + 5 * (j + 2)))) == 0u) continue;
       ivec2 local = centre + ivec2(i, j) * kMomentsStride;
-      vec4 y = sNeighbourhood[local.y][local.x];
-      if (y.w < 0.0f || planeWeight(x.normal, x.position, y.xyz, x.viewZ, d.planeDistanceSensitivity) <= 0.0f)
-        continue;
-      sum += vec2(y.w, y.w * y.w);
+      float l = sLuminance[local.y][local.x][slot];
+      sum += vec2(l, l * l);
       count += 1.0f;
     }
   return sum / max(count, 1.0f);
@@ -167,9 +199,9 @@ float curvatureAlongMotion(Surface x, ivec2 pixel, vec2 motion) {
 // the surface's own motion (a curvature misread at an edge, or a surface
 // too curved for one estimate), the flat mirror's point is used, as
 // REBLUR's curvature correction does.
-vec3 reflectionReprojection(Surface x, ivec2 pixel, vec2 motion, float roughness, float hitDistance) {
+vec3 reflectionReprojection(Surface x, ivec2 pixel, vec2 motion, float curvature, float roughness,
+                            float hitDistance) {
   float dominantFactor = ggxDominantFactor(roughness * roughness);
-  float curvature = curvatureAlongMotion(x, pixel, motion);
   vec3 projected = virtualReprojection(x, hitDistance, curvature, dominantFactor);
   vec2 surfaceThere = vec2(pixel) + 0.5f + motion;
   if (curvature != 0.0f && length(projected.xy - surfaceThere) > 3.0f * length(motion) + 0.01f)
@@ -177,52 +209,46 @@ vec3 reflectionReprojection(Surface x, ivec2 pixel, vec2 motion, float roughness
   return projected;
 }
 
-void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  // A workgroup lies inside one 16x16 tile: an empty tile leaves it whole,
-  // before the shared load.
-  if (tileEmpty(pixel)) {
-    if (insideFull(pixel)) {
-      imageStore(gOut_Accumulated, pixel, vec4(0.0f));
-      imageStore(gOut_Moments, pixel, vec4(0.0f));
-    }
-    return;
-  }
-  loadNeighbourhood();
-  if (!insideFull(pixel)) return;
-  float roughness;
-  Surface x = denoiseSurfaceRoughness(pixel, roughness);
-  if (x.viewZ <= 0.0f) {
-    imageStore(gOut_Accumulated, pixel, vec4(0.0f));
-    imageStore(gOut_Moments, pixel, vec4(0.0f));
-    return;
-  }
-  DenoiseConstants d = gIn_DenoiseConstants.denoise;
-  vec3 current = sanitizeRadiance(imageLoad(gIn_Signal, pixel).xyz);
-  float currentLuminance = luminance(current);
-  vec2 neighbourhood = neighbourhoodMoments(x);
+// Where last frame's surface history lies for every signal of the pixel:
+// the Catmull-Rom footprint's taps that show the surface (none where the
+// pixel cannot be reprojected), and what the reflection's reprojection of
+// a specular signal needs.
+struct Reprojection {
+  bool usable;  // the motion is usable
+  bool surfaceSeen;  // the previous camera saw the surface in front of it: the footprint holds
+  HistoryFootprint footprint;
+  vec2 motion;
+  uint material;
+  bool curvatureKnown;
+  float curvature;
+};
 
-  History history;
-  history.found = false;
+// One signal's value of the frame, history and moments at the pixel.
+void accumulate(uint slot, ivec2 pixel, Surface x, float roughness, uint onPlane, INOUT(Reprojection) reprojection) {
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  vec4 signal = gIn_SignalAt(slot, pixel);
+  vec3 current = sanitizeRadiance(signal.xyz);
+  vec2 neighbourhood = neighbourhoodMoments(slot, onPlane);
+
+  History history = noHistory();
   float virtualShare = 0.0f;
-  vec2 motion = signalHasHistory() ? motionAt(pixel) : vec2(0.0f);
-  if (signalHasHistory() && usableMotion(motion)) {
-    uint material = materialOf(imageLoad(gIn_Surface, pixel).xy);
-    float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
-    if (expectedViewZ > 0.0f)
-      history = fetchHistoryCatmullRom(vec2(pixel) + motion,
-                                       ExpectedSurface(x.position, x.normal, expectedViewZ, disocclusionTolerance(x),
-                                                       d.cosNormalTolerance, material));
-    if (specularKind()) {
-      float hitDistance = imageLoad(gIn_Signal, pixel).w;
-      vec3 projected = reflectionReprojection(x, pixel, motion, roughness, max(finiteOr(hitDistance, 0.0f), 0.0f));
-      History virtualHistory = fetchVirtualHistory(x, projected, d.depthTolerance, d.cosNormalTolerance, material);
+  if (signalHasHistory(slot) && reprojection.usable) {
+    if (reprojection.surfaceSeen) history = catmullRomHistory(slot, reprojection.footprint);
+    if (specularKind(slot)) {
+      if (!reprojection.curvatureKnown) {
+        reprojection.curvature = curvatureAlongMotion(x, pixel, reprojection.motion);
+        reprojection.curvatureKnown = true;
+      }
+      vec3 projected = reflectionReprojection(x, pixel, reprojection.motion, reprojection.curvature, roughness,
+                                              max(finiteOr(signal.w, 0.0f), 0.0f));
+      History virtualHistory =
+          fetchVirtualHistory(slot, x, projected, d.depthTolerance, d.cosNormalTolerance, reprojection.material);
       float deviation = sqrt(max(neighbourhood.y - neighbourhood.x * neighbourhood.x, 0.0f));
       history = blendReflectionHistories(history, virtualHistory, roughness, neighbourhood.x, deviation, virtualShare);
     }
   }
   float historyLength = history.found ? historyAfterLightChange(history.frames) : 0.0f;
-  float frames = min(historyLength + 1.0f, maxFrames(roughness));
+  float frames = min(historyLength + 1.0f, maxFrames(slot, roughness));
   float blend = 1.0f / frames;
   vec3 moments = vec3(neighbourhood, neighbourhood.x);
   vec3 previous = vec3(0.0f);
@@ -238,8 +264,56 @@ void main() {
     float excess = max(abs(moments.z - moments.x) - noise, 0.0f) / noise;
     frames = max(1.0f, frames / (1.0f + excess));
     blend = 1.0f / frames;
-    if (!pixelHasSample(pixel)) blend *= mix(1.0f - kCheckerboardResolveAccumSpeed, 1.0f, blend);
+    if (!pixelHasSample(slot, pixel)) blend *= mix(1.0f - kCheckerboardResolveAccumSpeed, 1.0f, blend);
   }
-  imageStore(gOut_Accumulated, pixel, roundedToHalf(vec4(sanitizeRadiance(mix(previous, current, blend)), frames)));
-  imageStore(gOut_Moments, pixel, roundedToHalf(storedMoments(finiteOr(moments, vec3(0.0f)), virtualShare)));
+  gOut_AccumulatedStore(slot, pixel, roundedToHalf(vec4(sanitizeRadiance(mix(previous, current, blend)), frames)));
+  gOut_MomentsStore(slot, pixel, roundedToHalf(storedMoments(finiteOr(moments, vec3(0.0f)), virtualShare)));
+}
+
+void storeNothing(ivec2 pixel) {
+  for (uint slot = 0u; slot < gSignals.count; ++slot) {
+    gOut_AccumulatedStore(slot, pixel, vec4(0.0f));
+    gOut_MomentsStore(slot, pixel, vec4(0.0f));
+  }
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  // A workgroup lies inside one 16x16 tile: an empty tile leaves it whole,
+  // before the shared load.
+  if (tileEmpty(pixel)) {
+    if (insideFull(pixel)) storeNothing(pixel);
+    return;
+  }
+  loadNeighbourhood();
+  if (!insideFull(pixel)) return;
+  float roughness;
+  Surface x = denoiseSurfaceRoughness(pixel, roughness);
+  if (x.viewZ <= 0.0f) {
+    storeNothing(pixel);
+    return;
+  }
+  DenoiseConstants d = gIn_DenoiseConstants.denoise;
+  uint onPlane = neighbourhoodOnPlane(x);
+
+  bool anyHistory = false;
+  for (uint slot = 0u; slot < gSignals.count; ++slot) anyHistory = anyHistory || signalHasHistory(slot);
+  Reprojection reprojection;
+  reprojection.motion = anyHistory ? motionAt(pixel) : vec2(0.0f);
+  reprojection.usable = anyHistory && usableMotion(reprojection.motion);
+  reprojection.surfaceSeen = false;
+  reprojection.curvatureKnown = false;
+  reprojection.curvature = 0.0f;
+  reprojection.material = 0u;
+  if (reprojection.usable) {
+    reprojection.material = materialOf(imageLoad(gIn_Surface, pixel).xy);
+    float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
+    reprojection.surfaceSeen = expectedViewZ > 0.0f;
+    if (reprojection.surfaceSeen)
+      reprojection.footprint = catmullRomFootprint(
+          vec2(pixel) + reprojection.motion,
+          ExpectedSurface(x.position, x.normal, expectedViewZ, disocclusionTolerance(x), d.cosNormalTolerance,
+                          reprojection.material));
+  }
+  for (uint slot = 0u; slot < gSignals.count; ++slot) accumulate(slot, pixel, x, roughness, onPlane, reprojection);
 }

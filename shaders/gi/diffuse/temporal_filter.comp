@@ -58,7 +58,7 @@ void main() {
   if (historyUsable() && usableMotion(motion)) {
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
     if (expectedViewZ > 0.0f)
-      history = fetchHistory(vec2(pixel) + motion,
+      history = fetchHistory(0u, vec2(pixel) + motion,
                              ExpectedSurface(x.position, x.normal, expectedViewZ, d.temporalDepthTolerance,
                                              d.temporalCosNormalTolerance, kAnyMaterial));
   }

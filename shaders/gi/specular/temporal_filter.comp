@@ -65,11 +65,11 @@ void main() {
   if (historyUsable() && usableMotion(motion)) {
     float expectedViewZ = projectToScreen(gIn_Frame.frame.previousView, x.position, fullSize()).z;
     if (c.reprojection != kReprojectionVirtual && expectedViewZ > 0.0f)
-      surface = fetchHistory(vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
+      surface = fetchHistory(0u, vec2(pixel) + motion, ExpectedSurface(x.position, x.normal, expectedViewZ,
                                                                    c.temporalDepthTolerance,
                                                                    c.temporalCosNormalTolerance, kAnyMaterial));
     if (c.reprojection != kReprojectionSurface)
-      virtualHistory = fetchVirtualHistory(x, virtualReprojection(x, resolved.w, 0.0f, 1.0f),
+      virtualHistory = fetchVirtualHistory(0u, x, virtualReprojection(x, resolved.w, 0.0f, 1.0f),
                                            c.temporalDepthTolerance, c.temporalCosNormalTolerance, kAnyMaterial);
   }
 

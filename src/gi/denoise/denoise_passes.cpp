@@ -40,31 +40,46 @@ ResourceDecl surfaceDecl() {
           "this frame's viewZ bits, octahedral normal and roughness (gi.denoise.classify_tiles)"};
 }
 
-// A per-signal pass: the frame's constants, the denoiser's constants, the
-// tiles and the denoiser's packed surfaces (in place of the engine's
-// G-buffer) first, then its own resources; the signal in push constants.
-gpu::PassDesc signalPass(const std::string& pass, const std::string& signal, const char* shader,
-                         std::vector<ResourceDecl> own) {
+// A binding each signal of a dispatch has (the pass declares it once per
+// slot, NAME0..NAME3; a slot not in use holds a filler image).
+struct SlotDecl {
+  const char* name;
+  Access access;
+  const char* purpose;
+};
+
+// A stage: the frame's constants, the denoiser's constants, the tiles and
+// the denoiser's packed surfaces (in place of the engine's G-buffer) first,
+// then its own resources, then its per-signal ones; the signals in push
+// constants.
+gpu::PassDesc stagePass(const std::string& pass, const char* shader, std::vector<ResourceDecl> own,
+                        std::initializer_list<SlotDecl> slots) {
   own.insert(own.begin(), {denoiseConstants(), tilesDecl(), surfaceDecl()});
-  gpu::PassDesc desc = framePass("gi.denoise." + signal + "." + pass, shader, GroupPart::Constants, own);
+  for (const SlotDecl& slot : slots)
+    for (std::size_t k = 0; k < shared::kDenoiseSlots; ++k)
+      own.push_back({denoiseSlotName(slot.name, k), slot.access, kRgba16f,
+                     std::string(slot.purpose) + " (slot " + std::to_string(k) + "'s signal)"});
+  gpu::PassDesc desc = framePass("gi.denoise." + pass, shader, GroupPart::Constants, own);
   desc.constants.push_back(denoiseConstantsLayout());
-  desc.constants.push_back(BOUNCE_CONSTANTS_LAYOUT("", DenoiseSignalParams, slot, kind, flags, radiusScale));
+  desc.constants.push_back(
+      BOUNCE_CONSTANTS_LAYOUT("", DenoiseSignalParams, kinds, flags, indices, count, radiusScale));
   return desc;
 }
 
-ResourceDecl noisyDecl() {
-  return {"gIn_Signal", Access::Read, kRgba16f,
-          "the noisy signal (pre-passed, but for the pre-pass): radiance, hit distance (world units, 0 unknown)"};
-}
+constexpr SlotDecl kPrePassedSlot = {
+    "gIn_Signal", Access::Read,
+    "the pre-passed noisy signal: radiance, hit distance (world units, 0 unknown)"};
 
-gpu::PassDesc blur(const std::string& name, const std::string& signal, const char* output) {
-  return signalPass(name, signal, "gi/denoise/blur",
-                    {{"gIn_Filtered", Access::Read, kRgba16f, "the signal to blur: radiance, history length"},
-                     noisyDecl(),
-                     {"gOut_Filtered", Access::Write, kRgba16f, output}});
+gpu::PassDesc blur(const std::string& name, const char* input, const char* output) {
+  return stagePass(name, "gi/denoise/blur", {},
+                   {{"gIn_Filtered", Access::Read, input}, kPrePassedSlot, {"gOut_Filtered", Access::Write, output}});
 }
 
 }  // namespace
+
+std::string denoiseSlotName(std::string_view binding, std::size_t slot) {
+  return std::string(binding) + std::to_string(slot);
+}
 
 gpu::PassDesc denoiseClassifyTilesPass() {
   return framePass("gi.denoise.classify_tiles", "gi/denoise/classify_tiles", GroupPart::Surfaces,
@@ -74,52 +89,49 @@ gpu::PassDesc denoiseClassifyTilesPass() {
                      "without a usable surface: what the later passes' taps read"}});
 }
 
-gpu::PassDesc denoisePrePass(const std::string& signal) {
-  return signalPass("pre_pass", signal, "gi/denoise/pre_pass",
-                    {{"gIn_Signal", Access::Read, kRgba16f,
-                      "the noisy signal: radiance, hit distance (world units, 0 unknown; checkerboard mode: -1 "
-                      "where the pixel has no sample)"},
-                     {"gOut_PrePassed", Access::Write, kRgba16f,
-                      "the pre-blurred signal, every pixel with a value: radiance, hit distance (world units, 0 "
-                      "unknown)"}});
+gpu::PassDesc denoisePrePass() {
+  return stagePass("pre_pass", "gi/denoise/pre_pass", {},
+                   {{"gIn_Signal", Access::Read,
+                     "the noisy signal: radiance, hit distance (world units, 0 unknown; checkerboard mode: -1 where "
+                     "the pixel has no sample)"},
+                    {"gOut_PrePassed", Access::Write,
+                     "the pre-blurred signal, every pixel with a value: radiance, hit distance (world units, 0 "
+                     "unknown)"}});
 }
 
-gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal) {
-  return signalPass("temporal_accumulation", signal, "gi/denoise/temporal_accumulation",
-                    {motionDecl(),
-                     noisyDecl(),
-                     previousSurfaceDecl(),
-                     {"gPrev_Filtered", Access::Read, kRgba16f, "last frame's post-blurred signal, history length"},
-                     {"gPrev_Moments", Access::Read, kRgba16f, "last frame's luminance moments"},
-                     {"gOut_Accumulated", Access::Write, kRgba16f, "radiance, history length"},
-                     {"gOut_Moments", Access::Write, kRgba16f, "luminance moments: mean, deviation, fast mean"},
-                     currentSurfaceDecl(),
-                     lightChangeDecl()});
+gpu::PassDesc denoiseTemporalAccumulationPass() {
+  return stagePass("temporal_accumulation", "gi/denoise/temporal_accumulation",
+                   {motionDecl(), previousSurfaceDecl(), currentSurfaceDecl(), lightChangeDecl()},
+                   {kPrePassedSlot,
+                    {"gPrev_Filtered", Access::Read, "last frame's post-blurred signal, history length"},
+                    {"gPrev_Moments", Access::Read, "last frame's luminance moments"},
+                    {"gOut_Accumulated", Access::Write, "radiance, history length"},
+                    {"gOut_Moments", Access::Write, "luminance moments: mean, deviation, fast mean"}});
 }
 
-gpu::PassDesc denoiseHistoryFixPass(const std::string& signal) {
-  return signalPass("history_fix", signal, "gi/denoise/history_fix",
-                    {{"gIn_Accumulated", Access::Read, kRgba16f, "temporal accumulation's output"},
-                     {"gOut_Fixed", Access::Write, kRgba16f, "short histories rebuilt, fireflies removed"}});
+gpu::PassDesc denoiseHistoryFixPass() {
+  return stagePass("history_fix", "gi/denoise/history_fix", {},
+                   {{"gIn_Accumulated", Access::Read, "temporal accumulation's output"},
+                    {"gOut_Fixed", Access::Write,
+                     "short histories rebuilt, fireflies removed (into the history image, which temporal "
+                     "accumulation has read)"}});
 }
 
-gpu::PassDesc denoiseBlurPass(const std::string& signal) {
-  return blur("blur", signal, "blurred at the full radius");
+gpu::PassDesc denoiseBlurPass() {
+  return blur("blur", "history fix's output: radiance, history length", "blurred at the full radius");
 }
 
-gpu::PassDesc denoisePostBlurPass(const std::string& signal) {
-  return blur("post_blur", signal, "blurred again at post_blur_radius_scale: next frame's history");
+gpu::PassDesc denoisePostBlurPass() {
+  return blur("post_blur", "blur's output: radiance, history length",
+              "blurred again at post_blur_radius_scale: next frame's history");
 }
 
-gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal) {
-  return signalPass("temporal_stabilization", signal, "gi/denoise/temporal_stabilization",
-                    {motionDecl(),
-                     {"gIn_Filtered", Access::Read, kRgba16f, "post-blur's output"},
-                     previousSurfaceDecl(),
-                     {"gPrev_Stabilized", Access::Read, kRgba16f, "last frame's stabilised signal"},
-                     {"gOut_Stabilized", Access::Write, kRgba16f, "the denoised signal, history length"},
-                     currentSurfaceDecl(),
-                     lightChangeDecl()});
+gpu::PassDesc denoiseTemporalStabilizationPass() {
+  return stagePass("temporal_stabilization", "gi/denoise/temporal_stabilization",
+                   {motionDecl(), previousSurfaceDecl(), currentSurfaceDecl(), lightChangeDecl()},
+                   {{"gIn_Filtered", Access::Read, "post-blur's output"},
+                    {"gPrev_Stabilized", Access::Read, "last frame's stabilised signal"},
+                    {"gOut_Stabilized", Access::Write, "the denoised signal, history length"}});
 }
 
 gpu::PassDesc denoiseValidationPass() {

@@ -1,23 +1,27 @@
 // The host declarations of the denoiser's passes (shaders/gi/denoise/,
-// folder = stage, file = pass): each runs once per signal, named
-// gi.denoise.SIGNAL.PASS (SIGNAL: the signal's name, "diffuse", "specular"
-// or an engine's), except the tile classification, which all signals share,
-// and the validation view.
+// folder = stage, file = pass), named gi.denoise.PASS: each stage is one
+// dispatch for up to kDenoiseSlots signals (denoise_common.glsl), whose
+// per-signal images it binds in slots NAME0..NAME3; the tile
+// classification and the validation view see no signal's images.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "gpu/pass.h"
 
 namespace bounce::gi {
 
-// Push constants of every per-signal pass (denoise_common.glsl's
-// SignalParams): which signal, its kind and flags, and the blur's radius scale.
+// Push constants of every stage (denoise_common.glsl's SignalParams): per
+// slot the signal's kind, flags and index; the slots in use; the blur's
+// radius scale.
 struct DenoiseSignalParams {
-  std::uint32_t slot;   // the signal's index among the denoiser's
-  std::uint32_t kind;   // gi::SignalKind: shared::kSignalKindDiffuse or kSignalKindSpecular
-  std::uint32_t flags;  // shared::kSignalHasHistory, kSignalCheckerboard
+  std::array<std::uint32_t, 4> kinds;    // gi::SignalKind: shared::kSignalKindDiffuse or kSignalKindSpecular
+  std::array<std::uint32_t, 4> flags;    // shared::kSignalHasHistory, kSignalCheckerboard
+  std::array<std::uint32_t, 4> indices;  // the signal's index among the denoiser's
+  std::uint32_t count;                   // slots in use
   float radiusScale;
 };
 // The validation view's: which kinds' panels show a signal.
@@ -26,14 +30,17 @@ struct DenoiseValidationParams {
   std::uint32_t specularShown;
 };
 
+// The name of slot `slot` of a per-signal binding: "gIn_Signal" 1 -> "gIn_Signal1".
+std::string denoiseSlotName(std::string_view binding, std::size_t slot);
+
 gpu::PassDesc denoiseClassifyTilesPass();
-gpu::PassDesc denoisePrePass(const std::string& signal);
-gpu::PassDesc denoiseTemporalAccumulationPass(const std::string& signal);
-gpu::PassDesc denoiseHistoryFixPass(const std::string& signal);
+gpu::PassDesc denoisePrePass();
+gpu::PassDesc denoiseTemporalAccumulationPass();
+gpu::PassDesc denoiseHistoryFixPass();
 // Blur and post-blur run the same shader (shaders/gi/denoise/blur.comp).
-gpu::PassDesc denoiseBlurPass(const std::string& signal);
-gpu::PassDesc denoisePostBlurPass(const std::string& signal);
-gpu::PassDesc denoiseTemporalStabilizationPass(const std::string& signal);
+gpu::PassDesc denoiseBlurPass();
+gpu::PassDesc denoisePostBlurPass();
+gpu::PassDesc denoiseTemporalStabilizationPass();
 // For --dump-stages (captured frames) only: the validation view.
 gpu::PassDesc denoiseValidationPass();
 

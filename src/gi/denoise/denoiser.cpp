@@ -1,6 +1,8 @@
 #include "gi/denoise/denoiser.h"
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
 #include <optional>
 #include <stdexcept>
 
@@ -24,12 +26,8 @@ constexpr ImageSpec kSharedImages[] = {
     {"gi.denoise.tiles", Resolution::Tile, kR16f, false, Visualize::Raw, "1 where a 16x16 tile has a surface"},
     {"gi.denoise.surface", Resolution::Full, kRg32ui, false, Visualize::Raw,
      "this frame's viewZ bits, octahedral normal and roughness, one load a tap (viewZ 0: no usable surface)"},
-    {"gi.denoise.pre_passed", Resolution::Full, kRgba16f, false, Visualize::Radiance,
-     "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance (each signal in turn)"},
-    {"gi.denoise.accumulated", Resolution::Full, kRgba16f, false, Visualize::Radiance,
-     "temporal accumulation's output, then blur's: radiance, history length (each signal in turn)"},
-    {"gi.denoise.fixed", Resolution::Full, kRgba16f, false, Visualize::Radiance,
-     "history fix's output: short histories rebuilt, fireflies removed (each signal in turn)"},
+    {"gi.denoise.empty_slot", Resolution::Single, kRgba16f, false, Visualize::Raw,
+     "bound to the slots of a dispatch that no signal takes; never read or written"},
     {"gi.denoise.validation", Resolution::Full, kRgba16f, false, Visualize::Color,
      "the validation view: viewZ, normals, motion, specular virtual history; diffuse and specular history "
      "length, denoised light with disocclusions in red (captured frames only)",
@@ -43,18 +41,54 @@ struct SignalImage {
   ImageSpec spec;
 };
 constexpr SignalImage kSignalImages[] = {
+    {"pre_passed",
+     {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
+      "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance"}},
+    {"accumulated",
+     {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
+      "temporal accumulation's output, then blur's: radiance, history length"}},
+    {"history",
+     {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
+      "last frame's history (read by temporal accumulation), then history fix's output, then post-blur's: next "
+      "frame's history; alpha: history length"}},
     {"moments",
      {"", Resolution::Full, kRgba16f, true, Visualize::Raw,
       "luminance moments: mean and deviation over the history, mean of the fast history; specular kind: the "
       "virtual history's share"}},
-    {"history",
-     {"", Resolution::Full, kRgba16f, true, Visualize::Radiance,
-      "post-blur's output: next frame's history; alpha: history length"}},
     {"stabilized",
      {"", Resolution::Full, kRgba16f, true, Visualize::Radiance,
       "the denoised signal (temporal stabilisation's output); alpha: its history length"}},
 };
 static_assert(std::size(kSignalImages) == kDenoisePerSignal, "one table entry per DenoiseSignalImage");
+
+// The binds of one dispatch: its shared ones, then each per-signal binding
+// once per slot (the filler image in the slots no signal takes), captured
+// as SIGNAL.BINDING (gi.denoise.blur's specular.gOut_Filtered). Owns the
+// names the binds point to.
+class SlotBinds {
+ public:
+  SlotBinds(std::span<const std::string> signalNames, std::initializer_list<gpu::Bind> shared)
+      : signalNames_(signalNames), binds_(shared) {}
+  // Binding `name` of every slot: `image(k)` for the batch's k-th signal, the filler past them.
+  template <class ImageOf>
+  void slots(std::string_view name, gpu::Image& filler, ImageOf image) {
+    for (std::size_t k = 0; k < shared::kDenoiseSlots; ++k) {
+      const std::string& slotName = names_.emplace_back(denoiseSlotName(name, k));
+      if (k >= signalNames_.size()) {
+        binds_.push_back(gpu::Bind::filler(slotName, filler));
+        continue;
+      }
+      const std::string& label = names_.emplace_back(signalNames_[k] + "." + std::string(name));
+      binds_.push_back(gpu::Bind::labelled(slotName, image(k), label));
+    }
+  }
+  std::span<const gpu::Bind> binds() const { return binds_; }
+
+ private:
+  std::span<const std::string> signalNames_;  // the batch's, one per slot in use
+  std::deque<std::string> names_;             // a deque: growing it moves no name a bind points to
+  std::vector<gpu::Bind> binds_;
+};
 
 }  // namespace
 
@@ -72,23 +106,16 @@ std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const SignalDesc> si
 }
 
 struct Denoiser::Passes {
-  struct Signal {
-    gpu::ComputePass prePass, temporalAccumulation, historyFix, blur, postBlur, temporalStabilization;
-    Signal(gpu::Context& context, const std::string& name)
-        : prePass(context, denoisePrePass(name)),
-          temporalAccumulation(context, denoiseTemporalAccumulationPass(name)),
-          historyFix(context, denoiseHistoryFixPass(name)),
-          blur(context, denoiseBlurPass(name)),
-          postBlur(context, denoisePostBlurPass(name)),
-          temporalStabilization(context, denoiseTemporalStabilizationPass(name)) {}
-  };
-  gpu::ComputePass classifyTiles;
-  std::vector<std::unique_ptr<Signal>> signals;
+  gpu::ComputePass classifyTiles, prePass, temporalAccumulation, historyFix, blur, postBlur, temporalStabilization;
   std::unique_ptr<gpu::ComputePass> validation;  // made on the first captured frame
-  Passes(gpu::Context& context, std::span<const SignalDesc> descs)
-      : classifyTiles(context, denoiseClassifyTilesPass()) {
-    for (const SignalDesc& signal : descs) signals.push_back(std::make_unique<Signal>(context, signal.name));
-  }
+  explicit Passes(gpu::Context& context)
+      : classifyTiles(context, denoiseClassifyTilesPass()),
+        prePass(context, denoisePrePass()),
+        temporalAccumulation(context, denoiseTemporalAccumulationPass()),
+        historyFix(context, denoiseHistoryFixPass()),
+        blur(context, denoiseBlurPass()),
+        postBlur(context, denoisePostBlurPass()),
+        temporalStabilization(context, denoiseTemporalStabilizationPass()) {}
 };
 
 Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
@@ -98,20 +125,20 @@ Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSiz
   images_ = std::make_unique<ImageSet>(context, arena, table_.specs(), maxSize);
   constants_ = std::make_unique<gpu::Buffer>(context, "gi.denoise.constants", sizeof(shared::DenoiseConstants),
                                              gpu::BufferUsage::DeviceLocal, &arena);
-  passes_ = std::make_unique<Passes>(context, signals_);
+  passes_ = std::make_unique<Passes>(context);
 }
 
 Denoiser::~Denoiser() = default;
 
-std::vector<gpu::PassDesc> Denoiser::passes(std::span<const SignalDesc> signals) {
-  std::vector<gpu::PassDesc> all = {denoiseClassifyTilesPass()};
-  for (const SignalDesc& signal : signals)
-    for (gpu::PassDesc desc : {denoisePrePass(signal.name), denoiseTemporalAccumulationPass(signal.name),
-                               denoiseHistoryFixPass(signal.name), denoiseBlurPass(signal.name),
-                               denoisePostBlurPass(signal.name), denoiseTemporalStabilizationPass(signal.name)})
-      all.push_back(std::move(desc));
-  all.push_back(denoiseValidationPass());
-  return all;
+std::vector<gpu::PassDesc> Denoiser::passes(std::span<const SignalDesc>) {
+  return {denoiseClassifyTilesPass(),
+          denoisePrePass(),
+          denoiseTemporalAccumulationPass(),
+          denoiseHistoryFixPass(),
+          denoiseBlurPass(),
+          denoisePostBlurPass(),
+          denoiseTemporalStabilizationPass(),
+          denoiseValidationPass()};
 }
 
 std::size_t Denoiser::imageOf(std::size_t signal, DenoiseSignalImage image) const {
@@ -120,10 +147,6 @@ std::size_t Denoiser::imageOf(std::size_t signal, DenoiseSignalImage image) cons
 
 gpu::Image& Denoiser::result(std::size_t signal, std::uint64_t frameIndex) {
   return images_->current(imageOf(signal, kDenoiseStabilized), frameIndex);
-}
-
-gpu::Image& Denoiser::previousResult(std::size_t signal, std::uint64_t frameIndex) {
-  return images_->previous(imageOf(signal, kDenoiseStabilized), frameIndex);
 }
 
 void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inputs) {
@@ -168,88 +191,99 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
       results.push_back(imageOf(signal, kDenoiseStabilized));
     images_->clearToZero(recorder, results, f);
   }
-  const gpu::Bind constants("gIn_DenoiseConstants", *constants_);
   gpu::Image& tiles = images_->current(kDenoiseTiles, f);
   gpu::Image& surface = images_->current(kDenoiseSurface, f);
   recorder.dispatch(passes_->classifyTiles, full.width, full.height, frame.group.binds(GroupPart::Surfaces),
                     {{"gOut_Tiles", tiles}, {"gOut_Surface", surface}});
-  const gpu::Bind tilesBind("gIn_Tiles", tiles);
-  const gpu::Bind surfaceBind("gIn_DenoiseSurface", surface);
-  const gpu::Bind motion("gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler);
-  gpu::Image& prePassed = images_->current(kDenoisePrePassed, f);
-  gpu::Image& accumulated = images_->current(kDenoiseAccumulated, f);
-  gpu::Image& fixed = images_->current(kDenoiseFixed, f);
-
-  for (std::size_t signal = 0; signal < signals_.size(); ++signal) {
-    const SignalInput& in = inputs[signal];
-    if (!in.noisy) continue;
-    Passes::Signal& p = *passes_->signals[signal];
-    const bool specular = signals_[signal].kind == SignalKind::Specular;
-    const auto image = [&](DenoiseSignalImage which) -> gpu::Image& {
-      return images_->current(imageOf(signal, which), f);
-    };
-    const auto previous = [&](DenoiseSignalImage which) -> gpu::Image& {
-      return images_->previous(imageOf(signal, which), f);
-    };
-    const std::uint32_t flags = (frame.usableHistory && in.historyKept ? shared::kSignalHasHistory : 0u) |
-                                (in.checkerboarded ? shared::kSignalCheckerboard : 0u);
-    const DenoiseSignalParams atFullRadius{std::uint32_t(signal), std::uint32_t(signals_[signal].kind), flags, 1.0f};
-    DenoiseSignalParams post = atFullRadius;
-    post.radiusScale = s.postBlurRadiusScale;
-    // The pre-pass's output takes the noisy signal's place in every later
-    // pass; without a pre-pass, the noisy signal. A checkerboarded signal
-    // always has one: it fills the pixels without a sample, even where it
-    // blurs nothing (radius 0).
-    const float prePassRadius = specular ? s.specularPrePassRadius : s.diffusePrePassRadius;
-    const bool prePass = prePassRadius > 0.0f || in.checkerboarded;
-    if (prePass)
-      recorder.dispatch(p.prePass, full.width, full.height, frame.group.binds(GroupPart::Constants),
-                        {constants, tilesBind, surfaceBind, {"gIn_Signal", *in.noisy}, {"gOut_PrePassed", prePassed}},
-                        atFullRadius);
-    const gpu::Bind input("gIn_Signal", prePass ? prePassed : *in.noisy);
-    recorder.dispatch(p.temporalAccumulation, full.width, full.height, frame.group.binds(GroupPart::Constants),
-                      {constants,
-                       tilesBind,
-                       surfaceBind,
-                       motion,
-                       input,
-                       {"gPrev_Surface", frame.products.image(product::kPreviousSurface)},
-                       {"gPrev_Filtered", previous(kDenoiseHistory)},
-                       {"gPrev_Moments", previous(kDenoiseMoments)},
-                       {"gOut_Accumulated", accumulated},
-                       {"gOut_Moments", image(kDenoiseMoments)},
-                       {"gIn_Surface", frame.products.image(product::kSurface)},
-                       {"gIn_LightChange", frame.products.image(product::kLightChange)}},
-                      atFullRadius);
-    recorder.dispatch(p.historyFix, full.width, full.height, frame.group.binds(GroupPart::Constants),
-                      {constants, tilesBind, surfaceBind, {"gIn_Accumulated", accumulated}, {"gOut_Fixed", fixed}},
-                      atFullRadius);
-    recorder.dispatch(
-        p.blur, full.width, full.height, frame.group.binds(GroupPart::Constants),
-        {constants, tilesBind, surfaceBind, input, {"gIn_Filtered", fixed}, {"gOut_Filtered", accumulated}},
-        atFullRadius);
-    recorder.dispatch(p.postBlur, full.width, full.height, frame.group.binds(GroupPart::Constants),
-                      {constants,
-                       tilesBind,
-                       surfaceBind,
-                       input,
-                       {"gIn_Filtered", accumulated},
-                       {"gOut_Filtered", image(kDenoiseHistory)}},
-                      post);
-    recorder.dispatch(p.temporalStabilization, full.width, full.height, frame.group.binds(GroupPart::Constants),
-                      {constants,
-                       tilesBind,
-                       surfaceBind,
-                       motion,
-                       {"gIn_Filtered", image(kDenoiseHistory)},
-                       {"gPrev_Surface", frame.products.image(product::kPreviousSurface)},
-                       {"gPrev_Stabilized", previous(kDenoiseStabilized)},
-                       {"gOut_Stabilized", image(kDenoiseStabilized)},
-                       {"gIn_Surface", frame.products.image(product::kSurface)},
-                       {"gIn_LightChange", frame.products.image(product::kLightChange)}},
-                      atFullRadius);
-  }
+  // The signals with an input this frame, kDenoiseSlots to a dispatch.
+  std::vector<std::size_t> given;
+  for (std::size_t signal = 0; signal < signals_.size(); ++signal)
+    if (inputs[signal].noisy) given.push_back(signal);
+  for (std::size_t first = 0; first < given.size(); first += shared::kDenoiseSlots)
+    recordBatch(frame, inputs,
+                std::span<const std::size_t>(given).subspan(first, std::min<std::size_t>(shared::kDenoiseSlots,
+                                                                                          given.size() - first)));
   if (frame.capturing) recordValidation(frame, inputs);
+}
+
+void Denoiser::recordBatch(const FrameState& frame, std::span<const SignalInput> inputs,
+                           std::span<const std::size_t> batch) {
+  gpu::Recorder& recorder = frame.recorder;
+  const std::uint64_t f = frame.frameIndex;
+  const Extent full = frame.renderSize;
+  std::vector<std::string> names;
+  for (std::size_t signal : batch) names.push_back(signals_[signal].name);
+  gpu::Image& filler = images_->current(kDenoiseEmptySlot, f);
+  const auto image = [&](DenoiseSignalImage which) {
+    return [&, which](std::size_t k) -> gpu::Image& { return images_->current(imageOf(batch[k], which), f); };
+  };
+  const auto previous = [&](DenoiseSignalImage which) {
+    return [&, which](std::size_t k) -> gpu::Image& { return images_->previous(imageOf(batch[k], which), f); };
+  };
+
+  DenoiseSignalParams atFullRadius{};
+  atFullRadius.count = std::uint32_t(batch.size());
+  atFullRadius.radiusScale = 1.0f;
+  for (std::size_t k = 0; k < batch.size(); ++k) {
+    const SignalInput& in = inputs[batch[k]];
+    atFullRadius.kinds[k] = std::uint32_t(signals_[batch[k]].kind);
+    atFullRadius.flags[k] = (frame.usableHistory && in.historyKept ? shared::kSignalHasHistory : 0u) |
+                            (in.checkerboarded ? shared::kSignalCheckerboard : 0u);
+    atFullRadius.indices[k] = std::uint32_t(batch[k]);
+  }
+  DenoiseSignalParams post = atFullRadius;
+  post.radiusScale = settings_.postBlurRadiusScale;
+
+  const gpu::Bind constants("gIn_DenoiseConstants", *constants_);
+  const gpu::Bind tiles("gIn_Tiles", images_->current(kDenoiseTiles, f));
+  const gpu::Bind surface("gIn_DenoiseSurface", images_->current(kDenoiseSurface, f));
+  const gpu::Bind motion("gIn_Motion", frame.engine[Input::Motion], frame.nearestSampler);
+  const gpu::Bind previousSurface("gPrev_Surface", frame.products.image(product::kPreviousSurface));
+  const gpu::Bind currentSurface("gIn_Surface", frame.products.image(product::kSurface));
+  const gpu::Bind lightChange("gIn_LightChange", frame.products.image(product::kLightChange));
+  const auto dispatch = [&](const gpu::ComputePass& pass, const SlotBinds& binds, const DenoiseSignalParams& params) {
+    recorder.dispatch(pass, full.width, full.height, frame.group.binds(GroupPart::Constants), binds.binds(), &params,
+                      sizeof params);
+  };
+  const auto noisy = [&](std::size_t k) -> gpu::Image& { return *inputs[batch[k]].noisy; };
+
+  // Every signal has a pre-pass: at radius 0 it hands the later passes a
+  // sanitised copy (and a checkerboarded signal's filled pixels).
+  SlotBinds prePass(names, {constants, tiles, surface});
+  prePass.slots("gIn_Signal", filler, noisy);
+  prePass.slots("gOut_PrePassed", filler, image(kDenoisePrePassed));
+  dispatch(passes_->prePass, prePass, atFullRadius);
+
+  SlotBinds accumulation(names, {constants, tiles, surface, motion, previousSurface, currentSurface, lightChange});
+  accumulation.slots("gIn_Signal", filler, image(kDenoisePrePassed));
+  accumulation.slots("gPrev_Filtered", filler, image(kDenoiseHistory));
+  accumulation.slots("gPrev_Moments", filler, previous(kDenoiseMoments));
+  accumulation.slots("gOut_Accumulated", filler, image(kDenoiseAccumulated));
+  accumulation.slots("gOut_Moments", filler, image(kDenoiseMoments));
+  dispatch(passes_->temporalAccumulation, accumulation, atFullRadius);
+
+  SlotBinds historyFix(names, {constants, tiles, surface});
+  historyFix.slots("gIn_Accumulated", filler, image(kDenoiseAccumulated));
+  historyFix.slots("gOut_Fixed", filler, image(kDenoiseHistory));
+  dispatch(passes_->historyFix, historyFix, atFullRadius);
+
+  SlotBinds blur(names, {constants, tiles, surface});
+  blur.slots("gIn_Filtered", filler, image(kDenoiseHistory));
+  blur.slots("gIn_Signal", filler, image(kDenoisePrePassed));
+  blur.slots("gOut_Filtered", filler, image(kDenoiseAccumulated));
+  dispatch(passes_->blur, blur, atFullRadius);
+
+  SlotBinds postBlur(names, {constants, tiles, surface});
+  postBlur.slots("gIn_Filtered", filler, image(kDenoiseAccumulated));
+  postBlur.slots("gIn_Signal", filler, image(kDenoisePrePassed));
+  postBlur.slots("gOut_Filtered", filler, image(kDenoiseHistory));
+  dispatch(passes_->postBlur, postBlur, post);
+
+  SlotBinds stabilization(names, {constants, tiles, surface, motion, previousSurface, currentSurface, lightChange});
+  stabilization.slots("gIn_Filtered", filler, image(kDenoiseHistory));
+  stabilization.slots("gPrev_Stabilized", filler, previous(kDenoiseStabilized));
+  stabilization.slots("gOut_Stabilized", filler, image(kDenoiseStabilized));
+  dispatch(passes_->temporalStabilization, stabilization, atFullRadius);
 }
 
 void Denoiser::recordValidation(const FrameState& frame, std::span<const SignalInput> inputs) {

@@ -4,20 +4,23 @@
 // with roughness, hit distance and reflection motion). It sees the frame's
 // surfaces (viewZ, normal, roughness), the motion vectors and last frame's
 // surfaces, its own settings, and nothing of who made the signals. Its
-// passes, per signal (SIGNAL: the signal's name):
-//   gi.denoise.classify_tiles                   16x16 tiles with a surface (all signals)
-//   gi.denoise.SIGNAL.pre_pass                 checkerboard resolve; 8-tap pre-blur, radius from hit distance
-//                                              and lobe
-//   gi.denoise.SIGNAL.temporal_accumulation    Catmull-Rom surface-motion history (specular kind: + reflection
-//                                              motion), history length, fast-history clamp, anti-lag
-//   gi.denoise.SIGNAL.history_fix              short histories rebuilt from a wide neighbourhood; anti-firefly
-//   gi.denoise.SIGNAL.blur                     8-tap disk, radius from history length, lobe and hit distance
-//   gi.denoise.SIGNAL.post_blur                the same at half the radius: next frame's history
-//   gi.denoise.SIGNAL.temporal_stabilization   a second, clamped history: the result
-//   gi.denoise.validation                      captured frames only: NRD-style validation view
-// The signals are denoised one after another, so the images a signal uses
-// only within a frame (pre-passed, accumulated, fixed) are one set for all;
-// each signal keeps its own histories (moments, history, stabilised).
+// passes, each one dispatch for up to four signals (more are taken four at
+// a time), every signal of the dispatch worked in turn by each invocation:
+//   gi.denoise.classify_tiles           16x16 tiles with a surface; the surfaces packed for the taps
+//   gi.denoise.pre_pass                 checkerboard resolve; 8-tap pre-blur, radius from hit distance and lobe
+//   gi.denoise.temporal_accumulation    Catmull-Rom surface-motion history (specular kind: + reflection
+//                                       motion), history length, fast-history clamp, anti-lag
+//   gi.denoise.history_fix              short histories rebuilt from a wide neighbourhood; anti-firefly
+//   gi.denoise.blur                     8-tap disk, radius from history length, lobe and hit distance
+//   gi.denoise.post_blur                the same at half the radius: next frame's history
+//   gi.denoise.temporal_stabilization   a second, clamped history: the result
+//   gi.denoise.validation               captured frames only: NRD-style validation view
+// Each signal has its own images: two that live within a frame
+// (pre_passed; accumulated, which holds temporal accumulation's output and
+// then blur's), its history (one image: temporal accumulation reads last
+// frame's, history fix writes this frame's rebuilt signal into it for
+// blur, and post-blur writes next frame's), and two that need last
+// frame's beside this frame's (moments, stabilized).
 #pragma once
 
 #include <memory>
@@ -36,17 +39,18 @@ namespace bounce::gi {
 // signal the kDenoisePerSignal of DenoiseSignalImage.
 enum DenoiseImage : std::size_t {
   kDenoiseTiles,
-  kDenoiseSurface,      // this frame's surfaces packed for the taps (viewZ, normal, roughness)
-  kDenoisePrePassed,    // a signal's pre-pass output (scratch, shared by the signals)
-  kDenoiseAccumulated,  // temporal accumulation's output, then blur's (scratch)
-  kDenoiseFixed,        // history fix's output (scratch)
-  kDenoiseValidation,   // captured frames only
+  kDenoiseSurface,     // this frame's surfaces packed for the taps (viewZ, normal, roughness)
+  kDenoiseEmptySlot,   // 1x1: fills the slots of a dispatch that no signal takes
+  kDenoiseValidation,  // captured frames only
   kDenoiseSharedImages
 };
 enum DenoiseSignalImage : std::size_t {
-  kDenoiseMoments,     // luminance moments (history)
-  kDenoiseHistory,     // post-blur's output, next frame's history
-  kDenoiseStabilized,  // the result (history)
+  kDenoisePrePassed,    // the pre-pass's output (within the frame)
+  kDenoiseAccumulated,  // temporal accumulation's output, then blur's (within the frame)
+  kDenoiseHistory,      // last frame's history until temporal accumulation; then history fix's output; then
+                        // post-blur's: next frame's history
+  kDenoiseMoments,      // luminance moments (this frame's and last frame's)
+  kDenoiseStabilized,   // the result (this frame's and last frame's)
   kDenoisePerSignal
 };
 
@@ -96,15 +100,16 @@ class Denoiser final : public Unit {
   // Denoises each signal whose noisy image is given; `inputs`: one per signal.
   void record(const FrameState& frame, std::span<const SignalInput> inputs);
   // A signal's denoised result of this frame (rgba16f: radiance, history
-  // length), and last frame's.
+  // length).
   gpu::Image& result(std::size_t signal, std::uint64_t frameIndex);
-  gpu::Image& previousResult(std::size_t signal, std::uint64_t frameIndex);
   // Every pass a denoiser of `signals` may record (gi/unit_catalog.h).
   static std::vector<gpu::PassDesc> passes(std::span<const SignalDesc> signals);
 
  private:
   struct Passes;
   std::size_t imageOf(std::size_t signal, DenoiseSignalImage image) const;
+  // Records the stages for `batch` (up to kDenoiseSlots signals with an input).
+  void recordBatch(const FrameState& frame, std::span<const SignalInput> inputs, std::span<const std::size_t> batch);
   void recordValidation(const FrameState& frame, std::span<const SignalInput> inputs);
   gpu::Context& context_;
   DenoiseSettings settings_;
