@@ -1333,6 +1333,39 @@ TEST_F(GiTest, BadInputsAreRefusedWithTheirNames) {
   refusedContext({.maxWidth = 16, .maxHeight = 16}, {}, "Device::device (VkDevice) is VK_NULL_HANDLE", noDevice);
 }
 
+// The resolve's visibility, tested once per reservoir from its own surface
+// (gi.diffuse.per_pixel_visibility off; screen-only mode: the half-
+// resolution gi.diffuse.sample_march) instead of from each pixel: over
+// cornell's boxes, whose shadows hide samples from the floor and walls,
+// the light stays that of the test from every pixel, and the test still
+// matters (without one, the light moves by more).
+TEST_F(GiTest, VisibilityTestedOncePerReservoirKeepsThePixelsLight) {
+  const scene::Scene cornell = scene::makeBuiltinScene("cornell");
+  constexpr std::uint32_t w = 96, h = 54;
+  const auto meanAfterWarmUp = [&](Settings settings, std::vector<std::string>* passes = nullptr) {
+    Run run = start(cornell, settings, w, h);
+    advance(run, cornellFront(), 24u);
+    const double mean = meanLuminance(averageIndirect(run, cornellFront(), 8));
+    if (passes)
+      for (const gpu::PassTiming& t : run.loop->timings().summary()) passes->push_back(t.pass);
+    return mean;
+  };
+  Settings perReservoir = filtersOnly();
+  perReservoir.diffuse.perPixelVisibility = false;
+  Settings untested = filtersOnly();
+  untested.diffuse.visibilitySteps = 0;
+  std::vector<std::string> passes;
+  const double perPixel = meanAfterWarmUp(filtersOnly());
+  const double once = meanAfterWarmUp(perReservoir, &passes);
+  const double none = meanAfterWarmUp(untested);
+  std::printf("cornell indirect mean / marched from every pixel: %.3f marched once per reservoir, %.3f untested\n",
+              once / perPixel, none / perPixel);
+  EXPECT_NE(std::find(passes.begin(), passes.end(), "gi.diffuse.sample_march"), passes.end());
+  EXPECT_NEAR(once / perPixel, 1.0, 0.05);
+  EXPECT_GT(std::abs(none / perPixel - 1.0), 2.0 * std::abs(once / perPixel - 1.0))
+      << "the visibility test should matter in this scene";
+}
+
 TEST_F(GiTest, WithoutReuseOrDiffuseThoseStagesDoNotRun) {
   const scene::Scene cornell = scene::makeBuiltinScene("cornell");
   {

@@ -61,6 +61,7 @@ std::vector<ExpectedField> expectedFields() {
       {"diffuse.resolve_reservoirs", [](const Settings& s) { return double(s.diffuse.resolveReservoirs); }},
       {"diffuse.visibility_steps", [](const Settings& s) { return double(s.diffuse.visibilitySteps); }},
       {"diffuse.visibility", [](const Settings& s) { return double(s.diffuse.visibility); }},
+      {"diffuse.per_pixel_visibility", [](const Settings& s) { return double(s.diffuse.perPixelVisibility); }},
       {"diffuse.reuse_visibility", [](const Settings& s) { return double(s.diffuse.reuseVisibility); }},
       {"diffuse.sky_reuse_visibility", [](const Settings& s) { return double(s.diffuse.skyReuseVisibility); }},
       {"diffuse.sky_reuse_rays", [](const Settings& s) { return double(s.diffuse.skyReuseRays); }},

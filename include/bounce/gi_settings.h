@@ -72,6 +72,14 @@ struct DiffuseSettings {
   std::uint32_t resolveReservoirs = 4;  // neighbouring half-resolution reservoirs each pixel evaluates (1..4)
   std::uint32_t visibilitySteps = 12;   // ray-march steps from the pixel to each sample (0 = no visibility test)
   Visibility visibility = Visibility::Hybrid;
+  // Screen and hybrid visibility: true, the resolve marches from each
+  // full-resolution pixel to each sample it evaluates (four a pixel);
+  // false, each reservoir's sample is tested once, from the reservoir's own
+  // surface (hybrid: gi.diffuse.sample_visibility's world ray alone;
+  // screen: gi.diffuse.sample_march at half resolution), and the four
+  // pixels that use it share the verdict: 16 times fewer marches, a
+  // contact shadow a pixel finer than the reservoirs is lost.
+  bool perPixelVisibility = true;
   // Temporal and spatial reuse test a reused sample's visibility from the
   // reusing pixel with an any-hit ray through the bridge, so that reuse
   // adds no bias from occlusion (ReSTIR GI's unbiased reuse; costs a ray

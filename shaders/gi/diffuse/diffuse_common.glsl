@@ -36,6 +36,7 @@ struct DiffuseConstants {
   uint reuseVisibility;        // 1: reuse tests reused samples with world any-hit rays
   uint skyReuseVisibility;     // 1: spatial reuse's normalisation tests sky samples from each neighbour
   uint skyReuseRays;           // of those neighbours, the most one pass tests with a ray
+  uint perPixelVisibility;     // 1: the resolve marches from each pixel to each sample; 0: once per reservoir
 };
 
 // Neighbours one spatial pass merges at most (more samples are not taken):

@@ -51,7 +51,9 @@ vec3 evaluate(Surface x, Owner owner, Reservoir r, float jitter) {
   float cosine = dot(x.normal, direction);
   if (cosine <= 0.0f || targetPdf(r, x.position, x.normal, 0u) <= 0.0f) return vec3(0.0f);
   DiffuseConstants d = gIn_DiffuseConstants.diffuse;
-  uint steps = d.visibilitySteps;
+  // Per reservoir (gi.diffuse.per_pixel_visibility off), the march or the
+  // world ray from the reservoir's surface dropped the hidden samples.
+  uint steps = d.perPixelVisibility != 0u ? d.visibilitySteps : 0u;
   bool world = kSceneBridgeTraces && d.visibilityMode == kVisibilityWorld;
   // Hybrid: what the march cannot decide was settled by the reservoir's
   // own world ray (gi.diffuse.sample_visibility), a pixel or two away.

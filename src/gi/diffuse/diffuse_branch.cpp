@@ -21,14 +21,13 @@ using gpu::Visualize;
 
 constexpr ImageSpec kImages[] = {
     {"gi.diffuse.gathered0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
-     "gather's fresh reservoirs: sample position, normal"},
+     "gather's fresh reservoirs (sample position, normal) until temporal reuse has read them; then the first "
+     "spatial pass's output"},
     {"gi.diffuse.gathered1", Resolution::Half, kRgba32ui, false, Visualize::Raw,
-     "gather's fresh reservoirs: radiance, M, W, flags"},
+     "gather's fresh reservoirs (radiance, M, W, flags); then the first spatial pass's output"},
     {"gi.diffuse.transient0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
      "reservoirs of the reuse stage not kept for the next frame"},
     {"gi.diffuse.transient1", Resolution::Half, kRgba32ui, false, Visualize::Raw, "(second half of the pair)"},
-    {"gi.diffuse.spatial0", Resolution::Half, kRgba32ui, false, Visualize::Raw, "the first spatial pass's reservoirs"},
-    {"gi.diffuse.spatial1", Resolution::Half, kRgba32ui, false, Visualize::Raw, "(second half of the pair)"},
     {"gi.diffuse.reservoirs0", Resolution::Half, kRgba32ui, true, Visualize::Raw,
      "the reservoirs the next frame's temporal reuse starts from"},
     {"gi.diffuse.reservoirs1", Resolution::Half, kRgba32ui, true, Visualize::Raw, "(second half of the pair)"},
@@ -69,7 +68,8 @@ std::uint32_t brightPyramidLevels(Extent renderSize, std::uint32_t brightPixels)
 }
 
 struct DiffuseBranch::Passes {
-  gpu::ComputePass brightPixels, brightReduce, gather, temporalReuse, spatialReuse, resolve, temporalFilter;
+  gpu::ComputePass brightPixels, brightReduce, gather, temporalReuse, spatialReuse, sampleMarch, resolve,
+      temporalFilter;
   // Only with a bridge that traces (their shaders have nothing to do without one).
   std::unique_ptr<gpu::ComputePass> sampleVisibility, worldCandidates, neighbourVisibility, spatialNormalize;
   std::vector<std::unique_ptr<gpu::ComputePass>> reservoirViews;  // made on the first captured frame
@@ -79,6 +79,7 @@ struct DiffuseBranch::Passes {
         gather(context, scene.adapt(gatherPass(), gatherRayResources())),
         temporalReuse(context, scene.adapt(temporalReusePass())),
         spatialReuse(context, scene.adapt(spatialReusePass(), neighbourTestResources())),
+        sampleMarch(context, sampleMarchPass()),
         resolve(context, scene.adapt(resolvePass())),
         temporalFilter(context, temporalFilterPass()),
         sampleVisibility(scene.traces()
@@ -171,6 +172,7 @@ std::vector<gpu::PassDesc> DiffuseBranch::passes() {
                                      neighbourVisibilityPass(),
                                      spatialNormalizePass(),
                                      sampleVisibilityPass(),
+                                     sampleMarchPass(),
                                      resolvePass(),
                                      temporalFilterPass()};
   for (const char* after : kViewAfter) list.push_back(reservoirViewPass(after));
@@ -249,6 +251,7 @@ void DiffuseBranch::record(const FrameState& frame) {
   c.reuseVisibility = traces && d.reuseVisibility ? 1u : 0u;
   c.skyReuseVisibility = traces && d.skyReuseVisibility ? 1u : 0u;
   c.skyReuseRays = plan_.skyReuseRays;
+  c.perPixelVisibility = d.perPixelVisibility ? 1u : 0u;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
 
@@ -325,6 +328,13 @@ void DiffuseBranch::record(const FrameState& frame) {
                       std::span<const gpu::Bind>(scene_.binds(*passes_->sampleVisibility,
                                                               {{"gIn_Reservoir0", *final0},
                                                                {"gInOut_Reservoir1", *final1}})));
+  // Screen visibility tested once per reservoir: the resolve shares the verdict.
+  if (!d.perPixelVisibility && c.visibilityMode == std::uint32_t(Visibility::Screen))
+    recorder.dispatch(passes_->sampleMarch, half.width, half.height, frame.group.binds(),
+                      {constants,
+                       {"gIn_Reservoir0", *final0},
+                       {"gInOut_Reservoir1", *final1},
+                       {"gIn_MarchDepth", marchDepth}});
   // Samples tested visible from their surface, which rough specular pixels
   // may take as their own (gi.specular.diffuse_sample_roughness); untested
   // ones (screen or world visibility: the resolve tests them) are not offered.
@@ -357,6 +367,8 @@ void DiffuseBranch::record(const FrameState& frame) {
 
 // Temporal reuse, then two spatial passes (one shader, other parameters).
 void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gpu::Image*& final1) {
+  gpu::Image& gathered0 = *final0;
+  gpu::Image& gathered1 = *final1;
   gpu::Recorder& recorder = frame.recorder;
   const std::uint64_t f = frame.frameIndex;
   const DiffuseSettings& d = settings_.diffuse;
@@ -418,8 +430,10 @@ void DiffuseBranch::recordReuse(const FrameState& frame, gpu::Image*& final0, gp
                        {"gIn_NeighbourTests", *neighbourTests_}},
                       &params, sizeof params);
   };
-  gpu::Image& spatial0 = images_.current(kSpatial0, f);
-  gpu::Image& spatial1 = images_.current(kSpatial1, f);
+  // The gathered reservoirs (the pair final0/1 points to on entry) are
+  // read by temporal reuse alone: the first spatial pass writes over them.
+  gpu::Image& spatial0 = gathered0;
+  gpu::Image& spatial1 = gathered1;
   spatialPass(temporalOut0, temporalOut1, spatial0, spatial1, {d.spatialRadius, d.spatialSamples, 0u, testSlots_});
   if (frame.capturing) viewReservoirs(frame, 2, spatial0, spatial1);
   spatialPass(spatial0, spatial1, spatialOut0, spatialOut1, {d.spatial2Radius, d.spatial2Samples, 1u, testSlots_});

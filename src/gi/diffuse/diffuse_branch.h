@@ -28,8 +28,6 @@ enum DiffuseImage : std::size_t {
   kGathered1,
   kTransient0,
   kTransient1,
-  kSpatial0,
-  kSpatial1,
   kReservoirs0,
   kReservoirs1,
   kResolved,

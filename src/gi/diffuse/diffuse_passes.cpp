@@ -31,7 +31,7 @@ gpu::ConstantsDecl diffuseConstantsLayout() {
       environmentCandidates, targetFunction, resolveReservoirs, visibilitySteps, jacobian, temporalMaxM,
       temporalDepthTolerance, temporalCosNormalTolerance, environmentMip, spatialCosNormalTolerance,
       spatialPlaneTolerance, visibilityThickness, varianceClippingGamma, temporalFilterFrames, rayCandidates,
-      rayScreenSteps, visibilityMode, reuseVisibility, skyReuseVisibility, skyReuseRays);
+      rayScreenSteps, visibilityMode, reuseVisibility, skyReuseVisibility, skyReuseRays, perPixelVisibility);
 }
 // A pass of the branch: (part of) the frame group and the branch's
 // constants first, then its own resources.
@@ -167,6 +167,15 @@ gpu::PassDesc sampleVisibilityPass() {
                    {{"gIn_Reservoir0", Access::Read, kRgba32ui, "this frame's final reservoirs: sample position, normal"},
                     {"gInOut_Reservoir1", Access::ReadWrite, kRgba32ui,
                      "their radiance, M, W, flags; W = 0 where the sample is hidden from the reservoir's surface"}});
+}
+
+gpu::PassDesc sampleMarchPass() {
+  return pass("gi.diffuse.sample_march", "gi/diffuse/sample_march", GroupPart::Surfaces,
+              {{"gIn_Reservoir0", Access::Read, kRgba32ui, "this frame's final reservoirs: sample position, normal"},
+               {"gInOut_Reservoir1", Access::ReadWrite, kRgba32ui,
+                "their radiance, M, W, flags; W = 0 where the march finds the sample hidden from the reservoir's "
+                "surface"},
+               {"gIn_MarchDepth", Access::Read, kR32f, "the depth the march tests against"}});
 }
 
 gpu::PassDesc resolvePass() {

@@ -37,6 +37,7 @@ gpu::PassDesc spatialNormalizePass();
 // With gi.diffuse.visibility hybrid and a bridge that traces: each
 // reservoir's sample tested from its own surface, hidden ones dropped.
 gpu::PassDesc sampleVisibilityPass();
+gpu::PassDesc sampleMarchPass();
 gpu::PassDesc resolvePass();
 gpu::PassDesc temporalFilterPass();
 // For --dump-stages only; `after` names the reservoir pass it shows

@@ -58,6 +58,10 @@ constexpr std::array kEntries{
     Entry{"diffuse.visibility", inDiffuse(&DiffuseSettings::visibility), kNoBounds,
           "resolve: how a sample's visibility is tested: screen (depth-buffer march), world (an any-hit ray through "
           "the scene bridge) or hybrid (the march, and a world ray where it cannot decide); without a bridge, screen"},
+    Entry{"diffuse.per_pixel_visibility", inDiffuse(&DiffuseSettings::perPixelVisibility), kNoBounds,
+          "resolve (screen and hybrid visibility): each full-resolution pixel marches to each sample; off: each "
+          "reservoir's sample is tested once from its own surface (hybrid: the sample-visibility world ray; screen: "
+          "gi.diffuse.sample_march) and its four pixels share the verdict"},
     Entry{"diffuse.reuse_visibility", inDiffuse(&DiffuseSettings::reuseVisibility), kNoBounds,
           "temporal and spatial reuse test each reused sample's visibility with an any-hit ray through the scene "
           "bridge (unbiased reuse; without a bridge, ignored)"},

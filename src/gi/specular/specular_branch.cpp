@@ -19,18 +19,16 @@ using gpu::Visualize;
 
 constexpr ImageSpec kImages[] = {
     {"gi.specular.traced0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
-     "the trace's fresh reservoirs: hit position, normal"},
+     "the trace's fresh reservoirs (hit position, normal) until temporal reuse has read them; then spatial "
+     "reuse's: what the resolve evaluates"},
     {"gi.specular.traced1", Resolution::Half, kRgba32ui, false, Visualize::Raw,
-     "the trace's fresh reservoirs: radiance, M, W, flags"},
+     "the trace's fresh reservoirs (radiance, M, W, flags); then spatial reuse's"},
     {"gi.specular.pending_rays", Resolution::Half, kRgba32f, false, Visualize::Signed,
      "rays screen space could not finish, left to the world trace: direction (xyz) and its pdf (w; 0: none)"},
     {"gi.specular.reservoirs0", Resolution::Half, kRgba32ui, true, Visualize::Raw,
      "temporal reuse's reservoirs: the next frame's history (the Jitter gi pass's feedback point, before spatial "
      "reuse)"},
     {"gi.specular.reservoirs1", Resolution::Half, kRgba32ui, true, Visualize::Raw, "(second half of the pair)"},
-    {"gi.specular.spatial0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
-     "spatial reuse's reservoirs: what the resolve evaluates"},
-    {"gi.specular.spatial1", Resolution::Half, kRgba32ui, false, Visualize::Raw, "(second half of the pair)"},
     {"gi.specular.resolved", Resolution::Full, kRgba16f, false, Visualize::Radiance,
      "indirect specular, demodulated, before the temporal filter; alpha: hit distance"},
     {"gi.specular.filtered", Resolution::Full, kRgba32f, true, Visualize::Radiance,
@@ -269,8 +267,9 @@ void SpecularBranch::recordReuse(const FrameState& frame, gpu::Image& traced0, g
                      {"gOut_Reservoir1", history1},
                      {"gPrev_Composite", frame.products.image(product::kPreviousComposite)},
                      {"gIn_LightChange", frame.products.image(product::kLightChange)}});
-  gpu::Image& spatial0 = images_.current(kSpecularSpatial0, f);
-  gpu::Image& spatial1 = images_.current(kSpecularSpatial1, f);
+  // The traced reservoirs are read by temporal reuse alone: spatial reuse writes over them.
+  gpu::Image& spatial0 = traced0;
+  gpu::Image& spatial1 = traced1;
   recorder.dispatch(passes_->spatialReuse, half.width, half.height, frame.group.binds(),
                     {constants,
                      material,

@@ -26,8 +26,6 @@ enum SpecularImage : std::size_t {
   kSpecularPendingRays,
   kSpecularReservoirs0,
   kSpecularReservoirs1,
-  kSpecularSpatial0,
-  kSpecularSpatial1,
   kSpecularResolved,
   kSpecularFiltered,
   kSpecularMoments,
