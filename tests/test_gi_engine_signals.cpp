@@ -23,6 +23,9 @@
 #include <vector>
 
 #include "bounce/gi.h"
+#include "gi/image_table.h"
+#include "gi/unit_catalog.h"
+#include "gpu/format.h"
 #include "gpu/frame_loop.h"
 #include "gpu_test.h"
 #include "gpuio/gpu_images.h"
@@ -314,6 +317,39 @@ TEST_F(GiEngineSignals, TheMemoryEstimateMatchesWhatAContextHolds) {
       // 320x180 before).
       EXPECT_LE(held, units + units / 8 + 8 * kMiB) << "the pool's blocks left room unused";
     }
+}
+
+// The units' transient images (ImageSpec::transient: the fresh reservoirs,
+// the denoiser's scratch) share one pool, as the units record one after
+// another: the pool holds what the largest unit's take (the denoiser's),
+// not their sum, and none of them is listed, as their memory holds another
+// unit's images once their unit's record ends.
+TEST_F(GiEngineSignals, TheUnitsTransientImagesShareOnePool) {
+  const ContextDesc desc{.maxWidth = 320, .maxHeight = 180};
+  const GiContext gi(render::giDevice(context()), desc, denoised());
+  std::uint64_t largest = 0, sum = 0;
+  std::vector<std::string> transient;
+  for (const DeclaredUnit& unit : declaredUnits()) {
+    std::uint64_t bytes = 0;
+    for (const ImageSpec& spec : unit.images)
+      if (spec.transient && !spec.debug) {
+        transient.emplace_back(spec.name);
+        if (spec.resolution != Resolution::Pyramid)
+          bytes += std::uint64_t(extentOf(spec.resolution, {320, 180}).width) *
+                   extentOf(spec.resolution, {320, 180}).height * gpu::formatInfo(spec.format).bytesPerPixel;
+      }
+    largest = std::max(largest, bytes);
+    sum += bytes;
+  }
+  ASSERT_GE(transient.size(), 8u);
+  std::uint64_t pool = 0;
+  for (const UnitMemory& unit : gi.memoryByUnit())
+    if (unit.unit == "transient") pool = unit.bytes;
+  EXPECT_GE(pool, largest);
+  EXPECT_LT(pool, largest + largest / 4) << "the pool should hold about the largest unit's, not the sum " << sum;
+  EXPECT_LT(largest + largest / 4, sum);
+  for (const LibraryImage& image : gi.images())
+    EXPECT_EQ(std::find(transient.begin(), transient.end(), image.name), transient.end()) << image.name << " is listed";
 }
 
 // A branch whose signal the denoiser takes never runs its own temporal

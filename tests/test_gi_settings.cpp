@@ -785,7 +785,8 @@ TEST(GiDocs, PassesMdListsEveryImageOfTheTables) {
       declared.insert(std::string(spec.name));
       const std::string row = "| `" + std::string(spec.name) + "` | " + resolutionName(spec.resolution) + " | " +
                               gpu::formatName(spec.format) + " | " + (spec.history ? "yes" : "no") + " | " +
-                              (spec.debug ? "debug views only; " : "") + std::string(spec.purpose) + " |";
+                              (spec.debug ? "debug views only; " : "") + (spec.transient ? "transient; " : "") +
+                              std::string(spec.purpose) + " |";
       bool found = false;
       for (auto [at, end] = rows.equal_range(std::string(spec.name)); at != end; ++at) found |= at->second == row;
       if (!found) missing += row + "\n";

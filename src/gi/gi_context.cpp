@@ -168,12 +168,41 @@ Camera cameraFromBasis(const float position[3], const float right[3], const floa
   return camera;
 }
 
+namespace {
+
+// What the units a context makes hold of their own, each sized as it
+// sizes itself; and the transient pool: the most one unit's transient
+// images take (the units record one at a time and share it).
+std::uint64_t ownBytes(const ContextDesc& desc, const Settings& settings) {
+  std::uint64_t bytes = sizeof(shared::GiFrameConstants);
+  forEachUnit(desc, settings, signalsOf(desc), !desc.sceneBridge.shaders.empty(),
+              [&](const UnitRegistration& registration, const UnitSetup& setup, const std::vector<std::string>&) {
+                bytes += registration.memoryBytes(setup);
+              });
+  return bytes;
+}
+
+std::uint64_t transientBytes(const ContextDesc& desc, const Settings& settings) {
+  std::uint64_t most = 0;
+  forEachUnit(desc, settings, signalsOf(desc), !desc.sceneBridge.shaders.empty(),
+              [&](const UnitRegistration& registration, const UnitSetup& setup, const std::vector<std::string>&) {
+                if (registration.transientBytes) most = std::max(most, registration.transientBytes(setup));
+              });
+  return most;
+}
+
+}  // namespace
+
 struct GiContext::Impl {
   ContextDesc desc;
   Settings settings;
   std::unique_ptr<gpu::Context> context;
   SceneBridgeBinding scene;
   gpu::MemoryArena arena;
+  // The units' transient images (ImageSpec::transient): the units record
+  // one after another, so their frame-local images share this memory,
+  // rewound for each unit as it is made.
+  gpu::MemoryArena transientPool;
   std::unique_ptr<gpu::Buffer> frameConstants;
   std::vector<SignalDesc> signals;      // by SignalId: the library's two, then ContextDesc::signals
   std::vector<std::string> noisyNames;  // noisyInputNames(signals)
@@ -196,16 +225,18 @@ struct GiContext::Impl {
         settings(s),
         context(openLibraryContext(device)),
         scene(*context, d.sceneBridge),
-        arena(*context, VkDeviceSize(128) << 20, GiContext::estimateMemoryBytes(d, s)),
+        arena(*context, VkDeviceSize(128) << 20, ownBytes(d, s)),
+        transientPool(*context, VkDeviceSize(128) << 20, transientBytes(d, s)),
         frameConstants(std::make_unique<gpu::Buffer>(*context, "gi.frame_constants", sizeof(shared::GiFrameConstants),
                                                      gpu::BufferUsage::DeviceLocal, &arena)),
         signals(signalsOf(d)),
         noisyNames(noisyInputNames(signals)),
         engine(*context),
         lastEngineSignals(signals.size(), false) {
-    const UnitResources resources{*context, arena, scene};
+    const UnitResources resources{*context, arena, scene, &transientPool};
     forEachUnit(desc, settings, signals, scene.traces(),
                 [&](const UnitRegistration& registration, const UnitSetup& setup, std::vector<std::string> made) {
+                  transientPool.rewind();
                   std::unique_ptr<Unit> unit = registration.make(setup, resources);
                   if (!unit) return;
                   units.push_back(std::move(unit));
@@ -383,7 +414,10 @@ struct GiContext::Impl {
                            .products = products,
                            .previous = lastProducts};
     for (std::size_t i = 0; i < units.size(); ++i) {
-      if (plans[i].records) units[i]->record(state);
+      if (plans[i].records) {
+        for (ImageSet* set : units[i]->imageSets()) set->takeTransients();
+        units[i]->record(state);
+      }
       for (std::size_t producer = 0; producer <= i; ++producer)
         if (plans[producer].records && after[producer] == i) units[producer]->recordAfterConsumers(state);
     }
@@ -492,27 +526,22 @@ std::vector<LibraryImage> GiContext::images() const {
   return list;
 }
 
-std::uint64_t GiContext::memoryBytes() const { return impl_->arena.bytes(); }
+std::uint64_t GiContext::memoryBytes() const { return impl_->arena.bytes() + impl_->transientPool.bytes(); }
 
 std::vector<UnitMemory> GiContext::memoryByUnit() const {
   std::vector<UnitMemory> units = {{"diffuse"}, {"specular"}, {"cache"}, {"denoise"}, {"frame"}};
   for (const auto& [name, bytes] : impl_->arena.bytesByName()) {
-    UnitMemory* owner = &units.back();
+    UnitMemory* owner = &units[4];
     for (UnitMemory& unit : units)
       if (name.rfind("gi." + unit.unit + ".", 0) == 0) owner = &unit;
     owner->bytes += bytes;
   }
+  units.push_back({"transient", impl_->transientPool.peakRequested()});
   return units;
 }
 
 std::uint64_t GiContext::estimateMemoryBytes(const ContextDesc& desc, const Settings& settings) {
-  // The units a context makes, each sized as it sizes itself.
-  std::uint64_t bytes = sizeof(shared::GiFrameConstants);
-  forEachUnit(desc, settings, signalsOf(desc), !desc.sceneBridge.shaders.empty(),
-              [&](const UnitRegistration& registration, const UnitSetup& setup, const std::vector<std::string>&) {
-                bytes += registration.memoryBytes(setup);
-              });
-  return bytes;
+  return ownBytes(desc, settings) + transientBytes(desc, settings);
 }
 
 const Settings& GiContext::settings() const { return impl_->settings; }

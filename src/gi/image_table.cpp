@@ -49,15 +49,18 @@ void ImageTableBuilder::add(std::string name, ImageSpec spec, std::string purpos
   specs_.push_back(spec);
 }
 
-std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels,
-                            std::span<const std::size_t> unused) {
+namespace {
+
+std::uint64_t tableBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels,
+                         std::span<const std::size_t> unused, bool transient) {
   const auto bytes = [](const ImageSpec& spec, Extent size) {
     return std::uint64_t(size.width) * size.height * gpu::formatInfo(spec.format).bytesPerPixel;
   };
   std::uint64_t total = 0;
   for (std::size_t i = 0; i < table.size(); ++i) {
     const ImageSpec& spec = table[i];
-    if (spec.debug || std::find(unused.begin(), unused.end(), i) != unused.end()) continue;
+    if (spec.debug || spec.transient != transient || std::find(unused.begin(), unused.end(), i) != unused.end())
+      continue;
     if (spec.resolution == Resolution::Pyramid)
       for (std::uint32_t level = 1; level <= pyramidLevels; ++level)
         total += bytes(spec, extentOf(spec.resolution, maxSize, level));
@@ -67,19 +70,32 @@ std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, st
   return total;
 }
 
+}  // namespace
+
+std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels,
+                            std::span<const std::size_t> unused) {
+  return tableBytes(table, maxSize, pyramidLevels, unused, false);
+}
+
+std::uint64_t transientImageBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels,
+                                  std::span<const std::size_t> unused) {
+  return tableBytes(table, maxSize, pyramidLevels, unused, true);
+}
+
 struct ImageSet::Entry {
   std::unique_ptr<gpu::HistoryImage> history;
   std::vector<std::unique_ptr<gpu::Image>> images;  // one, or a pyramid's levels
 };
 
 ImageSet::ImageSet(gpu::Context& context, gpu::MemoryArena& arena, std::span<const ImageSpec> table, Extent maxSize,
-                   std::uint32_t pyramidLevels, std::span<const std::size_t> unused)
+                   std::uint32_t pyramidLevels, std::span<const std::size_t> unused, gpu::MemoryArena* transientPool)
     : context_(context),
       arena_(arena),
       table_(table),
       maxSize_(maxSize),
       pyramidLevels_(pyramidLevels),
-      unused_(table.size(), false) {
+      unused_(table.size(), false),
+      transientPool_(transientPool) {
   for (const std::size_t index : unused) unused_.at(index) = true;
   entries_.resize(table.size());
   for (std::size_t i = 0; i < table.size(); ++i)
@@ -90,6 +106,8 @@ ImageSet::~ImageSet() = default;
 
 void ImageSet::make(std::size_t index) {
   const ImageSpec& spec = table_[index];
+  if (spec.transient && spec.history) throw std::logic_error("gi: a transient image cannot keep history");
+  gpu::MemoryArena* memory = spec.transient && transientPool_ ? transientPool_ : &arena_;
   auto entry = std::make_unique<Entry>();
   const auto desc = [&](std::string name, Extent size) {
     return gpu::ImageDesc{
@@ -100,15 +118,31 @@ void ImageSet::make(std::size_t index) {
     for (std::uint32_t level = 1; level <= pyramidLevels_; ++level)
       entry->images.push_back(std::make_unique<gpu::Image>(
           context_, desc(std::string(spec.name) + std::to_string(level), extentOf(spec.resolution, maxSize_, level)),
-          &arena_));
+          memory));
   } else if (spec.history) {
     entry->history = std::make_unique<gpu::HistoryImage>(
         context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_);
   } else {
     entry->images.push_back(
-        std::make_unique<gpu::Image>(context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), &arena_));
+        std::make_unique<gpu::Image>(context_, desc(std::string(spec.name), extentOf(spec.resolution, maxSize_)), memory));
   }
   entries_[index] = std::move(entry);
+}
+
+void ImageSet::takeTransients() {
+  if (!transientPool_) return;
+  // As if every command before had written the memory: the first use's
+  // barrier waits for all of them (other units' images in this memory
+  // included) and moves the image from an undefined layout, dropping what
+  // the memory held.
+  gpu::SyncState discarded;
+  discarded.writeStage = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+  discarded.writeAccess = VK_ACCESS_2_MEMORY_WRITE_BIT;
+  discarded.readStages = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+  discarded.layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  for (std::size_t i = 0; i < table_.size(); ++i)
+    if (entries_[i] && table_[i].transient)
+      for (const std::unique_ptr<gpu::Image>& image : entries_[i]->images) image->sync() = discarded;
 }
 
 void ImageSet::makeDebugImages() {
@@ -156,7 +190,7 @@ gpu::Image& ImageSet::level(std::size_t index, std::uint32_t level) {
 std::vector<ImageSet::Listed> ImageSet::list(std::uint64_t frameIndex) {
   std::vector<Listed> listed;
   for (std::size_t i = 0; i < table_.size(); ++i) {
-    if (!entries_[i]) continue;
+    if (!entries_[i] || table_[i].transient) continue;
     const ImageSpec& spec = table_[i];
     if (spec.resolution == Resolution::Pyramid) {
       for (std::uint32_t level = 1; level <= entries_[i]->images.size(); ++level)

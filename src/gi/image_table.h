@@ -42,6 +42,13 @@ struct ImageSpec {
   gpu::Visualize view;
   std::string_view purpose;
   bool debug = false;  // made on the first frame whose stages are captured, and only shown then
+  // Lives only while its unit records a frame: written and read by the
+  // unit's own passes, never by another unit nor a later frame. Its memory
+  // is the context's transient pool, which every unit's transient images
+  // share (the units record one after another), so its contents are gone
+  // once its unit's record ends: not listed by GiContext::images(), seen
+  // through the stages --dump-stages captures right after each pass.
+  bool transient = false;
 };
 
 // A table made at run time, for a unit whose images follow what the engine
@@ -68,12 +75,15 @@ struct Extent {
 // The size of an image of `resolution` for a render size (a pyramid's `level`).
 Extent extentOf(Resolution resolution, Extent renderSize, std::uint32_t level = 1);
 
-// The texel bytes an ImageSet of `table` holds at `maxSize`: every image
-// made up front (not the debug ones, nor the `unused` entries), both halves
-// of a history, every level of a pyramid. Alignment the driver adds is not
-// counted.
+// The texel bytes an ImageSet of `table` holds at `maxSize` in its unit's
+// own memory: every image made up front (not the debug ones, nor the
+// `unused` entries, nor the transient ones), both halves of a history,
+// every level of a pyramid. Alignment the driver adds is not counted.
 std::uint64_t imageSetBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels = 0,
                             std::span<const std::size_t> unused = {});
+// The same for its transient images alone (what it takes of the transient pool).
+std::uint64_t transientImageBytes(std::span<const ImageSpec> table, Extent maxSize, std::uint32_t pyramidLevels = 0,
+                                  std::span<const std::size_t> unused = {});
 
 // The images of one table, made for the largest render size.
 class ImageSet {
@@ -82,8 +92,11 @@ class ImageSet {
   // has one). `unused`: entries the unit's settings never use (e.g. a
   // branch's own temporal filter while the denoiser takes its signal),
   // never made nor listed; asking for one is a logic error.
+  // `transientPool`: where the transient entries' memory comes from (the
+  // context's pool, which other units' transients share); null: `arena`.
   ImageSet(gpu::Context& context, gpu::MemoryArena& arena, std::span<const ImageSpec> table, Extent maxSize,
-           std::uint32_t pyramidLevels = 0, std::span<const std::size_t> unused = {});
+           std::uint32_t pyramidLevels = 0, std::span<const std::size_t> unused = {},
+           gpu::MemoryArena* transientPool = nullptr);
   ~ImageSet();
   ImageSet(const ImageSet&) = delete;
   ImageSet& operator=(const ImageSet&) = delete;
@@ -104,6 +117,13 @@ class ImageSet {
     clearToZero(recorder, std::span<const std::size_t>(entries.begin(), entries.size()), frameIndex);
   }
 
+  // Before the unit's first pass of a frame: its transient images' memory
+  // held other units' images since it last recorded, so each one's first
+  // use waits for every command recorded before it and drops what the
+  // memory held (from an undefined layout). Does nothing for a set
+  // without transient images made in a pool.
+  void takeTransients();
+
   // Makes the debug entries (those with ImageSpec::debug); later calls do nothing.
   void makeDebugImages();
 
@@ -112,7 +132,8 @@ class ImageSet {
     gpu::Image* image;
     const ImageSpec* spec;
   };
-  // Every image made, this frame's for history entries, pyramids level by level.
+  // Every image made but the transient ones, this frame's for history
+  // entries, pyramids level by level.
   std::vector<Listed> list(std::uint64_t frameIndex);
   std::span<const ImageSpec> table() const { return table_; }
 
@@ -127,6 +148,7 @@ class ImageSet {
   std::uint32_t pyramidLevels_;
   std::vector<std::unique_ptr<Entry>> entries_;
   std::vector<bool> unused_;
+  gpu::MemoryArena* transientPool_;
 };
 
 }  // namespace bounce::gi

@@ -42,6 +42,9 @@ struct UnitResources {
   gpu::Context& context;
   gpu::MemoryArena& arena;
   const SceneBridgeBinding& scene;
+  // Where the unit's transient images live (ImageSpec::transient): memory
+  // every unit's transients share, as the units record one at a time.
+  gpu::MemoryArena* transientPool = nullptr;
 };
 
 struct UnitRegistration {
@@ -51,8 +54,10 @@ struct UnitRegistration {
   std::function<std::vector<std::string>(const UnitSetup& setup)> produces;
   // The unit; null when these settings make none (the denoiser, off).
   std::function<std::unique_ptr<Unit>(const UnitSetup& setup, const UnitResources& resources)> make;
-  // The bytes of device memory the unit made for `setup` holds.
+  // The bytes of device memory the unit made for `setup` holds of its own,
+  // and of the transient pool (its transient images; none when null).
   std::function<std::uint64_t(const UnitSetup& setup)> memoryBytes;
+  std::function<std::uint64_t(const UnitSetup& setup)> transientBytes;
 
   // Registers `unit` before the library's unit called `before` (at the end
   // where empty) for every context made while it lives.

@@ -94,6 +94,12 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
   return handedOut({block.memory, 0});
 }
 
+void MemoryArena::rewind() {
+  peak_ = std::max(peak_, requested_);
+  requested_ = 0;
+  for (Block& block : blocks_) block.used = 0;
+}
+
 VkDeviceSize MemoryArena::bytes() const {
   VkDeviceSize total = 0;
   for (const Block& block : blocks_) total += block.size;

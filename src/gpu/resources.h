@@ -75,7 +75,15 @@ class MemoryArena {
   Allocation allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required, const char* kind,
                       const std::string& name);
 
+  // Hands out from the front of its blocks again: what it hands out next
+  // shares memory with what it handed out before. For owners whose
+  // resources never live at once, which make each one's first use wait for
+  // everything before it and drop its contents (gi's transient pool: each
+  // unit's frame-local images, gi::ImageSet::takeTransients).
+  void rewind();
   VkDeviceSize bytes() const;                                // device memory held
+  // The most its allocations asked for between two rewinds (all of them without one).
+  VkDeviceSize peakRequested() const { return std::max(peak_, requested_); }
   // The bytes each allocation took, by its name, in the order made (the
   // blocks' unused tails, in bytes() but in none of these, not counted).
   const std::vector<std::pair<std::string, VkDeviceSize>>& bytesByName() const { return allocations_; }
@@ -91,7 +99,8 @@ class MemoryArena {
   Context& context_;
   VkDeviceSize maxBlock_;
   VkDeviceSize expected_;
-  VkDeviceSize requested_ = 0;  // what allocations have asked for so far
+  VkDeviceSize requested_ = 0;  // what allocations have asked for so far (since the last rewind)
+  VkDeviceSize peak_ = 0;       // the most requested_ was before a rewind
   std::vector<Block> blocks_;
   std::vector<std::pair<std::string, VkDeviceSize>> allocations_;
 };

@@ -23,9 +23,11 @@ using gpu::Visualize;
 constexpr float kReferenceRows = 1080.0f;
 
 constexpr ImageSpec kSharedImages[] = {
-    {"gi.denoise.tiles", Resolution::Tile, kR16f, false, Visualize::Raw, "1 where a 16x16 tile has a surface"},
+    {"gi.denoise.tiles", Resolution::Tile, kR16f, false, Visualize::Raw, "1 where a 16x16 tile has a surface", false,
+     true},
     {"gi.denoise.surface", Resolution::Full, kRg32ui, false, Visualize::Raw,
-     "this frame's viewZ bits, octahedral normal and roughness, one load a tap (viewZ 0: no usable surface)"},
+     "this frame's viewZ bits, octahedral normal and roughness, one load a tap (viewZ 0: no usable surface)", false,
+     true},
     {"gi.denoise.empty_slot", Resolution::Single, kRgba16f, false, Visualize::Raw,
      "bound to the slots of a dispatch that no signal takes; never read or written"},
     {"gi.denoise.validation", Resolution::Full, kRgba16f, false, Visualize::Color,
@@ -43,10 +45,10 @@ struct SignalImage {
 constexpr SignalImage kSignalImages[] = {
     {"pre_passed",
      {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
-      "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance"}},
+      "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance", false, true}},
     {"accumulated",
      {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
-      "temporal accumulation's output, then blur's: radiance, history length"}},
+      "temporal accumulation's output, then blur's: radiance, history length", false, true}},
     {"history",
      {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
       "last frame's history (read by temporal accumulation), then history fix's output, then post-blur's: next "
@@ -105,6 +107,12 @@ std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const SignalDesc> si
   return imageSetBytes(table.specs(), maxSize) + sizeof(shared::DenoiseConstants);
 }
 
+std::uint64_t denoiserTransientBytes(Extent maxSize, std::span<const SignalDesc> signals) {
+  ImageTableBuilder table;
+  addDenoiseImages(table, signals);
+  return transientImageBytes(table.specs(), maxSize);
+}
+
 struct Denoiser::Passes {
   gpu::ComputePass classifyTiles, prePass, temporalAccumulation, historyFix, blur, postBlur, temporalStabilization;
   std::unique_ptr<gpu::ComputePass> validation;  // made on the first captured frame
@@ -119,10 +127,11 @@ struct Denoiser::Passes {
 };
 
 Denoiser::Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
-                   std::vector<SignalDesc> signals)
+                   std::vector<SignalDesc> signals, gpu::MemoryArena* transientPool)
     : context_(context), settings_(settings), signals_(std::move(signals)), lastDenoised_(signals_.size()) {
   addDenoiseImages(table_, signals_);
-  images_ = std::make_unique<ImageSet>(context, arena, table_.specs(), maxSize);
+  images_ = std::make_unique<ImageSet>(context, arena, table_.specs(), maxSize, 0, std::span<const std::size_t>(),
+                                       transientPool);
   constants_ = std::make_unique<gpu::Buffer>(context, "gi.denoise.constants", sizeof(shared::DenoiseConstants),
                                              gpu::BufferUsage::DeviceLocal, &arena);
   passes_ = std::make_unique<Passes>(context);
@@ -185,8 +194,10 @@ void Denoiser::record(const FrameState& frame, std::span<const SignalInput> inpu
   recorder.updateBuffer(*constants_, &c, sizeof c);
   // Every signal's result starts at zero: an engine may read indirect(id)
   // of a signal it has not given yet.
+  // The filler of unused slots too, which no pass touches: whoever lists
+  // the library's images reads zeros there.
   if (f == 0) {
-    std::vector<std::size_t> results;
+    std::vector<std::size_t> results = {kDenoiseEmptySlot};
     for (std::size_t signal = 0; signal < signals_.size(); ++signal)
       results.push_back(imageOf(signal, kDenoiseStabilized));
     images_->clearToZero(recorder, results, f);
@@ -361,11 +372,17 @@ UnitRegistration denoiseUnit() {
           .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
             if (!setup.settings.denoise.enabled) return nullptr;
             return std::make_unique<Denoiser>(resources.context, resources.arena, setup.maxSize, setup.settings.denoise,
-                                              std::vector<SignalDesc>(setup.signals.begin(), setup.signals.end()));
+                                              std::vector<SignalDesc>(setup.signals.begin(), setup.signals.end()),
+                                              resources.transientPool);
           },
           .memoryBytes =
               [](const UnitSetup& setup) {
                 return setup.settings.denoise.enabled ? denoiserMemoryBytes(setup.maxSize, setup.signals)
+                                                      : std::uint64_t(0);
+              },
+          .transientBytes =
+              [](const UnitSetup& setup) {
+                return setup.settings.denoise.enabled ? denoiserTransientBytes(setup.maxSize, setup.signals)
                                                       : std::uint64_t(0);
               }};
 }

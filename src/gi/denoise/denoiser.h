@@ -60,8 +60,10 @@ enum DenoiseSignalImage : std::size_t {
 // The denoiser's image table for these signals (names of the signals' own
 // images follow theirs).
 void addDenoiseImages(ImageTableBuilder& table, std::span<const SignalDesc> signals);
-// Its device memory at `maxSize` (images and constants).
+// Its device memory at `maxSize` (images and constants), and what its
+// transient images take of the context's transient pool.
 std::uint64_t denoiserMemoryBytes(Extent maxSize, std::span<const SignalDesc> signals);
+std::uint64_t denoiserTransientBytes(Extent maxSize, std::span<const SignalDesc> signals);
 
 struct UnitRegistration;
 // The denoiser as a unit (gi/units.h), made when gi.denoise.enabled: it
@@ -72,7 +74,7 @@ UnitRegistration denoiseUnit();
 class Denoiser final : public Unit {
  public:
   Denoiser(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DenoiseSettings& settings,
-           std::vector<SignalDesc> signals);
+           std::vector<SignalDesc> signals, gpu::MemoryArena* transientPool = nullptr);
   ~Denoiser() override;
 
   std::string_view name() const override { return "denoise"; }

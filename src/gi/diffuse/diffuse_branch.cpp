@@ -22,9 +22,10 @@ using gpu::Visualize;
 constexpr ImageSpec kImages[] = {
     {"gi.diffuse.gathered0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
      "gather's fresh reservoirs (sample position, normal) until temporal reuse has read them; then the first "
-     "spatial pass's output"},
+     "spatial pass's output",
+     false, true},
     {"gi.diffuse.gathered1", Resolution::Half, kRgba32ui, false, Visualize::Raw,
-     "gather's fresh reservoirs (radiance, M, W, flags); then the first spatial pass's output"},
+     "gather's fresh reservoirs (radiance, M, W, flags); then the first spatial pass's output", false, true},
     {"gi.diffuse.transient0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
      "reservoirs of the reuse stage not kept for the next frame"},
     {"gi.diffuse.transient1", Resolution::Half, kRgba32ui, false, Visualize::Raw, "(second half of the pair)"},
@@ -38,7 +39,7 @@ constexpr ImageSpec kImages[] = {
     {"gi.diffuse.moments", Resolution::Full, kRgba32f, true, Visualize::Raw,
      "luminance moments: mean and deviation over the history, mean of the fast history"},
     {"gi.diffuse.bright_level", Resolution::Pyramid, kRgba32f, false, Visualize::Raw,
-     "the last frame's brightest pixel per 2^k x 2^k tile: brightness, x, y, valid"},
+     "the last frame's brightest pixel per 2^k x 2^k tile: brightness, x, y, valid", false, true},
     {"gi.diffuse.reservoir_estimate", Resolution::Half, kRgba16f, false, Visualize::Radiance,
      "a reservoir's estimate at its own surface (captured frames only)", true},
     {"gi.diffuse.reservoir_M", Resolution::Half, kR32f, false, Visualize::Heat,
@@ -136,7 +137,8 @@ std::span<const std::size_t> DiffuseBranch::unusedImages(bool ownFilter) {
 }
 
 DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
-                             const DiffuseBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter)
+                             const DiffuseBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter,
+                             gpu::MemoryArena* transientPool)
     : BranchUnit(kSignal, settings.diffuse.enabled),
       context_(context),
       scene_(scene),
@@ -144,7 +146,7 @@ DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Ext
       plan_(settings.rays),
       ownFilter_(ownFilter),
       images_(context, arena, kImages, maxSize, brightPyramidLevels(maxSize, settings.diffuse.brightPixels),
-              unusedImages(ownFilter)),
+              unusedImages(ownFilter), transientPool),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.diffuse.constants", sizeof(shared::DiffuseConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
@@ -461,7 +463,8 @@ UnitRegistration diffuseUnit() {
                   "(gi.diffuse.ray_candidates, or gi.world_ray_budget too small for one) with the scene bridge '" +
                   resources.scene.name() + "': every reservoir would stay empty");
             return std::make_unique<DiffuseBranch>(resources.context, resources.arena, setup.maxSize, settings,
-                                                   resources.scene, DiffuseBranch::ownFilter(setup));
+                                                   resources.scene, DiffuseBranch::ownFilter(setup),
+                                                   resources.transientPool);
           },
           .memoryBytes =
               [](const UnitSetup& setup) {
@@ -470,6 +473,13 @@ UnitRegistration diffuseUnit() {
                                      brightPyramidLevels(setup.maxSize, settings.diffuse.brightPixels),
                                      DiffuseBranch::unusedImages(DiffuseBranch::ownFilter(setup))) +
                        DiffuseBranch::bufferBytes(setup.maxSize, settings, setup.bridgeTraces);
+              },
+          .transientBytes =
+              [](const UnitSetup& setup) {
+                const DiffuseBranchSettings settings = DiffuseBranch::settingsOf(setup.settings);
+                return transientImageBytes(diffuseImageTable(), setup.maxSize,
+                                           brightPyramidLevels(setup.maxSize, settings.diffuse.brightPixels),
+                                           DiffuseBranch::unusedImages(DiffuseBranch::ownFilter(setup)));
               }};
 }
 

@@ -70,8 +70,9 @@ class DiffuseBranch final : public BranchUnit {
   // filter on some frames (no later unit makes its signal from the resolved
   // one, or it is disabled and its result is the cleared filter image);
   // without, the filter's images are not made (unusedImages).
+  // `transientPool`: where its transient images live (the context's; null: `arena`).
   DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const DiffuseBranchSettings& settings,
-                const SceneBridgeBinding& scene, bool ownFilter);
+                const SceneBridgeBinding& scene, bool ownFilter, gpu::MemoryArena* transientPool = nullptr);
   ~DiffuseBranch() override;
   static DiffuseBranchSettings settingsOf(const Settings& settings);
   static bool ownFilter(const UnitSetup& setup);

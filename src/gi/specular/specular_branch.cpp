@@ -20,11 +20,13 @@ using gpu::Visualize;
 constexpr ImageSpec kImages[] = {
     {"gi.specular.traced0", Resolution::Half, kRgba32ui, false, Visualize::Raw,
      "the trace's fresh reservoirs (hit position, normal) until temporal reuse has read them; then spatial "
-     "reuse's: what the resolve evaluates"},
+     "reuse's: what the resolve evaluates",
+     false, true},
     {"gi.specular.traced1", Resolution::Half, kRgba32ui, false, Visualize::Raw,
-     "the trace's fresh reservoirs (radiance, M, W, flags); then spatial reuse's"},
+     "the trace's fresh reservoirs (radiance, M, W, flags); then spatial reuse's", false, true},
     {"gi.specular.pending_rays", Resolution::Half, kRgba32f, false, Visualize::Signed,
-     "rays screen space could not finish, left to the world trace: direction (xyz) and its pdf (w; 0: none)"},
+     "rays screen space could not finish, left to the world trace: direction (xyz) and its pdf (w; 0: none)", false,
+     true},
     {"gi.specular.reservoirs0", Resolution::Half, kRgba32ui, true, Visualize::Raw,
      "temporal reuse's reservoirs: the next frame's history (the Jitter gi pass's feedback point, before spatial "
      "reuse)"},
@@ -73,13 +75,14 @@ std::span<const std::size_t> SpecularBranch::unusedImages(bool ownFilter) {
 }
 
 SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize,
-                               const SpecularBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter)
+                               const SpecularBranchSettings& settings, const SceneBridgeBinding& scene, bool ownFilter,
+                               gpu::MemoryArena* transientPool)
     : BranchUnit(kSignal, settings.specular.enabled),
       context_(context),
       scene_(scene),
       settings_(settings),
       ownFilter_(ownFilter),
-      images_(context, arena, kImages, maxSize, 0, unusedImages(ownFilter)),
+      images_(context, arena, kImages, maxSize, 0, unusedImages(ownFilter), transientPool),
       constants_(std::make_unique<gpu::Buffer>(context, "gi.specular.constants", sizeof(shared::SpecularConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
@@ -291,13 +294,18 @@ UnitRegistration specularUnit() {
           .make = [](const UnitSetup& setup, const UnitResources& resources) -> std::unique_ptr<Unit> {
             return std::make_unique<SpecularBranch>(resources.context, resources.arena, setup.maxSize,
                                                     SpecularBranch::settingsOf(setup.settings), resources.scene,
-                                                    SpecularBranch::ownFilter(setup));
+                                                    SpecularBranch::ownFilter(setup), resources.transientPool);
           },
           .memoryBytes =
               [](const UnitSetup& setup) {
                 return imageSetBytes(specularImageTable(), setup.maxSize, 0,
                                      SpecularBranch::unusedImages(SpecularBranch::ownFilter(setup))) +
                        SpecularBranch::bufferBytes(setup.maxSize, setup.bridgeTraces);
+              },
+          .transientBytes =
+              [](const UnitSetup& setup) {
+                return transientImageBytes(specularImageTable(), setup.maxSize, 0,
+                                           SpecularBranch::unusedImages(SpecularBranch::ownFilter(setup)));
               }};
 }
 

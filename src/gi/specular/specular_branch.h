@@ -54,9 +54,9 @@ class SpecularBranch final : public BranchUnit {
  public:
   static constexpr std::string_view kSignal = "specular";
   // `scene`: the bridge rays continue through (it outlives the branch).
-  // `ownFilter`: as DiffuseBranch's.
+  // `ownFilter`, `transientPool`: as DiffuseBranch's.
   SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize, const SpecularBranchSettings& settings,
-                 const SceneBridgeBinding& scene, bool ownFilter);
+                 const SceneBridgeBinding& scene, bool ownFilter, gpu::MemoryArena* transientPool = nullptr);
   ~SpecularBranch() override;
   static SpecularBranchSettings settingsOf(const Settings& settings);
   static bool ownFilter(const UnitSetup& setup);
