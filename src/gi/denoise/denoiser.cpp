@@ -271,7 +271,11 @@ void Denoiser::recordBatch(const FrameState& frame, std::span<const SignalInput>
   accumulation.slots("gPrev_Moments", filler, previous(kDenoiseMoments));
   accumulation.slots("gOut_Accumulated", filler, image(kDenoiseAccumulated));
   accumulation.slots("gOut_Moments", filler, image(kDenoiseMoments));
-  dispatch(passes_->temporalAccumulation, accumulation, atFullRadius);
+  // One workgroup per slot: the slots' frames one under another, each rounded to whole tiles.
+  const std::uint32_t rowsPerSlot = (full.height + 15u) / 16u * 16u;
+  recorder.dispatch(passes_->temporalAccumulation, full.width, rowsPerSlot * std::uint32_t(batch.size()),
+                    frame.group.binds(GroupPart::Constants), accumulation.binds(), &atFullRadius,
+                    sizeof atFullRadius);
 
   SlotBinds historyFix(names, {constants, tiles, surface});
   historyFix.slots("gIn_Accumulated", filler, image(kDenoiseAccumulated));

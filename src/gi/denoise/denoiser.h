@@ -5,7 +5,8 @@
 // surfaces (viewZ, normal, roughness), the motion vectors and last frame's
 // surfaces, its own settings, and nothing of who made the signals. Its
 // passes, each one dispatch for up to four signals (more are taken four at
-// a time), every signal of the dispatch worked in turn by each invocation:
+// a time), every signal of the dispatch worked in turn by each invocation
+// (temporal accumulation: a workgroup per signal):
 //   gi.denoise.classify_tiles           16x16 tiles with a surface; the surfaces packed for the taps
 //   gi.denoise.pre_pass                 checkerboard resolve; 8-tap pre-blur, radius from hit distance and lobe
 //   gi.denoise.temporal_accumulation    Catmull-Rom surface-motion history (specular kind: + reflection
