@@ -863,6 +863,60 @@ TEST_F(GiEngineSignals, AMovingEmittersLightDoesNotStayBehind) {
   EXPECT_LT(later, 0.6 * wentOut);
 }
 
+// Five signals take two dispatches of each denoiser stage (four slots a
+// dispatch): three of the engine's own beside the library's two, each its
+// own brightness (1, 2 and 3 times an occlusion-like truth), the last in
+// the second dispatch. After 10 frames each is denoised to its own mean:
+// a batch that bound another signal's images, or lost the fifth, would
+// show another brightness or none.
+TEST_F(GiEngineSignals, FiveSignalsTakeTwoDispatchesOfEachStageAndKeepTheirOwnLight) {
+  Run run = start(denoised(), {{"first", SignalKind::Diffuse}, {"second", SignalKind::Specular},
+                               {"third", SignalKind::Diffuse}});
+  ASSERT_EQ(run.gi->library().signals().size(), 5u);
+  std::vector<std::unique_ptr<gpu::Image>> images;
+  for (int i = 0; i < 3; ++i)
+    images.push_back(std::make_unique<gpu::Image>(context(), gpu::ImageDesc{.name = "engine.noisy_" + std::to_string(i),
+                                                                          .width = kWidth,
+                                                                          .height = kHeight,
+                                                                          .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+                                                                          .storage = false}));
+  frame(run);
+  const io::ImageF normals = gpuio::readbackImage(context(), run.renderer->normalRoughness());
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  const auto truthOf = [&](int signal, int x, int y) {
+    return run.truth.at(x, y, 0) > 0.0f ? float(signal + 1) * (0.3f + 0.7f * std::abs(normals.at(x, y, 1))) : 0.0f;
+  };
+  for (int f = 0; f < 10; ++f) {
+    run.loop->finish();
+    run.extra.clear();
+    for (int i = 0; i < 3; ++i) {
+      io::ImageF noisy(int(kWidth), int(kHeight), {"R", "G", "B", "A"});
+      for (int y = 0; y < int(kHeight); ++y)
+        for (int x = 0; x < int(kWidth); ++x) {
+          const float weight = uniform(run.random) < kBrightShare ? 1.0f / kBrightShare : 0.0f;
+          for (int c = 0; c < 3; ++c) noisy.at(x, y, c) = truthOf(i, x, y) * weight;
+        }
+      gpuio::uploadImage(context(), *images[i], noisy);
+      run.extra.push_back({SignalId(2 + i), images[i].get()});
+    }
+    frame(run);
+  }
+  run.loop->finish();
+  for (int i = 0; i < 3; ++i) {
+    const io::ImageF denoisedSignal = rgb(gpuio::readbackImage(context(), run.gi->indirect(SignalId(2 + i))));
+    double sum = 0.0, truthSum = 0.0;
+    for (int y = 0; y < int(kHeight); ++y)
+      for (int x = 0; x < int(kWidth); ++x) {
+        sum += denoisedSignal.at(x, y, 0);
+        truthSum += truthOf(i, x, y);
+      }
+    std::printf("engine signal %d: mean / its truth %.3f\n", i, sum / truthSum);
+    EXPECT_NEAR(sum / truthSum, 1.0, 0.15) << "signal " << i;
+  }
+  const Output out = output(run);
+  EXPECT_LT(relMse(run.truth, rgb(out.signal[kDiffuse])), 0.1 * relMse(run.truth, run.lastNoisy[kDiffuse]));
+}
+
 // A signal of the engine's own beyond the library's two (ContextDesc::
 // signals: here an ambient occlusion of kind diffuse, 0.3..1 by the
 // normal's height, with the fixture's noise) runs through the same

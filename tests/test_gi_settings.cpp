@@ -62,6 +62,8 @@ std::vector<ExpectedField> expectedFields() {
       {"diffuse.visibility_steps", [](const Settings& s) { return double(s.diffuse.visibilitySteps); }},
       {"diffuse.visibility", [](const Settings& s) { return double(s.diffuse.visibility); }},
       {"diffuse.per_pixel_visibility", [](const Settings& s) { return double(s.diffuse.perPixelVisibility); }},
+      {"diffuse.screen_visibility_per_reservoir",
+       [](const Settings& s) { return double(s.diffuse.screenVisibilityPerReservoir); }},
       {"diffuse.reuse_visibility", [](const Settings& s) { return double(s.diffuse.reuseVisibility); }},
       {"diffuse.sky_reuse_visibility", [](const Settings& s) { return double(s.diffuse.skyReuseVisibility); }},
       {"diffuse.sky_reuse_rays", [](const Settings& s) { return double(s.diffuse.skyReuseRays); }},

@@ -375,9 +375,10 @@ struct LibraryImage {
 };
 
 // Device memory of one unit of the library: "diffuse", "specular",
-// "cache" (the radiance cache), "denoise", or "frame" (what the frame level
+// "cache" (the radiance cache), "denoise", "frame" (what the frame level
 // holds: histories of the surface and the composite, the depth pyramid,
-// constants, ray counters).
+// constants, ray counters), or "transient" (the memory the units'
+// frame-local images share).
 struct UnitMemory {
   std::string unit;
   std::uint64_t bytes = 0;
@@ -502,14 +503,20 @@ class GiContext {
   ImageRef indirectSpecular() const;
   // The composited frame: linear HDR, RGBA16F.
   ImageRef composite() const;
-  // Every image of the library, by name (history, reservoirs, intermediate results).
+  // Every image of the library, by name (history, reservoirs, intermediate
+  // results), but the transient ones: images a unit writes and reads only
+  // while it records share memory with other units' (docs/passes.md), so
+  // after a frame they hold no stage of their own; captureStages copies
+  // them right after each pass.
   std::vector<LibraryImage> images() const;
 
   // Device memory the library holds (its images and buffers), in bytes.
   std::uint64_t memoryBytes() const;
   // The same by unit (each image's and buffer's own bytes, named
   // gi.UNIT.*; the pools' unused tails, in memoryBytes(), are in none),
-  // in the order diffuse, specular, cache, denoise, frame.
+  // in the order diffuse, specular, cache, denoise, frame, then
+  // "transient": the pool the units' transient images share (the most
+  // one unit's take).
   std::vector<UnitMemory> memoryByUnit() const;
   // What memoryBytes() of a context made with `desc` and `settings` will be,
   // before making it (its images' and buffers' bytes; the few MiB the pools

@@ -72,14 +72,22 @@ struct DiffuseSettings {
   std::uint32_t resolveReservoirs = 4;  // neighbouring half-resolution reservoirs each pixel evaluates (1..4)
   std::uint32_t visibilitySteps = 12;   // ray-march steps from the pixel to each sample (0 = no visibility test)
   Visibility visibility = Visibility::Hybrid;
-  // Screen and hybrid visibility: true, the resolve marches from each
+  // Hybrid visibility: true, the resolve also marches from each
   // full-resolution pixel to each sample it evaluates (four a pixel);
-  // false, each reservoir's sample is tested once, from the reservoir's own
-  // surface (hybrid: gi.diffuse.sample_visibility's world ray alone;
-  // screen: gi.diffuse.sample_march at half resolution), and the four
-  // pixels that use it share the verdict: 16 times fewer marches, a
-  // contact shadow a pixel finer than the reservoirs is lost.
-  bool perPixelVisibility = true;
+  // false, it trusts gi.diffuse.sample_visibility's world ray, which tested
+  // each reservoir's sample once from the reservoir's own surface, and the
+  // four pixels that use it share the verdict. Measured on the H100 at
+  // 1080p: the diffuse resolve 0.71-0.73 -> 0.32 ms, and HDR-FLIP at
+  // 640x360 no worse on any of the five scenes (docs/benchmarks.md).
+  bool perPixelVisibility = false;
+  // Screen visibility (screen-only mode): false, the resolve marches from
+  // each pixel to each sample; true, gi.diffuse.sample_march marches each
+  // reservoir's sample once from its own surface at half resolution
+  // (0.52-0.60 -> 0.26-0.27 + 0.04 ms), and the resolve shares the
+  // verdict. Off by default: not measured on the GPU's scenes yet, and on
+  // lavapipe it brightened open cornell's screen-only light, already over
+  // the reference, from 1.158 to 1.178 of it.
+  bool screenVisibilityPerReservoir = false;
   // Temporal and spatial reuse test a reused sample's visibility from the
   // reusing pixel with an any-hit ray through the bridge, so that reuse
   // adds no bias from occlusion (ReSTIR GI's unbiased reuse; costs a ray

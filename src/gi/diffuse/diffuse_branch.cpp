@@ -253,7 +253,12 @@ void DiffuseBranch::record(const FrameState& frame) {
   c.reuseVisibility = traces && d.reuseVisibility ? 1u : 0u;
   c.skyReuseVisibility = traces && d.skyReuseVisibility ? 1u : 0u;
   c.skyReuseRays = plan_.skyReuseRays;
-  c.perPixelVisibility = d.perPixelVisibility ? 1u : 0u;
+  // Per reservoir: hybrid trusts the sample-visibility rays; screen mode
+  // marches each reservoir once (gi.diffuse.sample_march).
+  const bool perReservoir = c.visibilityMode == std::uint32_t(Visibility::Hybrid)   ? !d.perPixelVisibility
+                            : c.visibilityMode == std::uint32_t(Visibility::Screen) ? d.screenVisibilityPerReservoir
+                                                                                     : false;
+  c.perPixelVisibility = perReservoir ? 0u : 1u;
   recorder.updateBuffer(*constants_, &c, sizeof c);
   const gpu::Bind constants("gIn_DiffuseConstants", *constants_);
 
@@ -331,7 +336,7 @@ void DiffuseBranch::record(const FrameState& frame) {
                                                               {{"gIn_Reservoir0", *final0},
                                                                {"gInOut_Reservoir1", *final1}})));
   // Screen visibility tested once per reservoir: the resolve shares the verdict.
-  if (!d.perPixelVisibility && c.visibilityMode == std::uint32_t(Visibility::Screen))
+  if (c.perPixelVisibility == 0u && c.visibilityMode == std::uint32_t(Visibility::Screen))
     recorder.dispatch(passes_->sampleMarch, half.width, half.height, frame.group.binds(),
                       {constants,
                        {"gIn_Reservoir0", *final0},
@@ -339,8 +344,10 @@ void DiffuseBranch::record(const FrameState& frame) {
                        {"gIn_MarchDepth", marchDepth}});
   // Samples tested visible from their surface, which rough specular pixels
   // may take as their own (gi.specular.diffuse_sample_roughness); untested
-  // ones (screen or world visibility: the resolve tests them) are not offered.
-  if (traces && d.visibility == Visibility::Hybrid)
+  // ones (screen or world visibility: the resolve tests them) are not
+  // offered, nor the gathered ones without reuse (transient: their memory
+  // is the specular branch's while it records).
+  if (traces && d.visibility == Visibility::Hybrid && settings_.restir)
     frame.products.put(product::kDiffuseReservoirs,
                        std::vector<gpu::Bind>{{"gIn_Diffuse_Reservoir0", *final0}, {"gIn_Diffuse_Reservoir1", *final1}});
 

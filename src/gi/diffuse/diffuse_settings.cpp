@@ -59,9 +59,12 @@ constexpr std::array kEntries{
           "resolve: how a sample's visibility is tested: screen (depth-buffer march), world (an any-hit ray through "
           "the scene bridge) or hybrid (the march, and a world ray where it cannot decide); without a bridge, screen"},
     Entry{"diffuse.per_pixel_visibility", inDiffuse(&DiffuseSettings::perPixelVisibility), kNoBounds,
-          "resolve (screen and hybrid visibility): each full-resolution pixel marches to each sample; off: each "
-          "reservoir's sample is tested once from its own surface (hybrid: the sample-visibility world ray; screen: "
-          "gi.diffuse.sample_march) and its four pixels share the verdict"},
+          "resolve (hybrid visibility): each full-resolution pixel also marches to each sample; off: it trusts the "
+          "sample-visibility world ray, which tested each reservoir's sample once from its own surface"},
+    Entry{"diffuse.screen_visibility_per_reservoir", inDiffuse(&DiffuseSettings::screenVisibilityPerReservoir),
+          kNoBounds,
+          "resolve (screen visibility): each reservoir's sample is marched once from its own surface "
+          "(gi.diffuse.sample_march) and its four pixels share the verdict; off: each pixel marches to each sample"},
     Entry{"diffuse.reuse_visibility", inDiffuse(&DiffuseSettings::reuseVisibility), kNoBounds,
           "temporal and spatial reuse test each reused sample's visibility with an any-hit ray through the scene "
           "bridge (unbiased reuse; without a bridge, ignored)"},
