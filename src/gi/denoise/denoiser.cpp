@@ -21,6 +21,9 @@ using gpu::Visualize;
 
 // The render height the settings' radii are given for.
 constexpr float kReferenceRows = 1080.0f;
+// The edge of the denoiser's tiles (denoise_common.glsl's kDenoiseTile),
+// which the stages that share a neighbourhood take as their workgroups.
+constexpr std::uint32_t kTile = 16;
 
 constexpr ImageSpec kSharedImages[] = {
     {"gi.denoise.tiles", Resolution::Tile, kR16f, false, Visualize::Raw, "1 where a 16x16 tile has a surface", false,
@@ -271,8 +274,9 @@ void Denoiser::recordBatch(const FrameState& frame, std::span<const SignalInput>
   accumulation.slots("gPrev_Moments", filler, previous(kDenoiseMoments));
   accumulation.slots("gOut_Accumulated", filler, image(kDenoiseAccumulated));
   accumulation.slots("gOut_Moments", filler, image(kDenoiseMoments));
-  // One workgroup per slot: the slots' frames one under another, each rounded to whole tiles.
-  const std::uint32_t rowsPerSlot = (full.height + 15u) / 16u * 16u;
+  // A workgroup per signal: the slots' frames one under another, each
+  // rounded up to whole tiles (the shader's workgroups are tiles).
+  const std::uint32_t rowsPerSlot = (full.height + kTile - 1u) / kTile * kTile;
   recorder.dispatch(passes_->temporalAccumulation, full.width, rowsPerSlot * std::uint32_t(batch.size()),
                     frame.group.binds(GroupPart::Constants), accumulation.binds(), &atFullRadius,
                     sizeof atFullRadius);
