@@ -69,7 +69,8 @@ layout(set = 0, binding = 3, std140) CONSTANT_BLOCK DenoiseBlock { DenoiseConsta
 // them (the denoiser batches more), each in a slot of the pass's
 // per-signal images (DENOISE_SLOT_IMAGES), and every invocation works its
 // pixel of each signal in turn, sharing what the signals share (the
-// pixel's surface, the reprojection's taps). Per slot: the signal's kind,
+// pixel's surface, the reprojection's taps); temporal accumulation instead
+// gives each signal its own workgroups. Per slot: the signal's kind,
 // flags and index; for the pass, the count of slots in use and the blur
 // passes' radius scale.
 layout(push_constant) uniform SignalParams {
