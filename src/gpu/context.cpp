@@ -345,8 +345,11 @@ Context::Context(const ExternalDevice& external) : ownsDevice_(false) {
 
 void Context::initialiseDeviceObjects(std::optional<bool> constantsInStorageBuffers) {
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-  VkPhysicalDeviceProperties2 driverProperties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES,
+                                                      &driver};
+  VkPhysicalDeviceProperties2 driverProperties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &maintenance3};
   vkGetPhysicalDeviceProperties2(physicalDevice_, &driverProperties);
+  maxAllocationBytes_ = maintenance3.maxMemoryAllocationSize;
   constantsInStorageBuffers_ = constantsInStorageBuffers.value_or(driver.driverID == VK_DRIVER_ID_MESA_LLVMPIPE);
   // The GI library opens its context on the engine's device and cannot be
   // given the option; the variable lets one compare the variants there too.

@@ -90,6 +90,9 @@ class Context {
   VkQueue queue() const { return queue_; }
   std::uint32_t queueFamily() const { return queueFamily_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
+  // The largest single vkAllocateMemory the device promises (Vulkan 1.1's
+  // maxMemoryAllocationSize, at least 1 GiB).
+  VkDeviceSize maxAllocationBytes() const { return maxAllocationBytes_; }
   const DeviceInfo& deviceInfo() const { return deviceInfo_; }
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   // Whether the queue family writes timestamps (a context of its own picks one that does).
@@ -157,6 +160,7 @@ class Context {
   VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memoryProperties_{};
+  VkDeviceSize maxAllocationBytes_ = VkDeviceSize(1) << 30;
   DeviceInfo deviceInfo_;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;

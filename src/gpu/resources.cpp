@@ -72,7 +72,7 @@ MemoryArena::Allocation MemoryArena::allocate(const VkMemoryRequirements& requir
   if (requested_ < expected_) {
     // What is left of the expected, and room for alignment: 1/32 of it and 1 MiB.
     const VkDeviceSize left = expected_ - requested_;
-    size = std::min(std::max(kFirstBlock, maxBlock_), left + left / 32 + (VkDeviceSize(1) << 20));
+    size = std::min(std::max(kFirstBlock, context_.maxAllocationBytes()), left + left / 32 + (VkDeviceSize(1) << 20));
   } else if (expected_ > 0) {
     // Past the expected (a driver that pads images beyond their texels,
     // images made later such as debug views): each large allocation gets a

@@ -52,16 +52,18 @@ enum class Visualize {
 // common) and each one costs. Blocks grow with what the arena holds: the
 // first is 4 MiB, each next one as large as all before it, up to maxBlock,
 // so a small context needs few blocks. An owner that knows what it is about
-// to allocate says so (`expected`): then each new block is as large as what
-// is left of that (up to maxBlock, plus a little for alignment), so the last
-// block ends near the last allocation instead of up to half empty (a GI
-// context at 1080p on an H100 left 226 MiB of its blocks unused without it,
-// 167 with it). Past the expected (a driver that pads images beyond their
-// texels, which the estimate counts), each allocation of 4 MiB or more
-// takes a block of its own size and smaller ones share 4 MiB blocks: at
-// most 4 MiB of a block is left unused.
+// to allocate says so (`expected`): then the next block is as large as what
+// is left of that, plus a little for alignment, in one allocation up to the
+// device's largest (Context::maxAllocationBytes), so no block before the last
+// is left with an unused tail (at 1080p on an H100, 128 MiB blocks left 59
+// MiB of tails where a padded image did not fit the end of one). Past the
+// expected (a driver that pads images beyond their texels, which the
+// estimate counts), each allocation of 4 MiB or more takes a block of its own
+// size and smaller ones share 4 MiB blocks: at most 4 MiB of a block is left
+// unused.
 class MemoryArena {
  public:
+  // maxBlock: the largest block while the arena grows without an expected total.
   explicit MemoryArena(Context& context, VkDeviceSize maxBlock = VkDeviceSize(128) << 20, VkDeviceSize expected = 0);
   ~MemoryArena();
   MemoryArena(const MemoryArena&) = delete;
