@@ -416,6 +416,7 @@ struct GiContext::Impl {
     for (std::size_t i = 0; i < units.size(); ++i) {
       if (plans[i].records) {
         for (ImageSet* set : units[i]->imageSets()) set->takeTransients();
+        for (gpu::Buffer* buffer : units[i]->transientBuffers()) takeTransient(*buffer);
         units[i]->record(state);
       }
       for (std::size_t producer = 0; producer <= i; ++producer)

@@ -129,17 +129,28 @@ void ImageSet::make(std::size_t index) {
   entries_[index] = std::move(entry);
 }
 
-void ImageSet::takeTransients() {
-  if (!transientPool_) return;
-  // As if every command before had written the memory: the first use's
-  // barrier waits for all of them (other units' images in this memory
-  // included) and moves the image from an undefined layout, dropping what
-  // the memory held.
+namespace {
+
+// As if every command before had written the memory: the first use's
+// barrier waits for all of them (other units' images and buffers in this
+// memory included); an image moves from an undefined layout, dropping what
+// the memory held.
+gpu::SyncState discardedState() {
   gpu::SyncState discarded;
   discarded.writeStage = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
   discarded.writeAccess = VK_ACCESS_2_MEMORY_WRITE_BIT;
   discarded.readStages = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
   discarded.layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  return discarded;
+}
+
+}  // namespace
+
+void takeTransient(gpu::Buffer& buffer) { buffer.sync() = discardedState(); }
+
+void ImageSet::takeTransients() {
+  if (!transientPool_) return;
+  const gpu::SyncState discarded = discardedState();
   for (std::size_t i = 0; i < table_.size(); ++i)
     if (entries_[i] && table_[i].transient)
       for (const std::unique_ptr<gpu::Image>& image : entries_[i]->images) image->sync() = discarded;

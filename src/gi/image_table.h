@@ -86,6 +86,13 @@ std::uint64_t transientImageBytes(std::span<const ImageSpec> table, Extent maxSi
                                   std::span<const std::size_t> unused = {});
 
 // The images of one table, made for the largest render size.
+// A unit's transient buffer (made in the transient pool, as the images of
+// ImageSpec::transient): before the unit's first pass of a frame, as
+// ImageSet::takeTransients does for images, its first use waits for every
+// command recorded before it (other units' images and buffers in the same
+// memory).
+void takeTransient(gpu::Buffer& buffer);
+
 class ImageSet {
  public:
   // `pyramidLevels`: levels of each Pyramid entry (at least 1 if the table

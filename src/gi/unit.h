@@ -145,6 +145,9 @@ class Unit {
   // The image tables it made (their images are handed back to GENERAL
   // after a captured frame).
   virtual std::vector<ImageSet*> imageSets() { return {}; }
+  // Its buffers in the transient pool (buffers written and read only while
+  // it records), taken as ImageSet::takeTransients takes images.
+  virtual std::vector<gpu::Buffer*> transientBuffers() { return {}; }
 };
 
 // What the branches share (a unit that makes one of the library's signals:

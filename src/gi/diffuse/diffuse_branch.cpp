@@ -123,7 +123,7 @@ std::uint64_t neighbourTestBytes(Extent maxSize, std::uint32_t slots) {
 
 }  // namespace
 
-std::uint64_t DiffuseBranch::bufferBytes(Extent maxSize, const DiffuseBranchSettings& settings, bool bridgeTraces) {
+std::uint64_t DiffuseBranch::transientBufferBytes(Extent maxSize, const DiffuseBranchSettings& settings, bool bridgeTraces) {
   if (!bridgeTraces) return 0;
   const WorldRayPlan& plan = settings.rays;
   const std::uint32_t slots = neighbourTestSlots(settings, plan);
@@ -151,14 +151,17 @@ DiffuseBranch::DiffuseBranch(gpu::Context& context, gpu::MemoryArena& arena, Ext
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
   if (scene.traces()) {
+    // Written and read only while the branch records: in the transient pool.
+    gpu::MemoryArena& frameLocal = transientPool ? *transientPool : arena;
     pendingRays_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.pending_rays", pendingRayBytes(maxSize, plan_),
-                                                 gpu::BufferUsage::DeviceLocal, &arena);
-    worldQueue_ = makeWorldQueue(context, arena, maxSize, "gi.diffuse.world_queue");
+                                                 gpu::BufferUsage::DeviceLocal, &frameLocal);
+    worldQueue_ = makeWorldQueue(context, frameLocal, maxSize, "gi.diffuse.world_queue");
     testSlots_ = neighbourTestSlots(settings, plan_);
-    neighbourTests_ =
-        std::make_unique<gpu::Buffer>(context, "gi.diffuse.neighbour_test_slots",
-                                      neighbourTestBytes(maxSize, testSlots_), gpu::BufferUsage::DeviceLocal, &arena);
-    testQueue_ = makeWorldQueue(context, arena, maxSize, "gi.diffuse.neighbour_test_queue", std::max(1u, testSlots_));
+    neighbourTests_ = std::make_unique<gpu::Buffer>(context, "gi.diffuse.neighbour_test_slots",
+                                                    neighbourTestBytes(maxSize, testSlots_),
+                                                    gpu::BufferUsage::DeviceLocal, &frameLocal);
+    testQueue_ =
+        makeWorldQueue(context, frameLocal, maxSize, "gi.diffuse.neighbour_test_queue", std::max(1u, testSlots_));
   }
 }
 
@@ -478,15 +481,15 @@ UnitRegistration diffuseUnit() {
                 const DiffuseBranchSettings settings = DiffuseBranch::settingsOf(setup.settings);
                 return imageSetBytes(diffuseImageTable(), setup.maxSize,
                                      brightPyramidLevels(setup.maxSize, settings.diffuse.brightPixels),
-                                     DiffuseBranch::unusedImages(DiffuseBranch::ownFilter(setup))) +
-                       DiffuseBranch::bufferBytes(setup.maxSize, settings, setup.bridgeTraces);
+                                     DiffuseBranch::unusedImages(DiffuseBranch::ownFilter(setup)));
               },
           .transientBytes =
               [](const UnitSetup& setup) {
                 const DiffuseBranchSettings settings = DiffuseBranch::settingsOf(setup.settings);
                 return transientImageBytes(diffuseImageTable(), setup.maxSize,
                                            brightPyramidLevels(setup.maxSize, settings.diffuse.brightPixels),
-                                           DiffuseBranch::unusedImages(DiffuseBranch::ownFilter(setup)));
+                                           DiffuseBranch::unusedImages(DiffuseBranch::ownFilter(setup))) +
+                       DiffuseBranch::transientBufferBytes(setup.maxSize, settings, setup.bridgeTraces);
               }};
 }
 

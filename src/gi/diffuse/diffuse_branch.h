@@ -79,14 +79,18 @@ class DiffuseBranch final : public BranchUnit {
 
   void record(const FrameState& frame) override;
   std::vector<ImageSet*> imageSets() override { return {&images_}; }
+  std::vector<gpu::Buffer*> transientBuffers() override {
+    if (!pendingRays_) return {};
+    return {pendingRays_.get(), worldQueue_.get(), neighbourTests_.get(), testQueue_.get()};
+  }
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).
   static std::vector<gpu::PassDesc> passes();
 
-  // Device memory of what the branch holds besides its images (counted in
-  // GiContext::estimateMemoryBytes): with a bridge that traces, the rays
+  // Device memory of the branch's buffers, all in the transient pool
+  // (counted in its transientBytes): with a bridge that traces, the rays
   // waiting for gi.diffuse.world_candidates and their queue, and spatial
   // reuse's visibility tests and theirs.
-  static std::uint64_t bufferBytes(Extent maxSize, const DiffuseBranchSettings& settings, bool bridgeTraces);
+  static std::uint64_t transientBufferBytes(Extent maxSize, const DiffuseBranchSettings& settings, bool bridgeTraces);
   // The entries of diffuseImageTable() a branch without its own filter does not make.
   static std::span<const std::size_t> unusedImages(bool ownFilter);
 

@@ -65,7 +65,7 @@ struct SpecularBranch::Passes {
   }
 };
 
-std::uint64_t SpecularBranch::bufferBytes(Extent maxSize, bool bridgeTraces) {
+std::uint64_t SpecularBranch::transientBufferBytes(Extent maxSize, bool bridgeTraces) {
   return bridgeTraces ? worldQueueBytes(maxSize) : 0;
 }
 
@@ -86,8 +86,9 @@ SpecularBranch::SpecularBranch(gpu::Context& context, gpu::MemoryArena& arena, E
       constants_(std::make_unique<gpu::Buffer>(context, "gi.specular.constants", sizeof(shared::SpecularConstants),
                                                gpu::BufferUsage::DeviceLocal, &arena)),
       passes_(std::make_unique<Passes>(context, scene)) {
+  // Written and read only while the branch records: in the transient pool.
   if (scene.traces())
-    worldQueue_ = makeWorldQueue(context, arena, maxSize, "gi.specular.world_queue");
+    worldQueue_ = makeWorldQueue(context, transientPool ? *transientPool : arena, maxSize, "gi.specular.world_queue");
 }
 
 SpecularBranch::~SpecularBranch() = default;
@@ -299,13 +300,13 @@ UnitRegistration specularUnit() {
           .memoryBytes =
               [](const UnitSetup& setup) {
                 return imageSetBytes(specularImageTable(), setup.maxSize, 0,
-                                     SpecularBranch::unusedImages(SpecularBranch::ownFilter(setup))) +
-                       SpecularBranch::bufferBytes(setup.maxSize, setup.bridgeTraces);
+                                     SpecularBranch::unusedImages(SpecularBranch::ownFilter(setup)));
               },
           .transientBytes =
               [](const UnitSetup& setup) {
                 return transientImageBytes(specularImageTable(), setup.maxSize, 0,
-                                           SpecularBranch::unusedImages(SpecularBranch::ownFilter(setup)));
+                                           SpecularBranch::unusedImages(SpecularBranch::ownFilter(setup))) +
+                       SpecularBranch::transientBufferBytes(setup.maxSize, setup.bridgeTraces);
               }};
 }
 

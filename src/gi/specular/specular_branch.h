@@ -63,13 +63,16 @@ class SpecularBranch final : public BranchUnit {
 
   void record(const FrameState& frame) override;
   std::vector<ImageSet*> imageSets() override { return {&images_}; }
+  std::vector<gpu::Buffer*> transientBuffers() override {
+    if (!worldQueue_) return {};
+    return {worldQueue_.get()};
+  }
   // Every pass the unit may record, debug views included (gi/unit_catalog.h).
   static std::vector<gpu::PassDesc> passes();
 
-  // Device memory of what the branch holds besides its images (counted
-  // in GiContext::estimateMemoryBytes): the world-trace queue, with a
-  // bridge that traces.
-  static std::uint64_t bufferBytes(Extent maxSize, bool bridgeTraces);
+  // Device memory of the branch's buffer in the transient pool (counted in
+  // its transientBytes): the world-trace queue, with a bridge that traces.
+  static std::uint64_t transientBufferBytes(Extent maxSize, bool bridgeTraces);
   // The entries of specularImageTable() a branch without its own filter does not make.
   static std::span<const std::size_t> unusedImages(bool ownFilter);
 
