@@ -535,6 +535,40 @@ TEST(DenoiseWeights, CatmullRomInterpolatesAndKeepsParabolas) {
   }
 }
 
+// The five bilinear taps weigh every texel of the 4x4 footprint as the
+// 12-tap Catmull-Rom filter without corners does: expanded into texel
+// weights (each bilinear tap over its four texels), they match
+// catmullRomWeights(x) * catmullRomWeights(y) on the 12 and give the
+// corners nothing.
+TEST(DenoiseWeights, CatmullRomAsFiveBilinearTapsWeighsTheTwelveTexelsAlike) {
+  for (float fx : {0.0f, 0.1f, 0.37f, 0.5f, 0.9f, 0.999f})
+    for (float fy : {0.0f, 0.25f, 0.61f, 0.98f}) {
+      const CatmullRomBilinear taps = catmullRomAsBilinear(vec2(fx, fy));
+      float texel[4][4] = {};  // [y + 1][x + 1]
+      for (int t = 0; t < kCatmullRomBilinearTaps; ++t) {
+        const vec2 p = taps.offsets[t];
+        const int x0 = int(std::floor(p.x)), y0 = int(std::floor(p.y));
+        const float ax = p.x - float(x0), ay = p.y - float(y0);
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 2; ++i) {
+            const float b = (i == 1 ? ax : 1.0f - ax) * (j == 1 ? ay : 1.0f - ay);
+            if (b == 0.0f) continue;
+            ASSERT_GE(x0 + i, -1);
+            ASSERT_LE(x0 + i, 2);
+            ASSERT_GE(y0 + j, -1);
+            ASSERT_LE(y0 + j, 2);
+            texel[y0 + j + 1][x0 + i + 1] += taps.weights[t] * b;
+          }
+      }
+      const vec4 wx = catmullRomWeights(fx), wy = catmullRomWeights(fy);
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+          const bool corner = (i == 0 || i == 3) && (j == 0 || j == 3);
+          EXPECT_NEAR(texel[j][i], corner ? 0.0f : wx[i] * wy[j], 1e-5f) << fx << " " << fy << " " << i << " " << j;
+        }
+    }
+}
+
 // The disocclusion reach: REBLUR's threshold head-on, wider at grazing
 // angles, wider again for a still camera; a large parallax makes n.v count
 // less.

@@ -13,7 +13,12 @@
 // per signal) defines HISTORY_FILTERED(slot, tap) and
 // HISTORY_MOMENTS(slot, tap) first: the taps are tested once for every
 // signal (catmullRomFootprint, historyTapWeights) and each slot's history
-// read with those weights.
+// read with those weights. One that samples its history through a
+// filtering sampler also defines HISTORY_FILTERED_LINEAR(slot, position)
+// (bilinear at a continuous texel-space position, texel centres at
+// integers): a fetch where all the taps count takes one bilinear tap for
+// four, and the Catmull-Rom fetch (catmullRomHistory, which needs it) five
+// for twelve.
 #ifndef BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 #define BOUNCE_GI_TEMPORAL_HISTORY_GLSL
 
@@ -53,10 +58,19 @@ History bilinearHistory(uint slot, ivec2 corner, vec4 weights) {
   vec4 accumulated = vec4(0.0f);
   vec3 accumulatedMoments = vec3(0.0f);
   float weightSum = 0.0f;
+#ifdef HISTORY_FILTERED_LINEAR
+  // All four count: their weights are bilinear's, one filtered fetch.
+  bool allFour = all(greaterThan(weights, vec4(0.0f)));
+  if (allFour)
+    accumulated = HISTORY_FILTERED_LINEAR(slot, vec2(corner) + vec2(weights.y + weights.w, weights.z + weights.w)) *
+                  (weights.x + weights.y + weights.z + weights.w);
+#else
+  const bool allFour = false;
+#endif
   for (int i = 0; i < 4; ++i) {
     if (weights[i] <= 0.0f) continue;
     ivec2 tap = corner + ivec2(i & 1, i >> 1);
-    accumulated += HISTORY_FILTERED(slot, tap) * weights[i];
+    if (!allFour) accumulated += HISTORY_FILTERED(slot, tap) * weights[i];
     accumulatedMoments += momentsFromStored(HISTORY_MOMENTS(slot, tap)) * weights[i];
     weightSum += weights[i];
   }
@@ -81,9 +95,11 @@ History fetchHistory(uint slot, vec2 previous, ExpectedSurface expected) {
 // The same fetch with a Catmull-Rom filter (REBLUR's), in two steps: which
 // of the 12 taps of its 4x4 footprint without the corners show the
 // expected surface (catmullRomFootprint, once for every signal), then a
-// slot's history over them (catmullRomHistory): Catmull-Rom where all 12
-// show it; else bilinear over the centre four that do (an edge, a
-// disocclusion), as fetchHistory. Only the radiance is filtered sharply;
+// slot's history over them (catmullRomHistory, for a shader that defines
+// HISTORY_FILTERED_LINEAR): Catmull-Rom where all 12 show it, in five
+// bilinear fetches (shared/denoise_weights.glsl, catmullRomAsBilinear);
+// else bilinear over the centre four that do (an edge, a disocclusion),
+// as fetchHistory. Only the radiance is filtered sharply;
 // the moments and the history length are bilinear, as REBLUR's fast
 // history is. The overshoot of the negative lobes is cut at 0.
 struct HistoryFootprint {
@@ -108,39 +124,48 @@ HistoryFootprint catmullRomFootprint(vec2 previous, ExpectedSurface expected) {
   return footprint;
 }
 
+#ifdef HISTORY_FILTERED_LINEAR
 History catmullRomHistory(uint slot, HistoryFootprint footprint) {
   History h = noHistory();
   vec2 f = footprint.f;
-  vec4 wx = catmullRomWeights(f.x), wy = catmullRomWeights(f.y);
-  vec3 sharp = vec3(0.0f);
-  float sharpWeight = 0.0f;
-  vec4 bilinear = vec4(0.0f);  // radiance and history length over the centre four
-  float bilinearWeight = 0.0f;
+  // The centre four that show the surface, weighed bilinearly.
   vec4 centreWeights = vec4(0.0f);
-  for (int j = -1; j <= 2; ++j)
-    for (int i = -1; i <= 2; ++i) {
-      if ((footprint.shows & (1u << uint((i + 1) + 4 * (j + 1)))) == 0u) continue;
-      vec4 value = HISTORY_FILTERED(slot, footprint.origin + ivec2(i, j));
-      float w = wx[i + 1] * wy[j + 1];
-      sharp += value.xyz * w;
-      sharpWeight += w;
-      if (i >= 0 && i <= 1 && j >= 0 && j <= 1) {
-        float b = (i == 1 ? f.x : 1.0f - f.x) * (j == 1 ? f.y : 1.0f - f.y);
-        bilinear += value * b;
-        bilinearWeight += b;
-        centreWeights[i + 2 * j] = b;
-      }
-    }
+  for (int i = 0; i < 4; ++i) {
+    uint bit = 1u << uint(((i & 1) + 1) + 4 * ((i >> 1) + 1));
+    if ((footprint.shows & bit) != 0u)
+      centreWeights[i] = ((i & 1) == 1 ? f.x : 1.0f - f.x) * ((i >> 1) == 1 ? f.y : 1.0f - f.y);
+  }
+  float bilinearWeight = centreWeights.x + centreWeights.y + centreWeights.z + centreWeights.w;
   if (bilinearWeight <= kMinHistoryWeight) return h;
   h.found = true;
-  h.radiance = footprint.shows == kFootprintAllShow ? max(sharp / sharpWeight, vec3(0.0f)) : bilinear.xyz / bilinearWeight;
-  h.frames = bilinear.w / bilinearWeight;
+  vec2 origin = vec2(footprint.origin);
+  if (footprint.shows == kFootprintAllShow) {
+    // All 12 show it: Catmull-Rom in five bilinear fetches, and the
+    // history length bilinear in a sixth.
+    CatmullRomBilinear taps = catmullRomAsBilinear(f);
+    vec3 sharp = vec3(0.0f);
+    float sharpWeight = 0.0f;
+    for (int t = 0; t < kCatmullRomBilinearTaps; ++t) {
+      sharp += HISTORY_FILTERED_LINEAR(slot, origin + taps.offsets[t]).xyz * taps.weights[t];
+      sharpWeight += taps.weights[t];
+    }
+    h.radiance = max(sharp / sharpWeight, vec3(0.0f));
+    h.frames = HISTORY_FILTERED_LINEAR(slot, origin + f).w;
+  } else {
+    vec4 bilinear = vec4(0.0f);
+    for (int i = 0; i < 4; ++i)
+      if (centreWeights[i] > 0.0f)
+        bilinear += HISTORY_FILTERED(slot, footprint.origin + ivec2(i & 1, i >> 1)) * centreWeights[i];
+    h.radiance = bilinear.xyz / bilinearWeight;
+    h.frames = bilinear.w / bilinearWeight;
+  }
   for (int i = 0; i < 4; ++i)
     if (centreWeights[i] > 0.0f)
       h.moments += momentsFromStored(HISTORY_MOMENTS(slot, footprint.origin + ivec2(i & 1, i >> 1))) * centreWeights[i];
   h.moments /= bilinearWeight;
   return h;
 }
+#endif
 
 // Where last frame's camera saw the reflection's (virtual) point of a
 // specular pixel (shared/denoise_weights.glsl, virtualPoint): behind the

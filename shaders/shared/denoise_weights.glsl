@@ -64,6 +64,37 @@ vec4 catmullRomWeights(float f) {
               f * (0.5f + f * (2.0f - 1.5f * f)), f * f * (-0.5f + 0.5f * f));
 }
 
+// The 4x4 Catmull-Rom filter without its corners (12 taps) as 5 bilinear
+// taps of a filtering sampler: the centre four in one, at the offset where
+// bilinear weights them as the filter does (the two centre weights of each
+// axis are positive), and each edge pair in one, on the edge texel's centre
+// and at the centre tap's offset along the edge. Offsets from the first of
+// the centre four (texel centres at integers); the weights sum to the 12
+// taps' (the corners' share short of 1).
+const int kCatmullRomBilinearTaps = 5;
+struct CatmullRomBilinear {
+  vec2 offsets[kCatmullRomBilinearTaps];
+  float weights[kCatmullRomBilinearTaps];
+};
+
+CatmullRomBilinear catmullRomAsBilinear(vec2 f) {
+  vec4 wx = catmullRomWeights(f.x), wy = catmullRomWeights(f.y);
+  vec2 centreWeight = vec2(wx.y + wx.z, wy.y + wy.z);
+  vec2 centre = vec2(wx.z, wy.z) / centreWeight;
+  CatmullRomBilinear taps;
+  taps.offsets[0] = centre;
+  taps.weights[0] = centreWeight.x * centreWeight.y;
+  taps.offsets[1] = vec2(-1.0f, centre.y);
+  taps.weights[1] = wx.x * centreWeight.y;
+  taps.offsets[2] = vec2(2.0f, centre.y);
+  taps.weights[2] = wx.w * centreWeight.y;
+  taps.offsets[3] = vec2(centre.x, -1.0f);
+  taps.weights[3] = centreWeight.x * wy.x;
+  taps.offsets[4] = vec2(centre.x, 2.0f);
+  taps.weights[4] = centreWeight.x * wy.w;
+  return taps;
+}
+
 // How far, as a fraction of the frustum's width at the pixel's depth, last
 // frame's surface may lie from where this frame's was and still count as
 // the same (REBLUR's disocclusion threshold): `threshold` seen head-on,

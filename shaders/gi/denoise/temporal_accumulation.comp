@@ -47,18 +47,19 @@ layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
 layout(set = 0, binding = 12, rg32ui) readonly uniform uimage2D gIn_Surface;
 DENOISE_SLOT_IMAGES(readonly, gIn_Signal, 20)
-DENOISE_SLOT_IMAGES(readonly, gPrev_Filtered, 24)
+DENOISE_SLOT_TEXTURES(gPrev_Filtered, 24)
 DENOISE_SLOT_IMAGES(readonly, gPrev_Moments, 28)
 DENOISE_SLOT_IMAGES(writeonly, gOut_Accumulated, 32)
 DENOISE_SLOT_IMAGES(writeonly, gOut_Moments, 36)
 DENOISE_SLOT_LOAD(gIn_Signal)
-DENOISE_SLOT_LOAD(gPrev_Filtered)
+DENOISE_SLOT_SAMPLE(gPrev_Filtered)
 DENOISE_SLOT_LOAD(gPrev_Moments)
 DENOISE_SLOT_STORE(gOut_Accumulated)
 DENOISE_SLOT_STORE(gOut_Moments)
 
 #include "gi/motion.glsl"
 #define HISTORY_FILTERED(slot, tap) gPrev_FilteredAt(slot, tap)
+#define HISTORY_FILTERED_LINEAR(slot, position) gPrev_FilteredLinear(slot, position)
 #define HISTORY_MOMENTS(slot, tap) gPrev_MomentsAt(slot, tap)
 #include "gi/temporal_history.glsl"
 #define LIGHT_CHANGE_BINDING 16

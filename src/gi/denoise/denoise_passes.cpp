@@ -46,6 +46,8 @@ struct SlotDecl {
   const char* name;
   Access access;
   const char* purpose;
+  // Sampled slots read through the context's filtering sampler (DENOISE_SLOT_TEXTURES).
+  ResourceKind kind = ResourceKind::StorageImage;
 };
 
 // A stage: the frame's constants, the denoiser's constants, the tiles and
@@ -57,8 +59,9 @@ gpu::PassDesc stagePass(const std::string& pass, const char* shader, std::vector
   own.insert(own.begin(), {denoiseConstants(), tilesDecl(), surfaceDecl()});
   for (const SlotDecl& slot : slots)
     for (std::size_t k = 0; k < shared::kDenoiseSlots; ++k)
-      own.push_back({denoiseSlotName(slot.name, k), slot.access, kRgba16f,
-                     std::string(slot.purpose) + " (slot " + std::to_string(k) + "'s signal)"});
+      own.push_back({denoiseSlotName(slot.name, k), slot.access,
+                     slot.kind == ResourceKind::StorageImage ? kRgba16f : VK_FORMAT_UNDEFINED,
+                     std::string(slot.purpose) + " (slot " + std::to_string(k) + "'s signal)", slot.kind});
   gpu::PassDesc desc = framePass("gi.denoise." + pass, shader, GroupPart::Constants, own);
   desc.constants.push_back(denoiseConstantsLayout());
   desc.constants.push_back(
@@ -103,7 +106,9 @@ gpu::PassDesc denoiseTemporalAccumulationPass() {
   return stagePass("temporal_accumulation", "gi/denoise/temporal_accumulation",
                    {motionDecl(), previousSurfaceDecl(), currentSurfaceDecl(), lightChangeDecl()},
                    {kPrePassedSlot,
-                    {"gPrev_Filtered", Access::Read, "last frame's post-blurred signal, history length"},
+                    {"gPrev_Filtered", Access::Read,
+                     "last frame's post-blurred signal, history length (sampled: Catmull-Rom in bilinear taps)",
+                     ResourceKind::SampledImage},
                     {"gPrev_Moments", Access::Read, "last frame's luminance moments"},
                     {"gOut_Accumulated", Access::Write, "radiance, history length"},
                     {"gOut_Moments", Access::Write, "luminance moments: mean, deviation, fast mean"}});
