@@ -43,8 +43,10 @@ class CompositeUnit final : public Unit {
   Plan plan(const FramePlan&) const override {
     return {.records = true, .takes = {kLibrarySignals[0].name, kLibrarySignals[1].name}};
   }
+  // Last frame's composite, until this frame's composite overwrites it:
+  // every unit that takes it records before this one.
   void putHistory(Products& products, std::uint64_t frameIndex) override {
-    products.put(product::kPreviousComposite, images_.previous(0, frameIndex));
+    products.put(product::kPreviousComposite, images_.current(0, frameIndex));
   }
   void record(const FrameState& frame) override {
     EngineImages& engine = frame.engine;

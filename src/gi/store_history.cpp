@@ -14,7 +14,9 @@ constexpr ImageSpec kFrameImages[] = {
      "viewZ bits, octahedral normal and material id of every pixel, for the next frame (and this frame's id)"},
     {"gi.march_depth", Resolution::Full, kR32f, false, gpu::Visualize::Range,
      "this frame's viewZ (0 where unusable) in the library's own storage image: what visibility marches read"},
-    {"gi.composite", Resolution::Full, kRgba16f, true, gpu::Visualize::Radiance,
+    // One copy: the branches read last frame's before the composite, the
+    // last unit of a frame, writes this frame's over it.
+    {"gi.composite", Resolution::Full, kRgba16f, false, gpu::Visualize::Radiance,
      "the frame, linear HDR: direct light + remodulated indirect light; next frame's light source"},
 };
 // The history unit's images (the first two), then the composite's.
