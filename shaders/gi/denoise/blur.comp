@@ -1,14 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.denoise.blur and gi.denoise.post_blur (one shader, two passes, as
-// REBLUR's): the spatial kernel of gi/denoise/spatial_filter.glsl, for
-// every signal of the dispatch from one load of the pixel's surface. Blur
-// runs over the history-fixed signal (in the signal's history image) at
-// gi.denoise.blur_radius (scaled as blurRadius says) into the
-// accumulation image; post-blur over blur's output at
-// post_blur_radius_scale of that, back into the history image: next
-// frame's history for temporal accumulation and what temporal
-// stabilisation reads.
+// gi.denoise.blur: REBLUR's blur, the spatial kernel of
+// gi/denoise/spatial_filter.glsl (shared with gi.denoise.post_blur, which
+// runs it again at a smaller radius), for every signal of the dispatch
+// from one load of the pixel's surface: over the history-fixed signal (in
+// the signal's history image) at gi.denoise.blur_radius (scaled as
+// blurRadius says) into the accumulation image, which post-blur reads.
 #include "gi/gi_common.glsl"
 #define DENOISE_READS_TILES
 #include "gi/denoise/denoise_common.glsl"
@@ -31,5 +28,7 @@ void main() {
   Surface x = denoiseSurfaceRoughness(pixel, roughness);
   bool surface = !tileEmpty(pixel) && x.viewZ > 0.0f;
   for (uint slot = 0u; slot < gSignals.count; ++slot)
-    gOut_FilteredStore(slot, pixel, surface ? roundedToHalf(spatialFilter(slot, pixel, x, roughness)) : vec4(0.0f));
+    gOut_FilteredStore(slot, pixel,
+                       surface ? roundedToHalf(spatialFilter(slot, pixel, x, roughness, gIn_SignalAt(slot, pixel).w))
+                               : vec4(0.0f));
 }

@@ -2,20 +2,19 @@
 // one kernel at two radii): 8 taps of a disk rotated per frame
 // (diskRotation), its radius set by the pixel's history length, roughness
 // and hit distance (blurRadius), each tap weighed by neighbourWeight
-// (plane, lobe, roughness). The including shader declares the slots
-// gIn_Filtered (rgba16f: radiance, history length) and gIn_Signal (the
-// pre-passed signal, for its hit distance), with their loaders, and
-// includes gi/denoise/denoise_common.glsl with DENOISE_READS_TILES.
+// (plane, lobe, roughness). The including shader declares the slot
+// gIn_Filtered (rgba16f: radiance, history length) with its loader, and
+// includes gi/denoise/denoise_common.glsl with DENOISE_READS_TILES; it
+// hands over the pixel's hit distance (the pre-passed signal's).
 #ifndef BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
 #define BOUNCE_GI_DENOISE_SPATIAL_FILTER_GLSL
 
 // A slot's filtered value at `pixel` (surface x, a surface; alpha: its
 // history length, unchanged).
-vec4 spatialFilter(uint slot, ivec2 pixel, Surface x, float roughness) {
+vec4 spatialFilter(uint slot, ivec2 pixel, Surface x, float roughness, float hitDistance) {
   DenoiseConstants d = gIn_DenoiseConstants.denoise;
   vec4 center = gIn_FilteredAt(slot, pixel);
-  float normalizedHit =
-      normalizedHitDistance(d.hitDistanceParameters, gIn_SignalAt(slot, pixel).w, x.viewZ, roughness);
+  float normalizedHit = normalizedHitDistance(d.hitDistanceParameters, hitDistance, x.viewZ, roughness);
   float radius = blurRadius(slot, center.w, roughness, normalizedHit);
   float rotation =
       diskRotation(d.frameIndex, 2u * gSignals.indices[slot] + (gSignals.radiusScale < 1.0f ? 1u : 0u));

@@ -73,11 +73,6 @@ constexpr SlotDecl kPrePassedSlot = {
     "gIn_Signal", Access::Read,
     "the pre-passed noisy signal: radiance, hit distance (world units, 0 unknown)"};
 
-gpu::PassDesc blur(const std::string& name, const char* input, const char* output) {
-  return stagePass(name, "gi/denoise/blur", {},
-                   {{"gIn_Filtered", Access::Read, input}, kPrePassedSlot, {"gOut_Filtered", Access::Write, output}});
-}
-
 }  // namespace
 
 std::string denoiseSlotName(std::string_view binding, std::size_t slot) {
@@ -123,19 +118,28 @@ gpu::PassDesc denoiseHistoryFixPass() {
 }
 
 gpu::PassDesc denoiseBlurPass() {
-  return blur("blur", "history fix's output: radiance, history length", "blurred at the full radius");
+  return stagePass("blur", "gi/denoise/blur", {},
+                   {{"gIn_Filtered", Access::Read, "history fix's output: radiance, history length"},
+                    kPrePassedSlot,
+                    {"gOut_Filtered", Access::Write, "blurred at the full radius"}});
 }
 
 gpu::PassDesc denoisePostBlurPass() {
-  return blur("post_blur", "blur's output: radiance, history length",
-              "blurred again at post_blur_radius_scale: next frame's history");
+  return stagePass(
+      "post_blur", "gi/denoise/post_blur", {},
+      {{"gIn_Filtered", Access::Read, "blur's output: radiance, history length"},
+       {"gPrev_Stabilized", Access::Read, "last frame's stabilised signal, before stabilisation overwrites it"},
+       {"gInOut_PrePassed", Access::ReadWrite,
+        "the pre-passed signal (its hit distance); then last frame's stabilised signal, for stabilisation"},
+       {"gOut_Filtered", Access::Write, "blurred again at post_blur_radius_scale: next frame's history"}});
 }
 
 gpu::PassDesc denoiseTemporalStabilizationPass() {
   return stagePass("temporal_stabilization", "gi/denoise/temporal_stabilization",
                    {motionDecl(), previousSurfaceDecl(), currentSurfaceDecl(), lightChangeDecl()},
                    {{"gIn_Filtered", Access::Read, "post-blur's output"},
-                    {"gPrev_Stabilized", Access::Read, "last frame's stabilised signal"},
+                    {"gPrev_Stabilized", Access::Read,
+                     "last frame's stabilised signal (post-blur copied it into the pre-passed image)"},
                     {"gOut_Stabilized", Access::Write, "the denoised signal, history length"}});
 }
 

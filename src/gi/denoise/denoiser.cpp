@@ -48,7 +48,9 @@ struct SignalImage {
 constexpr SignalImage kSignalImages[] = {
     {"pre_passed",
      {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
-      "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance", false, true}},
+      "the pre-pass's output: the noisy signal pre-blurred; alpha: hit distance; from post-blur on, last frame's "
+      "stabilised signal (stabilisation's history)",
+      false, true}},
     {"accumulated",
      {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
       "temporal accumulation's output, then blur's: radiance, history length", false, true}},
@@ -61,8 +63,9 @@ constexpr SignalImage kSignalImages[] = {
       "luminance moments: mean and deviation over the history, mean of the fast history; specular kind: the "
       "virtual history's share"}},
     {"stabilized",
-     {"", Resolution::Full, kRgba16f, true, Visualize::Radiance,
-      "the denoised signal (temporal stabilisation's output); alpha: its history length"}},
+     {"", Resolution::Full, kRgba16f, false, Visualize::Radiance,
+      "the denoised signal (temporal stabilisation's output), kept as next frame's stabilisation history; alpha: its "
+      "history length"}},
 };
 static_assert(std::size(kSignalImages) == kDenoisePerSignal, "one table entry per DenoiseSignalImage");
 
@@ -292,15 +295,19 @@ void Denoiser::recordBatch(const FrameState& frame, std::span<const SignalInput>
   blur.slots("gOut_Filtered", filler, image(kDenoiseAccumulated));
   dispatch(passes_->blur, blur, atFullRadius);
 
+  // Post-blur also hands last frame's stabilised value to stabilisation
+  // through the pre-passed image, which nothing reads after it: the one
+  // stabilised image is then free for stabilisation to write.
   SlotBinds postBlur(names, {constants, tiles, surface});
   postBlur.slots("gIn_Filtered", filler, image(kDenoiseAccumulated));
-  postBlur.slots("gIn_Signal", filler, image(kDenoisePrePassed));
+  postBlur.slots("gPrev_Stabilized", filler, image(kDenoiseStabilized));
+  postBlur.slots("gInOut_PrePassed", filler, image(kDenoisePrePassed));
   postBlur.slots("gOut_Filtered", filler, image(kDenoiseHistory));
   dispatch(passes_->postBlur, postBlur, post);
 
   SlotBinds stabilization(names, {constants, tiles, surface, motion, previousSurface, currentSurface, lightChange});
   stabilization.slots("gIn_Filtered", filler, image(kDenoiseHistory));
-  stabilization.slots("gPrev_Stabilized", filler, previous(kDenoiseStabilized));
+  stabilization.slots("gPrev_Stabilized", filler, image(kDenoisePrePassed));
   stabilization.slots("gOut_Stabilized", filler, image(kDenoiseStabilized));
   dispatch(passes_->temporalStabilization, stabilization, atFullRadius);
 }

@@ -46,12 +46,12 @@ enum DenoiseImage : std::size_t {
   kDenoiseSharedImages
 };
 enum DenoiseSignalImage : std::size_t {
-  kDenoisePrePassed,    // the pre-pass's output (within the frame)
+  kDenoisePrePassed,    // the pre-pass's output, then last frame's stabilised signal (within the frame)
   kDenoiseAccumulated,  // temporal accumulation's output, then blur's (within the frame)
   kDenoiseHistory,      // last frame's history until temporal accumulation; then history fix's output; then
                         // post-blur's: next frame's history
   kDenoiseMoments,      // luminance moments (this frame's and last frame's)
-  kDenoiseStabilized,   // the result (this frame's and last frame's)
+  kDenoiseStabilized,   // the result, one copy: last frame's until post-blur has copied it
   kDenoisePerSignal
 };
 
