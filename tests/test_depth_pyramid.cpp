@@ -140,7 +140,9 @@ TEST_F(DepthPyramidOnGpu, EveryLevelIsTheNearestAndFarthestSurfaceOfItsPixels) {
   const Extent maxSize{70, 50};
   gpu::MemoryArena arena(context());
   gi::DepthPyramid pyramid(context(), arena, maxSize);
-  ASSERT_EQ(pyramid.pyramid().desc().mipLevels, gi::DepthPyramid::levels(maxSize));
+  // Level 0 is the march depth: the image holds levels 1 and up.
+  ASSERT_EQ(pyramid.pyramid().desc().mipLevels, gi::DepthPyramid::levels(maxSize) - 1);
+  EXPECT_EQ(pyramid.pyramid().desc().width, maxSize.width / 2);
   const std::vector<float> largeFrame = randomDepth(maxSize, 7);
   const auto largeInput = marchDepthImage(context(), maxSize, maxSize, largeFrame, 0.0f);
   context().submitAndWait([&](gpu::Recorder& r) { pyramid.record(r, *largeInput, maxSize); });
@@ -153,9 +155,9 @@ TEST_F(DepthPyramidOnGpu, EveryLevelIsTheNearestAndFarthestSurfaceOfItsPixels) {
     // A tiny surface beyond the render size would be every tile's nearest, were it read.
     const auto input = marchDepthImage(context(), maxSize, size, depth, 0.01f);
     context().submitAndWait([&](gpu::Recorder& r) { pyramid.record(r, *input, size); });
-    for (std::uint32_t level = 0; level < gi::DepthPyramid::levels(size); ++level) {
+    for (std::uint32_t level = 1; level < gi::DepthPyramid::levels(size); ++level) {
       const Extent texels = levelSize(size, level);
-      const std::vector<MinMax> gpu = readLevel(context(), pyramid.pyramid(), level, texels);
+      const std::vector<MinMax> gpu = readLevel(context(), pyramid.pyramid(), level - 1, texels);
       const std::vector<MinMax> cpu = cpuLevel(depth, size, level);
       for (std::size_t i = 0; i < cpu.size(); ++i)
         ASSERT_EQ(gpu[i], cpu[i]) << "level " << level << " texel (" << i % texels.width << ", " << i / texels.width
@@ -178,7 +180,7 @@ TEST_F(DepthPyramidOnGpu, CapturedBuildLeavesTheImageInGeneral) {
     pyramid.record(r, *input, size);
   });
   for (gpu::CapturedStage& capture : captures) gpu::completeCapture(capture);
-  ASSERT_EQ(captures.size(), gi::DepthPyramid::levels(size));
+  ASSERT_EQ(captures.size(), gi::DepthPyramid::levels(size) - 1);
   EXPECT_EQ(captures.front().pass, "gi.depth_pyramid");
   EXPECT_EQ(captures.back().pass, "gi.depth_pyramid_reduce");
   EXPECT_EQ(captures.back().image.width, 1u);
@@ -286,7 +288,7 @@ class HizTraceOnGpu : public GpuTest {
         {"gIn_Queries", gpu::Access::Read, VK_FORMAT_UNDEFINED, "rays", gpu::ResourceKind::StorageBuffer});
     resources.push_back({"gOut_Answers", gpu::Access::Write, VK_FORMAT_UNDEFINED, "what hizTrace says of them",
                          gpu::ResourceKind::StorageBuffer});
-    resources.push_back(gi::depthPyramidDecl());
+    for (const gpu::ResourceDecl& decl : gi::depthPyramidDecls()) resources.push_back(decl);
     gpu::ComputePass check(
         context(), {.name = "tests.hiz_trace_check",
                     .shader = "tests/hiz_trace_check",
@@ -295,9 +297,10 @@ class HizTraceOnGpu : public GpuTest {
                     .constants = {gi::frameConstantsLayout(), BOUNCE_CONSTANTS_LAYOUT("", CheckParams, count)}});
     context().submitAndWait([&](gpu::Recorder& r) {
       pyramid.record(r, *marchDepth, scene.size);
-      r.dispatch(check, std::uint32_t(queries.size()), 1,
-                 {{"gIn_Frame", frame}, {"gIn_Queries", input}, {"gOut_Answers", output}, pyramid.bind()},
-                 CheckParams{std::uint32_t(queries.size())});
+      std::vector<gpu::Bind> binds = {{"gIn_Frame", frame}, {"gIn_Queries", input}, {"gOut_Answers", output}};
+      for (const gpu::Bind& bind : pyramid.binds()) binds.push_back(bind);
+      const CheckParams params{std::uint32_t(queries.size())};
+      r.dispatch(check, std::uint32_t(queries.size()), 1, std::span<const gpu::Bind>(binds), &params, sizeof params);
     });
     const std::vector<std::uint8_t> bytes = gpu::readbackBuffer(context(), output);
     std::vector<Answer> answers(queries.size());

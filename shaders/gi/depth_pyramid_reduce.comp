@@ -1,48 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// gi.depth_pyramid_reduce: one level of the min-max depth pyramid from the
-// level below it (one dispatch per level). A texel holds, over the pixels
-// it covers:
-//   x: the nearest surface's viewZ, 0 when every pixel is background;
-//   y: the farthest surface's viewZ, 0 when any pixel is background,
-// so that a trace can tell a tile it may step over (surfaces only) from
-// one where it may meet the sky. Levels halve rounding down, as Vulkan's
-// mip levels do (the pyramid is one image with a mip chain): the last
-// texel of a row or column of an odd-sized level takes the odd texel out
-// too, so every level covers the whole render size and the last cell of a
-// row reaches to the screen's edge (gi/hiz_trace.glsl steps by that rule).
-// The images are sized for the largest render size; the push constants say
-// how much of them this frame's render size fills, so texels an earlier,
-// larger frame left beyond it are never read.
-layout(local_size_x = 8, local_size_y = 8) in;
-
+// gi.depth_pyramid_reduce: one level of the min-max depth pyramid (levels
+// 2 and up) from the level below it, one dispatch per level
+// (gi/depth_pyramid_reduce.glsl says what a texel holds).
 layout(set = 0, binding = 0, rg32f) readonly uniform image2D gIn_Finer;
-layout(set = 0, binding = 1, rg32f) writeonly uniform image2D gOut_DepthPyramid;
 
-layout(push_constant) uniform Params {
-  uvec2 inputSize;   // texels of the level below at this render size
-  uvec2 outputSize;  // texels of this level: max(1, inputSize / 2)
-} params;
+#include "gi/depth_pyramid_reduce.glsl"
 
-void main() {
-  ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 outSize = ivec2(params.outputSize);
-  if (texel.x >= outSize.x || texel.y >= outSize.y) return;
-  ivec2 inSize = ivec2(params.inputSize);
-  ivec2 first = texel * 2;
-  ivec2 last = min(mix(first + 1, inSize - 1, equal(texel, outSize - 1)), inSize - 1);
-  float nearest = 0.0f;
-  float farthest = 0.0f;
-  bool open = true;  // no background pixel below
-  for (int y = first.y; y <= last.y; ++y) {
-    for (int x = first.x; x <= last.x; ++x) {
-      vec2 finer = imageLoad(gIn_Finer, ivec2(x, y)).xy;
-      if (finer.x > 0.0f) nearest = nearest > 0.0f ? min(nearest, finer.x) : finer.x;
-      if (finer.y > 0.0f)
-        farthest = max(farthest, finer.y);
-      else
-        open = false;
-    }
-  }
-  imageStore(gOut_DepthPyramid, texel, vec4(nearest, open ? farthest : 0.0f, 0.0f, 0.0f));
-}
+vec2 finerTexel(ivec2 texel) { return imageLoad(gIn_Finer, texel).xy; }

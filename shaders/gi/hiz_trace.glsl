@@ -1,15 +1,18 @@
 // A ray through this frame's depth buffer, hierarchically (Hi-Z): the
 // min-max depth pyramid of gi.depth_pyramid / gi.depth_pyramid_reduce
-// (src/gi/depth_pyramid.h), gIn_DepthPyramid, a sampled rg32f image with a
-// mip chain read with texelFetch, level k covering 2^k x 2^k pixels (the
-// last cell of a row or column reaching to the screen's edge). Each texel
-// holds the nearest surface's viewZ (0: only background below) and the
-// farthest (0: some background below).
+// (src/gi/depth_pyramid.h), level k covering 2^k x 2^k pixels (the last
+// cell of a row or column reaching to the screen's edge), read with
+// texelFetch (hizLevel): level 0 is the march depth itself
+// (gIn_DepthPyramidLevel0, a sampled r32f image), levels 1 and up the mips
+// of gIn_DepthPyramid (a sampled rg32f image, mip k - 1 for level k). Each
+// texel holds the nearest surface's viewZ (0: only background below) and
+// the farthest (0: some background below).
 //
 // The including shader includes gi/gi_common.glsl first (gIn_Frame: the
-// camera and render size) and defines HIZ_BINDING, the binding this file
-// declares gIn_DepthPyramid at; the host binds it with
-// DepthPyramid::bind() and declares it with depthPyramidDecl().
+// camera and render size) and defines HIZ_BINDING: this file declares
+// gIn_DepthPyramid at it and gIn_DepthPyramidLevel0 at HIZ_LEVEL0_BINDING;
+// the host binds both with DepthPyramid::binds() and declares them with
+// depthPyramidDecls().
 //
 // The ray is followed in screen space, where its pixel position and
 // 1 / viewZ change linearly, cell by cell (McGuire and Mara 2014, Uludag
@@ -43,11 +46,20 @@
 #ifndef BOUNCE_GI_HIZ_TRACE_GLSL
 #define BOUNCE_GI_HIZ_TRACE_GLSL
 
-#ifndef HIZ_BINDING
-#error "define HIZ_BINDING (the binding of gIn_DepthPyramid) first"
+#if !defined(HIZ_BINDING) || !defined(HIZ_LEVEL0_BINDING)
+#error "define HIZ_BINDING and HIZ_LEVEL0_BINDING (the bindings of gIn_DepthPyramid and gIn_DepthPyramidLevel0) first"
 #endif
 
 layout(set = 0, binding = HIZ_BINDING) uniform sampler2D gIn_DepthPyramid;
+layout(set = 0, binding = HIZ_LEVEL0_BINDING) uniform sampler2D gIn_DepthPyramidLevel0;
+
+// Level `level`'s texel `cell`: (nearest, farthest) viewZ of the pixels it
+// covers; level 0 from the march depth, (viewZ, viewZ) or (0, 0).
+vec2 hizLevel(ivec2 cell, int level) {
+  if (level > 0) return texelFetch(gIn_DepthPyramid, cell, level - 1).xy;
+  float viewZ = texelFetch(gIn_DepthPyramidLevel0, cell, 0).x;
+  return vec2(isFinite(viewZ) && viewZ > 0.0f ? viewZ : 0.0f);
+}
 
 const uint kHizHit = 0u;        // met a depth-buffer surface: the one at `texel`
 const uint kHizSky = 1u;        // met a background pixel (`texel`): open on screen, not proven open in the world
@@ -105,7 +117,7 @@ float hizCellExit(vec2 p0, vec2 d, ivec2 cell, int level, ivec2 levelSize, vec2 
 // 1 / viewZ of a pixel's surface; 0 for background and beyond the screen.
 float hizInverseDepth(ivec2 pixel, ivec2 pixels) {
   if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, pixels))) return 0.0f;
-  float viewZ = texelFetch(gIn_DepthPyramid, pixel, 0).x;
+  float viewZ = hizLevel(pixel, 0).x;
   return viewZ > 0.0f ? 1.0f / viewZ : 0.0f;
 }
 
@@ -215,7 +227,7 @@ HizRay hizTrace(vec3 originWorld, vec3 directionWorld, float thickness, uint max
   // its thickness went through it, and screen space vouches for nothing.
   ivec2 own = ivec2(floor(r.p0.xy));
   float s = min(hizCellExit(r.p0.xy, r.d.xy, own, 0, fullPixels, size), end);
-  float ownViewZ = texelFetch(gIn_DepthPyramid, own, 0).x;
+  float ownViewZ = hizLevel(own, 0).x;
   if (maxSteps == 0u || (ownViewZ > 0.0f && hizGap(r, hizSurface(own, ownViewZ, fullPixels), s, slab) < 0.0f))
     return undecided;
   bool emerged = false;  // has been in front of a whole pixel: off its own surface
@@ -225,7 +237,7 @@ HizRay hizTrace(vec3 originWorld, vec3 directionWorld, float thickness, uint max
     ivec2 levelSize = max(fullPixels >> level, ivec2(1));
     ivec2 cell = hizCell(r.p0.xy + r.d.xy * (s + kHizNudge), level, levelSize);
     float exit = min(max(hizCellExit(r.p0.xy, r.d.xy, cell, level, levelSize, size), s + kHizNudge), end);
-    vec2 surfaces = texelFetch(gIn_DepthPyramid, cell, level).xy;
+    vec2 surfaces = hizLevel(cell, level);
     bool open = surfaces.y > 0.0f;  // no background pixel in the cell
     // In front of every sample of the cell (the ray's farthest point nearer
     // than the nearest sample): step over it.

@@ -20,6 +20,7 @@ struct HizAnswer {
 layout(set = 0, binding = 1, std430) readonly buffer Queries { HizQuery items[]; } gIn_Queries;
 layout(set = 0, binding = 2, std430) writeonly buffer Answers { HizAnswer items[]; } gOut_Answers;
 #define HIZ_BINDING 3
+#define HIZ_LEVEL0_BINDING 4
 #include "gi/hiz_trace.glsl"
 
 layout(push_constant) uniform Params { uint count; } params;

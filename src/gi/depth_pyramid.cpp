@@ -16,12 +16,16 @@ using namespace gpu::formats;
 
 constexpr ImageSpec kPyramidSpec{
     "gi.depth_pyramid",
-    Resolution::Full,
+    Resolution::Half,
     kRg32f,
     false,
     gpu::Visualize::Range,
-    "min-max depth pyramid of gi.march_depth, one mip a level: nearest surface viewZ (0: all background), "
-    "farthest (0: some background); what Hi-Z traces march"};
+    "min-max depth pyramid of gi.march_depth (level 0, read there), levels 1 and up, one mip a level: nearest "
+    "surface viewZ (0: all background), farthest (0: some background); what Hi-Z traces march"};
+
+// The pyramid image: level 1 of `maxSize` and its mips (one at least, for a 1x1 render size).
+Extent imageSize(Extent maxSize) { return {std::max(1u, maxSize.width >> 1), std::max(1u, maxSize.height >> 1)}; }
+std::uint32_t imageLevels(Extent maxSize) { return std::max(1u, DepthPyramid::levels(maxSize) - 1); }
 
 gpu::ConstantsDecl paramsLayout() { return BOUNCE_CONSTANTS_LAYOUT("", DepthPyramidParams, inputSize, outputSize); }
 
@@ -35,9 +39,10 @@ gpu::PassDesc depthPyramidPass() {
   return {.name = "gi.depth_pyramid",
           .shader = "gi/depth_pyramid",
           .shaders = shaders(),
-          .resources = {{"gIn_MarchDepth", Access::Read, kR32f, "this frame's viewZ, 0 where unusable"},
+          .resources = {{"gIn_MarchDepth", Access::Read, kR32f, "this frame's viewZ, 0 where unusable: level 0"},
                         {"gOut_DepthPyramid", Access::Write, kRg32f,
-                         "level 0: (viewZ, viewZ) of each pixel, (0, 0) for background"}},
+                         "level 1 (the image's mip 0): nearest and farthest surface of each 2x2 pixels (3 wide at "
+                         "an odd edge)"}},
           .constants = {paramsLayout()}};
 }
 
@@ -51,20 +56,22 @@ gpu::PassDesc depthPyramidReducePass() {
           .constants = {paramsLayout()}};
 }
 
-gpu::ResourceDecl depthPyramidDecl() {
-  return {"gIn_DepthPyramid", Access::Read, VK_FORMAT_UNDEFINED,
-          "this frame's min-max depth pyramid (gi.depth_pyramid), every level", gpu::ResourceKind::SampledImage};
+std::vector<gpu::ResourceDecl> depthPyramidDecls() {
+  return {{"gIn_DepthPyramid", Access::Read, VK_FORMAT_UNDEFINED,
+           "this frame's min-max depth pyramid (gi.depth_pyramid), levels 1 and up", gpu::ResourceKind::SampledImage},
+          {"gIn_DepthPyramidLevel0", Access::Read, VK_FORMAT_UNDEFINED,
+           "the pyramid's level 0: this frame's march depth", gpu::ResourceKind::SampledImage}};
 }
 
 DepthPyramid::DepthPyramid(gpu::Context& context, gpu::MemoryArena& arena, Extent maxSize)
     : context_(context),
       image_(std::make_unique<gpu::Image>(context,
                                           gpu::ImageDesc{.name = std::string(kPyramidSpec.name),
-                                                         .width = maxSize.width,
-                                                         .height = maxSize.height,
+                                                         .width = imageSize(maxSize).width,
+                                                         .height = imageSize(maxSize).height,
                                                          .format = kPyramidSpec.format,
                                                          .visualize = kPyramidSpec.view,
-                                                         .mipLevels = levels(maxSize)},
+                                                         .mipLevels = imageLevels(maxSize)},
                                           &arena)),
       build_(context, depthPyramidPass()),
       reduce_(context, depthPyramidReducePass()) {}
@@ -72,9 +79,10 @@ DepthPyramid::DepthPyramid(gpu::Context& context, gpu::MemoryArena& arena, Exten
 DepthPyramid::~DepthPyramid() = default;
 
 std::uint64_t DepthPyramid::memoryBytes(Extent maxSize) {
+  const Extent size = imageSize(maxSize);
   std::uint64_t total = 0;
-  for (std::uint32_t level = 0; level < levels(maxSize); ++level)
-    total += std::uint64_t(std::max(maxSize.width >> level, 1u)) * std::max(maxSize.height >> level, 1u) *
+  for (std::uint32_t mip = 0; mip < imageLevels(maxSize); ++mip)
+    total += std::uint64_t(std::max(size.width >> mip, 1u)) * std::max(size.height >> mip, 1u) *
              gpu::formatInfo(kPyramidSpec.format).bytesPerPixel;
   return total;
 }
@@ -87,17 +95,21 @@ std::uint32_t DepthPyramid::levels(Extent renderSize) {
 
 void DepthPyramid::record(gpu::Recorder& recorder, gpu::Image& marchDepth, Extent renderSize) {
   gpu::Image& pyramid = *image_;
-  recorder.dispatch(build_, renderSize.width, renderSize.height,
-                    {{"gIn_MarchDepth", marchDepth}, {"gOut_DepthPyramid", pyramid, gpu::MipLevel{0}}},
-                    DepthPyramidParams{{renderSize.width, renderSize.height}, {renderSize.width, renderSize.height}});
+  level0_ = &marchDepth;
+  // Level k is the image's mip k - 1; a 1x1 render size has level 0 alone.
   const std::uint32_t count = levels(renderSize);
   for (std::uint32_t level = 1; level < count; ++level) {
     const Extent below = levelSize(renderSize, level - 1);
     const Extent size = levelSize(renderSize, level);
-    recorder.dispatch(
-        reduce_, size.width, size.height,
-        {{"gIn_Finer", pyramid, gpu::MipLevel{level - 1}}, {"gOut_DepthPyramid", pyramid, gpu::MipLevel{level}}},
-        DepthPyramidParams{{below.width, below.height}, {size.width, size.height}});
+    const DepthPyramidParams params{{below.width, below.height}, {size.width, size.height}};
+    if (level == 1)
+      recorder.dispatch(build_, size.width, size.height,
+                        {{"gIn_MarchDepth", marchDepth}, {"gOut_DepthPyramid", pyramid, gpu::MipLevel{0}}}, params);
+    else
+      recorder.dispatch(reduce_, size.width, size.height,
+                        {{"gIn_Finer", pyramid, gpu::MipLevel{level - 2}},
+                         {"gOut_DepthPyramid", pyramid, gpu::MipLevel{level - 1}}},
+                        params);
   }
   // Stage copies moved it to a transfer layout; GiContext::images() promises GENERAL.
   if (recorder.capturing() && pyramid.sync().layout != VK_IMAGE_LAYOUT_GENERAL)
@@ -105,7 +117,10 @@ void DepthPyramid::record(gpu::Recorder& recorder, gpu::Image& marchDepth, Exten
                       VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
 }
 
-gpu::Bind DepthPyramid::bind() const { return {"gIn_DepthPyramid", *image_, context_.nearestSampler()}; }
+std::vector<gpu::Bind> DepthPyramid::binds() const {
+  return {{"gIn_DepthPyramid", *image_, context_.nearestSampler()},
+          {"gIn_DepthPyramidLevel0", level0_ ? *level0_ : *image_, context_.nearestSampler()}};
+}
 
 ImageSet::Listed DepthPyramid::listed() { return {std::string(kPyramidSpec.name), image_.get(), &kPyramidSpec}; }
 
@@ -126,11 +141,11 @@ class DepthPyramidUnit final : public OnDemandUnit {
   std::vector<std::string> takes() const override { return {std::string(product::kMarchDepth)}; }
   // For the specular trace with trace_steps 0, which declares it but does not march it.
   void putLastBuilt(Products& products, std::uint64_t) override {
-    products.put(product::kDepthPyramid, std::vector<gpu::Bind>{pyramid_.bind()});
+    products.put(product::kDepthPyramid, pyramid_.binds());
   }
   void build(const FrameState& frame) override {
     pyramid_.record(frame.recorder, frame.products.image(product::kMarchDepth), frame.renderSize);
-    frame.products.put(product::kDepthPyramid, std::vector<gpu::Bind>{pyramid_.bind()});
+    frame.products.put(product::kDepthPyramid, pyramid_.binds());
   }
   std::vector<ImageSet::Listed> listBuilt(std::uint64_t) override { return {pyramid_.listed()}; }
 

@@ -43,6 +43,7 @@ layout(set = 0, binding = 7) uniform sampler2D gIn_Environment;
 layout(set = 0, binding = 8, rgba32ui) writeonly uniform uimage2D gOut_Reservoir0;
 layout(set = 0, binding = 9, rgba32ui) writeonly uniform uimage2D gOut_Reservoir1;
 #define HIZ_BINDING 10
+#define HIZ_LEVEL0_BINDING 17
 #include "gi/hiz_trace.glsl"
 #include "gi/previous_screen.glsl"
 #define CACHE_FIRST_BINDING 24

@@ -63,7 +63,7 @@ gpu::PassDesc specularTracePass() {
                       {"gIn_Environment", Access::Read, VK_FORMAT_UNDEFINED,
                        "prefiltered sky for rays that miss", ResourceKind::SampledImage}},
                      joinDecls(reservoirDecls("gOut", Access::Write, "fresh reservoirs (hit point, its radiance)"),
-                               joinDecls({depthPyramidDecl()},
+                               joinDecls(depthPyramidDecls(),
                                          reservoirDecls("gIn_Diffuse", Access::Read,
                                                         "the diffuse branch's final reservoirs: rough pixels' "
                                                         "samples (gi.specular.diffuse_sample_roughness)")))));
