@@ -390,6 +390,12 @@ void Context::initialiseDeviceObjects(std::optional<bool> constantsInStorageBuff
   sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;
   sampler.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
   check(vkCreateSampler(device_, &sampler, nullptr, &nearestSampler_), "vkCreateSampler");
+  // Texel coordinates (unnormalised): the same position filters the same
+  // whatever the image's size (Vulkan's rules: one level, lod 0, no mips).
+  sampler.magFilter = sampler.minFilter = VK_FILTER_LINEAR;
+  sampler.unnormalizedCoordinates = VK_TRUE;
+  sampler.maxLod = 0.0f;
+  check(vkCreateSampler(device_, &sampler, nullptr, &texelLinearSampler_), "vkCreateSampler");
 }
 
 Context::~Context() { release(); }
@@ -401,6 +407,7 @@ void Context::release() {
     if (ownsDevice_) vkDeviceWaitIdle(device_);
     if (linearSampler_) vkDestroySampler(device_, linearSampler_, nullptr);
     if (nearestSampler_) vkDestroySampler(device_, nearestSampler_, nullptr);
+    if (texelLinearSampler_) vkDestroySampler(device_, texelLinearSampler_, nullptr);
     if (setupPool_) vkDestroyCommandPool(device_, setupPool_, nullptr);
     if (ownsDevice_) vkDestroyDevice(device_, nullptr);
     device_ = VK_NULL_HANDLE;

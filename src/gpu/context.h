@@ -130,6 +130,11 @@ class Context {
 
   VkSampler linearSampler() const { return linearSampler_; }
   VkSampler nearestSampler() const { return nearestSampler_; }
+  // Bilinear at texel coordinates (unnormalised, clamped to the edge): a
+  // filtered fetch whose result does not depend on the image's size (an
+  // image made for a larger render size filters a render size's texels as
+  // one made for it does). For single-level images, sampled at lod 0.
+  VkSampler texelLinearSampler() const { return texelLinearSampler_; }
 
   // Extension entry points the layer needs.
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
@@ -168,6 +173,7 @@ class Context {
   VkCommandPool setupPool_ = VK_NULL_HANDLE;
   VkSampler linearSampler_ = VK_NULL_HANDLE;
   VkSampler nearestSampler_ = VK_NULL_HANDLE;
+  VkSampler texelLinearSampler_ = VK_NULL_HANDLE;
   std::atomic<VkDeviceSize> deviceLocalBytes_{0};
   mutable std::mutex messagesMutex_;
   std::vector<std::string> messages_;

@@ -117,31 +117,33 @@ bool pixelHasSample(uint slot, ivec2 pixel) {
     }                                               \
   }
 // A per-signal image a pass samples (DENOISE_SLOT_TEXTURES: NAME0..NAME3,
-// a filtering sampler clamped to the edge): NAME##At(slot, pixel) reads a
-// texel, NAME##Linear(slot, position) filters bilinearly at a continuous
+// bound with the context's texel-coordinate bilinear sampler,
+// gpu::Context::texelLinearSampler): NAME##At(slot, pixel) reads a texel,
+// NAME##Linear(slot, position) filters bilinearly at a continuous
 // texel-space position (texel centres at integers) in one fetch
-// (DENOISE_SLOT_SAMPLE).
+// (DENOISE_SLOT_SAMPLE). Texel coordinates keep a fetch the same whatever
+// size the image was made for.
 #define DENOISE_SLOT_TEXTURES(NAME, FIRST)                             \
   layout(set = 0, binding = FIRST) uniform sampler2D NAME##0;        \
   layout(set = 0, binding = FIRST + 1) uniform sampler2D NAME##1;    \
   layout(set = 0, binding = FIRST + 2) uniform sampler2D NAME##2;    \
   layout(set = 0, binding = FIRST + 3) uniform sampler2D NAME##3;
-#define DENOISE_SLOT_SAMPLE(NAME)                                                                  \
-  vec4 NAME##At(uint slot, ivec2 pixel) {                                                          \
-    switch (slot) {                                                                                \
-      case 0u: return texelFetch(NAME##0, pixel, 0);                                               \
-      case 1u: return texelFetch(NAME##1, pixel, 0);                                               \
-      case 2u: return texelFetch(NAME##2, pixel, 0);                                               \
-      default: return texelFetch(NAME##3, pixel, 0);                                               \
-    }                                                                                              \
-  }                                                                                                \
-  vec4 NAME##Linear(uint slot, vec2 position) {                                                    \
-    switch (slot) {                                                                                \
-      case 0u: return textureLod(NAME##0, (position + 0.5f) / vec2(textureSize(NAME##0, 0)), 0.0f); \
-      case 1u: return textureLod(NAME##1, (position + 0.5f) / vec2(textureSize(NAME##1, 0)), 0.0f); \
-      case 2u: return textureLod(NAME##2, (position + 0.5f) / vec2(textureSize(NAME##2, 0)), 0.0f); \
-      default: return textureLod(NAME##3, (position + 0.5f) / vec2(textureSize(NAME##3, 0)), 0.0f); \
-    }                                                                                              \
+#define DENOISE_SLOT_SAMPLE(NAME)                                          \
+  vec4 NAME##At(uint slot, ivec2 pixel) {                                  \
+    switch (slot) {                                                        \
+      case 0u: return texelFetch(NAME##0, pixel, 0);                       \
+      case 1u: return texelFetch(NAME##1, pixel, 0);                       \
+      case 2u: return texelFetch(NAME##2, pixel, 0);                       \
+      default: return texelFetch(NAME##3, pixel, 0);                       \
+    }                                                                      \
+  }                                                                        \
+  vec4 NAME##Linear(uint slot, vec2 position) {                            \
+    switch (slot) {                                                        \
+      case 0u: return textureLod(NAME##0, position + 0.5f, 0.0f);          \
+      case 1u: return textureLod(NAME##1, position + 0.5f, 0.0f);          \
+      case 2u: return textureLod(NAME##2, position + 0.5f, 0.0f);          \
+      default: return textureLod(NAME##3, position + 0.5f, 0.0f);          \
+    }                                                                      \
   }
 #define DENOISE_SLOT_STORE(NAME)                             \
   void NAME##Store(uint slot, ivec2 pixel, vec4 value) {     \

@@ -21,10 +21,10 @@ layout(set = 0, binding = 5) uniform sampler2D gIn_Motion;
 layout(set = 0, binding = 7, rg32ui) readonly uniform uimage2D gPrev_Surface;
 layout(set = 0, binding = 10, rg32ui) readonly uniform uimage2D gIn_Surface;
 DENOISE_SLOT_IMAGES(readonly, gIn_Filtered, 20)
-DENOISE_SLOT_IMAGES(readonly, gPrev_Stabilized, 24)
+DENOISE_SLOT_TEXTURES(gPrev_Stabilized, 24)
 DENOISE_SLOT_IMAGES(writeonly, gOut_Stabilized, 28)
 DENOISE_SLOT_LOAD(gIn_Filtered)
-DENOISE_SLOT_LOAD(gPrev_Stabilized)
+DENOISE_SLOT_SAMPLE(gPrev_Stabilized)
 DENOISE_SLOT_STORE(gOut_Stabilized)
 #define LIGHT_CHANGE_BINDING 16
 #include "gi/light_change/light_change.glsl"
@@ -50,8 +50,11 @@ vec4 stabilizedTapWeights(Surface x, ivec2 pixel, out ivec2 corner) {
 }
 
 // A slot's stabilised value of last frame over those taps; w: its history
-// length, 0 if none showed the surface.
+// length, 0 if none showed the surface. Where all four show it, their
+// weights are bilinear's: one filtered fetch.
 vec4 stabilizedHistory(uint slot, ivec2 corner, vec4 weights) {
+  if (all(greaterThan(weights, vec4(0.0f))))
+    return gPrev_StabilizedLinear(slot, vec2(corner) + vec2(weights.y + weights.w, weights.z + weights.w));
   vec4 sum = vec4(0.0f);
   float weightSum = 0.0f;
   for (int i = 0; i < 4; ++i) {

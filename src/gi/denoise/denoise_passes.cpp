@@ -139,7 +139,9 @@ gpu::PassDesc denoiseTemporalStabilizationPass() {
                    {motionDecl(), previousSurfaceDecl(), currentSurfaceDecl(), lightChangeDecl()},
                    {{"gIn_Filtered", Access::Read, "post-blur's output"},
                     {"gPrev_Stabilized", Access::Read,
-                     "last frame's stabilised signal (post-blur copied it into the pre-passed image)"},
+                     "last frame's stabilised signal (post-blur copied it into the pre-passed image; sampled: "
+                     "one bilinear fetch where all four taps count)",
+                     ResourceKind::SampledImage},
                     {"gOut_Stabilized", Access::Write, "the denoised signal, history length"}});
 }
 

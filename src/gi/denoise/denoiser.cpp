@@ -77,17 +77,19 @@ class SlotBinds {
  public:
   SlotBinds(std::span<const std::string> signalNames, std::initializer_list<gpu::Bind> shared)
       : signalNames_(signalNames), binds_(shared) {}
-  // Binding `name` of every slot: `image(k)` for the batch's k-th signal, the filler past them.
+  // Binding `name` of every slot: `image(k)` for the batch's k-th signal,
+  // the filler past them; a sampled slot with `sampler`.
   template <class ImageOf>
-  void slots(std::string_view name, gpu::Image& filler, ImageOf image) {
+  void slots(std::string_view name, gpu::Image& filler, ImageOf image, VkSampler sampler = VK_NULL_HANDLE) {
     for (std::size_t k = 0; k < shared::kDenoiseSlots; ++k) {
       const std::string& slotName = names_.emplace_back(denoiseSlotName(name, k));
-      if (k >= signalNames_.size()) {
-        binds_.push_back(gpu::Bind::filler(slotName, filler));
-        continue;
+      gpu::Bind bind = gpu::Bind::filler(slotName, filler);
+      if (k < signalNames_.size()) {
+        const std::string& label = names_.emplace_back(signalNames_[k] + "." + std::string(name));
+        bind = gpu::Bind::labelled(slotName, image(k), label);
       }
-      const std::string& label = names_.emplace_back(signalNames_[k] + "." + std::string(name));
-      binds_.push_back(gpu::Bind::labelled(slotName, image(k), label));
+      bind.sampler = sampler;
+      binds_.push_back(bind);
     }
   }
   std::span<const gpu::Bind> binds() const { return binds_; }
@@ -273,7 +275,9 @@ void Denoiser::recordBatch(const FrameState& frame, std::span<const SignalInput>
 
   SlotBinds accumulation(names, {constants, tiles, surface, motion, previousSurface, currentSurface, lightChange});
   accumulation.slots("gIn_Signal", filler, image(kDenoisePrePassed));
-  accumulation.slots("gPrev_Filtered", filler, image(kDenoiseHistory));
+  // Sampled in texel coordinates (the Catmull-Rom history's bilinear fetches).
+  const VkSampler texels = context_.texelLinearSampler();
+  accumulation.slots("gPrev_Filtered", filler, image(kDenoiseHistory), texels);
   accumulation.slots("gPrev_Moments", filler, previous(kDenoiseMoments));
   accumulation.slots("gOut_Accumulated", filler, image(kDenoiseAccumulated));
   accumulation.slots("gOut_Moments", filler, image(kDenoiseMoments));
@@ -307,7 +311,7 @@ void Denoiser::recordBatch(const FrameState& frame, std::span<const SignalInput>
 
   SlotBinds stabilization(names, {constants, tiles, surface, motion, previousSurface, currentSurface, lightChange});
   stabilization.slots("gIn_Filtered", filler, image(kDenoiseHistory));
-  stabilization.slots("gPrev_Stabilized", filler, image(kDenoisePrePassed));
+  stabilization.slots("gPrev_Stabilized", filler, image(kDenoisePrePassed), texels);
   stabilization.slots("gOut_Stabilized", filler, image(kDenoiseStabilized));
   dispatch(passes_->temporalStabilization, stabilization, atFullRadius);
 }
