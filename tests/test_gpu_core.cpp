@@ -1,6 +1,7 @@
 // The gpu/ layer on a real Vulkan device (lavapipe in CI), validated.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <glm/glm.hpp>
 
 #include "gi/frame_passes.h"
@@ -190,6 +191,33 @@ TEST_F(GpuCore, AReadAfterAReadWriteDispatchWaitsForItsWrite) {
   EXPECT_EQ(gpuio::readbackImage(context(), copy).at(2, 3, 0), 3.0f);
   // The fixture fails the test on any validation message (a missing barrier
   // is SYNC-HAZARD-READ-AFTER-WRITE).
+}
+
+// One image bound twice to a dispatch, the binding that writes it declared
+// before the one that reads it (a denoiser stage's filler fills slots of
+// both): the next pass's read still waits for that write. The recorder
+// once took the read's barrier, recorded before the dispatch, as if it
+// came after the dispatch's own write.
+TEST_F(GpuCore, AnImageWrittenThenReadInOneDispatchIsWaitedForAfterIt) {
+  gpu::ComputePass write(context(), writeProbeDesc());
+  gpu::PassDesc inPlaceDesc = readProbeDesc();
+  inPlaceDesc.name = "tests.barrier_probe_copy_in_place";
+  std::reverse(inPlaceDesc.resources.begin(), inPlaceDesc.resources.end());  // gOut_Copy, then gIn_Value
+  gpu::ComputePass inPlace(context(), inPlaceDesc);
+  gpu::ComputePass read(context(), readProbeDesc());
+  gpu::Image source(context(), probeImage("probe.source")), copy(context(), probeImage("probe.copy"));
+  context().submitAndWait([&](gpu::Recorder& r) {
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, glm::vec4(0.0f));
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", copy}}, glm::vec4(0.0f));
+  });
+  context().submitAndWait([&](gpu::Recorder& r) {
+    r.dispatch(write, kSize, kSize, {{"gOut_Value", source}}, glm::vec4(3.0f));
+    r.dispatch(inPlace, kSize, kSize, {{"gOut_Copy", source}, {"gIn_Value", source}});
+    r.dispatch(read, kSize, kSize, {{"gIn_Value", source}, {"gOut_Copy", copy}});
+  });
+  EXPECT_EQ(gpuio::readbackImage(context(), copy).at(2, 3, 0), 3.0f);
+  // The fixture fails the test on any validation message (the missing
+  // barrier was SYNC-HAZARD-READ-AFTER-WRITE).
 }
 
 TEST_F(GpuCore, FramesInFlightKeepOrderAndTimeEveryPass) {

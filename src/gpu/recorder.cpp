@@ -188,6 +188,29 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
   writes_.clear();
   imageInfos_.clear();
   bufferInfos_.clear();
+  accesses_.clear();
+  // One access per image or buffer, however many bindings it has: a write
+  // of one binding followed by a read of another would otherwise count as
+  // already made visible to reads (the barrier recorded for the read comes
+  // before this dispatch), and the next pass's read would get none.
+  const auto addAccess = [&](SyncState& state, VkImage image, std::uint32_t mipLevels, VkImageLayout layout,
+                          VkAccessFlags2 flags, bool writes) {
+    for (DispatchAccess& earlier : accesses_)
+      if (earlier.state == &state) {
+        earlier.access |= flags;
+        earlier.writes = earlier.writes || writes;
+        if (layout == VK_IMAGE_LAYOUT_GENERAL) earlier.layout = layout;
+        return;
+      }
+    accesses_.push_back({&state, image, mipLevels, layout, flags, writes});
+  };
+  // An image bound for storage anywhere in the dispatch is in GENERAL for all its bindings.
+  const auto boundForStorage = [&](const Image& image) {
+    for (std::size_t j = 0; j < desc.resources.size(); ++j)
+      if (pass.binding(j).kind == ResourceKind::StorageImage && ordered_[j] && ordered_[j]->image == &image)
+        return true;
+    return false;
+  };
   imageInfos_.reserve(desc.resources.size());
   bufferInfos_.reserve(desc.resources.size());
   for (std::size_t i = 0; i < desc.resources.size(); ++i) {
@@ -226,9 +249,10 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
                    " in GLSL) but image '" + image.name() + "' is " + formatName(image.format()));
       // Storage access needs GENERAL; a sampled read takes the image in the
       // layout it is sampled in (another's image stays in its read-only layout).
-      const VkImageLayout layout =
-          kind == ResourceKind::SampledImage && !writes ? image.sampledLayout() : VK_IMAGE_LAYOUT_GENERAL;
-      require(image.sync(), image.handle(), image.desc().mipLevels, layout, kCompute, access, writes);
+      const VkImageLayout layout = kind == ResourceKind::SampledImage && !writes && !boundForStorage(image)
+                                       ? image.sampledLayout()
+                                       : VK_IMAGE_LAYOUT_GENERAL;
+      addAccess(image.sync(), image.handle(), image.desc().mipLevels, layout, access, writes);
       VkDescriptorImageInfo info{};
       // Storage images take one level: the one asked for, else level 0.
       if (bind->mipLevel != Bind::kAllMips)
@@ -264,7 +288,7 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
       if (buffer.size() > maxRange)
         throw fail("buffer '" + buffer.name() + "' (" + std::to_string(buffer.size()) + " bytes) for '" + decl.name +
                    "' is larger than this device binds (" + std::to_string(maxRange) + " bytes)");
-      require(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, kCompute, access, writes);
+      addAccess(buffer.sync(), VK_NULL_HANDLE, 0, VK_IMAGE_LAYOUT_UNDEFINED, access, writes);
       bufferInfos_.push_back({buffer.handle(), 0, VK_WHOLE_SIZE});
       if (!uniform) traffic.bufferBytes += buffer.size();
       write.descriptorType =
@@ -273,6 +297,8 @@ void Recorder::dispatch(const ComputePass& pass, std::uint32_t width, std::uint3
     }
     writes_.push_back(write);
   }
+  for (const DispatchAccess& a : accesses_)
+    require(*a.state, a.image, a.mipLevels, a.layout, kCompute, a.access, a.writes);
   flushBarriers();
 
   VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};

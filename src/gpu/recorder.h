@@ -225,6 +225,19 @@ class Recorder {
   std::vector<VkDescriptorImageInfo> imageInfos_;
   std::vector<VkDescriptorBufferInfo> bufferInfos_;
   std::vector<const Bind*> ordered_;
+  // What one dispatch does to each image and buffer it binds, its bindings
+  // merged: an image bound twice (a slot filler, mip k - 1 read while mip
+  // k is written) is one access that reads and writes, whatever order its
+  // bindings come in.
+  struct DispatchAccess {
+    SyncState* state;
+    VkImage image;
+    std::uint32_t mipLevels;
+    VkImageLayout layout;
+    VkAccessFlags2 access;
+    bool writes;
+  };
+  std::vector<DispatchAccess> accesses_;
 };
 
 }  // namespace bounce::gpu

@@ -19,7 +19,6 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// Reads before writes: one filler image fills the unused slots of all four.
 DENOISE_SLOT_IMAGES(readonly, gIn_Filtered, 20)
 DENOISE_SLOT_IMAGES(readonly, gPrev_Stabilized, 24)
 DENOISE_SLOT_IMAGES(, gInOut_PrePassed, 28)
